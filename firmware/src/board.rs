@@ -1,0 +1,62 @@
+//! The Black Pill pin map, in one place (mirrored in the README wiring table).
+//!
+//! 5 V tolerant ("FT") pins are used for every input that comes from the
+//! lathe side, which is often 5 V logic. PA6/PA7 (TIM3) and PB6/PB7 (TIM4)
+//! are FT on the STM32F411 (datasheet DS10314, table 9).
+
+/// One pin assignment: the signal, the MCU pin, and its role.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Pin {
+    pub signal: &'static str,
+    pub pin: &'static str,
+    pub function: &'static str,
+    pub five_volt_tolerant: bool,
+}
+
+const fn pin(signal: &'static str, pin: &'static str, function: &'static str, ft: bool) -> Pin {
+    Pin { signal, pin, function, five_volt_tolerant: ft }
+}
+
+/// The full pin map. `main.rs` takes the same pins by name.
+pub const PINS: &[Pin] = &[
+    pin("LATHE_A", "PA6", "TIM3_CH1, encoder mode, input filter", true),
+    pin("LATHE_B", "PA7", "TIM3_CH2, encoder mode, input filter", true),
+    pin("LATHE_INDEX", "PB0", "EXTI0, rising edge", true),
+    pin("CUTTER_STEP", "PA8", "TIM1_CH1, hardware-timed pulses", true),
+    pin("CUTTER_DIR", "PB12", "push-pull output", true),
+    pin("CUTTER_ENABLE", "PB13", "push-pull output, inactive at reset", true),
+    pin("ESTOP", "PB14", "EXTI14, pull-up, normally closed to GND: open = stop", true),
+    pin("DRIVE_ALARM", "PB15", "EXTI15, pull-up, alarm pulls to GND", true),
+    pin("CUTTER_A", "PB6", "TIM4_CH1, encoder mode (BLDC mode)", true),
+    pin("CUTTER_B", "PB7", "TIM4_CH2, encoder mode (BLDC mode)", true),
+    pin("BLDC_PWM", "PA0", "TIM5_CH1, ESC pulse or duty (BLDC mode)", false),
+    pin("USB_DM", "PA11", "USB OTG FS", true),
+    pin("USB_DP", "PA12", "USB OTG FS", true),
+    pin("STATUS_LED", "PC13", "active low, on-board LED", false),
+];
+
+/// Control tick rate: 25 kHz (40 µs), above the 20 kHz floor of the design.
+pub const TICK_HZ: u32 = 25_000;
+/// System clock from the 25 MHz HSE crystal.
+pub const SYSCLK_HZ: u32 = 100_000_000;
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn every_pin_is_used_once() {
+        for (i, a) in PINS.iter().enumerate() {
+            for b in &PINS[i + 1..] {
+                assert_ne!(a.pin, b.pin, "{} and {} share a pin", a.signal, b.signal);
+            }
+        }
+    }
+
+    #[test]
+    fn lathe_side_inputs_are_five_volt_tolerant() {
+        for p in PINS.iter().filter(|p| p.signal.starts_with("LATHE") || p.signal == "ESTOP") {
+            assert!(p.five_volt_tolerant, "{} on {}", p.signal, p.pin);
+        }
+    }
+}

@@ -1,0 +1,7 @@
+//! polyturn firmware: the board-independent, host-testable parts.
+//!
+//! Everything here compiles on the PC and is tested there; only `main.rs` and
+//! the `hw` module touch registers (and only on the MCU).
+#![cfg_attr(not(test), no_std)]
+
+pub mod board;

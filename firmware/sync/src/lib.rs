@@ -1,0 +1,11 @@
+//! polyturn sync core: the exact electronic gearbox between a lathe's encoder
+//! and a cutter spindle. `no_std`, no HAL, no allocation; the same code runs in
+//! the firmware's control interrupt and in the host simulator.
+#![no_std]
+
+#[macro_use]
+mod fmt;
+
+pub mod ratio;
+
+pub use ratio::{Ratio, RatioError};

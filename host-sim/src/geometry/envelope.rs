@@ -1,0 +1,88 @@
+//! The lower envelope of cut curves in polar form: at each bin angle, the
+//! smallest radius any cut reached, capped by the stock.
+
+use std::f64::consts::TAU;
+
+/// Radii at `bins` evenly spaced angles from `start` over `span`, repeating
+/// every `period` (2π for a whole section, 2π/N for one flat's sector).
+#[derive(Clone, Debug)]
+pub struct Envelope {
+    pub start: f64,
+    pub span: f64,
+    pub period: f64,
+    pub radius: Vec<f64>,
+}
+
+impl Envelope {
+    /// An envelope filled with the stock radius. `span` is split into
+    /// `bins` steps so that bin 0 sits on `start` exactly.
+    pub fn new(start: f64, span: f64, period: f64, bins: usize, stock: f64) -> Envelope {
+        Envelope { start, span, period, radius: vec![stock; bins.max(2)] }
+    }
+
+    pub fn bins(&self) -> usize {
+        self.radius.len()
+    }
+    pub fn step(&self) -> f64 {
+        self.span / self.bins() as f64
+    }
+    pub fn angle(&self, i: usize) -> f64 {
+        self.start + self.step() * i as f64
+    }
+
+    /// Adds the straight polar segment (θ0, r0)–(θ1, r1) (θ unwrapped) to
+    /// every copy of it shifted by multiples of the period.
+    pub fn add_segment(&mut self, t0: f64, r0: f64, t1: f64, r1: f64) {
+        let (lo, hi) = if t0 <= t1 { (t0, t1) } else { (t1, t0) };
+        let step = self.step();
+        let (m_lo, m_hi) = (
+            ((lo - self.start - self.span) / self.period).floor() as i64,
+            ((hi - self.start) / self.period).ceil() as i64,
+        );
+        for m in m_lo..=m_hi {
+            let shift = m as f64 * self.period;
+            let (a, b) = (lo - shift - self.start, hi - shift - self.start);
+            let first = (a / step).ceil().max(0.0) as usize;
+            let last = ((b / step).floor()).min(self.bins() as f64 - 1.0);
+            if last < 0.0 {
+                continue;
+            }
+            for i in first..=last as usize {
+                let t = self.start + step * i as f64 + shift;
+                let r = if hi > lo { r0 + (r1 - r0) * (t - t0) / (t1 - t0) } else { r0.min(r1) };
+                if r < self.radius[i] {
+                    self.radius[i] = r;
+                }
+            }
+        }
+    }
+
+    /// Adds a polyline of work-frame points (x, y), unwrapping its angle.
+    pub fn add_polyline(&mut self, points: &[(f64, f64)]) {
+        let mut prev: Option<(f64, f64)> = None;
+        for &(x, y) in points {
+            let r = x.hypot(y);
+            let mut t = y.atan2(x);
+            if let Some((pt, pr)) = prev {
+                t += ((pt - t) / TAU).round() * TAU;
+                self.add_segment(pt, pr, t, r);
+            }
+            prev = Some((t, r));
+        }
+    }
+
+    /// Radius at any angle, linear between bins, using the periodicity.
+    pub fn at(&self, angle: f64) -> f64 {
+        let rel = (angle - self.start).rem_euclid(self.period);
+        let x = rel / self.step();
+        let i = x.floor() as usize;
+        let n = self.bins();
+        let (r0, r1) = (self.radius[i.min(n - 1)], self.radius[(i + 1).min(n - 1)]);
+        if i + 1 >= n && (self.span - self.period).abs() < 1e-12 {
+            // whole-period envelope: the bin after the last is bin 0
+            let f = x - i as f64;
+            return r0 + (self.radius[0] - r0) * f;
+        }
+        r0 + (r1 - r0) * (x - i as f64).min(1.0)
+    }
+}

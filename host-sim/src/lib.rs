@@ -1,0 +1,5 @@
+//! polyturn host tools: the geometry model (ground truth), the setup
+//! planner, plant models and the simulator that runs the real sync core.
+
+pub mod cli;
+pub mod geometry;
