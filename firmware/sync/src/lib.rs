@@ -3,9 +3,16 @@
 //! the firmware's control interrupt and in the host simulator.
 #![no_std]
 
+#[cfg(test)]
+extern crate std;
+
 #[macro_use]
 mod fmt;
 
+pub mod encoder;
+pub mod estimator;
+pub mod follower;
+pub mod gear;
 pub mod ratio;
 
 pub use ratio::{Ratio, RatioError};

@@ -1,0 +1,114 @@
+//! Lathe speed estimate and sub-count interpolation: a type-2 tracking loop
+//! in fixed point. It shapes *timing* only: its output is an offset from the
+//! measured count, clamped to ±1 count and snapped to 0 at rest, so the
+//! exact gear (not this filter) owns position and nothing can drift.
+//!
+//! Continuous equivalent: K1 = 2^−KP·f, K2 = 2^−KI·f². At f = 25 kHz:
+//! ω_n = 2^−5.5·f ≈ 550 rad/s, ζ ≈ 0.7; the acceleration error a/ω_n² is
+//! ≈ 0.06 count for 5 % once-per-rev ripple at 300 rpm on 2400 counts.
+
+/// Proportional shift (K1·T = 2^−5).
+const KP: u32 = 5;
+/// Integral shift (K2·T² = 2^−11).
+const KI: u32 = 11;
+const ONE: i64 = 1 << 32;
+
+#[derive(Clone, Copy, Debug, Default)]
+pub struct Estimator {
+    /// estimate − measured count, Q32 counts, within ±1 count
+    offset: i64,
+    /// Q32 counts per tick
+    velocity: i64,
+    still_ticks: u32,
+    still_limit: u32,
+}
+
+impl Estimator {
+    /// `still_limit`: ticks without a count after which the lathe is at rest.
+    pub fn new(still_limit: u32) -> Estimator {
+        Estimator { still_limit, ..Estimator::default() }
+    }
+
+    /// One tick with the measured count change `delta`.
+    #[inline]
+    pub fn update(&mut self, delta: i32) {
+        if delta == 0 {
+            self.still_ticks = self.still_ticks.saturating_add(1);
+            if self.still_ticks >= self.still_limit {
+                self.offset = 0;
+                self.velocity = 0;
+                return;
+            }
+        } else {
+            self.still_ticks = 0;
+        }
+        // predict, then correct on the error (measured − estimate = −offset)
+        let predicted = self.offset + self.velocity - ((delta as i64) << 32);
+        self.velocity -= predicted >> KI;
+        self.offset = (predicted - (predicted >> KP)).clamp(-ONE, ONE);
+    }
+
+    /// Sub-count offset of the estimate from the measured count, Q16 counts.
+    pub fn offset_q16(&self) -> i32 {
+        (self.offset >> 16) as i32
+    }
+    /// Q32 counts per tick.
+    pub fn velocity_q32(&self) -> i64 {
+        self.velocity
+    }
+    pub fn at_rest(&self) -> bool {
+        self.still_ticks >= self.still_limit
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Feeds a true position (in counts, f64 reference model) sampled by a
+    /// quantising counter; returns the worst |estimate − truth| after settling.
+    fn track(speed: impl Fn(f64) -> f64, ticks: usize) -> f64 {
+        let mut e = Estimator::new(2500);
+        let (mut x, mut last) = (0.3f64, 0i64);
+        let mut worst: f64 = 0.0;
+        for k in 0..ticks {
+            x += speed(k as f64);
+            let c = x.round() as i64;
+            e.update((c - last) as i32);
+            last = c;
+            if k > ticks / 4 {
+                let est = c as f64 + e.offset_q16() as f64 / 65536.0;
+                worst = worst.max((est - x).abs());
+            }
+        }
+        worst
+    }
+
+    #[test]
+    fn steady_speed_is_interpolated_well_inside_a_count() {
+        for v in [0.05, 0.37, 0.96, 1.2, 3.7] {
+            let w = track(|_| v, 40_000);
+            assert!(w < 0.25, "v {v}: worst {w}");
+        }
+    }
+
+    #[test]
+    fn five_percent_ripple_is_tracked_within_a_few_tenths() {
+        // 300 rpm, 2400 counts, 25 kHz: 0.48 counts per tick, ripple once per rev
+        let w = track(|k| 0.48 * (1.0 + 0.05 * (k * core::f64::consts::TAU / 5000.0).sin()), 60_000);
+        assert!(w < 0.3, "worst {w}");
+    }
+
+    #[test]
+    fn at_rest_the_offset_is_exactly_zero() {
+        let mut e = Estimator::new(100);
+        for _ in 0..1000 {
+            e.update(1);
+        }
+        for _ in 0..100 {
+            e.update(0);
+        }
+        assert!(e.at_rest());
+        assert_eq!((e.offset_q16(), e.velocity_q32()), (0, 0));
+    }
+}

@@ -1,0 +1,67 @@
+//! The commanded cutter position follows the target within a maximum step
+//! rate and acceleration: feed-forward of the target's speed plus a
+//! proportional pull, with a braking check (v² ≥ 2·a·|e|) so catching up to
+//! the exact phase never overshoots by more than the limits force.
+//! All in Q16 steps, Q16 steps/tick and Q16 steps/tick²; adds, multiplies
+//! and compares only.
+
+/// Proportional pull: 1/16 of the position error per tick.
+const KF_SHIFT: u32 = 4;
+
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Limits {
+    /// Q16 steps per tick
+    pub max_velocity: i64,
+    /// Q16 steps per tick per tick
+    pub max_accel: i64,
+}
+
+#[derive(Clone, Copy, Debug, Default)]
+pub struct Follower {
+    /// Q16 steps
+    pub position: i64,
+    /// Q16 steps per tick
+    pub velocity: i64,
+}
+
+impl Follower {
+    /// Moves one tick toward `target`, the target's position at the end of
+    /// this tick (moving at `target_velocity`). The error is what would
+    /// remain after moving at the target's own speed for the tick.
+    #[inline]
+    pub fn track(&mut self, target: i64, target_velocity: i64, lim: &Limits) {
+        let error = target - self.position - target_velocity;
+        let relative = self.velocity - target_velocity;
+        let mut dv = (target_velocity + (error >> KF_SHIFT) - self.velocity).clamp(-lim.max_accel, lim.max_accel);
+        // Closing in faster than we can brake: brake at the limit.
+        if relative != 0 && (relative > 0) == (error > 0) {
+            // Q16 units on both sides: v² and 2·a·e both carry 2^32.
+            let r = relative.unsigned_abs();
+            let brake = (2 * lim.max_accel as u64).saturating_mul(error.unsigned_abs());
+            if r.saturating_mul(r) >= brake {
+                dv = if relative > 0 { -lim.max_accel } else { lim.max_accel };
+            }
+        }
+        self.step(dv, lim);
+    }
+
+    /// Ramps the speed to zero at the acceleration limit.
+    #[inline]
+    pub fn ramp_down(&mut self, lim: &Limits) {
+        let dv = (-self.velocity).clamp(-lim.max_accel, lim.max_accel);
+        self.step(dv, lim);
+    }
+
+    fn step(&mut self, dv: i64, lim: &Limits) {
+        self.velocity = (self.velocity + dv).clamp(-lim.max_velocity, lim.max_velocity);
+        self.position += self.velocity;
+    }
+
+    /// Whole steps (rounded) of the commanded position.
+    pub fn whole_steps(&self) -> i64 {
+        (self.position + (1 << 15)) >> 16
+    }
+}
+
+#[cfg(test)]
+mod tests;
