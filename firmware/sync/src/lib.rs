@@ -9,10 +9,12 @@ extern crate std;
 #[macro_use]
 mod fmt;
 
+pub mod config;
 pub mod encoder;
 pub mod estimator;
 pub mod follower;
 pub mod gear;
 pub mod ratio;
+pub mod steps;
 
 pub use ratio::{Ratio, RatioError};

@@ -1,0 +1,218 @@
+//! One validated `Config`: every field's unit is in its name, every error
+//! names the field (as the console spells it) and its allowed range, and an
+//! invalid change leaves the settings as they were.
+
+use crate::ratio::{Ratio, RatioError};
+
+/// Relative sense of rotation (see the geometry model for the convention:
+/// "same" = both spindles turn the same way seen from the same end).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub enum Sense {
+    Same,
+    Opposite,
+}
+
+/// What drives the cutter spindle.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub enum DriveKind {
+    /// step/dir: a stepper or a servo taking step/dir
+    Stepper,
+    /// a velocity-driven spindle with its own encoder
+    Bldc,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct Config {
+    /// lathe encoder counts per lathe revolution (after ×4 decoding)
+    pub encoder_counts_per_rev: u32,
+    /// motor steps (or cutter-encoder counts) per cutter revolution
+    pub motor_steps_per_rev: u32,
+    pub ratio: Ratio,
+    pub sense: Sense,
+    pub edges: u8,
+    pub max_step_rate_hz: u32,
+    pub max_accel_steps_per_s2: u32,
+    pub following_error_limit_steps: u32,
+    /// phase offset of the cutter, in millidegrees of the cutter
+    pub phase_offset_mdeg: i32,
+    pub drive: DriveKind,
+    pub dir_setup_ns: u32,
+    pub step_pulse_ns: u32,
+    pub enable_active_high: bool,
+    /// the fastest the lathe can turn: above it, encoder jumps are implausible
+    pub max_lathe_rpm: u32,
+}
+
+/// A refused value: the field and the allowed range, for one error line.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct ConfigError {
+    pub field: &'static str,
+    pub allowed: &'static str,
+}
+
+impl Default for Config {
+    /// A 600-line (2400-count) lathe encoder, a 200-step motor at 1/16, 2:1.
+    fn default() -> Config {
+        Config {
+            encoder_counts_per_rev: 2400,
+            motor_steps_per_rev: 3200,
+            ratio: match Ratio::new(2, 1) {
+                Ok(r) => r,
+                Err(_) => unreachable_ratio(),
+            },
+            sense: Sense::Same,
+            edges: 3,
+            max_step_rate_hz: 200_000,
+            max_accel_steps_per_s2: 400_000,
+            following_error_limit_steps: 64,
+            phase_offset_mdeg: 0,
+            drive: DriveKind::Stepper,
+            dir_setup_ns: 5_000,
+            step_pulse_ns: 2_000,
+            enable_active_high: false,
+            max_lathe_rpm: 1500,
+        }
+    }
+}
+
+// 2/1 always parses; this keeps `Default` free of unwrap panics in no_std.
+const fn unreachable_ratio() -> Ratio {
+    loop {}
+}
+
+const fn range(field: &'static str, allowed: &'static str) -> ConfigError {
+    ConfigError { field, allowed }
+}
+
+fn within(v: u32, lo: u32, hi: u32, e: ConfigError) -> Result<(), ConfigError> {
+    if v < lo || v > hi {
+        Err(e)
+    } else {
+        Ok(())
+    }
+}
+
+impl Config {
+    /// Checks every field and the cross-field limits.
+    pub fn validate(&self) -> Result<(), ConfigError> {
+        within(self.encoder_counts_per_rev, 4, 1_000_000, range("cpr", "4..=1000000 counts per lathe rev"))?;
+        within(self.motor_steps_per_rev, 1, 1_000_000, range("steps", "1..=1000000 steps per cutter rev"))?;
+        within(self.edges as u32, 1, 12, range("edges", "1..=12"))?;
+        within(self.max_step_rate_hz, 1, 250_000, range("max-rate", "1..=250000 Hz"))?;
+        within(self.max_accel_steps_per_s2, 10, 50_000_000, range("max-accel", "10..=50000000 steps/s^2"))?;
+        within(self.following_error_limit_steps, 1, 1_000_000, range("ferror", "1..=1000000 steps"))?;
+        if self.phase_offset_mdeg.unsigned_abs() > 360_000 {
+            return Err(range("phase", "-360..=360 degrees of the cutter"));
+        }
+        within(self.dir_setup_ns, 0, 100_000, range("dir-setup", "0..=100000 ns"))?;
+        within(self.step_pulse_ns, 100, 100_000, range("pulse", "100..=100000 ns"))?;
+        within(self.max_lathe_rpm, 1, 10_000, range("max-rpm", "1..=10000 rpm"))?;
+        // A step period is one pulse high plus as long low.
+        if self.max_step_rate_hz as u64 * 2 * self.step_pulse_ns as u64 > 1_000_000_000 {
+            return Err(range("max-rate", "at most 1/(2 x pulse) so pulses fit"));
+        }
+        // The motor must keep up with the lathe at its declared top speed.
+        let need = self.max_lathe_rpm as u64 * self.ratio.num() as u64 * self.motor_steps_per_rev as u64;
+        if need > 60 * self.ratio.den() as u64 * self.max_step_rate_hz as u64 {
+            return Err(range("ratio", "too fast: max-rpm x ratio x steps/60 must not exceed max-rate"));
+        }
+        Ok(())
+    }
+
+    /// Steps the motor needs per second at `lathe_rpm` (planning, host).
+    pub fn motor_rate_at(&self, lathe_rpm: f64) -> f64 {
+        lathe_rpm / 60.0 * self.ratio.to_f64() * self.motor_steps_per_rev as f64
+    }
+
+    /// Applies `set <name> <value>` to a copy; the original is untouched
+    /// unless the whole result validates.
+    pub fn with(&self, name: &str, value: &str) -> Result<Config, ConfigError> {
+        let mut c = *self;
+        let num = |field, allowed| value.trim().parse::<u32>().map_err(|_| range(field, allowed));
+        match name {
+            "cpr" => c.encoder_counts_per_rev = num("cpr", "4..=1000000 counts per lathe rev")?,
+            "steps" => c.motor_steps_per_rev = num("steps", "1..=1000000 steps per cutter rev")?,
+            "ratio" => c.ratio = Ratio::parse(value).map_err(ratio_error)?,
+            "dir" => c.sense = parse_sense(value)?,
+            "edges" => c.edges = num("edges", "1..=12")?.min(255) as u8,
+            "max-rate" => c.max_step_rate_hz = num("max-rate", "1..=250000 Hz")?,
+            "max-accel" => c.max_accel_steps_per_s2 = num("max-accel", "10..=50000000 steps/s^2")?,
+            "ferror" => c.following_error_limit_steps = num("ferror", "1..=1000000 steps")?,
+            "phase" => c.phase_offset_mdeg = parse_mdeg(value)?,
+            "drive" => c.drive = parse_drive(value)?,
+            "dir-setup" => c.dir_setup_ns = num("dir-setup", "0..=100000 ns")?,
+            "pulse" => c.step_pulse_ns = num("pulse", "100..=100000 ns")?,
+            "enable" => c.enable_active_high = parse_polarity(value)?,
+            "max-rpm" => c.max_lathe_rpm = num("max-rpm", "1..=10000 rpm")?,
+            _ => return Err(range("name", "one of: cpr steps ratio dir edges max-rate max-accel ferror phase drive dir-setup pulse enable max-rpm")),
+        }
+        c.validate()?;
+        Ok(c)
+    }
+}
+
+/// The settable names, in `get` order.
+pub const NAMES: [&str; 14] = [
+    "cpr", "steps", "ratio", "dir", "edges", "max-rate", "max-accel", "ferror", "phase", "drive", "dir-setup",
+    "pulse", "enable", "max-rpm",
+];
+
+fn ratio_error(e: RatioError) -> ConfigError {
+    range("ratio", e.describe())
+}
+
+fn parse_sense(v: &str) -> Result<Sense, ConfigError> {
+    match v.trim() {
+        "same" => Ok(Sense::Same),
+        "opposite" => Ok(Sense::Opposite),
+        _ => Err(range("dir", "same or opposite")),
+    }
+}
+
+fn parse_drive(v: &str) -> Result<DriveKind, ConfigError> {
+    match v.trim() {
+        "stepper" => Ok(DriveKind::Stepper),
+        "bldc" => Ok(DriveKind::Bldc),
+        _ => Err(range("drive", "stepper or bldc")),
+    }
+}
+
+fn parse_polarity(v: &str) -> Result<bool, ConfigError> {
+    match v.trim() {
+        "high" => Ok(true),
+        "low" => Ok(false),
+        _ => Err(range("enable", "high or low (the active level)")),
+    }
+}
+
+/// Degrees with up to three decimals, e.g. `-12.5`, as millidegrees.
+fn parse_mdeg(v: &str) -> Result<i32, ConfigError> {
+    let e = range("phase", "-360..=360 degrees of the cutter");
+    let v = v.trim();
+    let (neg, body) = match v.strip_prefix('-') {
+        Some(b) => (true, b),
+        None => (false, v),
+    };
+    let (whole, frac) = body.split_once('.').unwrap_or((body, ""));
+    let ok = |s: &str| s.len() <= 6 && s.bytes().all(|b| b.is_ascii_digit());
+    if whole.is_empty() && frac.is_empty() || !ok(whole) || !ok(frac) || frac.len() > 3 {
+        return Err(e);
+    }
+    let w: i32 = if whole.is_empty() { 0 } else { whole.parse().map_err(|_| e)? };
+    let mut f: i32 = if frac.is_empty() { 0 } else { frac.parse().map_err(|_| e)? };
+    for _ in frac.len()..3 {
+        f *= 10;
+    }
+    let mdeg = w.checked_mul(1000).and_then(|x| x.checked_add(f)).ok_or(e)?;
+    if mdeg > 360_000 {
+        return Err(e);
+    }
+    Ok(if neg { -mdeg } else { mdeg })
+}
+
+#[cfg(test)]
+mod tests;

@@ -1,0 +1,45 @@
+use super::*;
+
+#[test]
+fn defaults_are_valid() {
+    assert_eq!(Config::default().validate(), Ok(()));
+}
+
+#[test]
+fn a_bad_value_names_the_field_and_changes_nothing() {
+    let c = Config::default();
+    for (name, value, field) in [
+        ("ratio", "0", "ratio"),
+        ("ratio", "1/0", "ratio"),
+        ("edges", "13", "edges"),
+        ("cpr", "-5", "cpr"),
+        ("dir", "sideways", "dir"),
+        ("phase", "400", "phase"),
+        ("phase", "1.2345", "phase"),
+        ("max-rate", "300000", "max-rate"),
+        ("bogus", "1", "name"),
+    ] {
+        let e = c.with(name, value).unwrap_err();
+        assert_eq!(e.field, field, "{name} {value}");
+        assert!(!e.allowed.is_empty());
+    }
+    assert_eq!(c, Config::default());
+}
+
+#[test]
+fn a_ratio_that_would_overspeed_the_motor_is_refused() {
+    // 1500 rpm x 100 x 3200 / 60 = 16 MHz, far above 200 kHz.
+    let e = Config::default().with("ratio", "100").unwrap_err();
+    assert_eq!(e.field, "ratio");
+    assert!(e.allowed.contains("max-rate"));
+    // ...but fine once the machinist declares a slow lathe.
+    let slow = Config::default().with("max-rpm", "30").unwrap();
+    assert!(slow.with("ratio", "100").is_ok());
+}
+
+#[test]
+fn phase_accepts_decimal_degrees() {
+    let c = Config::default().with("phase", "-12.5").unwrap();
+    assert_eq!(c.phase_offset_mdeg, -12_500);
+    assert_eq!(Config::default().with("phase", ".25").unwrap().phase_offset_mdeg, 250);
+}
