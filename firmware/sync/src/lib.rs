@@ -9,12 +9,21 @@ extern crate std;
 #[macro_use]
 mod fmt;
 
+pub mod codec;
 pub mod config;
+pub mod controller;
+pub mod derived;
+pub mod drive;
 pub mod encoder;
 pub mod estimator;
 pub mod follower;
 pub mod gear;
 pub mod ratio;
+pub mod state;
 pub mod steps;
 
 pub use ratio::{Ratio, RatioError};
+pub use config::{Config, ConfigError, DriveKind, Sense};
+pub use controller::{Controller, Refusal, Status, TickInput, TickOutput};
+pub use derived::Timing;
+pub use state::{Fault, State};

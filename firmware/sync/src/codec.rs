@@ -1,0 +1,169 @@
+//! Settings as bytes for flash: magic, version, fields little-endian,
+//! CRC-32. Anything that is not exactly a valid, current record decodes to
+//! an error (never a panic), and the caller falls back to the defaults.
+
+use crate::config::{Config, DriveKind, Sense};
+use crate::ratio::Ratio;
+
+pub const MAGIC: [u8; 2] = *b"PT";
+pub const VERSION: u8 = 1;
+/// Encoded length: magic 2, version 1, body 40, crc 4.
+pub const LEN: usize = 47;
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub enum DecodeError {
+    Length,
+    Magic,
+    /// a record from another firmware version
+    Version(u8),
+    Checksum,
+    /// intact but out of range (written by a buggy or foreign tool)
+    Invalid(&'static str),
+}
+
+/// CRC-32 (IEEE, reflected), bitwise: small and only used off the tick.
+pub fn crc32(data: &[u8]) -> u32 {
+    let mut crc = !0u32;
+    for &b in data {
+        crc ^= b as u32;
+        for _ in 0..8 {
+            crc = (crc >> 1) ^ (0xEDB8_8320 & (crc & 1).wrapping_neg());
+        }
+    }
+    !crc
+}
+
+pub fn encode(c: &Config) -> [u8; LEN] {
+    let mut out = [0u8; LEN];
+    out[..2].copy_from_slice(&MAGIC);
+    out[2] = VERSION;
+    let mut w = Writer { buf: &mut out, at: 3 };
+    w.u32(c.encoder_counts_per_rev);
+    w.u32(c.motor_steps_per_rev);
+    w.u16(c.ratio.num() as u16);
+    w.u16(c.ratio.den() as u16);
+    w.u8(matches!(c.sense, Sense::Opposite) as u8);
+    w.u8(c.edges);
+    w.u32(c.max_step_rate_hz);
+    w.u32(c.max_accel_steps_per_s2);
+    w.u32(c.following_error_limit_steps);
+    w.u32(c.phase_offset_mdeg as u32);
+    w.u8(matches!(c.drive, DriveKind::Bldc) as u8);
+    w.u8(c.enable_active_high as u8);
+    w.u32(c.dir_setup_ns);
+    w.u32(c.step_pulse_ns);
+    w.u16(c.max_lathe_rpm.min(u16::MAX as u32) as u16);
+    let crc = crc32(&out[..LEN - 4]);
+    out[LEN - 4..].copy_from_slice(&crc.to_le_bytes());
+    out
+}
+
+pub fn decode(bytes: &[u8]) -> Result<Config, DecodeError> {
+    if bytes.len() != LEN {
+        return Err(DecodeError::Length);
+    }
+    if bytes[..2] != MAGIC {
+        return Err(DecodeError::Magic);
+    }
+    if bytes[2] != VERSION {
+        return Err(DecodeError::Version(bytes[2]));
+    }
+    let stored = u32::from_le_bytes([bytes[LEN - 4], bytes[LEN - 3], bytes[LEN - 2], bytes[LEN - 1]]);
+    if crc32(&bytes[..LEN - 4]) != stored {
+        return Err(DecodeError::Checksum);
+    }
+    let mut r = Reader { buf: bytes, at: 3 };
+    let (cpr, steps, p, q) = (r.u32(), r.u32(), r.u16(), r.u16());
+    let ratio = Ratio::new(p as u64, q as u64).map_err(|_| DecodeError::Invalid("ratio"))?;
+    let c = Config {
+        encoder_counts_per_rev: cpr,
+        motor_steps_per_rev: steps,
+        ratio,
+        sense: if r.u8() == 1 { Sense::Opposite } else { Sense::Same },
+        edges: r.u8(),
+        max_step_rate_hz: r.u32(),
+        max_accel_steps_per_s2: r.u32(),
+        following_error_limit_steps: r.u32(),
+        phase_offset_mdeg: r.u32() as i32,
+        drive: if r.u8() == 1 { DriveKind::Bldc } else { DriveKind::Stepper },
+        enable_active_high: r.u8() == 1,
+        dir_setup_ns: r.u32(),
+        step_pulse_ns: r.u32(),
+        max_lathe_rpm: r.u16() as u32,
+    };
+    c.validate().map_err(|e| DecodeError::Invalid(e.field))?;
+    Ok(c)
+}
+
+struct Writer<'a> {
+    buf: &'a mut [u8; LEN],
+    at: usize,
+}
+impl Writer<'_> {
+    fn put(&mut self, b: &[u8]) {
+        self.buf[self.at..self.at + b.len()].copy_from_slice(b);
+        self.at += b.len();
+    }
+    fn u8(&mut self, v: u8) {
+        self.put(&[v]);
+    }
+    fn u16(&mut self, v: u16) {
+        self.put(&v.to_le_bytes());
+    }
+    fn u32(&mut self, v: u32) {
+        self.put(&v.to_le_bytes());
+    }
+}
+
+struct Reader<'a> {
+    buf: &'a [u8],
+    at: usize,
+}
+impl Reader<'_> {
+    fn take<const N: usize>(&mut self) -> [u8; N] {
+        let mut out = [0u8; N];
+        out.copy_from_slice(&self.buf[self.at..self.at + N]);
+        self.at += N;
+        out
+    }
+    fn u8(&mut self) -> u8 {
+        self.take::<1>()[0]
+    }
+    fn u16(&mut self) -> u16 {
+        u16::from_le_bytes(self.take())
+    }
+    fn u32(&mut self) -> u32 {
+        u32::from_le_bytes(self.take())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use proptest::prelude::*;
+
+    #[test]
+    fn round_trips_and_detects_every_single_bit_flip() {
+        let c = Config::default().with("max-rpm", "600").unwrap().with("ratio", "11/3").unwrap().with("phase", "-7.25").unwrap();
+        let bytes = encode(&c);
+        assert_eq!(decode(&bytes), Ok(c));
+        for bit in 0..LEN * 8 {
+            let mut b = bytes;
+            b[bit / 8] ^= 1 << (bit % 8);
+            assert!(decode(&b).is_err(), "bit {bit}");
+        }
+    }
+
+    #[test]
+    fn crc_matches_the_standard_check_value() {
+        assert_eq!(crc32(b"123456789"), 0xCBF4_3926);
+    }
+
+    proptest! {
+        #[test]
+        fn any_bytes_decode_without_panicking(bytes in proptest::collection::vec(any::<u8>(), 0..64)) {
+            let _ = decode(&bytes);
+        }
+    }
+}

@@ -1,0 +1,248 @@
+//! The controller: one `tick` per control interrupt (integer adds,
+//! multiplies and compares; no 64-bit division, no float) and commands from
+//! lower priority. The same code runs in the firmware and the simulator.
+
+use crate::config::{Config, DriveKind};
+use crate::derived::{Derived, Timing};
+use crate::drive::{Bldc, StepBook};
+use crate::encoder::{Extender, IndexEvent, IndexTracker};
+use crate::estimator::Estimator;
+use crate::follower::Follower;
+use crate::gear::Gear;
+use crate::state::{Fault, State};
+use crate::steps::StepPlan;
+
+/// What the hardware reports at the start of a tick.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct TickInput {
+    /// lathe encoder timer counter
+    pub lathe: u16,
+    /// counter value latched at an index pulse since the last tick
+    pub index: Option<u16>,
+    /// step pulses emitted (free-running 16-bit count), stepper mode
+    pub emitted: u16,
+    /// cutter encoder timer counter, BLDC mode
+    pub cutter: u16,
+    pub estop_open: bool,
+    pub alarm: bool,
+}
+
+/// What the hardware does until the next tick.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct TickOutput {
+    /// logical enable (the firmware applies the configured polarity)
+    pub enable: bool,
+    /// stop step output at once
+    pub halt: bool,
+    pub plan: StepPlan,
+    /// BLDC speed command, Q16 cutter counts per tick
+    pub speed_q16: i32,
+}
+
+/// Why a command was refused.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub enum Refusal {
+    Faulted,
+    NotIdle,
+    Overspeed,
+    Busy,
+}
+
+impl Refusal {
+    pub fn describe(self) -> &'static str {
+        match self {
+            Refusal::Faulted => "a fault is latched: clear it first",
+            Refusal::NotIdle => "stop first: settings change only while idle",
+            Refusal::Overspeed => "lathe too fast for this ratio: the motor would exceed max-rate",
+            Refusal::Busy => "already engaged",
+        }
+    }
+}
+
+pub struct Controller {
+    config: Config,
+    d: Derived,
+    timing: Timing,
+    state: State,
+    lathe: Extender,
+    index: IndexTracker,
+    gear: Gear,
+    est: Estimator,
+    follower: Follower,
+    steps: StepBook,
+    bldc: Bldc,
+    /// target at the last tick's end, Q16 steps, and its speed
+    target: i64,
+    target_velocity: i64,
+    ever_engaged: bool,
+    rebase_pending: bool,
+    ticks: u64,
+}
+
+impl Controller {
+    pub fn new(config: Config, timing: Timing) -> Controller {
+        let d = Derived::new(&config, timing);
+        Controller {
+            config,
+            d,
+            timing,
+            state: State::Idle,
+            lathe: Extender::default(),
+            index: IndexTracker::default(),
+            gear: Gear::new(d.scale),
+            est: Estimator::new(d.still_ticks),
+            follower: Follower::default(),
+            steps: StepBook::default(),
+            bldc: Bldc::default(),
+            target: 0,
+            target_velocity: 0,
+            ever_engaged: false,
+            rebase_pending: false,
+            ticks: 0,
+        }
+    }
+
+    /// Latches the first raw readings so the first tick sees no jump.
+    pub fn start(&mut self, lathe: u16, emitted: u16, cutter: u16) {
+        self.lathe = Extender::new(lathe);
+        self.steps.start(emitted);
+        self.bldc.start(cutter);
+    }
+
+    /// The control tick.
+    pub fn tick(&mut self, io: &TickInput) -> TickOutput {
+        self.ticks += 1;
+        let delta = self.lathe.update(io.lathe);
+        if delta.abs() > self.d.max_counts_per_tick {
+            self.trip(Fault::EncoderImplausible);
+        }
+        if let Some(raw) = io.index {
+            self.on_index(raw);
+        }
+        let signed = if self.d.sense_positive { delta } else { -delta };
+        self.gear.advance(signed.clamp(-self.d.max_counts_per_tick, self.d.max_counts_per_tick));
+        self.est.update(signed);
+        if io.estop_open {
+            self.trip(Fault::EStop);
+        }
+        if io.alarm {
+            self.trip(Fault::DriveAlarm);
+        }
+        let cutter = self.measure(io);
+        self.update_target();
+        self.step_state(cutter);
+        self.output(cutter)
+    }
+
+    fn on_index(&mut self, raw: u16) {
+        let pos = self.lathe.position_of(raw);
+        match self.index.on_index(pos, self.config.encoder_counts_per_rev as i64, 2) {
+            IndexEvent::Referenced(_) => self.rebase_pending = !self.ever_engaged,
+            IndexEvent::Consistent => {}
+            IndexEvent::Slipped(_) => self.trip(Fault::EncoderImplausible),
+        }
+    }
+
+    /// The cutter's position in Q16 steps: emitted steps, or its encoder.
+    fn measure(&mut self, io: &TickInput) -> i64 {
+        match self.config.drive {
+            DriveKind::Stepper => self.steps.read(io.emitted) << 16,
+            DriveKind::Bldc => self.bldc.read(io.cutter) << 16,
+        }
+    }
+
+    /// Exact rounded gear target + rounding remainder + sub-count
+    /// interpolation + phase offset, predicted to the end of this tick.
+    fn update_target(&mut self) {
+        let d = &self.d;
+        let exact = (self.gear.steps() << 16) + ((self.gear.rem2() * d.rem_inv) >> 24);
+        let interp = (self.est.offset_q16() as i64 * d.steps_per_count_q16) >> 16;
+        let limit = (d.max_counts_per_tick as i64) << 16;
+        let v_counts = (self.est.velocity_q32() >> 16).clamp(-limit, limit);
+        self.target_velocity = (v_counts * d.steps_per_count_q16) >> 16;
+        self.target = exact + interp + d.phase_offset_q16 + self.target_velocity;
+    }
+
+    fn step_state(&mut self, cutter: i64) {
+        let lim = self.d.limits;
+        match self.state {
+            State::Idle => self.follower = Follower { position: cutter, velocity: 0 },
+            State::Engaging | State::Synced => {
+                if self.target_velocity.abs() > lim.max_velocity {
+                    self.trip(Fault::Overspeed);
+                    return self.follower.ramp_down(&lim);
+                }
+                self.follower.track(self.target, self.target_velocity, &lim);
+                self.check_sync(cutter);
+            }
+            State::Disengaging => {
+                self.follower.ramp_down(&lim);
+                if self.follower.velocity == 0 {
+                    self.state = State::Idle;
+                    info!("idle");
+                }
+            }
+            State::Fault(f) if f.immediate() => self.follower = Follower { position: cutter, velocity: 0 },
+            State::Fault(_) => self.follower.ramp_down(&lim),
+        }
+    }
+
+    fn check_sync(&mut self, cutter: i64) {
+        let error = self.target - self.follower.position;
+        if self.state == State::Engaging {
+            let close = error.abs() < 1 << 15;
+            let matched = (self.follower.velocity - self.target_velocity).abs() <= 4 * self.d.limits.max_accel;
+            if close && matched {
+                self.state = State::Synced;
+                info!("synced");
+            }
+            return;
+        }
+        let lag = match self.config.drive {
+            DriveKind::Stepper => error,
+            DriveKind::Bldc => self.follower.position - cutter,
+        };
+        if lag.abs() > self.d.following_limit_q16 {
+            self.trip(Fault::FollowingError);
+        }
+    }
+
+    fn output(&mut self, cutter: i64) -> TickOutput {
+        let (enable, halt) = match self.state {
+            State::Engaging | State::Synced | State::Disengaging => (true, false),
+            State::Fault(f) if f.immediate() => (false, true),
+            State::Fault(_) => (self.follower.velocity != 0, false),
+            State::Idle => (false, false),
+        };
+        let mut out = TickOutput { enable, halt, ..TickOutput::default() };
+        if !enable {
+            self.bldc.reset();
+            self.steps.hold(self.follower.position);
+            return out;
+        }
+        match self.config.drive {
+            DriveKind::Stepper => out.plan = self.steps.plan(self.follower.position, &self.d.steps),
+            DriveKind::Bldc => {
+                let (cmd, stalled) = self.bldc.command(&self.follower, cutter, &self.d);
+                out.speed_q16 = cmd;
+                if stalled {
+                    self.trip(Fault::Stall);
+                }
+            }
+        }
+        out
+    }
+
+    /// Latches a fault (the first one wins until cleared).
+    pub fn trip(&mut self, f: Fault) {
+        if matches!(self.state, State::Fault(_)) {
+            return;
+        }
+        warn!("fault: {}", f.name());
+        self.state = State::Fault(f);
+    }
+}
+
+mod commands;
+pub use commands::Status;

@@ -1,0 +1,144 @@
+//! Commands and status: called at low priority (console, USB, planning).
+//! Anything needing a division happens here, never in the tick.
+
+use super::{Controller, Refusal};
+use crate::config::Config;
+use crate::derived::Derived;
+use crate::follower::Follower;
+use crate::gear::Gear;
+use crate::state::{Fault, State};
+
+/// A snapshot for `status`, `watch` and the once-a-second log.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct Status {
+    pub state: State,
+    /// lathe speed, Q32 counts per tick
+    pub lathe_velocity_q32: i64,
+    /// target − commanded cutter position, Q16 steps
+    pub phase_error_q16: i64,
+    /// the cutter's position (steps emitted, or its encoder)
+    pub cutter_steps: i64,
+    /// the exact rounded gear target, whole steps
+    pub target_steps: i64,
+    pub lathe_counts: i64,
+    pub indexed: bool,
+    pub ticks: u64,
+}
+
+impl Controller {
+    pub fn state(&self) -> State {
+        self.state
+    }
+    pub fn config(&self) -> &Config {
+        &self.config
+    }
+    pub fn derived(&self) -> &Derived {
+        &self.d
+    }
+    pub fn follower(&self) -> &Follower {
+        &self.follower
+    }
+
+    pub fn status(&self) -> Status {
+        Status {
+            state: self.state,
+            lathe_velocity_q32: self.est.velocity_q32(),
+            phase_error_q16: self.target - self.target_velocity - self.follower.position + self.follower.velocity,
+            cutter_steps: self.cutter_steps(),
+            target_steps: self.gear.steps(),
+            lathe_counts: self.lathe.position(),
+            indexed: self.index.reference().is_some(),
+            ticks: self.ticks,
+        }
+    }
+
+    fn cutter_steps(&self) -> i64 {
+        match self.config.drive {
+            crate::config::DriveKind::Stepper => self.steps.emitted(),
+            crate::config::DriveKind::Bldc => self.follower.position >> 16,
+        }
+    }
+
+    /// Starts synchronising (from rest or while the lathe turns).
+    pub fn engage(&mut self) -> Result<(), Refusal> {
+        match self.state {
+            State::Fault(_) => return Err(Refusal::Faulted),
+            State::Engaging | State::Synced => return Err(Refusal::Busy),
+            State::Idle | State::Disengaging => {}
+        }
+        let margin = self.d.limits.max_velocity - self.d.limits.max_velocity / 16;
+        if self.target_velocity.abs() > margin {
+            return Err(Refusal::Overspeed);
+        }
+        self.service();
+        self.ever_engaged = true;
+        self.state = State::Engaging;
+        info!("engaging");
+        Ok(())
+    }
+
+    /// Ramps the cutter down and goes idle.
+    pub fn disengage(&mut self) {
+        if matches!(self.state, State::Engaging | State::Synced) {
+            self.state = State::Disengaging;
+            info!("disengaging");
+        }
+    }
+
+    /// Clears a latched fault once the motor has stopped.
+    pub fn clear(&mut self) {
+        if let State::Fault(_) = self.state {
+            self.state = if self.follower.velocity == 0 { State::Idle } else { State::Disengaging };
+        }
+    }
+
+    /// Low-priority housekeeping: re-bases the gear on the first index
+    /// (only before the first engagement, so later passes keep the phase of
+    /// the first).
+    pub fn service(&mut self) {
+        if self.rebase_pending && self.state == State::Idle {
+            self.rebase_pending = false;
+            self.rebase();
+        }
+    }
+
+    fn rebase(&mut self) {
+        let origin = self.index.reference().unwrap_or(0);
+        let rel = self.lathe.position() - origin;
+        self.gear = Gear::new(self.d.scale);
+        self.gear.reset(if self.d.sense_positive { rel } else { -rel });
+    }
+
+    /// Replaces the settings. While running only the phase offset may
+    /// change (a nudge, smoothed by the follower's limits).
+    pub fn set_config(&mut self, c: Config) -> Result<(), Refusal> {
+        let running = !matches!(self.state, State::Idle | State::Fault(_));
+        if running {
+            let only_phase = Config { phase_offset_mdeg: self.config.phase_offset_mdeg, ..c } == self.config;
+            if !only_phase {
+                return Err(Refusal::NotIdle);
+            }
+        }
+        if matches!(self.state, State::Fault(f) if !f.immediate()) && self.follower.velocity != 0 {
+            return Err(Refusal::NotIdle);
+        }
+        self.config = c;
+        let d = Derived::new(&c, self.timing);
+        if running {
+            self.d.phase_offset_q16 = d.phase_offset_q16;
+            return Ok(());
+        }
+        self.d = d;
+        self.est = crate::estimator::Estimator::new(d.still_ticks);
+        self.rebase();
+        Ok(())
+    }
+
+    pub fn fault(&self) -> Option<Fault> {
+        match self.state {
+            State::Fault(f) => Some(f),
+            _ => None,
+        }
+    }
+}

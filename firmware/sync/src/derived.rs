@@ -1,0 +1,74 @@
+//! Everything the tick needs, precomputed from a `Config` at low priority
+//! (this is where the divisions live, so the tick has none of 64 bits).
+
+use crate::config::{Config, Sense};
+use crate::follower::Limits;
+use crate::gear::Scale;
+use crate::steps::StepTiming;
+
+/// The control tick's rate and the step timer's clock.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Timing {
+    pub tick_hz: u32,
+    pub step_timer_hz: u32,
+}
+
+impl Timing {
+    /// The firmware's: 25 kHz tick, 100 MHz timer clock.
+    pub const FIRMWARE: Timing = Timing { tick_hz: 25_000, step_timer_hz: 100_000_000 };
+}
+
+#[derive(Clone, Copy, Debug)]
+pub struct Derived {
+    pub scale: Scale,
+    pub sense_positive: bool,
+    /// motor steps per lathe count, Q16
+    pub steps_per_count_q16: i64,
+    /// (rem2 · inv) >> 24 is the gear's rounding remainder in Q16 steps
+    pub rem_inv: i64,
+    pub max_counts_per_tick: i32,
+    pub limits: Limits,
+    pub following_limit_q16: i64,
+    pub phase_offset_q16: i64,
+    pub steps: StepTiming,
+    pub still_ticks: u32,
+    pub stall_ticks: u32,
+    pub tick_hz: u32,
+}
+
+fn ceil_div(a: u64, b: u64) -> u64 {
+    a.div_ceil(b.max(1))
+}
+
+impl Derived {
+    pub fn new(c: &Config, t: Timing) -> Derived {
+        let scale = Scale::new(c.ratio.num(), c.ratio.den(), c.motor_steps_per_rev, c.encoder_counts_per_rev)
+            .unwrap_or(Scale { num: 1, den: 1 });
+        let hz = t.tick_hz.max(1) as u64;
+        // Top lathe speed in counts per tick, with 25 % margin and 2 counts
+        // of jitter allowance; a tick can never move half the 16-bit range.
+        let counts = ceil_div(c.max_lathe_rpm as u64 * c.encoder_counts_per_rev as u64 * 5, 60 * hz * 4) + 2;
+        let ns_to_timer = |ns: u32| ceil_div(ns as u64 * t.step_timer_hz as u64, 1_000_000_000) as u32;
+        Derived {
+            scale,
+            sense_positive: c.sense == Sense::Same,
+            steps_per_count_q16: ((scale.num << 16) / scale.den) as i64,
+            rem_inv: ((1u64 << 39) / scale.den) as i64,
+            max_counts_per_tick: counts.min(16_000) as i32,
+            limits: Limits {
+                max_velocity: ((c.max_step_rate_hz as u64) << 16).div_ceil(hz) as i64,
+                max_accel: (((c.max_accel_steps_per_s2 as u64) << 16) / (hz * hz)).max(1) as i64,
+            },
+            following_limit_q16: (c.following_error_limit_steps as i64) << 16,
+            phase_offset_q16: ((c.phase_offset_mdeg as i64 * c.motor_steps_per_rev as i64) << 16) / 360_000,
+            steps: StepTiming {
+                tick_len: (t.step_timer_hz as u64 / hz) as u32,
+                min_period: ns_to_timer(c.step_pulse_ns.saturating_mul(2)).max(2),
+                dir_setup: ns_to_timer(c.dir_setup_ns),
+            },
+            still_ticks: (hz / 10) as u32,
+            stall_ticks: (hz / 5) as u32,
+            tick_hz: t.tick_hz,
+        }
+    }
+}

@@ -1,0 +1,103 @@
+//! The two cutter drives behind the follower: step/dir bookkeeping closed on
+//! the pulses really emitted, and a BLDC speed loop on the cutter's encoder.
+
+use crate::derived::Derived;
+use crate::encoder::Extender;
+use crate::follower::Follower;
+use crate::steps::{plan, Dir, StepPlan, StepTiming};
+
+/// Step/dir: what was emitted (from the hardware's pulse counter) and what
+/// was last commanded. Steps planned but not emitted are planned again.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct StepBook {
+    pulses: Extender,
+    emitted: i64,
+    dir: Dir,
+    last_to: i64,
+}
+
+impl StepBook {
+    pub fn start(&mut self, raw: u16) {
+        self.pulses = Extender::new(raw);
+    }
+
+    /// Reads the pulse counter; every pulse since the last read went the
+    /// way of the last plan (a plan always finishes inside its tick).
+    #[inline]
+    pub fn read(&mut self, raw: u16) -> i64 {
+        let n = self.pulses.update(raw).max(0) as i64;
+        self.emitted += if self.dir == Dir::Forward { n } else { -n };
+        self.emitted
+    }
+
+    #[inline]
+    pub fn plan(&mut self, to: i64, timing: &StepTiming) -> StepPlan {
+        let p = plan(self.last_to, to, self.emitted, self.dir, timing);
+        if p.count > 0 {
+            self.dir = p.dir;
+        }
+        self.last_to = to;
+        p
+    }
+
+    /// Holds still at `position` (Q16): the next plan starts from there.
+    pub fn hold(&mut self, position: i64) {
+        self.last_to = position;
+    }
+
+    pub fn emitted(&self) -> i64 {
+        self.emitted
+    }
+}
+
+/// BLDC: speed command = feed-forward (the follower's speed) + PI on the
+/// phase error seen by the cutter's encoder, clamped, with anti-windup.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct Bldc {
+    encoder: Extender,
+    integral: i64,
+    still: u32,
+    last: i64,
+}
+
+/// Proportional: 1/16 of the phase error per tick; integral: 1/1024.
+const KP_SHIFT: u32 = 4;
+const KI_SHIFT: u32 = 10;
+
+impl Bldc {
+    pub fn start(&mut self, raw: u16) {
+        self.encoder = Extender::new(raw);
+    }
+
+    #[inline]
+    pub fn read(&mut self, raw: u16) -> i64 {
+        self.encoder.update(raw);
+        self.encoder.position()
+    }
+
+    pub fn reset(&mut self) {
+        self.integral = 0;
+        self.still = 0;
+    }
+
+    /// Returns the speed command (Q16 counts per tick) and whether the
+    /// motor has stalled (commanded to move, encoder still for too long).
+    #[inline]
+    pub fn command(&mut self, f: &Follower, cutter_q16: i64, d: &Derived) -> (i32, bool) {
+        let error = f.position - cutter_q16;
+        let umax = d.limits.max_velocity + d.limits.max_velocity / 2;
+        let step = error >> KI_SHIFT;
+        let integral = (self.integral + step).clamp(-umax, umax);
+        let raw = f.velocity + (error >> KP_SHIFT) + integral;
+        let u = raw.clamp(-umax, umax);
+        // Anti-windup: integrate only while the output is not saturated
+        // in the direction the error pushes.
+        if u == raw || (raw > umax) != (step > 0) {
+            self.integral = integral;
+        }
+        let moved = cutter_q16 != self.last;
+        self.last = cutter_q16;
+        self.still = if moved || u.abs() < d.limits.max_velocity / 16 { 0 } else { self.still + 1 };
+        (u as i32, self.still > d.stall_ticks)
+    }
+}

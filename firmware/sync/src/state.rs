@@ -1,0 +1,70 @@
+//! States and faults. Idle → Engaging → Synced → Disengaging → Idle, and
+//! Fault(kind) latched until cleared.
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub enum Fault {
+    /// the lathe's speed × ratio needs more than the motor's max rate
+    Overspeed,
+    /// the cutter fell behind the target by more than the limit: sync lost
+    FollowingError,
+    /// the lathe encoder jumped faster than the lathe can turn, or slipped
+    /// against its index
+    EncoderImplausible,
+    EStop,
+    DriveAlarm,
+    /// the BLDC's encoder does not follow the speed command
+    Stall,
+}
+
+impl Fault {
+    /// E-stop and alarm stop motion at once; the others ramp down.
+    pub fn immediate(self) -> bool {
+        matches!(self, Fault::EStop | Fault::DriveAlarm)
+    }
+
+    pub fn name(self) -> &'static str {
+        match self {
+            Fault::Overspeed => "overspeed",
+            Fault::FollowingError => "following-error",
+            Fault::EncoderImplausible => "encoder-implausible",
+            Fault::EStop => "estop",
+            Fault::DriveAlarm => "drive-alarm",
+            Fault::Stall => "stall",
+        }
+    }
+
+    /// What a machinist should check.
+    pub fn reason(self) -> &'static str {
+        match self {
+            Fault::Overspeed => "lathe speed x ratio needs more than max-rate: slow the lathe",
+            Fault::FollowingError => "cutter fell behind: motor too weak or max-accel too low",
+            Fault::EncoderImplausible => "lathe encoder jumped or slipped: check wiring and max-rpm",
+            Fault::EStop => "e-stop open: close it, then clear",
+            Fault::DriveAlarm => "drive reports an alarm: check the drive, then clear",
+            Fault::Stall => "cutter encoder not following: check motor and its encoder",
+        }
+    }
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub enum State {
+    Idle,
+    Engaging,
+    Synced,
+    Disengaging,
+    Fault(Fault),
+}
+
+impl State {
+    pub fn name(self) -> &'static str {
+        match self {
+            State::Idle => "idle",
+            State::Engaging => "engaging",
+            State::Synced => "synced",
+            State::Disengaging => "disengaging",
+            State::Fault(_) => "fault",
+        }
+    }
+}
