@@ -7,8 +7,8 @@ use crate::ratio::Ratio;
 
 pub const MAGIC: [u8; 2] = *b"PT";
 pub const VERSION: u8 = 1;
-/// Encoded length: magic 2, version 1, body 40, crc 4.
-pub const LEN: usize = 47;
+/// Encoded length: magic 2, version 1, body 42, crc 4.
+pub const LEN: usize = 49;
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
@@ -54,6 +54,7 @@ pub fn encode(c: &Config) -> [u8; LEN] {
     w.u32(c.dir_setup_ns);
     w.u32(c.step_pulse_ns);
     w.u16(c.max_lathe_rpm.min(u16::MAX as u32) as u16);
+    debug_assert_eq!(w.at, LEN - 4, "LEN must match the fields");
     let crc = crc32(&out[..LEN - 4]);
     out[LEN - 4..].copy_from_slice(&crc.to_le_bytes());
     out
