@@ -11,6 +11,8 @@ mod fmt;
 
 pub mod codec;
 pub mod config;
+pub mod console;
+mod console_status;
 pub mod controller;
 pub mod derived;
 pub mod drive;
