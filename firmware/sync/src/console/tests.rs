@@ -44,7 +44,8 @@ fn save_only_while_idle_and_engage_refuses_while_faulted() {
     assert_eq!(say(&mut c, "set phase 10").0, "ok phase=10.000");
     c.trip(crate::state::Fault::EStop);
     assert!(say(&mut c, "engage").0.starts_with("error: a fault is latched"));
-    assert!(say(&mut c, "status").0.contains("fault=estop reason="));
+    let s = say(&mut c, "status").0;
+    assert!(s.contains("fault=estop") && s.contains("reason="), "{s}");
 }
 
 proptest! {
