@@ -3,3 +3,4 @@
 
 pub mod cli;
 pub mod geometry;
+pub mod sim;

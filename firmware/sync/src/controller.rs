@@ -77,6 +77,7 @@ pub struct Controller {
     target_velocity: i64,
     ever_engaged: bool,
     rebase_pending: bool,
+    origin: i64,
     ticks: u64,
 }
 
@@ -99,6 +100,7 @@ impl Controller {
             target_velocity: 0,
             ever_engaged: false,
             rebase_pending: false,
+            origin: 0,
             ticks: 0,
         }
     }

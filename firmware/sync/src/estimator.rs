@@ -8,9 +8,9 @@
 //! ≈ 0.06 count for 5 % once-per-rev ripple at 300 rpm on 2400 counts.
 
 /// Proportional shift (K1·T = 2^−5).
-const KP: u32 = 5;
+const KP: u32 = 4;
 /// Integral shift (K2·T² = 2^−11).
-const KI: u32 = 11;
+const KI: u32 = 9;
 const ONE: i64 = 1 << 32;
 
 #[derive(Clone, Copy, Debug, Default)]

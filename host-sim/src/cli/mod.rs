@@ -2,6 +2,7 @@
 
 pub mod args;
 pub mod geometry;
+pub mod simulate;
 
 use args::CliError;
 
@@ -11,10 +12,11 @@ pub fn help() -> String {
     format!(
         "polyturn {VERSION}: plan, draw and simulate polygon turning with a live rotating cutter\n\n\
          usage:\n  polyturn demo                 simulate a hexagon end to end, write hexagon.svg\n  \
-         {}\n  \
+         {}\n  {}\n  \
          polyturn --help | --version\n\n\
          Lengths are in mm. `polyturn <command> --help` shows a command's flags.",
-        geometry::USAGE
+        geometry::USAGE,
+        simulate::USAGE
     )
 }
 
@@ -31,6 +33,8 @@ pub fn dispatch(argv: &[String]) -> Result<String, CliError> {
         "--help" | "-h" | "help" => Ok(help()),
         "--version" | "-V" => Ok(format!("polyturn {VERSION}")),
         "geometry" => geometry::run(rest),
+        "simulate" => simulate::run_cli(rest),
+        "demo" => simulate::demo(rest),
         other => Err(CliError(format!("unknown command '{other}' (try polyturn --help)"))),
     }
 }
@@ -38,6 +42,8 @@ pub fn dispatch(argv: &[String]) -> Result<String, CliError> {
 fn usage_of(cmd: &str) -> Option<String> {
     let u = match cmd {
         "geometry" => geometry::USAGE,
+        "simulate" => simulate::USAGE,
+        "demo" => "polyturn demo [--svg FILE] [--json]",
         _ => return None,
     };
     Some(format!("usage: {u}"))

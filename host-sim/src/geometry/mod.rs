@@ -128,8 +128,13 @@ impl Setup {
     /// Tip 0's position in the work frame after the work turned by `a`, with
     /// an extra cutter angle `phase` (a phase error, in cutter radians).
     pub fn tip(&self, a: f64, phase: f64) -> (f64, f64) {
-        let (x0, r1, s) = (self.centre_distance(), self.cutter_radius_mm, self.direction.sign());
-        let theta = s * (self.gr() * a + phase);
+        self.tip_at(a, self.direction.sign() * (self.gr() * a + phase))
+    }
+
+    /// Tip 0's position in the work frame for a work angle `a` and a
+    /// physical cutter angle `theta` (counter-clockwise, like the work).
+    pub fn tip_at(&self, a: f64, theta: f64) -> (f64, f64) {
+        let (x0, r1) = (self.centre_distance(), self.cutter_radius_mm);
         let (sn, cs) = (a - theta).sin_cos();
         // e^{−ia}·(X0 − R1·e^{iθ}) = X0·e^{−ia} − R1·e^{i(θ − a)}
         let (sa, ca) = a.sin_cos();
@@ -139,9 +144,14 @@ impl Setup {
     /// Half-width in work angle of one pass inside the stock: |P(a)| = R2 at
     /// cos(GR·a) = (X0² + R1² − R2²) / (2·X0·R1).
     pub fn pass_half_window(&self) -> f64 {
+        self.in_stock_cos().acos() / self.gr()
+    }
+
+    /// A tip is inside the stock while cos(its angle from the line of
+    /// centres) exceeds this.
+    pub fn in_stock_cos(&self) -> f64 {
         let (x0, r1, r2) = (self.centre_distance(), self.cutter_radius_mm, self.stock_radius_mm);
-        let c = ((x0 * x0 + r1 * r1 - r2 * r2) / (2.0 * x0 * r1)).clamp(-1.0, 1.0);
-        c.acos() / self.gr()
+        ((x0 * x0 + r1 * r1 - r2 * r2) / (2.0 * x0 * r1)).clamp(-1.0, 1.0)
     }
 
     /// |dP/da|: tip speed relative to the work per rad/s of the lathe

@@ -99,13 +99,19 @@ impl Controller {
     pub fn service(&mut self) {
         if self.rebase_pending && self.state == State::Idle {
             self.rebase_pending = false;
+            self.origin = self.index.reference().unwrap_or(self.origin);
             self.rebase();
         }
     }
 
+    /// The lathe count the gear measures from (0 at boot, or the first
+    /// index if it came before the first engagement).
+    pub fn gear_origin(&self) -> i64 {
+        self.origin
+    }
+
     fn rebase(&mut self) {
-        let origin = self.index.reference().unwrap_or(0);
-        let rel = self.lathe.position() - origin;
+        let rel = self.lathe.position() - self.origin;
         self.gear = Gear::new(self.d.scale);
         self.gear.reset(if self.d.sense_positive { rel } else { -rel });
     }

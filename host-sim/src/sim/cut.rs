@@ -1,0 +1,78 @@
+//! Cuts the section from recorded motion: at every tick the lathe's and the
+//! cutter's real angles; between ticks both are interpolated and the tip is
+//! sampled finely while it is inside the stock. Same model as `geometry`.
+
+use crate::geometry::{Envelope, Section, Setup};
+use std::f64::consts::{PI, TAU};
+
+pub struct CutRecorder {
+    setup: Setup,
+    env: Envelope,
+    cos_in: f64,
+    last: Option<(f64, f64)>,
+    pub passes_cut: u64,
+}
+
+/// Largest straight piece of a sampled tip path, mm.
+const PIECE_MM: f64 = 0.004;
+
+impl CutRecorder {
+    pub fn new(setup: &Setup, bins_per_side: usize) -> CutRecorder {
+        let n = setup.sides().max(1) as usize;
+        let start = -PI / n as f64;
+        CutRecorder {
+            setup: *setup,
+            env: Envelope::new(start, TAU, TAU, n * bins_per_side, setup.stock_radius_mm),
+            cos_in: setup.in_stock_cos(),
+            last: None,
+            passes_cut: 0,
+        }
+    }
+
+    /// Forgets the previous sample (the cut pauses: not synchronised).
+    pub fn pause(&mut self) {
+        self.last = None;
+    }
+
+    /// Records the state at one tick: work angle `a`, cutter angle `theta`.
+    pub fn record(&mut self, a: f64, theta: f64) {
+        if let Some((a0, t0)) = self.last.replace((a, theta)) {
+            for j in 0..self.setup.edges {
+                let edge = TAU * j as f64 / self.setup.edges as f64;
+                self.segment(a0, t0 + edge, a, theta + edge);
+            }
+        }
+    }
+
+    fn in_stock(&self, psi0: f64, psi1: f64) -> bool {
+        let wraps = (psi0 / TAU).floor() != (psi1 / TAU).floor();
+        wraps || psi0.cos() > self.cos_in || psi1.cos() > self.cos_in
+    }
+
+    fn segment(&mut self, a0: f64, p0: f64, a1: f64, p1: f64) {
+        // Guard band: a tip just outside at both ends can still dip in.
+        let margin = (p1 - p0).abs();
+        let near = |p: f64| p.cos() > self.cos_in - margin;
+        if !(self.in_stock(p0, p1) || near(p0) || near(p1)) {
+            return;
+        }
+        let (x0, y0) = self.setup.tip_at(a0, p0);
+        let (x1, y1) = self.setup.tip_at(a1, p1);
+        let n = (((x1 - x0).hypot(y1 - y0) / PIECE_MM).ceil() as usize).clamp(1, 4096);
+        let pts: Vec<(f64, f64)> = (0..=n)
+            .map(|i| {
+                let f = i as f64 / n as f64;
+                self.setup.tip_at(a0 + (a1 - a0) * f, p0 + (p1 - p0) * f)
+            })
+            .filter(|&(x, y)| x.hypot(y) < self.setup.stock_radius_mm * 1.05)
+            .collect();
+        if pts.len() > 1 {
+            self.passes_cut += 1;
+            self.env.add_polyline(&pts);
+        }
+    }
+
+    pub fn section(&self) -> Section {
+        Section { sides: self.setup.sides(), stock_radius: self.setup.stock_radius_mm, envelope: self.env.clone() }
+    }
+}

@@ -1,0 +1,143 @@
+//! The simulator: the real sync core, ticked at the firmware's rate against
+//! plant models of the lathe, its encoder and the cutter drive. The cutter's
+//! real angle at every tick cuts the section, which is compared with the
+//! geometry model's ideal section.
+
+mod bldc;
+mod cut;
+mod encoder;
+pub mod lathe;
+pub mod report;
+mod rng;
+mod run;
+mod stepper;
+
+pub use cut::CutRecorder;
+pub use run::run;
+
+use crate::geometry::Setup;
+use lathe::LatheProfile;
+use polyturn_sync::{Config, DriveKind, Fault};
+
+/// A timed command or event, seconds from the start.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Event {
+    Engage(f64),
+    Disengage(f64),
+    /// the e-stop opens at this time (and stays open)
+    EStop(f64),
+    /// (tick, counts): the lathe encoder gains or drops counts
+    Glitch(u64, i64),
+}
+
+/// Everything a run needs. `Scenario::standard` builds the CLI's runs.
+#[derive(Clone, Debug)]
+pub struct Scenario {
+    pub setup: Setup,
+    pub core: Config,
+    pub tick_hz: u32,
+    pub lathe: LatheProfile,
+    pub events: Vec<Event>,
+    pub seed: u64,
+    /// stepper: fastest and most acceleration it can follow (steps/s, /s²)
+    pub motor_max_rate_hz: f64,
+    pub motor_max_accel: f64,
+    /// BLDC: torque limit (N·m) and cutting load (N·m)
+    pub bldc_max_torque: f64,
+    pub bldc_cut_torque: f64,
+    /// revolutions of cutting (synchronised, lathe at speed) after which the
+    /// machinist withdraws the tool and stops the lathe; None: run the
+    /// lathe profile as given
+    pub cut_revolutions: Option<f64>,
+    /// a deliberately broken core for the "can the check fail" test:
+    /// the gear's ratio numerator is off by this much
+    pub sabotage_ratio_num: i32,
+}
+
+/// Start condition of the lathe.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Start {
+    Rest,
+    Spinning,
+}
+
+/// What a run found.
+#[derive(Clone, Debug)]
+pub struct SimResult {
+    pub final_error_steps: i64,
+    pub max_error_steps: f64,
+    pub max_error_deg: f64,
+    /// the same, only while the tool is cutting (synced, lathe at speed)
+    pub max_error_steps_cutting: f64,
+    pub max_profile_deviation: f64,
+    pub section: crate::geometry::Section,
+    pub ideal: crate::geometry::Section,
+    /// sections cut by each engagement, in order
+    pub passes: Vec<crate::geometry::Section>,
+    pub faults: Vec<(u64, Fault)>,
+    pub ticks: u64,
+    pub steps_emitted: u64,
+    pub encoder_counts: i64,
+    pub synced_ticks: u64,
+    /// (time s, min error, max error) in steps, decimated, for the plot
+    pub error_trace: Vec<(f64, f64, f64)>,
+    pub stalled: bool,
+}
+
+impl Scenario {
+    /// The CLI's run: reach `rpm`, cut for `revolutions`, decelerate to rest.
+    #[allow(clippy::too_many_arguments)]
+    pub fn standard(
+        setup: Setup,
+        rpm: f64,
+        revolutions: f64,
+        ripple: f64,
+        start: Start,
+        encoder_cpr: u32,
+        motor_steps: u32,
+        drive: DriveKind,
+        seed: u64,
+    ) -> Scenario {
+        let core = Config {
+            encoder_counts_per_rev: encoder_cpr,
+            motor_steps_per_rev: motor_steps,
+            ratio: setup.ratio,
+            sense: match setup.direction {
+                crate::geometry::Direction::Same => polyturn_sync::Sense::Same,
+                crate::geometry::Direction::Opposite => polyturn_sync::Sense::Opposite,
+            },
+            edges: setup.edges as u8,
+            drive,
+            max_lathe_rpm: ((rpm * 1.3).ceil() as u32).max(60),
+            following_error_limit_steps: (motor_steps / 50).max(16),
+            ..Config::default()
+        };
+        let accel = 1200.0; // rpm/s: a lathe reaching 600 rpm in half a second
+        let (start_rpm, engage_at) = match start {
+            Start::Rest => (0.0, 0.0),
+            Start::Spinning => (rpm, 0.2),
+        };
+        // Held until the cut is done (see `cut_revolutions`), with a cap.
+        let hold = 60.0 + revolutions * 60.0 / rpm.max(1e-9);
+        let legs = vec![
+            lathe::Leg { rpm, accel_rpm_per_s: accel, hold_s: hold },
+            lathe::Leg { rpm: 0.0, accel_rpm_per_s: accel, hold_s: 0.3 },
+        ];
+        Scenario {
+            setup,
+            core,
+            tick_hz: 25_000,
+            lathe: LatheProfile { start_rpm, legs, ripple, wander: ripple / 5.0, dips: vec![] },
+            events: vec![Event::Engage(engage_at)],
+            seed,
+            motor_max_rate_hz: 250_000.0,
+            motor_max_accel: 5e6,
+            bldc_max_torque: 1.0,
+            bldc_cut_torque: 0.2,
+            cut_revolutions: Some(revolutions),
+            sabotage_ratio_num: 0,
+        }
+    }
+}
+#[cfg(test)]
+mod cut_tests;

@@ -1,0 +1,202 @@
+//! The tick loop: plants → sync core → plants, once per control tick.
+
+use super::bldc::Bldc;
+use super::encoder::Encoder;
+use super::lathe::Lathe;
+use super::stepper::Stepper;
+use super::{CutRecorder, Event, Scenario, SimResult};
+use crate::geometry::Section;
+use polyturn_sync::gear::Scale;
+use polyturn_sync::{Controller, DriveKind, Fault, State, TickInput, Timing};
+use std::f64::consts::TAU;
+
+const TIMER_HZ: u32 = 100_000_000;
+
+struct Plants {
+    lathe: Lathe,
+    encoder: Encoder,
+    stepper: Stepper,
+    bldc: Bldc,
+}
+
+/// Runs a scenario to the end (lathe at rest, everything settled).
+pub fn run(sc: &Scenario) -> Result<SimResult, String> {
+    sc.core.validate().map_err(|e| format!("--{} {}", e.field, e.allowed))?;
+    let mut core_cfg = sc.core;
+    if sc.sabotage_ratio_num != 0 {
+        let num = (core_cfg.ratio.num() as i64 + sc.sabotage_ratio_num as i64).max(1) as u64;
+        core_cfg.ratio = polyturn_sync::Ratio::new(num, core_cfg.ratio.den() as u64).map_err(|e| e.describe().to_string())?;
+    }
+    let mut ctl = Controller::new(core_cfg, Timing { tick_hz: sc.tick_hz, step_timer_hz: TIMER_HZ });
+    ctl.start(0, 0, 0);
+    let dt = 1.0 / sc.tick_hz as f64;
+    let mut p = Plants {
+        lathe: Lathe::new(sc.lathe.clone(), sc.seed),
+        encoder: Encoder::new(sc.core.encoder_counts_per_rev),
+        stepper: Stepper::new(sc.motor_max_rate_hz, sc.motor_max_accel, 2e-6),
+        bldc: Bldc::new(sc.core.motor_steps_per_rev),
+    };
+    p.bldc.max_torque = sc.bldc_max_torque;
+    p.bldc.cut_torque = sc.bldc_cut_torque;
+    for e in &sc.events {
+        if let Event::Glitch(t, n) = *e {
+            p.encoder.glitches.push((t, n));
+        }
+    }
+    let bins = Section::default_bins(sc.setup.sides()).min(2048);
+    let mut cut = CutRecorder::new(&sc.setup, bins);
+    let mut passes: Vec<CutRecorder> = Vec::new();
+    let m = sc.core.motor_steps_per_rev as f64;
+    let e = sc.core.encoder_counts_per_rev as f64;
+    let sense = if sc.core.sense == polyturn_sync::Sense::Same { 1.0 } else { -1.0 };
+    let gr = sc.core.ratio.to_f64();
+    let mut out = Tally::default();
+    let (mut estop, mut tick, mut settle) = (false, 0u64, 0u32);
+    let mut last_state = ctl.state();
+    let (mut cut_angle, mut cut_done) = (None::<f64>, 0.0);
+    loop {
+        let t = tick as f64 * dt;
+        for ev in &sc.events {
+            match *ev {
+                Event::Engage(at) if at <= t && at > t - dt => {
+                    if ctl.engage().is_ok() {
+                        passes.push(CutRecorder::new(&sc.setup, bins));
+                    }
+                }
+                Event::Disengage(at) if at <= t && at > t - dt => ctl.disengage(),
+                Event::EStop(at) if at <= t => estop = true,
+                _ => {}
+            }
+        }
+        let a = p.lathe.angle;
+        let count = p.encoder.count(a, tick);
+        let index = p.encoder.index(a);
+        let input = TickInput {
+            lathe: count as u16,
+            index,
+            emitted: p.stepper.pulses as u16,
+            cutter: p.bldc.count() as u16,
+            estop_open: estop,
+            alarm: false,
+        };
+        let o = ctl.tick(&input);
+        ctl.service();
+        let steps_now = match sc.core.drive {
+            DriveKind::Stepper => p.stepper.execute(&o.plan, t, dt, TIMER_HZ as f64, o.halt),
+            DriveKind::Bldc => p.bldc.angle / TAU * m,
+        };
+        let theta = steps_now / m * TAU;
+        let state = ctl.state();
+        if state != last_state {
+            if let State::Fault(f) = state {
+                out.faults.push((tick, f));
+            }
+            last_state = state;
+        }
+        let cutting = state == State::Synced && (sc.cut_revolutions.is_none() || p.lathe.holding());
+        if state == State::Synced {
+            let ideal = sense * gr * m * (a / TAU * e - ctl.gear_origin() as f64) / e;
+            out.error(t, ideal - steps_now, cutting);
+        }
+        if cutting {
+            if let Some(last) = cut_angle.replace(a) {
+                cut_done += (a - last).abs();
+            }
+            if sc.cut_revolutions.is_some_and(|n| cut_done >= n * TAU) {
+                p.lathe.end_hold();
+            }
+            cut.record(a, theta);
+            if let Some(pass) = passes.last_mut() {
+                pass.record(a, theta);
+            }
+        } else {
+            cut_angle = None;
+            cut.pause();
+            if let Some(pass) = passes.last_mut() {
+                pass.pause();
+            }
+        }
+        if sc.core.drive == DriveKind::Bldc {
+            let cmd = o.speed_q16 as f64 / 65536.0 * sc.tick_hz as f64 * TAU / m;
+            let load = cutting && tip_in_stock(&sc.setup, p.bldc.angle);
+            p.bldc.advance(cmd, load, o.enable, dt);
+        }
+        p.lathe.advance(dt);
+        tick += 1;
+        // Done once the lathe has finished its profile and the cutter rests.
+        let resting = p.lathe.finished() && ctl.follower().velocity == 0 && p.bldc.speed.abs() < 1e-3;
+        settle = if resting { settle + 1 } else { 0 };
+        if settle > sc.tick_hz / 5 || tick > 3_600 * sc.tick_hz as u64 {
+            break;
+        }
+    }
+    let a = p.lathe.angle;
+    let count = p.encoder.count(a, tick);
+    let scale = Scale::new(sc.core.ratio.num(), sc.core.ratio.den(), sc.core.motor_steps_per_rev, sc.core.encoder_counts_per_rev)
+        .ok_or("zero scale")?;
+    let rel = count - ctl.gear_origin();
+    let exact = scale.round(if sense > 0.0 { rel } else { -rel });
+    let cutter = match sc.core.drive {
+        DriveKind::Stepper => p.stepper.position,
+        DriveKind::Bldc => p.bldc.count(),
+    };
+    let section = cut.section();
+    let ideal = Section::ideal(&sc.setup, bins);
+    let max_profile_deviation = section
+        .envelope
+        .radius
+        .iter()
+        .enumerate()
+        .map(|(i, r)| (r - ideal.envelope.radius[i]).abs())
+        .fold(0.0, f64::max);
+    Ok(SimResult {
+        final_error_steps: exact - cutter,
+        max_error_steps: out.max_abs,
+        max_error_deg: out.max_abs * 360.0 / (m * gr),
+        max_error_steps_cutting: out.max_cutting,
+        max_profile_deviation,
+        section,
+        ideal,
+        passes: passes.iter().map(CutRecorder::section).collect(),
+        faults: out.faults,
+        ticks: tick,
+        steps_emitted: p.stepper.pulses,
+        encoder_counts: count,
+        synced_ticks: out.synced,
+        error_trace: out.trace,
+        stalled: p.stepper.stalled,
+    })
+}
+
+/// Whether any edge is inside the stock (for the BLDC's cutting load).
+fn tip_in_stock(setup: &crate::geometry::Setup, theta: f64) -> bool {
+    let c = setup.in_stock_cos();
+    (0..setup.edges).any(|j| (theta + TAU * j as f64 / setup.edges as f64).cos() > c)
+}
+
+#[derive(Default)]
+struct Tally {
+    max_abs: f64,
+    max_cutting: f64,
+    synced: u64,
+    faults: Vec<(u64, Fault)>,
+    trace: Vec<(f64, f64, f64)>,
+    bucket: Option<(f64, f64, f64)>,
+}
+
+impl Tally {
+    fn error(&mut self, t: f64, err: f64, cutting: bool) {
+        self.synced += 1;
+        self.max_abs = self.max_abs.max(err.abs());
+        if cutting {
+            self.max_cutting = self.max_cutting.max(err.abs());
+        }
+        let b = self.bucket.get_or_insert((t, err, err));
+        b.1 = b.1.min(err);
+        b.2 = b.2.max(err);
+        if t - b.0 >= 0.002 {
+            self.trace.push(*b);
+            self.bucket = None;
+        }
+    }
+}

@@ -1,0 +1,89 @@
+//! A stepper (or step/dir servo): every pulse moves the rotor one step, up
+//! to a torque-speed limit beyond which the rotor stalls and the pulses are
+//! lost (the driver still counts them: that is what a real one does).
+//! The rotor's smooth position passes through the middle of each step, at
+//! the step's instant (steps at half-step crossings, see `steps.rs`).
+
+use polyturn_sync::steps::{Dir, StepPlan};
+
+#[derive(Clone, Debug)]
+pub struct Stepper {
+    /// fastest step rate the motor can follow, steps/s
+    pub max_rate_hz: f64,
+    /// largest acceleration it can follow, steps/s²
+    pub max_accel: f64,
+    /// seconds from the tick's start to the first possible step (ISR latency)
+    pub latency_s: f64,
+    /// pulses received (the 16-bit counter the firmware reads)
+    pub pulses: u64,
+    /// rotor position in steps (whole steps moved)
+    pub position: i64,
+    pub stalled: bool,
+    last_event: Option<(f64, f64)>,
+    last_rate: f64,
+    slow_rate: f64,
+}
+
+impl Stepper {
+    pub fn new(max_rate_hz: f64, max_accel: f64, latency_s: f64) -> Stepper {
+        Stepper { max_rate_hz, max_accel, latency_s, pulses: 0, position: 0, stalled: false, last_event: None, last_rate: 0.0, slow_rate: 0.0 }
+    }
+
+    /// Runs one tick's plan starting at `t0`; returns the rotor's smooth
+    /// position at `t0` (steps), now that the next step's time is known.
+    pub fn execute(&mut self, plan: &StepPlan, t0: f64, dt: f64, timer_hz: f64, halt: bool) -> f64 {
+        let sign = if plan.dir == Dir::Forward { 1.0 } else { -1.0 };
+        let n = if halt { 0 } else { plan.count as usize };
+        let at = |i: usize| t0 + self.latency_s + (plan.first as f64 + (i as f64) * plan.period as f64) / timer_hz;
+        let smooth_now = self.smooth_at(t0, (n > 0).then(|| (at(0), sign)), dt);
+        // The rotor follows the pulse rate averaged over ~1 ms (its
+        // mechanical time constant), not each tick's whole-step count.
+        // A ramp of acceleration A puts the 1 ms and 2 ms averages A·1 ms apart.
+        let pulse_rate = n as f64 / dt * sign;
+        let rate = self.last_rate + (pulse_rate - self.last_rate) * (dt / 1e-3).min(1.0);
+        self.slow_rate += (pulse_rate - self.slow_rate) * (dt / 2e-3).min(1.0);
+        let accel = (rate - self.slow_rate) / 1e-3;
+        if n > 0 && (rate.abs() > self.max_rate_hz || accel.abs() > self.max_accel) {
+            self.stalled = true;
+        }
+        if n == 0 && rate.abs() < 1.0 {
+            self.stalled = false; // at rest the rotor re-locks to the driver
+        }
+        self.last_rate = rate;
+        for i in 0..n {
+            self.pulses += 1;
+            if !self.stalled {
+                self.position += sign as i64;
+                self.last_event = Some((at(i), self.position as f64 - 0.5 * sign));
+            }
+        }
+        smooth_now
+    }
+
+    /// Position at `t`: between the last step's middle and the next one's,
+    /// when both are close; otherwise the rotor sits on its step.
+    fn smooth_at(&self, t: f64, next: Option<(f64, f64)>, dt: f64) -> f64 {
+        let here = self.position as f64;
+        match (self.last_event, next) {
+            (Some((tp, pp)), Some((tn, sign))) if tn - tp < 2e-3 && !self.stalled => {
+                let pn = here + 0.5 * sign;
+                pp + (pn - pp) * ((t - tp) / (tn - tp)).clamp(0.0, 1.0)
+            }
+            _ => here,
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn too_fast_a_command_stalls_the_rotor_but_the_pulses_count() {
+        let mut s = Stepper::new(10_000.0, 1e9, 0.0);
+        let plan = StepPlan { count: 4, dir: Dir::Forward, first: 100, period: 900 };
+        s.execute(&plan, 0.0, 40e-6, 100e6, false); // 100 kHz > 10 kHz
+        assert!(s.stalled);
+        assert_eq!((s.pulses, s.position), (4, 0));
+    }
+}
