@@ -80,10 +80,14 @@ mod tests {
 
     #[test]
     fn too_fast_a_command_stalls_the_rotor_but_the_pulses_count() {
-        let mut s = Stepper::new(10_000.0, 1e9, 0.0);
+        // 4 steps per 40 µs tick is 100 kHz, ten times what it can follow.
+        let mut s = Stepper::new(10_000.0, 1e12, 0.0);
         let plan = StepPlan { count: 4, dir: Dir::Forward, first: 100, period: 900 };
-        s.execute(&plan, 0.0, 40e-6, 100e6, false); // 100 kHz > 10 kHz
+        for k in 0..100 {
+            s.execute(&plan, k as f64 * 40e-6, 40e-6, 100e6, false);
+        }
         assert!(s.stalled);
-        assert_eq!((s.pulses, s.position), (4, 0));
+        assert_eq!(s.pulses, 400);
+        assert!(s.position < 40, "moved {} of 400", s.position);
     }
 }
