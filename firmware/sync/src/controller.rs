@@ -78,6 +78,8 @@ pub struct Controller {
     ever_engaged: bool,
     rebase_pending: bool,
     origin: i64,
+    /// whole cutter turns dropped at engagement, in steps (a multiple of M)
+    turns: i64,
     ticks: u64,
 }
 
@@ -101,6 +103,7 @@ impl Controller {
             ever_engaged: false,
             rebase_pending: false,
             origin: 0,
+            turns: 0,
             ticks: 0,
         }
     }
@@ -163,7 +166,7 @@ impl Controller {
         let limit = (d.max_counts_per_tick as i64) << 16;
         let v_counts = (self.est.velocity_q32() >> 16).clamp(-limit, limit);
         self.target_velocity = (v_counts * d.steps_per_count_q16) >> 16;
-        self.target = exact + interp + d.phase_offset_q16 + self.target_velocity;
+        self.target = exact + interp + d.phase_offset_q16 + (self.turns << 16) + self.target_velocity;
     }
 
     fn step_state(&mut self, cutter: i64) {

@@ -90,12 +90,17 @@ pub fn run(sc: &Scenario) -> Result<SimResult, String> {
         if state != last_state {
             if let State::Fault(f) = state {
                 out.faults.push((tick, f));
+                if sc.cut_revolutions.is_some() {
+                    p.lathe.end_hold(); // the machinist stops the lathe
+                }
             }
             last_state = state;
         }
-        let cutting = state == State::Synced && (sc.cut_revolutions.is_none() || p.lathe.holding());
+        // The machinist feeds the tool in once synchronised at speed and
+        // withdraws it before the lathe slows (ripple and dips still count).
+        let cutting = state == State::Synced && p.lathe.holding();
         if state == State::Synced {
-            let ideal = sense * gr * m * (a / TAU * e - ctl.gear_origin() as f64) / e;
+            let ideal = sense * gr * m * (a / TAU * e - ctl.gear_origin() as f64) / e + ctl.turn_offset_steps() as f64;
             out.error(t, ideal - steps_now, cutting);
         }
         if cutting {
@@ -135,7 +140,7 @@ pub fn run(sc: &Scenario) -> Result<SimResult, String> {
     let scale = Scale::new(sc.core.ratio.num(), sc.core.ratio.den(), sc.core.motor_steps_per_rev, sc.core.encoder_counts_per_rev)
         .ok_or("zero scale")?;
     let rel = count - ctl.gear_origin();
-    let exact = scale.round(if sense > 0.0 { rel } else { -rel });
+    let exact = scale.round(if sense > 0.0 { rel } else { -rel }) + ctl.turn_offset_steps();
     let cutter = match sc.core.drive {
         DriveKind::Stepper => p.stepper.position,
         DriveKind::Bldc => p.bldc.count(),

@@ -35,7 +35,7 @@ impl Stepper {
         let sign = if plan.dir == Dir::Forward { 1.0 } else { -1.0 };
         let n = if halt { 0 } else { plan.count as usize };
         let at = |i: usize| t0 + self.latency_s + (plan.first as f64 + (i as f64) * plan.period as f64) / timer_hz;
-        let smooth_now = self.smooth_at(t0, (n > 0).then(|| (at(0), sign)), dt);
+        let smooth_now = self.smooth_at(t0, (n > 0).then(|| (at(0), sign)));
         // The rotor follows the pulse rate averaged over ~1 ms (its
         // mechanical time constant), not each tick's whole-step count.
         // A ramp of acceleration A puts the 1 ms and 2 ms averages A·1 ms apart.
@@ -62,7 +62,7 @@ impl Stepper {
 
     /// Position at `t`: between the last step's middle and the next one's,
     /// when both are close; otherwise the rotor sits on its step.
-    fn smooth_at(&self, t: f64, next: Option<(f64, f64)>, dt: f64) -> f64 {
+    fn smooth_at(&self, t: f64, next: Option<(f64, f64)>) -> f64 {
         let here = self.position as f64;
         match (self.last_event, next) {
             (Some((tp, pp)), Some((tn, sign))) if tn - tp < 2e-3 && !self.stalled => {

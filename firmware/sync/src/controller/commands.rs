@@ -72,6 +72,7 @@ impl Controller {
             return Err(Refusal::Overspeed);
         }
         self.service();
+        self.drop_whole_turns();
         self.ever_engaged = true;
         self.state = State::Engaging;
         info!("engaging");
@@ -102,6 +103,23 @@ impl Controller {
             self.origin = self.index.reference().unwrap_or(self.origin);
             self.rebase();
         }
+    }
+
+    /// Whole cutter turns are equivalent (one turn rotates the section by
+    /// 2π/GR, and N/GR = Z·q/gcd(pZ, q) is whole), so engaging catches up
+    /// at most half a turn instead of every turn missed since boot. Exact:
+    /// the offset is a whole number of M steps.
+    fn drop_whole_turns(&mut self) {
+        let m = self.config.motor_steps_per_rev as i64;
+        let behind = (self.target - self.target_velocity - self.follower.position) >> 16;
+        let turns = (behind + behind.signum() * m / 2) / m;
+        self.turns -= turns * m;
+        self.target -= (turns * m) << 16;
+    }
+
+    /// Whole-turn offset (steps) applied to the gear target.
+    pub fn turn_offset_steps(&self) -> i64 {
+        self.turns
     }
 
     /// The lathe count the gear measures from (0 at boot, or the first
