@@ -85,6 +85,12 @@ impl Bldc {
     #[inline]
     pub fn command(&mut self, f: &Follower, cutter_q16: i64, d: &Derived) -> (i32, bool) {
         let error = f.position - cutter_q16;
+        // At standstill on the commanded count: hold, do not hunt ±1 count
+        // (the encoder cannot see finer; integrating would limit-cycle).
+        if f.velocity == 0 && f.whole_steps() == cutter_q16 >> 16 {
+            self.still = 0;
+            return (0, false);
+        }
         let umax = d.limits.max_velocity + d.limits.max_velocity / 2;
         let step = error >> KI_SHIFT;
         let integral = (self.integral + step).clamp(-umax, umax);

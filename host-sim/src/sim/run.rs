@@ -129,7 +129,7 @@ pub fn run(sc: &Scenario) -> Result<SimResult, String> {
         p.lathe.advance(dt);
         tick += 1;
         // Done once the lathe has finished its profile and the cutter rests.
-        let resting = p.lathe.finished() && ctl.follower().velocity == 0 && p.bldc.speed.abs() < 1e-3;
+        let resting = p.lathe.finished() && ctl.follower().velocity == 0 && p.bldc.speed.abs() < 0.05;
         settle = if resting { settle + 1 } else { 0 };
         if settle > sc.tick_hz / 5 || tick > 3_600 * sc.tick_hz as u64 {
             break;

@@ -1,0 +1,84 @@
+//! The `polyturn` command-line contracts, run through the real binary.
+
+use std::process::Command;
+
+fn polyturn(args: &str) -> (i32, String, String) {
+    let out = Command::new(env!("CARGO_BIN_EXE_polyturn")).args(args.split_whitespace()).output().expect("runs");
+    let text = |b: Vec<u8>| String::from_utf8(b).expect("utf-8");
+    (out.status.code().unwrap_or(-1), text(out.stdout), text(out.stderr))
+}
+
+const HEX: &str = "--cutter-radius 50 --stock-radius 10 --depth 1.5 --ratio 2 --edges 3 --direction same";
+
+#[test]
+fn help_and_version_work() {
+    let (code, out, _) = polyturn("--help");
+    assert_eq!(code, 0);
+    assert!(out.contains("polyturn demo") && out.contains("polyturn geometry"));
+    let (code, out, _) = polyturn("--version");
+    assert_eq!((code, out.trim()), (0, format!("polyturn {}", env!("CARGO_PKG_VERSION")).as_str()));
+}
+
+#[test]
+fn geometry_json_carries_the_contract_fields() {
+    let (code, out, err) = polyturn(&format!("geometry {HEX} --json"));
+    assert_eq!(code, 0, "{err}");
+    let v: serde_json::Value = serde_json::from_str(&out).unwrap();
+    assert_eq!(v["sides"], 6);
+    assert_eq!(v["revolutions"], 1);
+    assert!((v["inscribed_radius"].as_f64().unwrap() - 8.5).abs() < 1e-6);
+    assert!((v["across_flats"].as_f64().unwrap() - 17.0).abs() < 1e-6);
+    assert!(v["circumscribed_radius"].as_f64().unwrap() > 8.5);
+    assert!(v["flat_deviation"].as_f64().unwrap() > 0.0);
+    assert_eq!(v["corners_sharp"], true);
+    let (_, out, _) = polyturn("geometry --cutter-radius 50 --stock-radius 10 --depth 1 --ratio 5/2 --edges 2 --direction same --json");
+    let v: serde_json::Value = serde_json::from_str(&out).unwrap();
+    assert_eq!((v["sides"].as_u64(), v["across_flats"].is_null()), (Some(5), true));
+}
+
+#[test]
+fn every_bad_value_exits_2_with_one_line_naming_the_flag() {
+    let base = "geometry --cutter-radius 50 --stock-radius 10 --depth 1.5 --ratio 2 --edges 3 --direction same";
+    for (bad, flag) in [
+        ("--ratio 0", "--ratio"), ("--ratio -2", "--ratio"), ("--ratio 1/0", "--ratio"), ("--ratio abc", "--ratio"),
+        ("--ratio 1001", "--ratio"), ("--edges 0", "--edges"), ("--edges 13", "--edges"), ("--depth 0", "--depth"),
+        ("--depth 10", "--depth"), ("--depth NaN", "--depth"), ("--cutter-radius -1", "--cutter-radius"),
+        ("--cutter-radius inf", "--cutter-radius"), ("--direction clockwise", "--direction"),
+    ] {
+        let (code, out, err) = polyturn(&format!("{base} {bad}"));
+        assert_eq!(code, 2, "{bad}: {out}{err}");
+        assert_eq!(err.lines().count(), 1, "{bad}: {err}");
+        assert!(err.starts_with(&format!("error: {flag} ")), "{bad}: {err}");
+    }
+}
+
+#[test]
+fn simulate_json_carries_the_contract_fields() {
+    let (code, out, err) = polyturn(&format!("simulate {HEX} --rpm 600 --revolutions 3 --json"));
+    assert_eq!(code, 0, "{err}");
+    let v: serde_json::Value = serde_json::from_str(&out).unwrap();
+    for k in ["final_error_steps", "max_error_steps", "max_error_deg", "max_profile_deviation", "faults", "ticks", "steps_emitted", "encoder_counts"] {
+        assert!(!v[k].is_null(), "missing {k}");
+    }
+    assert_eq!(v["final_error_steps"], 0);
+    assert_eq!(v["cut"]["sides"], 6);
+    assert_eq!(v["faults"].as_array().map(Vec::len), Some(0));
+}
+
+#[test]
+fn simulate_refuses_a_run_that_would_overspeed_the_motor() {
+    let (code, _, err) = polyturn(&format!("simulate {HEX} --rpm 5000 --revolutions 3"));
+    assert_eq!(code, 2);
+    assert!(err.starts_with("error: --rpm too fast"), "{err}");
+}
+
+#[test]
+fn demo_writes_the_hexagon_picture() {
+    let dir = std::env::temp_dir().join(format!("polyturn-demo-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let svg = dir.join("hexagon.svg");
+    let (code, out, err) = polyturn(&format!("demo --svg {}", svg.display()));
+    assert_eq!(code, 0, "{err}");
+    assert!(out.contains("6 sides") && out.contains("final error at rest: 0 steps"), "{out}");
+    assert!(std::fs::read_to_string(&svg).unwrap().starts_with("<svg"));
+}
