@@ -3,4 +3,5 @@
 
 pub mod cli;
 pub mod geometry;
+pub mod planner;
 pub mod sim;

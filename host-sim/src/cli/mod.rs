@@ -2,6 +2,7 @@
 
 pub mod args;
 pub mod geometry;
+pub mod setups;
 pub mod simulate;
 
 use args::CliError;
@@ -12,10 +13,11 @@ pub fn help() -> String {
     format!(
         "polyturn {VERSION}: plan, draw and simulate polygon turning with a live rotating cutter\n\n\
          usage:\n  polyturn demo                 simulate a hexagon end to end, write hexagon.svg\n  \
-         {}\n  {}\n  \
+         {}\n  {}\n  {}\n  \
          polyturn --help | --version\n\n\
          Lengths are in mm. `polyturn <command> --help` shows a command's flags.",
         geometry::USAGE,
+        setups::USAGE,
         simulate::USAGE
     )
 }
@@ -34,6 +36,7 @@ pub fn dispatch(argv: &[String]) -> Result<String, CliError> {
         "--version" | "-V" => Ok(format!("polyturn {VERSION}")),
         "geometry" => geometry::run(rest),
         "simulate" => simulate::run_cli(rest),
+        "setups" => setups::run(rest),
         "demo" => simulate::demo(rest),
         other => Err(CliError(format!("unknown command '{other}' (try polyturn --help)"))),
     }
@@ -43,6 +46,7 @@ fn usage_of(cmd: &str) -> Option<String> {
     let u = match cmd {
         "geometry" => geometry::USAGE,
         "simulate" => simulate::USAGE,
+        "setups" => setups::USAGE,
         "demo" => "polyturn demo [--svg FILE] [--json]",
         _ => return None,
     };

@@ -1,0 +1,166 @@
+//! The setup planner: every (ratio, edges, direction) that cuts N flats,
+//! with what a machinist needs to choose between them.
+
+use crate::geometry::{Direction, Section, Setup};
+use polyturn_sync::Ratio;
+
+#[derive(Clone, Debug, serde::Serialize)]
+pub struct Candidate {
+    pub ratio: String,
+    pub edges: u32,
+    pub direction: &'static str,
+    pub revolutions: u32,
+    pub depth: f64,
+    pub flat_deviation: f64,
+    pub corners_sharp: bool,
+    pub cutter_rpm: Option<f64>,
+    /// Ghionea eq. (3), (4) (opposite sense) or their internal-rolling
+    /// counterparts (same sense); null where infinite (same sense, 1:1)
+    pub rolling_radius_work: Option<f64>,
+    pub rolling_radius_cutter: Option<f64>,
+    /// peak tip speed relative to the work inside the cut, m/s (eq. 5)
+    pub peak_tip_speed: Option<f64>,
+    /// smallest cutter radius keeping |flat deviation| ≤ tolerance, mm
+    pub min_cutter_radius: Option<f64>,
+}
+
+pub struct Request {
+    pub sides: u32,
+    pub stock_radius: f64,
+    pub depth: f64,
+    pub cutter_radius: Option<f64>,
+    pub max_edges: u32,
+    pub max_ratio: f64,
+    pub max_revolutions: u32,
+    pub rpm: Option<f64>,
+    pub tolerance: f64,
+}
+
+/// Cutter radius used for the figures when none is given: 5 × stock,
+/// Foale's examples' proportion (50 mm cutter, 10 mm work).
+pub fn default_cutter(stock: f64) -> f64 {
+    5.0 * stock
+}
+
+pub fn plan(req: &Request) -> Vec<Candidate> {
+    let r1 = req.cutter_radius.unwrap_or_else(|| default_cutter(req.stock_radius));
+    let mut out = Vec::new();
+    for edges in 1..=req.max_edges {
+        for revs in 1..=req.max_revolutions {
+            // GR·Z = N/r  →  GR = N/(r·Z), with gcd(N, r) = 1 so that N flats
+            // (not fewer) come out over r turns.
+            if gcd(req.sides, revs) != 1 {
+                continue;
+            }
+            let Ok(ratio) = Ratio::new(req.sides as u64, (revs * edges) as u64) else { continue };
+            if ratio.to_f64() > req.max_ratio || ratio.pattern(edges) != (req.sides, revs) {
+                continue;
+            }
+            for direction in [Direction::Same, Direction::Opposite] {
+                let setup = Setup { cutter_radius_mm: r1, stock_radius_mm: req.stock_radius, depth_mm: req.depth, ratio, edges, direction };
+                out.push(candidate(&setup, req));
+            }
+        }
+    }
+    out.sort_by(|a, b| {
+        let flat = |c: &Candidate| (c.flat_deviation.abs() * 1e4).round() as i64; // 0.1 µm bins
+        flat(a).cmp(&flat(b)).then(a.cutter_rpm.partial_cmp(&b.cutter_rpm).unwrap_or(std::cmp::Ordering::Equal))
+            .then(a.revolutions.cmp(&b.revolutions))
+    });
+    out
+}
+
+fn candidate(setup: &Setup, req: &Request) -> Candidate {
+    let s = Section::ideal(setup, 256).summary();
+    let rolling = setup.rolling_radii();
+    let w = setup.pass_half_window();
+    let peak = (0..=64).map(|i| setup.relative_speed_factor(-w + 2.0 * w * i as f64 / 64.0)).fold(0.0, f64::max);
+    Candidate {
+        ratio: setup.ratio.to_string(),
+        edges: setup.edges,
+        direction: setup.direction.name(),
+        revolutions: setup.pattern().1,
+        depth: setup.depth_mm,
+        flat_deviation: s.flat_deviation,
+        corners_sharp: s.corners_sharp,
+        cutter_rpm: req.rpm.map(|r| r * setup.gr()),
+        rolling_radius_work: rolling.map(|r| r.0),
+        rolling_radius_cutter: rolling.map(|r| r.1),
+        // mm per rad × rad/s → mm/s → m/s
+        peak_tip_speed: req.rpm.map(|r| peak * r / 60.0 * std::f64::consts::TAU / 1000.0),
+        min_cutter_radius: if req.cutter_radius.is_none() { min_cutter(setup, req.tolerance) } else { None },
+    }
+}
+
+/// Scans cutter radii from R2/2 to 100·R2 (geometric steps, then bisection).
+fn min_cutter(setup: &Setup, tol: f64) -> Option<f64> {
+    let dev = |r1: f64| Section::ideal(&Setup { cutter_radius_mm: r1, ..*setup }, 96).summary().flat_deviation.abs();
+    let (lo0, hi0) = (setup.stock_radius_mm * 0.5, setup.stock_radius_mm * 100.0);
+    let mut prev = lo0;
+    if dev(lo0) <= tol {
+        return Some(lo0);
+    }
+    let mut r = lo0;
+    while r < hi0 {
+        r *= 1.25;
+        if dev(r) <= tol {
+            let (mut lo, mut hi) = (prev, r);
+            for _ in 0..20 {
+                let mid = 0.5 * (lo + hi);
+                if dev(mid) <= tol { hi = mid } else { lo = mid }
+            }
+            return Some(hi);
+        }
+        prev = r;
+    }
+    None
+}
+
+fn gcd(a: u32, b: u32) -> u32 {
+    if b == 0 { a } else { gcd(b, a % b) }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn req(sides: u32) -> Request {
+        Request { sides, stock_radius: 10.0, depth: 1.5, cutter_radius: Some(50.0), max_edges: 6, max_ratio: 8.0, max_revolutions: 1, rpm: Some(300.0), tolerance: 0.01 }
+    }
+
+    #[test]
+    fn a_hexagon_has_foales_four_integer_setups_in_each_sense() {
+        let c = plan(&req(6));
+        // Foale: four integer-ratio options for a hexagon (and fractional
+        // ones such as 3/2 × 4 that also finish in one turn).
+        let mut pairs: Vec<(String, u32)> = c.iter().filter(|c| !c.ratio.contains('/')).map(|c| (c.ratio.clone(), c.edges)).collect();
+        pairs.sort();
+        pairs.dedup();
+        assert_eq!(pairs, vec![("1".into(), 6), ("2".into(), 3), ("3".into(), 2), ("6".into(), 1)]);
+        assert!(c.iter().any(|c| c.ratio == "3/2" && c.edges == 4 && c.revolutions == 1));
+        // flattest first: 2:1 same sense is Foale's "nearly magic" choice
+        assert_eq!((c[0].ratio.as_str(), c[0].direction), ("2", "same"));
+        assert!(c.windows(2).all(|w| (w[0].flat_deviation.abs() * 1e4).round() <= (w[1].flat_deviation.abs() * 1e4).round()));
+    }
+
+    #[test]
+    fn a_prime_has_only_the_two_integer_setups_but_fractional_ones_over_turns() {
+        // Foale: a prime needs 1:1 × N or N:1 × 1 among integer ratios.
+        let c = plan(&req(7));
+        let integer = |c: &&Candidate| !c.ratio.contains('/');
+        assert!(c.iter().filter(integer).all(|c| (c.ratio == "7" && c.edges == 1) || (c.ratio == "1" && c.edges == 7)));
+        let mut r = req(11);
+        r.max_revolutions = 3;
+        r.max_edges = 3;
+        assert!(plan(&r).iter().any(|c| c.ratio == "11/3" && c.edges == 1 && c.revolutions == 3));
+        assert!(plan(&r).iter().any(|c| c.ratio == "11/3" && c.edges == 3 && c.revolutions == 1));
+    }
+
+    #[test]
+    fn min_cutter_radius_meets_the_tolerance_just_barely() {
+        let setup = Setup { cutter_radius_mm: 50.0, stock_radius_mm: 10.0, depth_mm: 4.0, ratio: Ratio::new(1, 1).unwrap(), edges: 3, direction: Direction::Same };
+        let r = min_cutter(&setup, 0.05).expect("some cutter flattens a 1:1 triangle to 50 µm");
+        let dev = |r1| Section::ideal(&Setup { cutter_radius_mm: r1, ..setup }, 128).summary().flat_deviation.abs();
+        assert!(dev(r) <= 0.05 && dev(r * 0.97) > 0.05, "{r}");
+    }
+}
