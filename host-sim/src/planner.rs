@@ -94,7 +94,7 @@ fn candidate(setup: &Setup, req: &Request) -> Candidate {
 
 /// Scans cutter radii from R2/2 to 100·R2 (geometric steps, then bisection).
 fn min_cutter(setup: &Setup, tol: f64) -> Option<f64> {
-    let dev = |r1: f64| Section::ideal(&Setup { cutter_radius_mm: r1, ..*setup }, 96).summary().flat_deviation.abs();
+    let dev = |r1: f64| Section::ideal(&Setup { cutter_radius_mm: r1, ..*setup }, 128).summary().flat_deviation.abs();
     let (lo0, hi0) = (setup.stock_radius_mm * 0.5, setup.stock_radius_mm * 100.0);
     let mut prev = lo0;
     if dev(lo0) <= tol {
