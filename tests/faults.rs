@@ -36,7 +36,10 @@ fn the_following_error_trips_when_the_motor_is_too_weak() {
 fn estop_stops_the_steps_at_once() {
     let mut sc = scenario(hexagon(), 600.0, 0.0, 0.0, Start::Spinning, DriveKind::Stepper);
     sc.cut_revolutions = None;
-    sc.lathe.legs = vec![Leg { rpm: 600.0, accel_rpm_per_s: 1200.0, hold_s: 1.0 }, Leg { rpm: 0.0, accel_rpm_per_s: 1200.0, hold_s: 0.1 }];
+    sc.lathe.legs = vec![
+        Leg { rpm: 600.0, accel_rpm_per_s: 1200.0, hold_s: 1.0 },
+        Leg { rpm: 0.0, accel_rpm_per_s: 1200.0, hold_s: 0.1 },
+    ];
     sc.events = vec![Event::Engage(0.1), Event::EStop(0.8)];
     let stopped = simulate(&sc);
     assert_eq!(stopped.faults.first().map(|f| f.1), Some(Fault::EStop));

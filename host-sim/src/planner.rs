@@ -57,14 +57,23 @@ pub fn plan(req: &Request) -> Vec<Candidate> {
                 continue;
             }
             for direction in [Direction::Same, Direction::Opposite] {
-                let setup = Setup { cutter_radius_mm: r1, stock_radius_mm: req.stock_radius, depth_mm: req.depth, ratio, edges, direction };
+                let setup = Setup {
+                    cutter_radius_mm: r1,
+                    stock_radius_mm: req.stock_radius,
+                    depth_mm: req.depth,
+                    ratio,
+                    edges,
+                    direction,
+                };
                 out.push(candidate(&setup, req));
             }
         }
     }
     out.sort_by(|a, b| {
         let flat = |c: &Candidate| (c.flat_deviation.abs() * 1e4).round() as i64; // 0.1 µm bins
-        flat(a).cmp(&flat(b)).then(a.cutter_rpm.partial_cmp(&b.cutter_rpm).unwrap_or(std::cmp::Ordering::Equal))
+        flat(a)
+            .cmp(&flat(b))
+            .then(a.cutter_rpm.partial_cmp(&b.cutter_rpm).unwrap_or(std::cmp::Ordering::Equal))
             .then(a.revolutions.cmp(&b.revolutions))
     });
     out
@@ -107,7 +116,11 @@ fn min_cutter(setup: &Setup, tol: f64) -> Option<f64> {
             let (mut lo, mut hi) = (prev, r);
             for _ in 0..20 {
                 let mid = 0.5 * (lo + hi);
-                if dev(mid) <= tol { hi = mid } else { lo = mid }
+                if dev(mid) <= tol {
+                    hi = mid
+                } else {
+                    lo = mid
+                }
             }
             return Some(hi);
         }
@@ -117,7 +130,11 @@ fn min_cutter(setup: &Setup, tol: f64) -> Option<f64> {
 }
 
 fn gcd(a: u32, b: u32) -> u32 {
-    if b == 0 { a } else { gcd(b, a % b) }
+    if b == 0 {
+        a
+    } else {
+        gcd(b, a % b)
+    }
 }
 
 #[cfg(test)]
@@ -125,7 +142,17 @@ mod tests {
     use super::*;
 
     fn req(sides: u32) -> Request {
-        Request { sides, stock_radius: 10.0, depth: 1.5, cutter_radius: Some(50.0), max_edges: 6, max_ratio: 8.0, max_revolutions: 1, rpm: Some(300.0), tolerance: 0.01 }
+        Request {
+            sides,
+            stock_radius: 10.0,
+            depth: 1.5,
+            cutter_radius: Some(50.0),
+            max_edges: 6,
+            max_ratio: 8.0,
+            max_revolutions: 1,
+            rpm: Some(300.0),
+            tolerance: 0.01,
+        }
     }
 
     #[test]
@@ -133,14 +160,17 @@ mod tests {
         let c = plan(&req(6));
         // Foale: four integer-ratio options for a hexagon (and fractional
         // ones such as 3/2 × 4 that also finish in one turn).
-        let mut pairs: Vec<(String, u32)> = c.iter().filter(|c| !c.ratio.contains('/')).map(|c| (c.ratio.clone(), c.edges)).collect();
+        let mut pairs: Vec<(String, u32)> =
+            c.iter().filter(|c| !c.ratio.contains('/')).map(|c| (c.ratio.clone(), c.edges)).collect();
         pairs.sort();
         pairs.dedup();
         assert_eq!(pairs, vec![("1".into(), 6), ("2".into(), 3), ("3".into(), 2), ("6".into(), 1)]);
         assert!(c.iter().any(|c| c.ratio == "3/2" && c.edges == 4 && c.revolutions == 1));
         // flattest first: 2:1 same sense is Foale's "nearly magic" choice
         assert_eq!((c[0].ratio.as_str(), c[0].direction), ("2", "same"));
-        assert!(c.windows(2).all(|w| (w[0].flat_deviation.abs() * 1e4).round() <= (w[1].flat_deviation.abs() * 1e4).round()));
+        assert!(c
+            .windows(2)
+            .all(|w| (w[0].flat_deviation.abs() * 1e4).round() <= (w[1].flat_deviation.abs() * 1e4).round()));
     }
 
     #[test]
@@ -158,7 +188,14 @@ mod tests {
 
     #[test]
     fn min_cutter_radius_meets_the_tolerance_just_barely() {
-        let setup = Setup { cutter_radius_mm: 50.0, stock_radius_mm: 10.0, depth_mm: 4.0, ratio: Ratio::new(1, 1).unwrap(), edges: 3, direction: Direction::Same };
+        let setup = Setup {
+            cutter_radius_mm: 50.0,
+            stock_radius_mm: 10.0,
+            depth_mm: 4.0,
+            ratio: Ratio::new(1, 1).unwrap(),
+            edges: 3,
+            direction: Direction::Same,
+        };
         let r = min_cutter(&setup, 0.05).expect("some cutter flattens a 1:1 triangle to 50 µm");
         let dev = |r1| Section::ideal(&Setup { cutter_radius_mm: r1, ..setup }, 128).summary().flat_deviation.abs();
         assert!(dev(r) <= 0.05 && dev(r * 0.97) > 0.05, "{r}");

@@ -31,7 +31,9 @@ fn geometry_json_carries_the_contract_fields() {
     assert!(v["circumscribed_radius"].as_f64().unwrap() > 8.5);
     assert!(v["flat_deviation"].as_f64().unwrap() > 0.0);
     assert_eq!(v["corners_sharp"], true);
-    let (_, out, _) = polyturn("geometry --cutter-radius 50 --stock-radius 10 --depth 1 --ratio 5/2 --edges 2 --direction same --json");
+    let (_, out, _) = polyturn(
+        "geometry --cutter-radius 50 --stock-radius 10 --depth 1 --ratio 5/2 --edges 2 --direction same --json",
+    );
     let v: serde_json::Value = serde_json::from_str(&out).unwrap();
     assert_eq!((v["sides"].as_u64(), v["across_flats"].is_null()), (Some(5), true));
 }
@@ -40,10 +42,19 @@ fn geometry_json_carries_the_contract_fields() {
 fn every_bad_value_exits_2_with_one_line_naming_the_flag() {
     let base = "geometry --cutter-radius 50 --stock-radius 10 --depth 1.5 --ratio 2 --edges 3 --direction same";
     for (bad, flag) in [
-        ("--ratio 0", "--ratio"), ("--ratio -2", "--ratio"), ("--ratio 1/0", "--ratio"), ("--ratio abc", "--ratio"),
-        ("--ratio 1001", "--ratio"), ("--edges 0", "--edges"), ("--edges 13", "--edges"), ("--depth 0", "--depth"),
-        ("--depth 10", "--depth"), ("--depth NaN", "--depth"), ("--cutter-radius -1", "--cutter-radius"),
-        ("--cutter-radius inf", "--cutter-radius"), ("--direction clockwise", "--direction"),
+        ("--ratio 0", "--ratio"),
+        ("--ratio -2", "--ratio"),
+        ("--ratio 1/0", "--ratio"),
+        ("--ratio abc", "--ratio"),
+        ("--ratio 1001", "--ratio"),
+        ("--edges 0", "--edges"),
+        ("--edges 13", "--edges"),
+        ("--depth 0", "--depth"),
+        ("--depth 10", "--depth"),
+        ("--depth NaN", "--depth"),
+        ("--cutter-radius -1", "--cutter-radius"),
+        ("--cutter-radius inf", "--cutter-radius"),
+        ("--direction clockwise", "--direction"),
     ] {
         let (code, out, err) = polyturn(&format!("{base} {bad}"));
         assert_eq!(code, 2, "{bad}: {out}{err}");
@@ -57,7 +68,16 @@ fn simulate_json_carries_the_contract_fields() {
     let (code, out, err) = polyturn(&format!("simulate {HEX} --rpm 600 --revolutions 3 --json"));
     assert_eq!(code, 0, "{err}");
     let v: serde_json::Value = serde_json::from_str(&out).unwrap();
-    for k in ["final_error_steps", "max_error_steps", "max_error_deg", "max_profile_deviation", "faults", "ticks", "steps_emitted", "encoder_counts"] {
+    for k in [
+        "final_error_steps",
+        "max_error_steps",
+        "max_error_deg",
+        "max_profile_deviation",
+        "faults",
+        "ticks",
+        "steps_emitted",
+        "encoder_counts",
+    ] {
         assert!(!v[k].is_null(), "missing {k}");
     }
     assert_eq!(v["final_error_steps"], 0);

@@ -146,7 +146,13 @@ mod tests {
 
     #[test]
     fn round_trips_and_detects_every_single_bit_flip() {
-        let c = Config::default().with("max-rpm", "600").unwrap().with("ratio", "11/3").unwrap().with("phase", "-7.25").unwrap();
+        let c = Config::default()
+            .with("max-rpm", "600")
+            .unwrap()
+            .with("ratio", "11/3")
+            .unwrap()
+            .with("phase", "-7.25")
+            .unwrap();
         let bytes = encode(&c);
         assert_eq!(decode(&bytes), Ok(c));
         for bit in 0..LEN * 8 {

@@ -60,10 +60,7 @@ impl Default for Config {
         Config {
             encoder_counts_per_rev: 2400,
             motor_steps_per_rev: 3200,
-            ratio: match Ratio::new(2, 1) {
-                Ok(r) => r,
-                Err(_) => unreachable_ratio(),
-            },
+            ratio: Ratio::TWO,
             sense: Sense::Same,
             edges: 3,
             max_step_rate_hz: 200_000,
@@ -77,11 +74,6 @@ impl Default for Config {
             max_lathe_rpm: 1500,
         }
     }
-}
-
-// 2/1 always parses; this keeps `Default` free of unwrap panics in no_std.
-const fn unreachable_ratio() -> Ratio {
-    loop {}
 }
 
 const fn range(field: &'static str, allowed: &'static str) -> ConfigError {
@@ -157,8 +149,20 @@ impl Config {
 
 /// The settable names, in `get` order.
 pub const NAMES: [&str; 14] = [
-    "cpr", "steps", "ratio", "dir", "edges", "max-rate", "max-accel", "ferror", "phase", "drive", "dir-setup",
-    "pulse", "enable", "max-rpm",
+    "cpr",
+    "steps",
+    "ratio",
+    "dir",
+    "edges",
+    "max-rate",
+    "max-accel",
+    "ferror",
+    "phase",
+    "drive",
+    "dir-setup",
+    "pulse",
+    "enable",
+    "max-rpm",
 ];
 
 fn ratio_error(e: RatioError) -> ConfigError {

@@ -11,9 +11,10 @@ pub fn write_status(ctl: &Controller, out: &mut Reply) {
     let c = ctl.config();
     let hz = ctl.derived().tick_hz as i128;
     // rpm ×10 = v[Q32 counts/tick] · hz · 60 · 10 / (2^32 · E)
-    let lathe_rpm10 = (s.lathe_velocity_q32 as i128 * hz * 600 / (c.encoder_counts_per_rev as i128 * (1i128 << 32))) as i64;
+    let lathe_rpm10 =
+        (s.lathe_velocity_q32 as i128 * hz * 600 / (c.encoder_counts_per_rev as i128 * (1i128 << 32))) as i64;
     let cutter_rpm10 = lathe_rpm10 * c.ratio.num() as i64 / c.ratio.den() as i64;
-    let err_milli = (s.phase_error_q16 as i128 * 1000 >> 16) as i64;
+    let err_milli = ((s.phase_error_q16 as i128 * 1000) >> 16) as i64;
     let fault = ctl.fault().map(|f| f.name()).unwrap_or("none");
     let _ = write!(
         out,

@@ -24,8 +24,8 @@ pub mod ratio;
 pub mod state;
 pub mod steps;
 
-pub use ratio::{Ratio, RatioError};
 pub use config::{Config, ConfigError, DriveKind, Sense};
 pub use controller::{Controller, Refusal, Status, TickInput, TickOutput};
 pub use derived::Timing;
+pub use ratio::{Ratio, RatioError};
 pub use state::{Fault, State};

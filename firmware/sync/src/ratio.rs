@@ -51,6 +51,9 @@ pub(crate) const fn gcd(mut a: u64, mut b: u64) -> u64 {
 }
 
 impl Ratio {
+    /// 2:1, the default (Foale's "nearly magic" ratio).
+    pub const TWO: Ratio = Ratio { num: 2, den: 1 };
+
     /// Builds p/q, reducing it first.
     pub fn new(p: u64, q: u64) -> Result<Ratio, RatioError> {
         if q == 0 {

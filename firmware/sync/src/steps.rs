@@ -66,7 +66,11 @@ pub fn plan(from: i64, to: i64, emitted: i64, last_dir: Dir, t: &StepTiming) -> 
     let on_schedule = emitted == (from + (1 << 15)) >> 16;
     let (first, period) = if on_schedule && travel > 0 && travel < 1 << 31 {
         // The first half-step boundary after `from` in the direction of motion.
-        let boundary = if dir == Dir::Forward { ((emitted << 16) + (1 << 15)) - from } else { from - ((emitted << 16) - (1 << 15)) };
+        let boundary = if dir == Dir::Forward {
+            ((emitted << 16) + (1 << 15)) - from
+        } else {
+            from - ((emitted << 16) - (1 << 15))
+        };
         let period = (((t.tick_len as u64) << 16) / travel.max(1)) as u32;
         let first = ((boundary.max(0) as u64 * period as u64) >> 16) as u32;
         (first, period.max(t.min_period))

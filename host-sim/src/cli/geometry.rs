@@ -70,9 +70,13 @@ fn human(r: &serde_json::Value) -> String {
         "{} sides over {} lathe turn(s): ratio {} x {} edges, {} sense\n\
          inscribed radius {:.4} mm, circumscribed {:.4} mm, across flats {af}\n\
          flat deviation {:+.4} mm ({}), corners {}",
-        r["sides"], r["revolutions"], r["ratio"].as_str().unwrap_or(""), r["edges"],
+        r["sides"],
+        r["revolutions"],
+        r["ratio"].as_str().unwrap_or(""),
+        r["edges"],
         r["direction"].as_str().unwrap_or(""),
-        r["inscribed_radius"].as_f64().unwrap_or(0.0), r["circumscribed_radius"].as_f64().unwrap_or(0.0),
+        r["inscribed_radius"].as_f64().unwrap_or(0.0),
+        r["circumscribed_radius"].as_f64().unwrap_or(0.0),
         r["flat_deviation"].as_f64().unwrap_or(0.0),
         if r["flat_deviation"].as_f64().unwrap_or(0.0) >= 0.0 { "convex" } else { "concave" },
         if r["corners_sharp"].as_bool() == Some(true) { "sharp" } else { "left round (stock at the corners)" },
@@ -94,10 +98,20 @@ pub fn draw(setup: &Setup, section: &Section) -> String {
         d.path(&rotated, false, r##"fill="none" stroke="#79a" stroke-width="0.5""##);
     }
     let s = section.summary();
-    d.text(0, &format!("{} sides: ratio {} x {} edges, {} sense", s.sides, setup.ratio, setup.edges, setup.direction.name()));
+    d.text(
+        0,
+        &format!("{} sides: ratio {} x {} edges, {} sense", s.sides, setup.ratio, setup.edges, setup.direction.name()),
+    );
     d.text(1, &format!("R1 {} R2 {} DOC {} mm", setup.cutter_radius_mm, r2, setup.depth_mm));
     let af = s.across_flats.map(|v| format!(", across flats {v:.3}")).unwrap_or_default();
     d.text(2, &format!("inscribed {:.3} mm{af}", s.inscribed_radius));
-    d.text(3, &format!("flat deviation {:+.4} mm, corners {}", s.flat_deviation, if s.corners_sharp { "sharp" } else { "round" }));
+    d.text(
+        3,
+        &format!(
+            "flat deviation {:+.4} mm, corners {}",
+            s.flat_deviation,
+            if s.corners_sharp { "sharp" } else { "round" }
+        ),
+    );
     d.finish(560.0)
 }

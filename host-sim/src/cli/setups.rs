@@ -4,7 +4,18 @@ use super::args::{Args, CliError, CliResult};
 use crate::planner::{default_cutter, plan, Request};
 
 pub const USAGE: &str = "polyturn setups --sides N --stock-radius R2 (--across-flats AF | --depth DOC) [--cutter-radius R1] [--max-edges 6] [--max-ratio 8] [--max-revolutions 1] [--rpm RPM] [--tolerance 0.01] [--json]";
-const VALUED: &[&str] = &["sides", "stock-radius", "across-flats", "depth", "cutter-radius", "max-edges", "max-ratio", "max-revolutions", "rpm", "tolerance"];
+const VALUED: &[&str] = &[
+    "sides",
+    "stock-radius",
+    "across-flats",
+    "depth",
+    "cutter-radius",
+    "max-edges",
+    "max-ratio",
+    "max-revolutions",
+    "rpm",
+    "tolerance",
+];
 
 pub fn run(argv: &[String]) -> CliResult<String> {
     let a = Args::parse(argv, VALUED, &["json"])?;
@@ -13,9 +24,13 @@ pub fn run(argv: &[String]) -> CliResult<String> {
     let r2 = a.required_length_mm("stock-radius")?;
     let depth = match (a.length_mm("across-flats")?, a.length_mm("depth")?) {
         (Some(af), None) if af < 2.0 * r2 => r2 - af / 2.0,
-        (Some(_), None) => return Err(CliError::flag("across-flats", format!("must be < the stock diameter ({} mm)", 2.0 * r2))),
+        (Some(_), None) => {
+            return Err(CliError::flag("across-flats", format!("must be < the stock diameter ({} mm)", 2.0 * r2)))
+        }
         (None, Some(d)) if d < r2 => d,
-        (None, Some(_)) => return Err(CliError::flag("depth", format!("must be > 0 and < the stock radius ({r2} mm)"))),
+        (None, Some(_)) => {
+            return Err(CliError::flag("depth", format!("must be > 0 and < the stock radius ({r2} mm)")))
+        }
         _ => return Err(CliError("give exactly one of --across-flats AF or --depth DOC".into())),
     };
     let req = Request {
@@ -34,18 +49,30 @@ pub fn run(argv: &[String]) -> CliResult<String> {
         return Ok(serde_json::json!({"sides": sides, "depth": depth, "setups": found}).to_string());
     }
     if found.is_empty() {
-        return Ok(format!("no setup cuts {sides} sides within --max-edges {} and --max-ratio {}", req.max_edges, req.max_ratio));
+        return Ok(format!(
+            "no setup cuts {sides} sides within --max-edges {} and --max-ratio {}",
+            req.max_edges, req.max_ratio
+        ));
     }
     let r1 = req.cutter_radius.unwrap_or_else(|| default_cutter(r2));
-    let mut s = format!("{} setups for {sides} sides, depth {depth:.3} mm, cutter radius {r1} mm (flattest first):\n", found.len());
+    let mut s = format!(
+        "{} setups for {sides} sides, depth {depth:.3} mm, cutter radius {r1} mm (flattest first):\n",
+        found.len()
+    );
     s += "ratio  edges dir       turns  flat dev mm  corners  cutter rpm  tip m/s  min R1 mm\n";
     for c in &found {
         let opt = |v: Option<f64>, p: usize| v.map(|x| format!("{x:.p$}")).unwrap_or_else(|| "-".into());
         s += &format!(
             "{:<6} {:<5} {:<9} {:<6} {:>+11.4}  {:<7}  {:>10}  {:>7}  {:>9}\n",
-            c.ratio, c.edges, c.direction, c.revolutions, c.flat_deviation,
+            c.ratio,
+            c.edges,
+            c.direction,
+            c.revolutions,
+            c.flat_deviation,
             if c.corners_sharp { "sharp" } else { "round" },
-            opt(c.cutter_rpm, 0), opt(c.peak_tip_speed, 2), opt(c.min_cutter_radius, 1)
+            opt(c.cutter_rpm, 0),
+            opt(c.peak_tip_speed, 2),
+            opt(c.min_cutter_radius, 1)
         );
     }
     Ok(s.trim_end().to_string())

@@ -8,14 +8,28 @@ use polyturn_sync::{DriveKind, Ratio};
 
 pub const USAGE: &str = "polyturn simulate --ratio GR --edges Z --direction same|opposite --cutter-radius R1 --stock-radius R2 --depth DOC --rpm RPM --revolutions N [--ripple F] [--start rest|spinning] [--encoder-cpr E] [--motor-steps M] [--drive stepper|bldc] [--seed S] [--json] [--svg FILE]";
 const VALUED: &[&str] = &[
-    "cutter-radius", "stock-radius", "depth", "ratio", "edges", "direction", "svg", "rpm", "revolutions", "ripple",
-    "start", "encoder-cpr", "motor-steps", "drive", "seed",
+    "cutter-radius",
+    "stock-radius",
+    "depth",
+    "ratio",
+    "edges",
+    "direction",
+    "svg",
+    "rpm",
+    "revolutions",
+    "ripple",
+    "start",
+    "encoder-cpr",
+    "motor-steps",
+    "drive",
+    "seed",
 ];
 
 pub fn scenario_from(args: &Args) -> CliResult<Scenario> {
     let setup = setup_from(args)?;
     let rpm = args.number("rpm", 0.0, 6000.0, true, "rpm")?.ok_or_else(|| CliError::flag("rpm", "is required"))?;
-    let revs = args.number("revolutions", 0.0, 10_000.0, true, "revolutions")?
+    let revs = args
+        .number("revolutions", 0.0, 10_000.0, true, "revolutions")?
         .ok_or_else(|| CliError::flag("revolutions", "is required"))?;
     let ripple = args.number("ripple", 0.0, 0.5, false, "(fraction of speed)")?.unwrap_or(0.0);
     let start = match args.choice("start", &["rest", "spinning"], "rest")? {
@@ -43,7 +57,8 @@ pub fn run_cli(argv: &[String]) -> CliResult<String> {
     let sc = scenario_from(&args)?;
     let r = run(&sc).map_err(CliError)?;
     if let Some(path) = args.raw("svg") {
-        std::fs::write(path, report::svg(&sc, &r)).map_err(|e| CliError::flag("svg", format!("could not write '{path}': {e}")))?;
+        std::fs::write(path, report::svg(&sc, &r))
+            .map_err(|e| CliError::flag("svg", format!("could not write '{path}': {e}")))?;
     }
     Ok(if args.has("json") { report::json(&sc, &r).to_string() } else { report::human(&sc, &r) })
 }
@@ -62,7 +77,8 @@ pub fn demo(argv: &[String]) -> CliResult<String> {
     let sc = Scenario::standard(setup, 600.0, 20.0, 0.02, Start::Rest, 2400, 3200, DriveKind::Stepper, 1);
     let r = run(&sc).map_err(CliError)?;
     let path = args.raw("svg").unwrap_or("hexagon.svg");
-    std::fs::write(path, report::svg(&sc, &r)).map_err(|e| CliError::flag("svg", format!("could not write '{path}': {e}")))?;
+    std::fs::write(path, report::svg(&sc, &r))
+        .map_err(|e| CliError::flag("svg", format!("could not write '{path}': {e}")))?;
     if args.has("json") {
         return Ok(report::json(&sc, &r).to_string());
     }

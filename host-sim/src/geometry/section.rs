@@ -34,9 +34,7 @@ fn pass_samples(setup: &Setup) -> usize {
 /// Pass 0's in-stock path, a ∈ [−a_e, a_e], as work-frame points.
 pub fn pass_points(setup: &Setup, samples: usize) -> Vec<(f64, f64)> {
     let w = setup.pass_half_window();
-    (0..=samples)
-        .map(|i| setup.tip(-w + 2.0 * w * i as f64 / samples as f64, 0.0))
-        .collect()
+    (0..=samples).map(|i| setup.tip(-w + 2.0 * w * i as f64 / samples as f64, 0.0)).collect()
 }
 
 impl Section {
@@ -72,7 +70,7 @@ impl Section {
         let max = r.iter().cloned().fold(0.0, f64::max);
         let n = self.sides;
         let corners_sharp = (0..n).all(|j| self.corner_radius(j) < self.stock_radius - 1e-9);
-        let across_flats = (n % 2 == 0).then(|| {
+        let across_flats = n.is_multiple_of(2).then(|| {
             let half = n / 2;
             let sum: f64 = (0..half)
                 .map(|j| self.radius_at(self.flat_middle(j)) + self.radius_at(self.flat_middle(j + half)))
@@ -99,9 +97,7 @@ impl Section {
 
     /// The signed deviation with the largest magnitude over all flats.
     fn worst_flat_deviation(&self) -> f64 {
-        (0..self.sides)
-            .map(|j| self.flat_deviation(j))
-            .fold(0.0, |acc, d| if d.abs() > acc.abs() { d } else { acc })
+        (0..self.sides).map(|j| self.flat_deviation(j)).fold(0.0, |acc, d| if d.abs() > acc.abs() { d } else { acc })
     }
 
     /// Largest distance of flat j from the chord joining its ends (the

@@ -45,7 +45,7 @@ fn inscribed_radius_is_stock_minus_depth_and_across_flats_twice_it() {
         let s = setup(40.0, 10.0, 2.5, ratio, edges, Direction::Same);
         let got = summary(&s);
         assert!((got.inscribed_radius - 7.5).abs() < 1e-6, "{ratio}: {got:?}");
-        if got.corners_sharp && got.sides % 2 == 0 {
+        if got.corners_sharp && got.sides.is_multiple_of(2) {
             assert!((got.across_flats.unwrap() - 15.0).abs() < 1e-6, "{ratio}: {got:?}");
         }
     }
@@ -99,9 +99,8 @@ fn tip_speed_matches_ghionea_eq_5_and_the_numerical_derivative() {
 #[test]
 fn bigger_cutters_flatten_one_to_one_triangles() {
     // Foale: 1:1 × 3 edges, sides get flatter steadily from R1 = 5·R2 to 20·R2.
-    let devs: Vec<f64> = (5..=20)
-        .map(|m| summary(&setup(10.0 * m as f64, 10.0, 4.0, "1", 3, Direction::Same)).flat_deviation)
-        .collect();
+    let devs: Vec<f64> =
+        (5..=20).map(|m| summary(&setup(10.0 * m as f64, 10.0, 4.0, "1", 3, Direction::Same)).flat_deviation).collect();
     assert!(devs.windows(2).all(|w| w[1] < w[0]), "{devs:?}");
     assert!(devs[15] < devs[0] / 3.0);
 }

@@ -20,8 +20,20 @@ fn perfect_cut(setup: &Setup, rpm: f64, tick_hz: f64, revs: f64) -> f64 {
 
 #[test]
 fn a_perfect_cutter_cuts_the_ideal_section_at_any_speed() {
-    for (ratio, edges, dir) in [("2", 3, Direction::Same), ("11/3", 3, Direction::Same), ("3", 2, Direction::Opposite), ("11/3", 1, Direction::Same)] {
-        let setup = Setup { cutter_radius_mm: 50.0, stock_radius_mm: 10.0, depth_mm: 1.5, ratio: Ratio::parse(ratio).unwrap(), edges, direction: dir };
+    for (ratio, edges, dir) in [
+        ("2", 3, Direction::Same),
+        ("11/3", 3, Direction::Same),
+        ("3", 2, Direction::Opposite),
+        ("11/3", 1, Direction::Same),
+    ] {
+        let setup = Setup {
+            cutter_radius_mm: 50.0,
+            stock_radius_mm: 10.0,
+            depth_mm: 1.5,
+            ratio: Ratio::parse(ratio).unwrap(),
+            edges,
+            direction: dir,
+        };
         let revs = setup.pattern().1 as f64 + 0.5;
         for rpm in [60.0, 600.0, 1000.0, 2000.0] {
             let dev = perfect_cut(&setup, rpm, 25_000.0, revs);

@@ -42,7 +42,17 @@ pub struct Lathe {
 impl Lathe {
     pub fn new(profile: LatheProfile, seed: u64) -> Lathe {
         let base = profile.start_rpm / 60.0;
-        Lathe { profile, base, leg: 0, held: 0.0, angle: 0.0, speed: base * TAU, time: 0.0, wander: 0.0, rng: Rng::new(seed) }
+        Lathe {
+            profile,
+            base,
+            leg: 0,
+            held: 0.0,
+            angle: 0.0,
+            speed: base * TAU,
+            time: 0.0,
+            wander: 0.0,
+            rng: Rng::new(seed),
+        }
     }
 
     /// True once every leg has been run and the spindle is at rest.

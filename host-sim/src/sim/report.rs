@@ -8,7 +8,8 @@ use std::fmt::Write;
 
 pub fn json(sc: &Scenario, r: &SimResult) -> serde_json::Value {
     let cut = crate::cli::geometry::report(&sc.setup, &r.section);
-    let faults: Vec<_> = r.faults.iter().map(|(t, f)| json!({"tick": t, "kind": f.name(), "reason": f.reason()})).collect();
+    let faults: Vec<_> =
+        r.faults.iter().map(|(t, f)| json!({"tick": t, "kind": f.name(), "reason": f.reason()})).collect();
     json!({
         "final_error_steps": r.final_error_steps,
         "max_error_steps": r.max_error_steps,
@@ -42,9 +43,21 @@ pub fn human(sc: &Scenario, r: &SimResult) -> String {
          worst phase error while synced: {:.2} steps ({:.4} deg of the work), while cutting: {:.2} steps\n\
          worst section deviation from the ideal: {:.2} um\n\
          final error at rest: {} steps; faults: {faults}; {} ticks, {} steps",
-        sc.setup.ratio, sc.setup.edges, sc.setup.direction.name(), sc.setup.cutter_radius_mm,
-        sc.setup.stock_radius_mm, sc.setup.depth_mm, s.sides, s.flat_deviation, r.max_error_steps,
-        r.max_error_deg, r.max_error_steps_cutting, r.max_profile_deviation * 1000.0, r.final_error_steps, r.ticks, r.steps_emitted,
+        sc.setup.ratio,
+        sc.setup.edges,
+        sc.setup.direction.name(),
+        sc.setup.cutter_radius_mm,
+        sc.setup.stock_radius_mm,
+        sc.setup.depth_mm,
+        s.sides,
+        s.flat_deviation,
+        r.max_error_steps,
+        r.max_error_deg,
+        r.max_error_steps_cutting,
+        r.max_profile_deviation * 1000.0,
+        r.final_error_steps,
+        r.ticks,
+        r.steps_emitted,
     )
 }
 
@@ -68,7 +81,14 @@ pub fn svg(sc: &Scenario, r: &SimResult) -> String {
         .collect();
     d.path(&pts, true, r##"fill="none" stroke="#e80" stroke-width="1.2""##);
     d.text(0, &format!("simulated (orange, deviation x{gain:.0}) vs ideal (blue)"));
-    d.text(1, &format!("worst deviation {:.2} um, worst phase error {:.2} steps", r.max_profile_deviation * 1000.0, r.max_error_steps));
+    d.text(
+        1,
+        &format!(
+            "worst deviation {:.2} um, worst phase error {:.2} steps",
+            r.max_profile_deviation * 1000.0,
+            r.max_error_steps
+        ),
+    );
     d.raw(&error_plot(r, size));
     d.finish(size + 200.0)
 }
@@ -84,12 +104,19 @@ fn magnification(dev: f64, r2: f64) -> f64 {
 fn error_plot(r: &SimResult, width: f64) -> String {
     let (top, h) = (width + 20.0, 160.0);
     let mut s = String::new();
-    let _ = writeln!(s, r##"<rect x="40" y="{top}" width="{}" height="{h}" fill="none" stroke="#999"/>"##, width - 60.0);
+    let _ =
+        writeln!(s, r##"<rect x="40" y="{top}" width="{}" height="{h}" fill="none" stroke="#999"/>"##, width - 60.0);
     let lim = r.error_trace.iter().map(|b| b.1.abs().max(b.2.abs())).fold(0.5, f64::max);
     let t_end = r.error_trace.last().map(|b| b.0).unwrap_or(1.0).max(1e-6);
     let (x, y) = (|t: f64| 40.0 + t / t_end * (width - 60.0), |e: f64| top + h / 2.0 - e / lim * h / 2.0);
     for b in &r.error_trace {
-        let _ = writeln!(s, r##"<line x1="{0:.1}" x2="{0:.1}" y1="{1:.1}" y2="{2:.1}" stroke="#c60"/>"##, x(b.0), y(b.1), y(b.2));
+        let _ = writeln!(
+            s,
+            r##"<line x1="{0:.1}" x2="{0:.1}" y1="{1:.1}" y2="{2:.1}" stroke="#c60"/>"##,
+            x(b.0),
+            y(b.1),
+            y(b.2)
+        );
     }
     let _ = writeln!(
         s,

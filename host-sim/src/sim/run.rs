@@ -25,7 +25,8 @@ pub fn run(sc: &Scenario) -> Result<SimResult, String> {
     let mut core_cfg = sc.core;
     if sc.sabotage_ratio_num != 0 {
         let num = (core_cfg.ratio.num() as i64 + sc.sabotage_ratio_num as i64).max(1) as u64;
-        core_cfg.ratio = polyturn_sync::Ratio::new(num, core_cfg.ratio.den() as u64).map_err(|e| e.describe().to_string())?;
+        core_cfg.ratio =
+            polyturn_sync::Ratio::new(num, core_cfg.ratio.den() as u64).map_err(|e| e.describe().to_string())?;
     }
     let mut ctl = Controller::new(core_cfg, Timing { tick_hz: sc.tick_hz, step_timer_hz: TIMER_HZ });
     ctl.start(0, 0, 0);
@@ -58,10 +59,8 @@ pub fn run(sc: &Scenario) -> Result<SimResult, String> {
         let t = tick as f64 * dt;
         for ev in &sc.events {
             match *ev {
-                Event::Engage(at) if at <= t && at > t - dt => {
-                    if ctl.engage().is_ok() {
-                        passes.push(CutRecorder::new(&sc.setup, bins));
-                    }
+                Event::Engage(at) if at <= t && at > t - dt && ctl.engage().is_ok() => {
+                    passes.push(CutRecorder::new(&sc.setup, bins));
                 }
                 Event::Disengage(at) if at <= t && at > t - dt => ctl.disengage(),
                 Event::EStop(at) if at <= t => estop = true,
@@ -137,8 +136,13 @@ pub fn run(sc: &Scenario) -> Result<SimResult, String> {
     }
     let a = p.lathe.angle;
     let count = p.encoder.count(a, tick);
-    let scale = Scale::new(sc.core.ratio.num(), sc.core.ratio.den(), sc.core.motor_steps_per_rev, sc.core.encoder_counts_per_rev)
-        .ok_or("zero scale")?;
+    let scale = Scale::new(
+        sc.core.ratio.num(),
+        sc.core.ratio.den(),
+        sc.core.motor_steps_per_rev,
+        sc.core.encoder_counts_per_rev,
+    )
+    .ok_or("zero scale")?;
     let rel = count - ctl.gear_origin();
     let exact = scale.round(if sense > 0.0 { rel } else { -rel }) + ctl.turn_offset_steps();
     let cutter = match sc.core.drive {

@@ -26,7 +26,17 @@ pub struct Stepper {
 
 impl Stepper {
     pub fn new(max_rate_hz: f64, max_accel: f64, latency_s: f64) -> Stepper {
-        Stepper { max_rate_hz, max_accel, latency_s, pulses: 0, position: 0, stalled: false, last_event: None, last_rate: 0.0, slow_rate: 0.0 }
+        Stepper {
+            max_rate_hz,
+            max_accel,
+            latency_s,
+            pulses: 0,
+            position: 0,
+            stalled: false,
+            last_event: None,
+            last_rate: 0.0,
+            slow_rate: 0.0,
+        }
     }
 
     /// Runs one tick's plan starting at `t0`; returns the rotor's smooth

@@ -80,4 +80,3 @@ fn ramp_down_stops_within_the_acceleration_limit() {
     let a = lim.max_accel;
     assert_eq!(ticks as i64, ((5 << 16) + a - 1) / a);
 }
-

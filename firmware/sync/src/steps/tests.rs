@@ -1,6 +1,6 @@
 use super::*;
-use std::vec::Vec;
 use proptest::prelude::*;
+use std::vec::Vec;
 
 const T: StepTiming = StepTiming { tick_len: 4000, min_period: 500, dir_setup: 500 };
 
