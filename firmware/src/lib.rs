@@ -5,3 +5,7 @@
 #![cfg_attr(not(test), no_std)]
 
 pub mod board;
+pub mod esc;
+pub mod line;
+pub mod steptimer;
+pub mod store;

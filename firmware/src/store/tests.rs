@@ -1,0 +1,108 @@
+use super::*;
+
+/// A NOR flash that loses power after `budget` byte operations: the byte
+/// being erased or programmed is left half done (some bits), the rest as
+/// they were. Programming can only clear bits, as on real flash.
+struct MockFlash {
+    slots: [[u8; RECORD]; 2],
+    budget: Option<usize>,
+    noise: u8,
+}
+
+#[derive(Debug, PartialEq)]
+struct PowerCut;
+
+impl MockFlash {
+    fn new() -> MockFlash {
+        MockFlash { slots: [[0xFF; RECORD]; 2], budget: None, noise: 0x5A }
+    }
+    fn spend(&mut self) -> Result<(), PowerCut> {
+        match &mut self.budget {
+            Some(0) => Err(PowerCut),
+            Some(n) => {
+                *n -= 1;
+                Ok(())
+            }
+            None => Ok(()),
+        }
+    }
+}
+
+impl SlotFlash for MockFlash {
+    type Error = PowerCut;
+    fn erase(&mut self, slot: usize) -> Result<(), PowerCut> {
+        for i in 0..RECORD {
+            if self.spend().is_err() {
+                self.slots[slot][i] |= self.noise; // half-erased byte
+                return Err(PowerCut);
+            }
+            self.slots[slot][i] = 0xFF;
+        }
+        Ok(())
+    }
+    fn write(&mut self, slot: usize, offset: u32, data: &[u8]) -> Result<(), PowerCut> {
+        assert_eq!(offset % 4, 0, "aligned writes only");
+        for (i, &b) in data.iter().enumerate() {
+            let at = offset as usize + i;
+            if self.spend().is_err() {
+                self.slots[slot][at] &= b | self.noise; // some bits programmed
+                return Err(PowerCut);
+            }
+            self.slots[slot][at] &= b;
+        }
+        Ok(())
+    }
+    fn read(&mut self, slot: usize, offset: u32, buf: &mut [u8]) -> Result<(), PowerCut> {
+        let o = offset as usize;
+        buf.copy_from_slice(&self.slots[slot][o..o + buf.len()]);
+        Ok(())
+    }
+}
+
+fn settings(ratio: &str) -> Config {
+    Config::default().with("max-rpm", "500").unwrap().with("ratio", ratio).unwrap()
+}
+
+#[test]
+fn empty_or_corrupt_flash_loads_the_defaults_and_says_so() {
+    let mut f = MockFlash::new();
+    assert_eq!(load(&mut f), (Config::default(), Loaded::Defaults));
+    f.slots = [[0x37; RECORD]; 2];
+    assert_eq!(load(&mut f), (Config::default(), Loaded::Defaults));
+}
+
+#[test]
+fn the_newest_save_wins_across_many_saves() {
+    let mut f = MockFlash::new();
+    for (i, r) in ["3", "5/2", "11/3", "4/3", "2"].iter().enumerate() {
+        assert_eq!(save(&mut f, &settings(r)), Ok(i as u32 + 1));
+        assert_eq!(load(&mut f).0, settings(r));
+    }
+}
+
+#[test]
+fn a_power_cut_at_every_point_leaves_the_old_or_the_new_never_a_mix() {
+    let (old, new) = (settings("11/3"), settings("5/2"));
+    for history in 0..3 {
+        let mut cut_points = 0;
+        for budget in 0.. {
+            let mut f = MockFlash::new();
+            for _ in 0..history {
+                save(&mut f, &settings("3")).unwrap();
+            }
+            save(&mut f, &old).unwrap();
+            f.budget = Some(budget);
+            let finished = save(&mut f, &new).is_ok();
+            f.budget = None;
+            let (got, how) = load(&mut f);
+            assert!(matches!(how, Loaded::Saved { .. }));
+            assert!(got == old || got == new, "history {history}, cut after {budget} ops: a mix");
+            if finished {
+                assert_eq!(got, new);
+                break;
+            }
+            cut_points += 1;
+        }
+        assert!(cut_points >= 2 * RECORD, "every erase and write byte was a cut point");
+    }
+}
