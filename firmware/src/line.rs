@@ -63,7 +63,10 @@ mod tests {
 
     #[test]
     fn crlf_cr_and_lf_all_end_lines() {
-        assert_eq!(lines(b"status\r\nset ratio 2\rengage\n"), vec![Ok("status".into()), Ok("set ratio 2".into()), Ok("engage".into())]);
+        assert_eq!(
+            lines(b"status\r\nset ratio 2\rengage\n"),
+            vec![Ok("status".into()), Ok("set ratio 2".into()), Ok("engage".into())]
+        );
     }
 
     #[test]

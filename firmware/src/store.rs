@@ -24,7 +24,9 @@ pub const RECORD: usize = BODY + 4;
 /// What loading found (reported at boot).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Loaded {
-    Saved { seq: u32 },
+    Saved {
+        seq: u32,
+    },
     /// nothing valid in flash: the defaults are in use
     Defaults,
 }

@@ -1,17 +1,101 @@
-//! The MCU application (compiled only for the target).
+//! The MCU application: wires the Black Pill's hardware to the sync core.
+//! Priorities: the control tick (TIM11 update) highest; the planning
+//! executor (InterruptExecutor on USART6's vector) below it; USB, console,
+//! flash, logging and the watchdog in the thread executor.
+
+mod drivers;
+mod report;
+mod safety;
+mod settings;
+mod tick;
+mod usb;
+
 use defmt::info;
-use embassy_executor::Spawner;
-use embassy_stm32::gpio::{Level, Output, Speed};
+use embassy_executor::{InterruptExecutor, Spawner};
+use embassy_stm32::interrupt;
+use embassy_stm32::interrupt::{InterruptExt, Priority};
+use embassy_stm32::time::Hertz;
+use embassy_stm32::wdg::IndependentWatchdog;
 use embassy_time::Timer;
+use polyturn_firmware::board;
 use {defmt_rtt as _, panic_probe as _};
 
+static PLANNER: InterruptExecutor = InterruptExecutor::new();
+
+#[interrupt]
+unsafe fn USART6() {
+    // SAFETY: the executor's own interrupt, as embassy-executor documents.
+    unsafe { PLANNER.on_interrupt() }
+}
+
+/// 25 MHz HSE → 96 MHz system clock, 48 MHz for USB; all timers at 96 MHz.
+fn clocks() -> embassy_stm32::Config {
+    use embassy_stm32::rcc::*;
+    let mut c = embassy_stm32::Config::default();
+    c.rcc.hse = Some(Hse { freq: Hertz(25_000_000), mode: HseMode::Oscillator });
+    c.rcc.pll_src = PllSource::HSE;
+    c.rcc.pll = Some(Pll {
+        prediv: PllPreDiv::DIV25,
+        mul: PllMul::MUL192,
+        divp: Some(PllPDiv::DIV2),
+        divq: Some(PllQDiv::DIV4),
+        divr: None,
+    });
+    c.rcc.sys = Sysclk::PLL1_P;
+    c.rcc.ahb_pre = AHBPrescaler::DIV1;
+    c.rcc.apb1_pre = APBPrescaler::DIV2;
+    c.rcc.apb2_pre = APBPrescaler::DIV1;
+    c.rcc.mux.clk48sel = mux::Clk48sel::PLL1_Q;
+    c
+}
+
 #[embassy_executor::main]
-async fn main(_spawner: Spawner) {
-    let p = embassy_stm32::init(Default::default());
-    info!("polyturn {} booting", env!("CARGO_PKG_VERSION"));
-    let mut led = Output::new(p.PC13, Level::High, Speed::Low);
+async fn main(spawner: Spawner) {
+    let p = embassy_stm32::init(clocks());
+    // Outputs inactive first: ENABLE released, no steps, before anything else.
+    let pins = drivers::outputs_inactive(p.PB12, p.PB13);
+    let (config, loaded) = settings::load(p.FLASH);
+    info!(
+        "polyturn {} on STM32F411 (tick {} Hz): ratio {}/{}, {} edges, encoder {} counts, motor {} steps, settings {}",
+        env!("CARGO_PKG_VERSION"),
+        board::TICK_HZ,
+        config.ratio.num(),
+        config.ratio.den(),
+        config.edges,
+        config.encoder_counts_per_rev,
+        config.motor_steps_per_rev,
+        loaded
+    );
+    drivers::lathe_encoder(p.TIM3, p.PA6, p.PA7);
+    drivers::cutter_encoder(p.TIM4, p.PB6, p.PB7);
+    drivers::step_generator(p.TIM1, p.PA8, p.TIM2, config.step_pulse_ns);
+    drivers::esc_pwm(p.TIM10, p.PB8);
+    safety::inputs(p.PB0, p.PB14, p.PB15);
+    tick::start(config, pins);
+
+    interrupt::USART6.set_priority(Priority::P6);
+    let low = PLANNER.start(interrupt::USART6);
+    if let Ok(t) = tick::service() {
+        low.spawn(t);
+    }
+
+    let mut dog = IndependentWatchdog::new(p.IWDG, 500_000);
+    dog.unleash();
+    if let Ok(t) = usb::console(p.USB_OTG_FS, p.PA12, p.PA11) {
+        spawner.spawn(t);
+    }
+    if let Ok(t) = report::every_second() {
+        spawner.spawn(t);
+    }
+    let mut led =
+        embassy_stm32::gpio::Output::new(p.PC13, embassy_stm32::gpio::Level::High, embassy_stm32::gpio::Speed::Low);
     loop {
+        // The watchdog is fed only while the tick runs: a hung tick resets
+        // the MCU, and reset leaves every output inactive.
+        if tick::alive() {
+            dog.pet();
+        }
         led.toggle();
-        Timer::after_millis(500).await;
+        Timer::after_millis(100).await;
     }
 }

@@ -22,6 +22,8 @@ pub enum Action {
     Watch,
 }
 
+pub use crate::console_status::write_status as status_line;
+
 pub const HELP: &str = "ok commands: get [name] | set <name> <value> | engage | stop | status | watch | save | defaults | clear | help; names: cpr steps ratio dir edges max-rate max-accel ferror phase drive dir-setup pulse enable max-rpm";
 
 /// Handles one line (without its line ending).
@@ -77,6 +79,9 @@ fn dispatch(text: &str, ctl: &mut Controller, out: &mut Reply) -> Action {
         ("save", None, ..) => {
             if ctl.state() != crate::state::State::Idle {
                 return fail(out, "stop first: settings are saved only while idle");
+            }
+            if !ctl.lathe_at_rest() {
+                return fail(out, "stop the lathe first: saving pauses the controller for up to 2 s");
             }
             let _ = out.push_str("ok saving");
             return Action::Save;

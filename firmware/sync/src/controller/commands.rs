@@ -159,6 +159,11 @@ impl Controller {
         Ok(())
     }
 
+    /// No lathe encoder count for the last 0.1 s.
+    pub fn lathe_at_rest(&self) -> bool {
+        self.est.at_rest() || self.ticks == 0
+    }
+
     pub fn fault(&self) -> Option<Fault> {
         match self.state {
             State::Fault(f) => Some(f),

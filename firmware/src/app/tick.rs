@@ -1,0 +1,117 @@
+//! The control tick: TIM11's update interrupt at 25 kHz, highest priority.
+//! Reads the counters, runs the core's tick, applies its output. The core
+//! is shared with lower priorities through a critical section.
+
+use super::drivers::{self, CutterCounter, LatheCounter, OutputPins, Steps, TIMER_HZ};
+use super::safety;
+use core::cell::RefCell;
+use core::sync::atomic::{AtomicU32, Ordering};
+use critical_section::Mutex;
+use embassy_stm32::interrupt;
+use embassy_stm32::interrupt::{InterruptExt, Priority};
+use embassy_stm32::pac;
+use polyturn_firmware::{board, esc};
+use polyturn_sync::encoder::Counter16;
+use polyturn_sync::steps::StepOutput;
+use polyturn_sync::{Config, Controller, DriveKind, TickInput, Timing};
+
+struct Io {
+    core: Controller,
+    steps: Steps,
+    pins: OutputPins,
+}
+
+static IO: Mutex<RefCell<Option<Io>>> = Mutex::new(RefCell::new(None));
+static TICKS: AtomicU32 = AtomicU32::new(0);
+static LAST_SEEN: AtomicU32 = AtomicU32::new(0);
+/// Tick cost in CPU cycles: running sum and worst, reset by `take_cost`.
+static COST_SUM: AtomicU32 = AtomicU32::new(0);
+static COST_WORST: AtomicU32 = AtomicU32::new(0);
+
+pub const TIMING: Timing = Timing { tick_hz: board::TICK_HZ, step_timer_hz: TIMER_HZ };
+
+pub fn start(config: Config, mut pins: OutputPins) {
+    pins.enable_active_high = config.enable_active_high;
+    pins.set_enable(false);
+    let mut core = Controller::new(config, TIMING);
+    let mut steps = Steps { pulse_ticks: pulse_ticks(config.step_pulse_ns) };
+    core.start(LatheCounter.read(), steps.emitted(), CutterCounter.read());
+    critical_section::with(|cs| IO.borrow(cs).replace(Some(Io { core, steps, pins })));
+    // SAFETY: DWT is only used here, for the tick's cycle count.
+    let mut cp = unsafe { cortex_m::Peripherals::steal() };
+    cp.DCB.enable_trace();
+    cp.DWT.enable_cycle_counter();
+    embassy_stm32::rcc::enable_and_reset::<embassy_stm32::peripherals::TIM11>();
+    let t = pac::TIM11;
+    t.psc().write_value(0);
+    t.arr().write(|w| w.set_arr((TIMER_HZ / board::TICK_HZ - 1) as u16));
+    t.dier().modify(|w| w.set_uie(true));
+    t.cr1().modify(|w| w.set_cen(true));
+    interrupt::TIM1_TRG_COM_TIM11.set_priority(Priority::P0);
+    // SAFETY: the handler below is ready and the shared state is set.
+    unsafe { interrupt::TIM1_TRG_COM_TIM11.enable() };
+}
+
+pub fn pulse_ticks(ns: u32) -> u16 {
+    ((ns as u64 * TIMER_HZ as u64).div_ceil(1_000_000_000)).min(u16::MAX as u64) as u16
+}
+
+#[interrupt]
+fn TIM1_TRG_COM_TIM11() {
+    let start = cortex_m::peripheral::DWT::cycle_count();
+    pac::TIM11.sr().write_value(pac::timer::regs::Sr1ch(0));
+    critical_section::with(|cs| {
+        let mut io = IO.borrow(cs).borrow_mut();
+        let Some(io) = io.as_mut() else { return };
+        let input = TickInput {
+            lathe: LatheCounter.read(),
+            index: safety::take_index(),
+            emitted: io.steps.emitted(),
+            cutter: CutterCounter.read(),
+            estop_open: safety::estop_open(),
+            alarm: safety::alarm(),
+        };
+        let out = io.core.tick(&input);
+        if out.halt {
+            io.steps.halt();
+        } else if io.core.config().drive == DriveKind::Stepper {
+            io.steps.emit(&out.plan);
+        } else {
+            let max = io.core.derived().limits.max_velocity;
+            drivers::set_esc_pulse_us(if out.enable { esc::pulse_us(out.speed_q16, max) } else { 1000 });
+        }
+        io.pins.set_enable(out.enable);
+    });
+    TICKS.fetch_add(1, Ordering::Relaxed);
+    let cost = cortex_m::peripheral::DWT::cycle_count().wrapping_sub(start);
+    COST_SUM.fetch_add(cost, Ordering::Relaxed);
+    COST_WORST.fetch_max(cost, Ordering::Relaxed);
+}
+
+/// Runs `f` on the controller (console, planning, reports).
+pub fn with_core<R>(f: impl FnOnce(&mut Controller) -> R) -> Option<R> {
+    critical_section::with(|cs| IO.borrow(cs).borrow_mut().as_mut().map(|io| f(&mut io.core)))
+}
+
+/// True if the tick ran since the last call (feeds the watchdog).
+pub fn alive() -> bool {
+    let now = TICKS.load(Ordering::Relaxed);
+    now != LAST_SEEN.swap(now, Ordering::Relaxed)
+}
+
+/// (ticks, average cycles, worst cycles) since the last call.
+pub fn take_cost() -> (u32, u32, u32) {
+    let ticks = TICKS.load(Ordering::Relaxed);
+    let sum = COST_SUM.swap(0, Ordering::Relaxed);
+    let worst = COST_WORST.swap(0, Ordering::Relaxed);
+    (ticks, sum / board::TICK_HZ, worst)
+}
+
+/// Low-priority planning: work the tick must not do (re-basing the gear).
+#[embassy_executor::task]
+pub async fn service() {
+    loop {
+        with_core(|c| c.service());
+        embassy_time::Timer::after_millis(1).await;
+    }
+}

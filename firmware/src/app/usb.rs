@@ -1,0 +1,119 @@
+//! The USB CDC-ACM console: lines in, the sync core's console protocol,
+//! replies out. `watch` streams status lines until the next input.
+
+use super::{settings, tick};
+use embassy_futures::join::join;
+use embassy_futures::select::{select, Either};
+use embassy_stm32::peripherals as P;
+use embassy_stm32::usb::Driver;
+use embassy_stm32::{bind_interrupts, usb, Peri};
+use embassy_time::Timer;
+use embassy_usb::class::cdc_acm::{CdcAcmClass, State};
+use embassy_usb::driver::EndpointError;
+use embassy_usb::Builder;
+use polyturn_firmware::line::{Line, LineBuffer};
+use polyturn_sync::console::{self, Action, Reply};
+use static_cell::StaticCell;
+
+bind_interrupts!(struct Irqs {
+    OTG_FS => usb::InterruptHandler<P::USB_OTG_FS>;
+});
+
+type Class = CdcAcmClass<'static, Driver<'static, P::USB_OTG_FS>>;
+
+#[embassy_executor::task]
+pub async fn console(otg: Peri<'static, P::USB_OTG_FS>, dp: Peri<'static, P::PA12>, dm: Peri<'static, P::PA11>) {
+    static EP_OUT: StaticCell<[u8; 256]> = StaticCell::new();
+    static CONFIG_DESC: StaticCell<[u8; 256]> = StaticCell::new();
+    static BOS_DESC: StaticCell<[u8; 256]> = StaticCell::new();
+    static CONTROL: StaticCell<[u8; 64]> = StaticCell::new();
+    static STATE: StaticCell<State> = StaticCell::new();
+    let mut otg_cfg = usb::Config::default();
+    otg_cfg.vbus_detection = false; // the Black Pill does not wire VBUS sensing
+    let driver = Driver::new_fs(otg, Irqs, dp, dm, EP_OUT.init([0; 256]), otg_cfg);
+    let mut cfg = embassy_usb::Config::new(0x16c0, 0x27dd);
+    cfg.manufacturer = Some("polyturn");
+    cfg.product = Some("polyturn console");
+    cfg.serial_number = Some(env!("CARGO_PKG_VERSION"));
+    let mut builder =
+        Builder::new(driver, cfg, CONFIG_DESC.init([0; 256]), BOS_DESC.init([0; 256]), &mut [], CONTROL.init([0; 64]));
+    let mut class = CdcAcmClass::new(&mut builder, STATE.init(State::new()), 64);
+    let mut dev = builder.build();
+    join(dev.run(), async {
+        loop {
+            class.wait_connection().await;
+            let _ = session(&mut class).await;
+        }
+    })
+    .await;
+}
+
+async fn session(class: &mut Class) -> Result<(), EndpointError> {
+    let mut lines = LineBuffer::default();
+    let mut packet = [0u8; 64];
+    loop {
+        let n = class.read_packet(&mut packet).await?;
+        for &b in &packet[..n] {
+            let (reply, action) = match lines.push(b) {
+                None => continue,
+                Some(Line::TooLong) => (too_long(), Action::None),
+                Some(Line::Text(text)) => {
+                    tick::with_core(|c| console::handle(text, c)).unwrap_or((too_long(), Action::None))
+                }
+            };
+            lines.clear();
+            let reply = match action {
+                Action::Save => saved(),
+                _ => reply,
+            };
+            send(class, &reply).await?;
+            if action == Action::Watch {
+                watch(class).await?;
+            }
+        }
+    }
+}
+
+fn too_long() -> Reply {
+    let mut r = Reply::new();
+    let _ = r.push_str("error: line too long (96 characters at most)");
+    r
+}
+
+fn saved() -> Reply {
+    let cfg = tick::with_core(|c| *c.config());
+    let mut r = Reply::new();
+    let ok = cfg.is_some_and(|c| settings::save(&c));
+    let _ = r.push_str(if ok { "ok saved" } else { "error: flash write failed: settings not saved" });
+    r
+}
+
+async fn send(class: &mut Class, reply: &Reply) -> Result<(), EndpointError> {
+    for chunk in reply.as_bytes().chunks(62) {
+        class.write_packet(chunk).await?;
+    }
+    class.write_packet(b"\r\n").await
+}
+
+/// Streams status five times a second until any input arrives.
+async fn watch(class: &mut Class) -> Result<(), EndpointError> {
+    let mut buf = [0u8; 64];
+    loop {
+        match select(Timer::after_millis(200), class.read_packet(&mut buf)).await {
+            Either::First(()) => {
+                let line = tick::with_core(|c| {
+                    let mut r = Reply::new();
+                    console::status_line(c, &mut r);
+                    r
+                });
+                if let Some(l) = line {
+                    send(class, &l).await?;
+                }
+            }
+            Either::Second(r) => {
+                r?;
+                return Ok(());
+            }
+        }
+    }
+}
