@@ -126,7 +126,7 @@ impl Controller {
             self.on_index(raw);
         }
         let signed = if self.d.sense_positive { delta } else { -delta };
-        self.gear.advance(signed.clamp(-self.d.max_counts_per_tick, self.d.max_counts_per_tick));
+        self.gear.advance(crate::bound(signed as i64, self.d.max_counts_per_tick as i64) as i32);
         self.est.update(signed);
         if io.estop_open {
             self.trip(Fault::EStop);
@@ -164,7 +164,7 @@ impl Controller {
         let exact = (self.gear.steps() << 16) + ((self.gear.rem2() * d.rem_inv) >> 24);
         let interp = (self.est.offset_q16() as i64 * d.steps_per_count_q16) >> 16;
         let limit = (d.max_counts_per_tick as i64) << 16;
-        let v_counts = (self.est.velocity_q32() >> 16).clamp(-limit, limit);
+        let v_counts = crate::bound(self.est.velocity_q32() >> 16, limit);
         self.target_velocity = (v_counts * d.steps_per_count_q16) >> 16;
         self.target = exact + interp + d.phase_offset_q16 + (self.turns << 16) + self.target_velocity;
     }

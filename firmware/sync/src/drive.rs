@@ -91,11 +91,12 @@ impl Bldc {
             self.still = 0;
             return (0, false);
         }
-        let umax = d.limits.max_velocity + d.limits.max_velocity / 2;
+        // Shifts, not `/`: a size-optimised build would call __aeabi_ldivmod.
+        let umax = d.limits.max_velocity + (d.limits.max_velocity >> 1);
         let step = error >> KI_SHIFT;
-        let integral = (self.integral + step).clamp(-umax, umax);
+        let integral = crate::bound(self.integral + step, umax);
         let raw = f.velocity + (error >> KP_SHIFT) + integral;
-        let u = raw.clamp(-umax, umax);
+        let u = crate::bound(raw, umax);
         // Anti-windup: integrate only while the output is not saturated
         // in the direction the error pushes.
         if u == raw || (raw > umax) != (step > 0) {
@@ -103,7 +104,7 @@ impl Bldc {
         }
         let moved = cutter_q16 != self.last;
         self.last = cutter_q16;
-        self.still = if moved || u.abs() < d.limits.max_velocity / 16 { 0 } else { self.still + 1 };
+        self.still = if moved || u.abs() < d.limits.max_velocity >> 4 { 0 } else { self.still + 1 };
         (u as i32, self.still > d.stall_ticks)
     }
 }

@@ -80,11 +80,12 @@ impl IndexTracker {
         let mut off = position - last;
         // Reduce to (−E/2, E/2] by stepping; an index comes once per turn.
         let mut guard = 0;
-        while off > counts_per_rev / 2 && guard < 8 {
+        let half = counts_per_rev >> 1;
+        while off > half && guard < 8 {
             off -= counts_per_rev;
             guard += 1;
         }
-        while off <= -counts_per_rev / 2 && guard < 16 {
+        while off <= -half && guard < 16 {
             off += counts_per_rev;
             guard += 1;
         }

@@ -45,7 +45,7 @@ impl Estimator {
         // predict, then correct on the error (measured − estimate = −offset)
         let predicted = self.offset + self.velocity - ((delta as i64) << 32);
         self.velocity -= predicted >> KI;
-        self.offset = (predicted - (predicted >> KP)).clamp(-ONE, ONE);
+        self.offset = crate::bound(predicted - (predicted >> KP), ONE);
     }
 
     /// Sub-count offset of the estimate from the measured count, Q16 counts.

@@ -32,7 +32,7 @@ impl Follower {
     pub fn track(&mut self, target: i64, target_velocity: i64, lim: &Limits) {
         let error = target - self.position - target_velocity;
         let relative = self.velocity - target_velocity;
-        let mut dv = (target_velocity + (error >> KF_SHIFT) - self.velocity).clamp(-lim.max_accel, lim.max_accel);
+        let mut dv = crate::bound(target_velocity + (error >> KF_SHIFT) - self.velocity, lim.max_accel);
         // Closing in faster than we can brake: brake at the limit.
         if relative != 0 && (relative > 0) == (error > 0) {
             // Q16 units on both sides: v² and 2·a·e both carry 2^32.
@@ -48,12 +48,12 @@ impl Follower {
     /// Ramps the speed to zero at the acceleration limit.
     #[inline]
     pub fn ramp_down(&mut self, lim: &Limits) {
-        let dv = (-self.velocity).clamp(-lim.max_accel, lim.max_accel);
+        let dv = crate::bound(-self.velocity, lim.max_accel);
         self.step(dv, lim);
     }
 
     fn step(&mut self, dv: i64, lim: &Limits) {
-        self.velocity = (self.velocity + dv).clamp(-lim.max_velocity, lim.max_velocity);
+        self.velocity = crate::bound(self.velocity + dv, lim.max_velocity);
         self.position += self.velocity;
     }
 

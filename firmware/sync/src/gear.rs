@@ -76,7 +76,7 @@ impl Gear {
     /// A tick sees a handful of counts (bounded by the plausibility check).
     #[inline]
     pub fn advance(&mut self, delta: i32) {
-        let half = self.den2 / 2;
+        let half = self.den2 >> 1; // a shift: no 64-bit division on the tick
         if delta >= 0 {
             for _ in 0..delta {
                 self.steps += self.q;

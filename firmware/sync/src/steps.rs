@@ -60,7 +60,8 @@ pub fn plan(from: i64, to: i64, emitted: i64, last_dir: Dir, t: &StepTiming) -> 
     }
     let dir = if wanted > 0 { Dir::Forward } else { Dir::Reverse };
     let setup = if dir != last_dir { t.dir_setup } else { 0 };
-    let max_fit = 1 + (t.tick_len.saturating_sub(setup + 1)) / t.min_period;
+    let min_period = t.min_period.max(1); // lets the compiler drop the div-by-zero panic
+    let max_fit = 1 + (t.tick_len.saturating_sub(setup + 1)) / min_period;
     let count = (wanted.unsigned_abs()).min(max_fit as u64) as u32;
     let travel = (to - from).unsigned_abs();
     let on_schedule = emitted == (from + (1 << 15)) >> 16;
@@ -71,12 +72,13 @@ pub fn plan(from: i64, to: i64, emitted: i64, last_dir: Dir, t: &StepTiming) -> 
         } else {
             from - ((emitted << 16) - (1 << 15))
         };
-        let period = (((t.tick_len as u64) << 16) / travel.max(1)) as u32;
+        // tick_len < 2^16 and travel < 2^31: a 32-bit UDIV, not __aeabi_uldivmod.
+        let period = (t.tick_len.min(0xFFFF) << 16) / (travel as u32).max(1);
         let first = ((boundary.max(0) as u64 * period as u64) >> 16) as u32;
-        (first, period.max(t.min_period))
+        (first, period.max(min_period))
     } else {
         // Catching up on steps not emitted last time: spread them evenly.
-        let period = (t.tick_len / (count + 1)).max(t.min_period);
+        let period = (t.tick_len / count.saturating_add(1).max(1)).max(min_period);
         (period / 2, period)
     };
     let first = first.max(setup);

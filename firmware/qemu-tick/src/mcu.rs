@@ -1,0 +1,118 @@
+use core::arch::asm;
+use cortex_m::peripheral::{syst::SystClkSource, SYST};
+use cortex_m_rt::entry;
+use cortex_m_semihosting::{debug, hprintln};
+use polyturn_sync::gear::Scale;
+use polyturn_sync::steps::Dir;
+use polyturn_sync::{Config, Controller, State, TickInput, TickOutput, Timing};
+
+#[panic_handler]
+fn panic(info: &core::panic::PanicInfo) -> ! {
+    hprintln!("panic: {}", info);
+    debug::exit(debug::EXIT_FAILURE);
+    loop {}
+}
+
+const TIMING: Timing = Timing { tick_hz: 25_000, step_timer_hz: 96_000_000 };
+
+/// The tick under test, kept out of line so its cost is measured alone.
+#[inline(never)]
+#[no_mangle]
+pub fn polyturn_tick(ctl: &mut Controller, input: &TickInput) -> TickOutput {
+    ctl.tick(input)
+}
+
+fn now(syst: &SYST) -> u32 {
+    let _ = syst;
+    SYST::get_current()
+}
+
+/// SysTick counts elapsed over `f` (it counts down, 24 bits).
+fn measure(syst: &SYST, f: impl FnOnce()) -> u32 {
+    let a = now(syst);
+    f();
+    let b = now(syst);
+    a.wrapping_sub(b) & 0x00FF_FFFF
+}
+
+/// 100 iterations of 10 nops + subs + bne: 1 200 instructions, plus 1 mov.
+fn calibration_loop() {
+    unsafe {
+        asm!(
+            "movs {n}, #100",
+            "2:",
+            "nop", "nop", "nop", "nop", "nop", "nop", "nop", "nop", "nop", "nop",
+            "subs {n}, #1",
+            "bne 2b",
+            n = out(reg) _,
+        );
+    }
+}
+
+#[entry]
+fn main() -> ! {
+    let mut cp = cortex_m::Peripherals::take().unwrap();
+    cp.SYST.set_clock_source(SystClkSource::Core);
+    cp.SYST.set_reload(0x00FF_FFFF);
+    cp.SYST.clear_current();
+    cp.SYST.enable_counter();
+    let syst = &cp.SYST;
+
+    let per_1201 = measure(syst, calibration_loop).max(1);
+
+    let config = Config::default().with("max-rpm", "1000").unwrap();
+    let mut ctl = Controller::new(config, TIMING);
+    ctl.start(0, 0, 0);
+    // A synthetic lathe: up to 600 rpm (0.96 counts per tick, 24.8 fixed
+    // point) in 0.2 s, hold, down in 0.2 s, then at rest.
+    let (mut pos_q8, mut emitted, mut dir) = (0u32, 0u32, Dir::Forward);
+    let (mut worst, mut sum_synced, mut synced) = (0u32, 0u64, 0u32);
+    let total = 30_000u32;
+    let ramp = |k: u32| -> u32 {
+        let top = 246u32;
+        match k {
+            0..5_000 => top * k / 5_000,
+            5_000..20_000 => top,
+            20_000..25_000 => top * (25_000 - k) / 5_000,
+            _ => 0,
+        }
+    };
+    let mut engaged = false;
+    for k in 0..total {
+        let speed_q8 = ramp(k);
+        pos_q8 += speed_q8;
+        let input = TickInput { lathe: (pos_q8 >> 8) as u16, emitted: emitted as u16, ..TickInput::default() };
+        let mut out = TickOutput::default();
+        let cost = measure(syst, || out = polyturn_tick(&mut ctl, &input));
+        // A perfect step generator: every planned step is emitted.
+        if out.plan.count > 0 {
+            dir = out.plan.dir;
+        }
+        let _ = dir;
+        // The hardware counts pulses up whichever way DIR points.
+        emitted = emitted.wrapping_add(out.plan.count as u32);
+        if !engaged {
+            engaged = ctl.engage().is_ok();
+        }
+        if ctl.state() == State::Synced && speed_q8 == 246 {
+            sum_synced += cost as u64;
+            synced += 1;
+            worst = worst.max(cost);
+        }
+    }
+    let lathe = (pos_q8 >> 8) as i64;
+    let d = ctl.derived();
+    let exact = Scale::round(d.scale, lathe) + ctl.turn_offset_steps();
+    let cutter = ctl.status().cutter_steps;
+    // instructions = counts × 1201 / counts_per_1201
+    let avg_instr = (sum_synced * 1201 / synced.max(1) as u64) / per_1201 as u64;
+    let worst_instr = worst as u64 * 1201 / per_1201 as u64;
+    hprintln!("calibration: {} systick counts per 1201 instructions", per_1201);
+    hprintln!("ticks: {} total, {} synced at 600 rpm", total, synced);
+    hprintln!("tick instructions: average {} (synced, common path), worst {}", avg_instr, worst_instr);
+    hprintln!("gear: lathe {} counts, exact target {} steps, cutter {} steps", lathe, exact, cutter);
+    let ok = synced > 10_000 && exact == cutter;
+    hprintln!("{}", if ok { "1 passed, 0 failed" } else { "0 passed, 1 failed" });
+    debug::exit(if ok { debug::EXIT_SUCCESS } else { debug::EXIT_FAILURE });
+    loop {}
+}
