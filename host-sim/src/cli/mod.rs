@@ -1,6 +1,7 @@
 //! The `polyturn` command line: one module per subcommand.
 
 pub mod args;
+pub mod device;
 pub mod geometry;
 pub mod setups;
 pub mod simulate;
@@ -13,12 +14,13 @@ pub fn help() -> String {
     format!(
         "polyturn {VERSION}: plan, draw and simulate polygon turning with a live rotating cutter\n\n\
          usage:\n  polyturn demo                 simulate a hexagon end to end, write hexagon.svg\n  \
-         {}\n  {}\n  {}\n  \
+         {}\n  {}\n  {}\n  {}\n  \
          polyturn --help | --version\n\n\
          Lengths are in mm. `polyturn <command> --help` shows a command's flags.",
         geometry::USAGE,
         setups::USAGE,
-        simulate::USAGE
+        simulate::USAGE,
+        device::USAGE
     )
 }
 
@@ -37,6 +39,7 @@ pub fn dispatch(argv: &[String]) -> Result<String, CliError> {
         "geometry" => geometry::run(rest),
         "simulate" => simulate::run_cli(rest),
         "setups" => setups::run(rest),
+        "device" => device::run(rest),
         "demo" => simulate::demo(rest),
         other => Err(CliError(format!("unknown command '{other}' (try polyturn --help)"))),
     }
@@ -47,6 +50,7 @@ fn usage_of(cmd: &str) -> Option<String> {
         "geometry" => geometry::USAGE,
         "simulate" => simulate::USAGE,
         "setups" => setups::USAGE,
+        "device" => device::USAGE,
         "demo" => "polyturn demo [--svg FILE] [--json]",
         _ => return None,
     };
