@@ -99,7 +99,7 @@ impl Lathe {
         // drawn once a millisecond.
         self.steps = self.steps.wrapping_add(1);
         let every = ((1e-3 / dt) as u32).max(1);
-        if self.steps % every == 0 {
+        if self.steps.is_multiple_of(every) {
             self.wander += (self.rng.normal() * 0.3 - self.wander) * (every as f64 * dt / 0.02).min(1.0);
         }
         let p = &self.profile;
