@@ -3,5 +3,6 @@
 
 pub mod cli;
 pub mod geometry;
+pub mod noncircular;
 pub mod planner;
 pub mod sim;

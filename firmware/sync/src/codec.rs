@@ -81,14 +81,14 @@ pub fn decode(bytes: &[u8]) -> Result<Config, DecodeError> {
         encoder_counts_per_rev: cpr,
         motor_steps_per_rev: steps,
         ratio,
-        sense: if r.u8() == 1 { Sense::Opposite } else { Sense::Same },
+        sense: if r.flag("dir")? { Sense::Opposite } else { Sense::Same },
         edges: r.u8(),
         max_step_rate_hz: r.u32(),
         max_accel_steps_per_s2: r.u32(),
         following_error_limit_steps: r.u32(),
         phase_offset_mdeg: r.u32() as i32,
-        drive: if r.u8() == 1 { DriveKind::Bldc } else { DriveKind::Stepper },
-        enable_active_high: r.u8() == 1,
+        drive: if r.flag("drive")? { DriveKind::Bldc } else { DriveKind::Stepper },
+        enable_active_high: r.flag("enable")?,
         dir_setup_ns: r.u32(),
         step_pulse_ns: r.u32(),
         max_lathe_rpm: r.u16() as u32,
@@ -131,6 +131,14 @@ impl Reader<'_> {
     fn u8(&mut self) -> u8 {
         self.take::<1>()[0]
     }
+    /// A 0/1 byte; anything else is refused, so decoding is one-to-one.
+    fn flag(&mut self, field: &'static str) -> Result<bool, DecodeError> {
+        match self.u8() {
+            0 => Ok(false),
+            1 => Ok(true),
+            _ => Err(DecodeError::Invalid(field)),
+        }
+    }
     fn u16(&mut self) -> u16 {
         u16::from_le_bytes(self.take())
     }
@@ -171,6 +179,17 @@ mod tests {
         #[test]
         fn any_bytes_decode_without_panicking(bytes in proptest::collection::vec(any::<u8>(), 0..64)) {
             let _ = decode(&bytes);
+        }
+
+        /// A record with a valid checksum but a flag byte other than 0/1 is
+        /// refused: what decodes re-encodes to the same bytes.
+        #[test]
+        fn decoding_is_one_to_one(flag_at in prop::sample::select(std::vec![15usize, 33, 34]), v in 2u8..=255) {
+            let mut b = encode(&Config::default());
+            b[flag_at] = v;
+            let crc = crc32(&b[..LEN - 4]);
+            b[LEN - 4..].copy_from_slice(&crc.to_le_bytes());
+            prop_assert!(matches!(decode(&b), Err(DecodeError::Invalid(_))));
         }
     }
 }

@@ -3,6 +3,7 @@
 pub mod args;
 pub mod device;
 pub mod geometry;
+pub mod sequence;
 pub mod setups;
 pub mod simulate;
 
@@ -14,13 +15,14 @@ pub fn help() -> String {
     format!(
         "polyturn {VERSION}: plan, draw and simulate polygon turning with a live rotating cutter\n\n\
          usage:\n  polyturn demo                 simulate a hexagon end to end, write hexagon.svg\n  \
-         {}\n  {}\n  {}\n  {}\n  \
+         {}\n  {}\n  {}\n  {}\n  {}\n  \
          polyturn --help | --version\n\n\
          Lengths are in mm. `polyturn <command> --help` shows a command's flags.",
         geometry::USAGE,
         setups::USAGE,
         simulate::USAGE,
-        device::USAGE
+        device::USAGE,
+        sequence::USAGE
     )
 }
 
@@ -40,6 +42,7 @@ pub fn dispatch(argv: &[String]) -> Result<String, CliError> {
         "simulate" => simulate::run_cli(rest),
         "setups" => setups::run(rest),
         "device" => device::run(rest),
+        "sequence" => sequence::run(rest),
         "demo" => simulate::demo(rest),
         other => Err(CliError(format!("unknown command '{other}' (try polyturn --help)"))),
     }
@@ -51,6 +54,7 @@ fn usage_of(cmd: &str) -> Option<String> {
         "simulate" => simulate::USAGE,
         "setups" => setups::USAGE,
         "device" => device::USAGE,
+        "sequence" => sequence::USAGE,
         "demo" => "polyturn demo [--svg FILE] [--json]",
         _ => return None,
     };
