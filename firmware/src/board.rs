@@ -29,7 +29,7 @@ pub const PINS: &[Pin] = &[
     pin("DRIVE_ALARM", "PB15", "EXTI15, pull-up, alarm pulls to GND", true),
     pin("CUTTER_A", "PB6", "TIM4_CH1, encoder mode (BLDC mode)", true),
     pin("CUTTER_B", "PB7", "TIM4_CH2, encoder mode (BLDC mode)", true),
-    pin("BLDC_PWM", "PA0", "TIM5_CH1, ESC pulse or duty (BLDC mode)", false),
+    pin("BLDC_PWM", "PB8", "TIM10_CH1, ESC pulse 1-2 ms at 50 Hz (BLDC mode)", true),
     pin("USB_DM", "PA11", "USB OTG FS", true),
     pin("USB_DP", "PA12", "USB OTG FS", true),
     pin("STATUS_LED", "PC13", "active low, on-board LED", false),
@@ -37,8 +37,20 @@ pub const PINS: &[Pin] = &[
 
 /// Control tick rate: 25 kHz (40 µs), above the 20 kHz floor of the design.
 pub const TICK_HZ: u32 = 25_000;
-/// System clock from the 25 MHz HSE crystal.
-pub const SYSCLK_HZ: u32 = 100_000_000;
+/// System clock from the 25 MHz HSE crystal: 96 MHz, so USB gets exactly
+/// 48 MHz from the same PLL. Every timer runs at 96 MHz.
+pub const SYSCLK_HZ: u32 = 96_000_000;
+
+/// Timers the firmware uses, and what for (none shared).
+pub const TIMERS: &[(&str, &str)] = &[
+    ("TIM1", "step pulses: one-pulse mode, repetition counter = steps - 1"),
+    ("TIM2", "counts the step pulses (slave of TIM1's OC1REF via ITR0)"),
+    ("TIM3", "lathe encoder (encoder mode, input filter)"),
+    ("TIM4", "cutter encoder (BLDC mode)"),
+    ("TIM5", "embassy time driver"),
+    ("TIM10", "ESC PWM (BLDC mode)"),
+    ("TIM11", "control tick, 25 kHz update interrupt at the highest priority"),
+];
 
 #[cfg(test)]
 mod tests {

@@ -102,3 +102,20 @@ fn demo_writes_the_hexagon_picture() {
     assert!(out.contains("6 sides") && out.contains("final error at rest: 0 steps"), "{out}");
     assert!(std::fs::read_to_string(&svg).unwrap().starts_with("<svg"));
 }
+
+#[test]
+fn a_closed_pipe_ends_quietly_not_with_a_panic() {
+    use std::process::Stdio;
+    let svg = std::env::temp_dir().join(format!("polyturn-pipe-{}.svg", std::process::id()));
+    let mut child = Command::new(env!("CARGO_BIN_EXE_polyturn"))
+        .args(["demo", "--svg", svg.to_str().unwrap()])
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    drop(child.stdout.take()); // the reader goes away before the demo writes
+    let out = child.wait_with_output().unwrap();
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(!err.contains("panicked"), "{err}");
+    assert!(out.status.success());
+}

@@ -13,8 +13,8 @@ use polyturn_firmware::steptimer;
 use polyturn_sync::encoder::Counter16;
 use polyturn_sync::steps::{Dir, StepOutput, StepPlan};
 
-/// Timer clock (APB1 ×2 and APB2 ×1 both give 96 MHz).
-pub const TIMER_HZ: u32 = 96_000_000;
+/// Timer clock (APB1 ×2 and APB2 ×1 both give the system clock).
+pub const TIMER_HZ: u32 = polyturn_firmware::board::SYSCLK_HZ;
 const DIR_PIN: usize = 12;
 const ENABLE_PIN: usize = 13;
 

@@ -78,12 +78,13 @@ pub fn run(argv: &[String]) -> CliResult<String> {
     if !watch {
         return if reply.starts_with("error") { Err(CliError(format!("device: {reply}"))) } else { Ok(reply) };
     }
-    println!("{reply}");
+    let mut out = std::io::stdout().lock();
+    let mut line = reply;
     loop {
-        match s.read_line() {
-            Ok(l) => println!("{l}"),
-            Err(e) => return Err(CliError::flag("port", format!("{path}: {e}"))),
+        if writeln!(out, "{line}").and_then(|_| out.flush()).is_err() {
+            return Ok(String::new()); // the reader went away (a closed pipe)
         }
+        line = s.read_line().map_err(|e| CliError::flag("port", format!("{path}: {e}")))?;
     }
 }
 
