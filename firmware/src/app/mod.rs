@@ -54,7 +54,7 @@ async fn main(spawner: Spawner) {
     let p = embassy_stm32::init(clocks());
     // Outputs inactive first: ENABLE released, no steps, before anything else.
     let pins = drivers::outputs_inactive(p.PB12, p.PB13);
-    let (config, loaded) = settings::load(p.FLASH);
+    let (config, loaded, flash) = settings::load(p.FLASH);
     info!(
         "polyturn {} on STM32F411 (tick {} Hz): ratio {}/{}, {} edges, encoder {} counts, motor {} steps, settings {}",
         env!("CARGO_PKG_VERSION"),
@@ -79,9 +79,12 @@ async fn main(spawner: Spawner) {
         low.spawn(t);
     }
 
-    let mut dog = IndependentWatchdog::new(p.IWDG, 500_000);
+    // 4 s: longer than a 128 KiB sector erase (2 s at most), which stalls
+    // the CPU while settings are saved; a hung tick stops the steps at once
+    // anyway (a plan never outlives its tick), the reset then disables ENABLE.
+    let mut dog = IndependentWatchdog::new(p.IWDG, 4_000_000);
     dog.unleash();
-    if let Ok(t) = usb::console(p.USB_OTG_FS, p.PA12, p.PA11) {
+    if let Ok(t) = usb::console(p.USB_OTG_FS, p.PA12, p.PA11, flash) {
         spawner.spawn(t);
     }
     if let Ok(t) = report::every_second() {

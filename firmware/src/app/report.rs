@@ -9,12 +9,10 @@ pub async fn every_second() {
     loop {
         Timer::after_millis(1000).await;
         let (ticks, avg, worst) = tick::take_cost();
-        let line = tick::with_core(|c| {
-            let mut out = polyturn_sync::console::Reply::new();
-            polyturn_sync::console::status_line(c, &mut out);
-            out
-        });
-        if let Some(line) = line {
+        // Copy under the lock, format outside it (the tick shares the lock).
+        if let Some(snap) = tick::with_core(|c| polyturn_sync::console::Snapshot::of(c)) {
+            let mut line = polyturn_sync::console::Reply::new();
+            snap.write(&mut line);
             info!("{} | tick {} cycles avg, {} worst ({} ticks)", line.as_str(), avg, worst, ticks);
         }
     }

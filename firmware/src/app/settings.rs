@@ -1,8 +1,6 @@
 //! Settings in the last two 128 KiB flash sectors (6 and 7), through the
 //! host-tested power-fail-safe store.
 
-use core::cell::RefCell;
-use critical_section::Mutex;
 use embassy_stm32::flash::{Blocking, Flash};
 use embassy_stm32::peripherals::FLASH;
 use embassy_stm32::Peri;
@@ -13,9 +11,8 @@ use polyturn_sync::Config;
 const SLOTS: [u32; 2] = [0x4_0000, 0x6_0000];
 const SECTOR: u32 = 0x2_0000;
 
+/// The settings sectors; owned by the console task, the only writer.
 pub struct Sectors(Flash<'static, Blocking>);
-
-static FLASH_DEV: Mutex<RefCell<Option<Sectors>>> = Mutex::new(RefCell::new(None));
 
 impl SlotFlash for Sectors {
     type Error = embassy_stm32::flash::Error;
@@ -30,17 +27,14 @@ impl SlotFlash for Sectors {
     }
 }
 
-pub fn load(flash: Peri<'static, FLASH>) -> (Config, &'static str) {
+pub fn load(flash: Peri<'static, FLASH>) -> (Config, &'static str, Sectors) {
     let mut dev = Sectors(Flash::new_blocking(flash));
     let (config, how) = store::load(&mut dev);
-    critical_section::with(|cs| FLASH_DEV.borrow(cs).replace(Some(dev)));
-    (config, if how == Loaded::Defaults { "defaults (none saved)" } else { "loaded from flash" })
+    (config, if how == Loaded::Defaults { "defaults (none saved)" } else { "loaded from flash" }, dev)
 }
 
 /// Saves (the console only asks while idle with the lathe at rest: the
 /// erase stalls the CPU for up to 2 s).
-pub fn save(config: &Config) -> bool {
-    critical_section::with(|cs| {
-        FLASH_DEV.borrow(cs).borrow_mut().as_mut().map(|dev| store::save(dev, config).is_ok()).unwrap_or(false)
-    })
+pub fn save(dev: &mut Sectors, config: &Config) -> bool {
+    store::save(dev, config).is_ok()
 }

@@ -22,7 +22,12 @@ bind_interrupts!(struct Irqs {
 type Class = CdcAcmClass<'static, Driver<'static, P::USB_OTG_FS>>;
 
 #[embassy_executor::task]
-pub async fn console(otg: Peri<'static, P::USB_OTG_FS>, dp: Peri<'static, P::PA12>, dm: Peri<'static, P::PA11>) {
+pub async fn console(
+    otg: Peri<'static, P::USB_OTG_FS>,
+    dp: Peri<'static, P::PA12>,
+    dm: Peri<'static, P::PA11>,
+    mut flash: settings::Sectors,
+) {
     static EP_OUT: StaticCell<[u8; 256]> = StaticCell::new();
     static CONFIG_DESC: StaticCell<[u8; 256]> = StaticCell::new();
     static BOS_DESC: StaticCell<[u8; 256]> = StaticCell::new();
@@ -42,13 +47,13 @@ pub async fn console(otg: Peri<'static, P::USB_OTG_FS>, dp: Peri<'static, P::PA1
     join(dev.run(), async {
         loop {
             class.wait_connection().await;
-            let _ = session(&mut class).await;
+            let _ = session(&mut class, &mut flash).await;
         }
     })
     .await;
 }
 
-async fn session(class: &mut Class) -> Result<(), EndpointError> {
+async fn session(class: &mut Class, flash: &mut settings::Sectors) -> Result<(), EndpointError> {
     let mut lines = LineBuffer::default();
     let mut packet = [0u8; 64];
     loop {
@@ -58,12 +63,18 @@ async fn session(class: &mut Class) -> Result<(), EndpointError> {
                 None => continue,
                 Some(Line::TooLong) => (too_long(), Action::None),
                 Some(Line::Text(text)) => {
-                    tick::with_core(|c| console::handle(text, c)).unwrap_or((too_long(), Action::None))
+                    // Parse and render outside the lock the tick shares;
+                    // only `apply` (short, copies out) runs inside it.
+                    let cmd = console::parse(text);
+                    match tick::with_core(|c| console::apply(cmd, c)) {
+                        Some(outcome) => console::render(&outcome),
+                        None => (too_long(), Action::None),
+                    }
                 }
             };
             lines.clear();
             let reply = match action {
-                Action::Save => saved(),
+                Action::Save => saved(flash),
                 _ => reply,
             };
             send(class, &reply).await?;
@@ -80,10 +91,13 @@ fn too_long() -> Reply {
     r
 }
 
-fn saved() -> Reply {
+/// Writes the settings. Not under the tick's lock: the erase stalls the
+/// CPU (flash busy) for up to 2 s anyway, which is why `save` is refused
+/// unless idle with the lathe at rest.
+fn saved(flash: &mut settings::Sectors) -> Reply {
     let cfg = tick::with_core(|c| *c.config());
     let mut r = Reply::new();
-    let ok = cfg.is_some_and(|c| settings::save(&c));
+    let ok = cfg.is_some_and(|c| settings::save(flash, &c));
     let _ = r.push_str(if ok { "ok saved" } else { "error: flash write failed: settings not saved" });
     r
 }
@@ -101,13 +115,10 @@ async fn watch(class: &mut Class) -> Result<(), EndpointError> {
     loop {
         match select(Timer::after_millis(200), class.read_packet(&mut buf)).await {
             Either::First(()) => {
-                let line = tick::with_core(|c| {
-                    let mut r = Reply::new();
-                    console::status_line(c, &mut r);
-                    r
-                });
-                if let Some(l) = line {
-                    send(class, &l).await?;
+                if let Some(snap) = tick::with_core(|c| console::Snapshot::of(c)) {
+                    let mut line = Reply::new();
+                    snap.write(&mut line);
+                    send(class, &line).await?;
                 }
             }
             Either::Second(r) => {

@@ -22,97 +22,160 @@ pub enum Action {
     Watch,
 }
 
-pub use crate::console_status::write_status as status_line;
+pub use crate::console_status::{write_status as status_line, Snapshot};
 
 pub const HELP: &str = "ok commands: get [name] | set <name> <value> | engage | stop | status | watch | save | defaults | clear | help; names: cpr steps ratio dir edges max-rate max-accel ferror phase drive dir-setup pulse enable max-rpm";
 
-/// Handles one line (without its line ending).
-pub fn handle(line: &[u8], ctl: &mut Controller) -> (Reply, Action) {
-    let mut out = Reply::new();
-    let action = match core::str::from_utf8(line) {
-        Ok(text) => dispatch(text.trim(), ctl, &mut out),
-        Err(_) => fail(&mut out, "not text: commands are plain ASCII (try help)"),
+/// A parsed command line (no controller needed: parse outside any lock).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Command<'a> {
+    Help,
+    GetAll,
+    Get(&'static str),
+    Set(&'a str, &'a str),
+    Engage,
+    Stop,
+    Clear,
+    Status,
+    Watch,
+    Save,
+    Defaults,
+    Bad(&'static str),
+}
+
+/// What applying a command did: copies only, so the reply is rendered
+/// after the controller's lock is released (the tick shares that lock).
+#[derive(Clone, Copy, Debug)]
+pub enum Outcome {
+    Text(&'static str),
+    Error(&'static str),
+    FieldError(&'static str, &'static str),
+    Value(Config, &'static str),
+    All(Config),
+    State(&'static str),
+    Status(Snapshot),
+    Watch(Snapshot),
+    Save,
+}
+
+pub fn parse(line: &[u8]) -> Command<'_> {
+    let Ok(text) = core::str::from_utf8(line) else {
+        return Command::Bad("not text: commands are plain ASCII (try help)");
     };
-    (out, action)
-}
-
-fn fail(out: &mut Reply, msg: &str) -> Action {
-    out.clear();
-    let _ = write!(out, "error: {msg}");
-    Action::None
-}
-
-fn dispatch(text: &str, ctl: &mut Controller, out: &mut Reply) -> Action {
     let mut words = text.split_ascii_whitespace();
     let cmd = words.next().unwrap_or("");
     let (a, b, extra) = (words.next(), words.next(), words.next());
     match (cmd, a, b, extra) {
-        ("help", None, ..) | ("?", None, ..) => {
-            let _ = out.push_str(HELP);
-        }
-        ("get", None, ..) => get_all(ctl.config(), out),
-        ("get", Some(name), None, _) => match out.push_str("ok ").is_ok() && value_of(ctl.config(), name, out) {
-            true => {}
-            false => return fail(out, "get: unknown name (try help)"),
+        ("help" | "?", None, ..) => Command::Help,
+        ("get", None, ..) => Command::GetAll,
+        ("get", Some(name), None, _) => match NAMES.iter().find(|n| **n == name) {
+            Some(n) => Command::Get(n),
+            None => Command::Bad("get: unknown name (try help)"),
         },
-        ("set", Some(name), Some(value), None) => return set(ctl, name, value, out),
-        ("set", ..) => return fail(out, "usage: set <name> <value>"),
-        ("engage", None, ..) => match ctl.engage() {
-            Ok(()) => {
-                let _ = out.push_str("ok engaging");
-            }
-            Err(r) => return fail(out, r.describe()),
-        },
-        ("stop", None, ..) => {
-            ctl.disengage();
-            let _ = out.push_str("ok stopping");
-        }
-        ("clear", None, ..) => {
-            ctl.clear();
-            let _ = write!(out, "ok {}", ctl.state().name());
-        }
-        ("status", None, ..) => crate::console_status::write_status(ctl, out),
-        ("watch", None, ..) => {
-            crate::console_status::write_status(ctl, out);
-            return Action::Watch;
-        }
-        ("save", None, ..) => {
-            if ctl.state() != crate::state::State::Idle {
-                return fail(out, "stop first: settings are saved only while idle");
-            }
-            if !ctl.lathe_at_rest() {
-                return fail(out, "stop the lathe first: saving pauses the controller for up to 2 s");
-            }
-            let _ = out.push_str("ok saving");
-            return Action::Save;
-        }
-        ("defaults", None, ..) => match ctl.set_config(Config::default()) {
-            Ok(()) => {
-                let _ = out.push_str("ok defaults loaded (not saved: use save)");
-            }
-            Err(r) => return fail(out, r.describe()),
-        },
-        ("", ..) => return fail(out, "empty line (try help)"),
-        _ => return fail(out, "unknown command or wrong arguments (try help)"),
+        ("set", Some(name), Some(value), None) => Command::Set(name, value),
+        ("set", ..) => Command::Bad("usage: set <name> <value>"),
+        ("engage", None, ..) => Command::Engage,
+        ("stop", None, ..) => Command::Stop,
+        ("clear", None, ..) => Command::Clear,
+        ("status", None, ..) => Command::Status,
+        ("watch", None, ..) => Command::Watch,
+        ("save", None, ..) => Command::Save,
+        ("defaults", None, ..) => Command::Defaults,
+        ("", ..) => Command::Bad("empty line (try help)"),
+        _ => Command::Bad("unknown command or wrong arguments (try help)"),
     }
-    Action::None
 }
 
-fn set(ctl: &mut Controller, name: &str, value: &str, out: &mut Reply) -> Action {
-    match ctl.config().with(name, value) {
-        Err(e) => {
-            out.clear();
-            let _ = write!(out, "error: {} {}", e.field, e.allowed);
+/// Applies a command to the controller: short, no formatting.
+pub fn apply(cmd: Command<'_>, ctl: &mut Controller) -> Outcome {
+    match cmd {
+        Command::Help => Outcome::Text(HELP),
+        Command::Bad(msg) => Outcome::Error(msg),
+        Command::GetAll => Outcome::All(*ctl.config()),
+        Command::Get(name) => Outcome::Value(*ctl.config(), name),
+        Command::Set(name, value) => match ctl.config().with(name, value) {
+            Err(e) => Outcome::FieldError(e.field, e.allowed),
+            Ok(c) => match ctl.set_config(c) {
+                Ok(()) => Outcome::Value(c, NAMES.iter().find(|n| **n == name).copied().unwrap_or("name")),
+                Err(r) => Outcome::Error(r.describe()),
+            },
+        },
+        Command::Engage => match ctl.engage() {
+            Ok(()) => Outcome::Text("ok engaging"),
+            Err(r) => Outcome::Error(r.describe()),
+        },
+        Command::Stop => {
+            ctl.disengage();
+            Outcome::Text("ok stopping")
         }
-        Ok(c) => match ctl.set_config(c) {
-            Ok(()) => {
-                let _ = out.push_str("ok ");
-                value_of(ctl.config(), name, out);
-            }
-            Err(r) => return fail(out, r.describe()),
+        Command::Clear => {
+            ctl.clear();
+            Outcome::State(ctl.state().name())
+        }
+        Command::Status => Outcome::Status(Snapshot::of(ctl)),
+        Command::Watch => Outcome::Watch(Snapshot::of(ctl)),
+        Command::Save if ctl.state() != crate::state::State::Idle => {
+            Outcome::Error("stop first: settings are saved only while idle")
+        }
+        Command::Save if !ctl.lathe_at_rest() => {
+            Outcome::Error("stop the lathe first: saving pauses the controller for up to 2 s")
+        }
+        Command::Save => Outcome::Save,
+        Command::Defaults => match ctl.set_config(Config::default()) {
+            Ok(()) => Outcome::Text("ok defaults loaded (not saved: use save)"),
+            Err(r) => Outcome::Error(r.describe()),
         },
     }
-    Action::None
+}
+
+/// The reply line, and what the firmware must do besides sending it.
+pub fn render(outcome: &Outcome) -> (Reply, Action) {
+    let mut out = Reply::new();
+    let action = match outcome {
+        Outcome::Text(t) => {
+            let _ = out.push_str(t);
+            Action::None
+        }
+        Outcome::Error(msg) => {
+            let _ = write!(out, "error: {msg}");
+            Action::None
+        }
+        Outcome::FieldError(field, allowed) => {
+            let _ = write!(out, "error: {field} {allowed}");
+            Action::None
+        }
+        Outcome::Value(c, name) => {
+            let _ = out.push_str("ok ");
+            value_of(c, name, &mut out);
+            Action::None
+        }
+        Outcome::All(c) => {
+            get_all(c, &mut out);
+            Action::None
+        }
+        Outcome::State(name) => {
+            let _ = write!(out, "ok {name}");
+            Action::None
+        }
+        Outcome::Status(s) => {
+            s.write(&mut out);
+            Action::None
+        }
+        Outcome::Watch(s) => {
+            s.write(&mut out);
+            Action::Watch
+        }
+        Outcome::Save => {
+            let _ = out.push_str("ok saving");
+            Action::Save
+        }
+    };
+    (out, action)
+}
+
+/// Handles one line (without its line ending): parse, apply, render.
+pub fn handle(line: &[u8], ctl: &mut Controller) -> (Reply, Action) {
+    render(&apply(parse(line), ctl))
 }
 
 fn get_all(c: &Config, out: &mut Reply) {

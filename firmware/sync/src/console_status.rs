@@ -1,36 +1,59 @@
 //! The `status` line: state, fault, speeds and phase error, in units a
 //! machinist reads (rpm, steps), computed at low priority.
 
+use crate::config::Config;
 use crate::console::Reply;
-use crate::controller::Controller;
+use crate::controller::{Controller, Status};
+use crate::state::Fault;
 use core::fmt::Write;
 
-/// Writes `ok state=... fault=... lathe_rpm=... cutter_rpm=... phase_err_steps=...`.
-pub fn write_status(ctl: &Controller, out: &mut Reply) {
-    let s = ctl.status();
-    let c = ctl.config();
-    let hz = ctl.derived().tick_hz as i128;
-    // rpm ×10 = v[Q32 counts/tick] · hz · 60 · 10 / (2^32 · E)
-    let lathe_rpm10 =
-        (s.lathe_velocity_q32 as i128 * hz * 600 / (c.encoder_counts_per_rev as i128 * (1i128 << 32))) as i64;
-    let cutter_rpm10 = lathe_rpm10 * c.ratio.num() as i64 / c.ratio.den() as i64;
-    let err_milli = ((s.phase_error_q16 as i128 * 1000) >> 16) as i64;
-    let fault = ctl.fault().map(|f| f.name()).unwrap_or("none");
-    let _ = write!(
-        out,
-        "ok state={} fault={} lathe_rpm={} cutter_rpm={} phase_err_steps={} target={} cutter={} indexed={}",
-        s.state.name(),
-        fault,
-        Tenths(lathe_rpm10),
-        Tenths(cutter_rpm10),
-        Milli(err_milli),
-        s.target_steps,
-        s.cutter_steps,
-        if s.indexed { "yes" } else { "no" },
-    );
-    if let Some(f) = ctl.fault() {
-        let _ = write!(out, " reason=\"{}\"", f.reason());
+/// What a status line needs, copied out of the controller (cheap), so the
+/// formatting (slow: i128 arithmetic, core::fmt) runs outside its lock.
+#[derive(Clone, Copy, Debug)]
+pub struct Snapshot {
+    pub status: Status,
+    pub config: Config,
+    pub tick_hz: u32,
+    pub fault: Option<Fault>,
+}
+
+impl Snapshot {
+    pub fn of(ctl: &Controller) -> Snapshot {
+        Snapshot { status: ctl.status(), config: *ctl.config(), tick_hz: ctl.derived().tick_hz, fault: ctl.fault() }
     }
+
+    /// Writes `ok state=... fault=... lathe_rpm=... cutter_rpm=... phase_err_steps=...`.
+    pub fn write(&self, out: &mut Reply) {
+        let (s, c) = (&self.status, &self.config);
+        // rpm ×10 = v[Q16 counts/tick] · hz · 600 / (2^16 · E), all within
+        // i64: |v| < 2^30 (Q16, ≤ 16 000 counts/tick) and hz · 600 < 2^25.
+        let v_q16 = s.lathe_velocity_q32 >> 16;
+        let lathe_rpm10 = v_q16 * self.tick_hz as i64 * 600 / ((c.encoder_counts_per_rev as i64) << 16);
+        let cutter_rpm10 = lathe_rpm10 * c.ratio.num() as i64 / c.ratio.den() as i64;
+        let err_milli = (s.phase_error_q16.clamp(-(1 << 46), 1 << 46) * 1000) >> 16;
+        let fault = self.fault.map(|f| f.name()).unwrap_or("none");
+        let _ = write!(
+            out,
+            "ok state={} fault={} lathe_rpm={} cutter_rpm={} phase_err_steps={} target={} cutter={} indexed={}",
+            s.state.name(),
+            fault,
+            Tenths(lathe_rpm10),
+            Tenths(cutter_rpm10),
+            Milli(err_milli),
+            s.target_steps,
+            s.cutter_steps,
+            if s.indexed { "yes" } else { "no" },
+        );
+        if let Some(f) = self.fault {
+            let _ = write!(out, " reason=\"{}\"", f.reason());
+        }
+    }
+}
+
+/// The status line of a controller (host and tests; the firmware snapshots
+/// under its lock and writes outside it).
+pub fn write_status(ctl: &Controller, out: &mut Reply) {
+    Snapshot::of(ctl).write(out);
 }
 
 struct Tenths(i64);

@@ -251,3 +251,6 @@ impl Controller {
 
 mod commands;
 pub use commands::Status;
+
+#[cfg(test)]
+mod tests;

@@ -87,10 +87,13 @@ impl Controller {
         }
     }
 
-    /// Clears a latched fault once the motor has stopped.
+    /// Clears a latched fault once the motor has stopped. The gear is
+    /// re-based on the lathe's position: after an implausible jump the
+    /// clamped gear no longer matched the counter.
     pub fn clear(&mut self) {
         if let State::Fault(_) = self.state {
             self.state = if self.follower.velocity == 0 { State::Idle } else { State::Disengaging };
+            self.rebase();
         }
     }
 
