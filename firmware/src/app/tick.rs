@@ -93,6 +93,22 @@ pub fn with_core<R>(f: impl FnOnce(&mut Controller) -> R) -> Option<R> {
     critical_section::with(|cs| IO.borrow(cs).borrow_mut().as_mut().map(|io| f(&mut io.core)))
 }
 
+/// Applies the settings the drivers hold themselves (pulse width, ENABLE
+/// polarity) after a console change. Low priority: the ns → timer ticks
+/// conversion divides, which the tick must not.
+pub fn apply_driver_settings() {
+    let cfg = with_core(|c| *c.config());
+    if let Some(cfg) = cfg {
+        let pulse = pulse_ticks(cfg.step_pulse_ns);
+        critical_section::with(|cs| {
+            if let Some(io) = IO.borrow(cs).borrow_mut().as_mut() {
+                io.steps.pulse_ticks = pulse;
+                io.pins.enable_active_high = cfg.enable_active_high;
+            }
+        });
+    }
+}
+
 /// True if the tick ran since the last call (feeds the watchdog).
 pub fn alive() -> bool {
     let now = TICKS.load(Ordering::Relaxed);

@@ -66,7 +66,9 @@ async fn session(class: &mut Class, flash: &mut settings::Sectors) -> Result<(),
                     // Parse and render outside the lock the tick shares;
                     // only `apply` (short, copies out) runs inside it.
                     let cmd = console::parse(text);
-                    match tick::with_core(|c| console::apply(cmd, c)) {
+                    let outcome = tick::with_core(|c| console::apply(cmd, c));
+                    tick::apply_driver_settings();
+                    match outcome {
                         Some(outcome) => console::render(&outcome),
                         None => (too_long(), Action::None),
                     }
