@@ -49,6 +49,47 @@ fn calibration_loop() {
     }
 }
 
+/// Cost of the tick's building blocks alone (instructions, common path).
+fn parts(syst: &SYST, per_1201: u32) {
+    use polyturn_sync::encoder::Extender;
+    use polyturn_sync::estimator::Estimator;
+    use polyturn_sync::follower::{Follower, Limits};
+    use polyturn_sync::gear::Gear;
+    use polyturn_sync::steps::{plan, StepTiming};
+    let instr = |counts: u32| counts as u64 * 1201 / per_1201 as u64;
+    let n = 1000u32;
+    let mut gear = Gear::new(Scale::new(2, 1, 3200, 2400).unwrap());
+    let mut est = Estimator::new(2500);
+    let mut ext = Extender::new(0);
+    let lim = Limits { max_velocity: 8 << 16, max_accel: 42 };
+    let mut f = Follower { position: 0, velocity: 174_763 };
+    let t = StepTiming { tick_len: 3840, min_period: 384, dir_setup: 480 };
+    let (mut g, mut e, mut x, mut fo, mut p) = (0, 0, 0, 0, 0);
+    let mut target = 0i64;
+    for k in 0..n {
+        g += measure(syst, || gear.advance(core::hint::black_box(1)));
+        e += measure(syst, || est.update(core::hint::black_box((k % 25 != 0) as i32)));
+        x += measure(syst, || {
+            core::hint::black_box(ext.update(core::hint::black_box(k as u16)));
+        });
+        target += 174_763;
+        let from = f.position;
+        fo += measure(syst, || f.track(core::hint::black_box(target), 174_763, &lim));
+        let to = f.position;
+        p += measure(syst, || {
+            core::hint::black_box(plan(from, to, (from + (1 << 15)) >> 16, Dir::Forward, &t));
+        });
+    }
+    hprintln!(
+        "parts (instructions each, incl. ~6 of measurement): gear {} estimator {} counter {} follower {} step plan {}",
+        instr(g) / n as u64,
+        instr(e) / n as u64,
+        instr(x) / n as u64,
+        instr(fo) / n as u64,
+        instr(p) / n as u64
+    );
+}
+
 #[entry]
 fn main() -> ! {
     let mut cp = cortex_m::Peripherals::take().unwrap();
@@ -112,6 +153,7 @@ fn main() -> ! {
     hprintln!("tick instructions: average {} (synced, common path), worst {}", avg_instr, worst_instr);
     hprintln!("gear: lathe {} counts, exact target {} steps, cutter {} steps", lathe, exact, cutter);
     let ok = synced > 10_000 && exact == cutter;
+    parts(syst, per_1201);
     hprintln!("{}", if ok { "1 passed, 0 failed" } else { "0 passed, 1 failed" });
     debug::exit(if ok { debug::EXIT_SUCCESS } else { debug::EXIT_FAILURE });
     loop {}

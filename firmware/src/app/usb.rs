@@ -70,7 +70,7 @@ async fn session(class: &mut Class, flash: &mut settings::Sectors) -> Result<(),
                     tick::apply_driver_settings();
                     match outcome {
                         Some(outcome) => console::render(&outcome),
-                        None => (too_long(), Action::None),
+                        None => (not_ready(), Action::None),
                     }
                 }
             };
@@ -85,6 +85,12 @@ async fn session(class: &mut Class, flash: &mut settings::Sectors) -> Result<(),
             }
         }
     }
+}
+
+fn not_ready() -> Reply {
+    let mut r = Reply::new();
+    let _ = r.push_str("error: the controller is not running yet");
+    r
 }
 
 fn too_long() -> Reply {

@@ -35,10 +35,12 @@ impl Follower {
         let mut dv = crate::bound(target_velocity + (error >> KF_SHIFT) - self.velocity, lim.max_accel);
         // Closing in faster than we can brake: brake at the limit.
         if relative != 0 && (relative > 0) == (error > 0) {
-            // Q16 units on both sides: v² and 2·a·e both carry 2^32.
-            let r = relative.unsigned_abs();
-            let brake = (2 * lim.max_accel as u64).saturating_mul(error.unsigned_abs());
-            if r.saturating_mul(r) >= brake {
+            // Q16 units on both sides: v² and 2·a·e both carry 2^32. With
+            // r < 2^31 and |e| ≤ 2^40, a < 2^20 neither product overflows, so
+            // plain multiplies do (no overflow checks on the tick).
+            let r = relative.unsigned_abs().min(1 << 31);
+            let brake = 2 * (lim.max_accel as u64).min(0xF_FFFF) * error.unsigned_abs().min(1 << 40);
+            if r * r >= brake {
                 dv = if relative > 0 { -lim.max_accel } else { lim.max_accel };
             }
         }
