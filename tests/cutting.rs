@@ -1,7 +1,7 @@
 //! Scenarios: the real core cuts what the geometry predicts.
 
 use polyturn_host::geometry::Direction;
-use polyturn_host::sim::{lathe::Leg, Event, Start};
+use polyturn_host::sim::{Event, Start};
 use polyturn_scenarios::*;
 use polyturn_sync::DriveKind;
 
@@ -32,12 +32,7 @@ fn fractional_eleven_thirds_with_ripple_engaged_while_spinning_never_drifts() {
 
 #[test]
 fn engaging_again_while_spinning_lands_on_the_first_passes_flats() {
-    let mut sc = scenario(hexagon(), 400.0, 0.0, 0.0, Start::Spinning, DriveKind::Stepper);
-    sc.cut_revolutions = None;
-    sc.lathe.legs = vec![
-        Leg { rpm: 400.0, accel_rpm_per_s: 1200.0, hold_s: 4.0 },
-        Leg { rpm: 0.0, accel_rpm_per_s: 1200.0, hold_s: 0.2 },
-    ];
+    let mut sc = scripted(hexagon(), Start::Spinning, 1200.0, &[(400.0, 4.0), (0.0, 0.2)]);
     sc.events = vec![Event::Engage(0.2), Event::Disengage(1.5), Event::Engage(2.4)];
     let r = simulate(&sc);
     assert_eq!(r.passes.len(), 2, "two engagements");
@@ -48,13 +43,7 @@ fn engaging_again_while_spinning_lands_on_the_first_passes_flats() {
 
 #[test]
 fn the_lathe_reverses_and_comes_back_to_the_same_phase() {
-    let mut sc = scenario(hexagon(), 300.0, 0.0, 0.0, Start::Rest, DriveKind::Stepper);
-    sc.cut_revolutions = None;
-    sc.lathe.legs = vec![
-        Leg { rpm: 300.0, accel_rpm_per_s: 600.0, hold_s: 1.0 },
-        Leg { rpm: -300.0, accel_rpm_per_s: 600.0, hold_s: 1.0 },
-        Leg { rpm: 0.0, accel_rpm_per_s: 600.0, hold_s: 0.2 },
-    ];
+    let sc = scripted(hexagon(), Start::Rest, 600.0, &[(300.0, 1.0), (-300.0, 1.0), (0.0, 0.2)]);
     let r = simulate(&sc);
     assert!(r.faults.is_empty(), "{:?}", r.faults);
     assert_eq!(r.final_error_steps, 0);

@@ -1,7 +1,7 @@
 //! Scenarios: faults fire on their condition, stop as their policy says.
 
 use polyturn_host::geometry::Direction;
-use polyturn_host::sim::{lathe::Leg, Event, Start};
+use polyturn_host::sim::{Event, Start};
 use polyturn_scenarios::*;
 use polyturn_sync::{Controller, DriveKind, Fault, Refusal, TickInput, Timing};
 
@@ -34,12 +34,7 @@ fn the_following_error_trips_when_the_motor_is_too_weak() {
 
 #[test]
 fn estop_stops_the_steps_at_once() {
-    let mut sc = scenario(hexagon(), 600.0, 0.0, 0.0, Start::Spinning, DriveKind::Stepper);
-    sc.cut_revolutions = None;
-    sc.lathe.legs = vec![
-        Leg { rpm: 600.0, accel_rpm_per_s: 1200.0, hold_s: 1.0 },
-        Leg { rpm: 0.0, accel_rpm_per_s: 1200.0, hold_s: 0.1 },
-    ];
+    let mut sc = scripted(hexagon(), Start::Spinning, 1200.0, &[(600.0, 1.0), (0.0, 0.1)]);
     sc.events = vec![Event::Engage(0.1), Event::EStop(0.8)];
     let stopped = simulate(&sc);
     assert_eq!(stopped.faults.first().map(|f| f.1), Some(Fault::EStop));

@@ -33,3 +33,13 @@ pub fn simulate(sc: &Scenario) -> SimResult {
 pub fn section_gap(a: &polyturn_host::geometry::Section, b: &polyturn_host::geometry::Section) -> f64 {
     a.envelope.radius.iter().zip(&b.envelope.radius).map(|(x, y)| (x - y).abs()).fold(0.0, f64::max)
 }
+
+/// A scripted run: the lathe runs through `legs` (rpm, hold seconds) at
+/// `accel` rpm/s, then stops; cutting is not tied to a revolution count.
+pub fn scripted(setup: Setup, start: Start, accel: f64, legs: &[(f64, f64)]) -> Scenario {
+    use polyturn_host::sim::lathe::Leg;
+    let mut sc = scenario(setup, legs.first().map_or(0.0, |l| l.0), 0.0, 0.0, start, DriveKind::Stepper);
+    sc.cut_revolutions = None;
+    sc.lathe.legs = legs.iter().map(|&(rpm, hold_s)| Leg { rpm, accel_rpm_per_s: accel, hold_s }).collect();
+    sc
+}

@@ -32,7 +32,12 @@ impl Bldc {
     pub fn advance(&mut self, command: f64, cutting: bool, enabled: bool, dt: f64) {
         let wanted = if enabled { self.inertia * (command - self.speed) / self.tau } else { 0.0 };
         let torque = wanted.clamp(-self.max_torque, self.max_torque);
-        let load = if cutting && self.speed != 0.0 { self.cut_torque * self.speed.signum() } else { 0.0 };
+        // Bearing drag: viscous (τ = J/b = 0.4 s) plus a little Coulomb, so a
+        // coasting spindle comes to rest as a real one does.
+        // (f64::signum(0.0) is 1.0, so friction at rest is set to 0 by hand.)
+        let coulomb = if self.speed == 0.0 { 0.0 } else { 0.005 * self.speed.signum() };
+        let drag = 5e-4 * self.speed + coulomb;
+        let load = drag + if cutting && self.speed != 0.0 { self.cut_torque * self.speed.signum() } else { 0.0 };
         let accel = (torque - load) / self.inertia;
         let before = self.speed;
         self.speed += accel * dt;
