@@ -31,8 +31,19 @@ pub struct OutputPins {
     pub enable_active_high: bool,
 }
 
+/// The ENABLE polarity, for the panic handler (which has no other state).
+static ENABLE_ACTIVE_HIGH: core::sync::atomic::AtomicBool = core::sync::atomic::AtomicBool::new(false);
+
+/// Everything off, from any context: no more steps, ENABLE inactive.
+pub fn all_outputs_off() {
+    Steps { pulse_ticks: 0 }.halt();
+    let pins = OutputPins { enable_active_high: ENABLE_ACTIVE_HIGH.load(core::sync::atomic::Ordering::Relaxed) };
+    pins.set_enable(false);
+}
+
 impl OutputPins {
     pub fn set_enable(&self, on: bool) {
+        ENABLE_ACTIVE_HIGH.store(self.enable_active_high, core::sync::atomic::Ordering::Relaxed);
         let high = on == self.enable_active_high;
         pac::GPIOB.bsrr().write(|w| if high { w.set_bs(ENABLE_PIN, true) } else { w.set_br(ENABLE_PIN, true) });
     }

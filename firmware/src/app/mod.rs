@@ -11,6 +11,7 @@ mod tick;
 mod usb;
 
 use defmt::info;
+use defmt_rtt as _;
 use embassy_executor::{InterruptExecutor, Spawner};
 use embassy_stm32::interrupt;
 use embassy_stm32::interrupt::{InterruptExt, Priority};
@@ -18,7 +19,15 @@ use embassy_stm32::time::Hertz;
 use embassy_stm32::wdg::IndependentWatchdog;
 use embassy_time::Timer;
 use polyturn_firmware::board;
-use {defmt_rtt as _, panic_probe as _};
+
+/// A panic stops the cutter at once (no steps, ENABLE inactive), logs, and
+/// traps so a probe shows the backtrace; the watchdog then resets the MCU.
+#[panic_handler]
+fn panic(_info: &core::panic::PanicInfo) -> ! {
+    drivers::all_outputs_off();
+    defmt::error!("panic: outputs off, waiting for the watchdog reset");
+    cortex_m::asm::udf()
+}
 
 static PLANNER: InterruptExecutor = InterruptExecutor::new();
 
