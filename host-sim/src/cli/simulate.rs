@@ -31,6 +31,16 @@ pub fn scenario_from(args: &Args) -> CliResult<Scenario> {
     let revs = args
         .number("revolutions", 0.0, 10_000.0, true, "revolutions")?
         .ok_or_else(|| CliError::flag("revolutions", "is required"))?;
+    // Bound the work: at most 10 minutes of lathe time at the set speed.
+    if revs * 60.0 / rpm > 600.0 {
+        return Err(CliError::flag(
+            "revolutions",
+            format!(
+                "would simulate {:.0} s of cutting at {rpm} rpm: at most 600 s (lower it, or raise --rpm)",
+                revs * 60.0 / rpm
+            ),
+        ));
+    }
     let ripple = args.number("ripple", 0.0, 0.5, false, "(fraction of speed)")?.unwrap_or(0.0);
     let start = match args.choice("start", &["rest", "spinning"], "rest")? {
         "spinning" => Start::Spinning,

@@ -128,7 +128,10 @@ impl Section {
         };
         let (a, b) = (end(-1.0), end(1.0));
         let (dx, dy) = (b.0 - a.0, b.1 - a.1);
-        let len = dx.hypot(dy).max(1e-12);
+        let len = dx.hypot(dy);
+        if len < 2.0 * step * self.stock_radius {
+            return 0.0; // the flat is narrower than the sampling: no chord to measure from
+        }
         let mut worst: f64 = 0.0;
         for i in -steps..=steps {
             let p = point(mid + step * i as f64);
