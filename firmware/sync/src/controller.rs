@@ -239,10 +239,14 @@ impl Controller {
         out
     }
 
-    /// Latches a fault (the first one wins until cleared).
+    /// Latches a fault. The first one is kept until cleared, except that an
+    /// immediate fault (E-stop, alarm) always takes over from a ramped one:
+    /// an E-stop during a ramp-down must still stop at once.
     pub fn trip(&mut self, f: Fault) {
-        if matches!(self.state, State::Fault(_)) {
-            return;
+        if let State::Fault(current) = self.state {
+            if current.immediate() || !f.immediate() {
+                return;
+            }
         }
         warn!("fault: {}", f.name());
         self.state = State::Fault(f);

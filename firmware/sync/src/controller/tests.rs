@@ -38,3 +38,16 @@ fn enable_is_off_when_idle_and_on_while_engaged() {
     c.engage().unwrap();
     assert!(c.tick(&TickInput::default()).enable);
 }
+
+#[test]
+fn an_estop_during_a_ramped_fault_still_stops_at_once() {
+    let mut c = ctl();
+    c.engage().unwrap();
+    c.trip(Fault::FollowingError);
+    let out = c.tick(&TickInput { estop_open: true, ..TickInput::default() });
+    assert_eq!(c.state(), State::Fault(Fault::EStop), "the e-stop takes over");
+    assert!(out.halt && !out.enable);
+    // ...but a ramped fault never replaces an immediate one.
+    c.trip(Fault::Overspeed);
+    assert_eq!(c.state(), State::Fault(Fault::EStop));
+}
