@@ -127,8 +127,16 @@ pub struct Steps {
 impl StepOutput for Steps {
     fn emit(&mut self, plan: &StepPlan) {
         let Some(p) = steptimer::program(plan, self.pulse_ticks) else { return };
-        OutputPins::set_dir(plan.dir);
         let t = pac::TIM1;
+        // The last pulse of the previous tick may still be high (its edge was
+        // inside that tick): let it finish, at most one pulse width (OPM
+        // clears CEN at its end), so the driver never sees a cut-short pulse.
+        for _ in 0..512 {
+            if !t.cr1().read().cen() {
+                break;
+            }
+        }
+        OutputPins::set_dir(plan.dir);
         t.cr1().modify(|w| {
             w.set_cen(false);
             w.set_arpe(false);

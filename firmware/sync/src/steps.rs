@@ -77,13 +77,21 @@ pub fn plan(from: i64, to: i64, emitted: i64, last_dir: Dir, t: &StepTiming) -> 
         let first = ((boundary.max(0) as u64 * period as u64) >> 16) as u32;
         (first, period.max(min_period))
     } else {
-        // Catching up on steps not emitted last time: spread them evenly.
+        // Late (catching up on steps not emitted in time): the first at once,
+        // the rest spread evenly over the tick.
         let period = (t.tick_len / count.saturating_add(1).max(1)).max(min_period);
-        (period / 2, period)
+        (0, period)
     };
+    // Every step's edge must fall inside this tick, so the pulse counter has
+    // it when the next tick reads it: a step planned past the tick's end
+    // would be counted late and planned twice. What does not fit waits.
+    // (The firmware lets a pulse still high at the tick's end finish.)
     let first = first.max(setup);
-    let last = first + period * (count - 1);
-    let count = if last >= t.tick_len { 1 + (t.tick_len - 1 - first.min(t.tick_len - 1)) / period } else { count };
+    let room = t.tick_len.saturating_sub(1);
+    if first > room {
+        return StepPlan { count: 0, dir: last_dir, first: 0, period: 0 };
+    }
+    let count = count.min(1 + (room - first) / period);
     StepPlan { count: count as u16, dir, first, period }
 }
 

@@ -46,6 +46,16 @@ fn slow_motion_puts_steps_at_their_half_step_crossings() {
 }
 
 #[test]
+fn a_step_that_would_fall_past_the_tick_waits_for_the_next() {
+    // The half-step crossing is exactly at the tick's end: no step now.
+    let p = plan(0, 1 << 15, 0, Dir::Forward, &T);
+    assert_eq!(p.count, 0);
+    // ...and goes out at once in the next tick.
+    let q = plan(1 << 15, (1 << 15) + 100, 0, Dir::Forward, &T);
+    assert_eq!((q.count, q.first), (1, 0));
+}
+
+#[test]
 fn a_reversal_waits_for_the_dir_setup_time() {
     let p = plan(0, -(3 << 16), 0, Dir::Forward, &T);
     assert_eq!(p.dir, Dir::Reverse);
