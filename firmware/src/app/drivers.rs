@@ -18,12 +18,13 @@ pub const TIMER_HZ: u32 = polyturn_firmware::board::SYSCLK_HZ;
 const DIR_PIN: usize = 12;
 const ENABLE_PIN: usize = 13;
 
-/// DIR and ENABLE as outputs, ENABLE inactive (for either polarity the
-/// board holds it inactive through reset with its pull resistor).
-pub fn outputs_inactive(dir: Peri<'static, P::PB12>, enable: Peri<'static, P::PB13>) -> OutputPins {
+/// DIR and ENABLE as outputs, ENABLE at its inactive level for the
+/// configured polarity (through reset the board's pull resistor holds it).
+pub fn outputs_inactive(dir: Peri<'static, P::PB12>, enable: Peri<'static, P::PB13>, active_high: bool) -> OutputPins {
     core::mem::forget(Output::new(dir, Level::Low, Speed::VeryHigh));
-    core::mem::forget(Output::new(enable, Level::High, Speed::Low));
-    OutputPins { enable_active_high: false }
+    let inactive = if active_high { Level::Low } else { Level::High };
+    core::mem::forget(Output::new(enable, inactive, Speed::Low));
+    OutputPins { enable_active_high: active_high }
 }
 
 #[derive(Clone, Copy)]

@@ -61,9 +61,11 @@ fn clocks() -> embassy_stm32::Config {
 #[embassy_executor::main]
 async fn main(spawner: Spawner) {
     let p = embassy_stm32::init(clocks());
-    // Outputs inactive first: ENABLE released, no steps, before anything else.
-    let pins = drivers::outputs_inactive(p.PB12, p.PB13);
+    // The settings first (they say which level of ENABLE is inactive), then
+    // the outputs, inactive, before anything else runs. Until then the pins
+    // float and the board's pull resistor holds ENABLE inactive.
     let (config, loaded, flash) = settings::load(p.FLASH);
+    let pins = drivers::outputs_inactive(p.PB12, p.PB13, config.enable_active_high);
     info!(
         "polyturn {} on STM32F411 (tick {} Hz): ratio {}/{}, {} edges, encoder {} counts, motor {} steps, settings {}",
         env!("CARGO_PKG_VERSION"),
