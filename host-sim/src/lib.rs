@@ -2,6 +2,7 @@
 //! planner, plant models and the simulator that runs the real sync core.
 
 pub mod cli;
+pub mod compensate;
 pub mod geometry;
 pub mod noncircular;
 pub mod planner;

@@ -1,6 +1,7 @@
 //! The `polyturn` command line: one module per subcommand.
 
 pub mod args;
+pub mod compensate;
 pub mod device;
 pub mod geometry;
 pub mod sequence;
@@ -15,14 +16,15 @@ pub fn help() -> String {
     format!(
         "polyturn {VERSION}: plan, draw and simulate polygon turning with a live rotating cutter\n\n\
          usage:\n  polyturn demo                 simulate a hexagon end to end, write hexagon.svg\n  \
-         {}\n  {}\n  {}\n  {}\n  {}\n  \
+         {}\n  {}\n  {}\n  {}\n  {}\n  {}\n  \
          polyturn --help | --version\n\n\
          Lengths are in mm. `polyturn <command> --help` shows a command's flags.",
         geometry::USAGE,
         setups::USAGE,
         simulate::USAGE,
         device::USAGE,
-        sequence::USAGE
+        sequence::USAGE,
+        compensate::USAGE
     )
 }
 
@@ -43,6 +45,7 @@ pub fn dispatch(argv: &[String]) -> Result<String, CliError> {
         "setups" => setups::run(rest),
         "device" => device::run(rest),
         "sequence" => sequence::run(rest),
+        "compensate" => compensate::run(rest),
         "demo" => simulate::demo(rest),
         other => Err(CliError(format!("unknown command '{other}' (try polyturn --help)"))),
     }
@@ -55,6 +58,7 @@ fn usage_of(cmd: &str) -> Option<String> {
         "setups" => setups::USAGE,
         "device" => device::USAGE,
         "sequence" => sequence::USAGE,
+        "compensate" => compensate::USAGE,
         "demo" => "polyturn demo [--svg FILE] [--json]",
         _ => return None,
     };
