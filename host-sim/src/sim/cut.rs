@@ -63,13 +63,23 @@ impl CutRecorder {
         let (x0, y0) = self.setup.tip_at(a0, p0);
         let (x1, y1) = self.setup.tip_at(a1, p1);
         let n = (((x1 - x0).hypot(y1 - y0) / PIECE_MM).ceil() as usize).clamp(1, 4096);
-        let pts: Vec<(f64, f64)> = (0..=n)
-            .map(|i| {
-                let f = i as f64 / n as f64;
-                self.setup.tip_at(a0 + (a1 - a0) * f, p0 + (p1 - p0) * f)
-            })
-            .filter(|&(x, y)| x.hypot(y) < self.setup.stock_radius_mm * 1.05)
-            .collect();
+        // Both angles are linear in i, so their phasors turn by a constant
+        // step: `tip_at` = X0·e^{−ia} − R1·e^{−i(a−θ)}, without trig per point.
+        let (x0c, r1) = (self.setup.centre_distance(), self.setup.cutter_radius_mm);
+        let (ua, ub) = (a0 - p0, (a1 - p1 - (a0 - p0)) / n as f64);
+        let (mut ea, mut eu) = (a0.sin_cos(), ua.sin_cos());
+        let (da, du) = (((a1 - a0) / n as f64).sin_cos(), ub.sin_cos());
+        let turn = |(s, c): (f64, f64), (ds, dc): (f64, f64)| (s * dc + c * ds, c * dc - s * ds);
+        let limit = self.setup.stock_radius_mm * 1.05;
+        let mut pts: Vec<(f64, f64)> = Vec::with_capacity(n + 1);
+        for _ in 0..=n {
+            let p = (x0c * ea.1 - r1 * eu.1, -x0c * ea.0 + r1 * eu.0);
+            if p.0.hypot(p.1) < limit {
+                pts.push(p);
+            }
+            ea = turn(ea, da);
+            eu = turn(eu, du);
+        }
         if pts.len() > 1 {
             self.passes_cut += 1;
             self.env.add_polyline(&pts);

@@ -45,7 +45,7 @@ pub fn run(sc: &Scenario) -> Result<SimResult, String> {
         }
     }
     let bins = Section::default_bins(sc.setup.sides()).min(2048);
-    let mut cut = CutRecorder::new(&sc.setup, bins);
+    // One recorder per engagement; the whole run's section is their minimum.
     let mut passes: Vec<CutRecorder> = Vec::new();
     let m = sc.core.motor_steps_per_rev as f64;
     let e = sc.core.encoder_counts_per_rev as f64;
@@ -109,13 +109,11 @@ pub fn run(sc: &Scenario) -> Result<SimResult, String> {
             if sc.cut_revolutions.is_some_and(|n| cut_done >= n * TAU) {
                 p.lathe.end_hold();
             }
-            cut.record(a, theta);
             if let Some(pass) = passes.last_mut() {
                 pass.record(a, theta);
             }
         } else {
             cut_angle = None;
-            cut.pause();
             if let Some(pass) = passes.last_mut() {
                 pass.pause();
             }
@@ -149,7 +147,13 @@ pub fn run(sc: &Scenario) -> Result<SimResult, String> {
         DriveKind::Stepper => p.stepper.position,
         DriveKind::Bldc => p.bldc.count(),
     };
-    let section = cut.section();
+    let passes: Vec<Section> = passes.iter().map(CutRecorder::section).collect();
+    let mut section = CutRecorder::new(&sc.setup, bins).section();
+    for p in &passes {
+        for (r, q) in section.envelope.radius.iter_mut().zip(&p.envelope.radius) {
+            *r = r.min(*q);
+        }
+    }
     let ideal = Section::ideal(&sc.setup, bins);
     let max_profile_deviation = section
         .envelope
@@ -166,7 +170,7 @@ pub fn run(sc: &Scenario) -> Result<SimResult, String> {
         max_profile_deviation,
         section,
         ideal,
-        passes: passes.iter().map(CutRecorder::section).collect(),
+        passes,
         faults: out.faults,
         ticks: tick,
         steps_emitted: p.stepper.pulses,
