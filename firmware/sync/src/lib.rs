@@ -9,6 +9,7 @@ extern crate std;
 #[macro_use]
 mod fmt;
 
+pub mod cam;
 pub mod codec;
 pub mod config;
 pub mod console;

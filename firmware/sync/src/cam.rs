@@ -1,0 +1,104 @@
+//! The electronic cam: an axis position (X steps) as a function of the
+//! lathe's angle, from a table of `N` evenly spaced points over `P` lathe
+//! counts (one or more revolutions, the pattern's period). Synchronised to
+//! the same encoder as the gear and, like it, exact: the table index is a
+//! DDA on whole counts (adds and compares), so the cam comes back to exactly
+//! the same point whenever the lathe does. Between points and between
+//! counts it interpolates linearly in fixed point (bounded, never drifts).
+
+/// Largest table the core holds (4 KiB of i32).
+pub const CAM_POINTS: usize = 1024;
+
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum CamError {
+    /// fewer than 2 points, or more than [`CAM_POINTS`]
+    Points,
+    /// the period must be at least one count per point
+    Period,
+    /// two neighbouring points 2^23 steps or more apart
+    Step,
+}
+
+#[derive(Clone, Debug)]
+pub struct Cam {
+    table: heapless::Vec<i32, CAM_POINTS>,
+    /// lathe counts per table period
+    period: u32,
+    /// floor(2^40 / period): acc/period in Q24 is (acc·2^16 · inv) >> 32
+    inv: u64,
+    index: u32,
+    /// (counts into the segment) × N, in [0, period)
+    acc: u32,
+}
+
+impl Cam {
+    /// A cam over `period` lathe counts (revolutions × counts per rev).
+    pub fn new(points: &[i32], period: u32) -> Result<Cam, CamError> {
+        if points.len() < 2 || points.len() > CAM_POINTS {
+            return Err(CamError::Points);
+        }
+        if (period as usize) < points.len() {
+            return Err(CamError::Period);
+        }
+        // |b − a| < 2^23 keeps (b − a) · (Q24 fraction) inside i64.
+        let wraps = points.iter().zip(points.iter().cycle().skip(1));
+        if wraps.take(points.len()).any(|(a, b)| (*b as i64 - *a as i64).abs() >= 1 << 23) {
+            return Err(CamError::Step);
+        }
+        let mut table = heapless::Vec::new();
+        table.extend_from_slice(points).map_err(|_| CamError::Points)?;
+        Ok(Cam { table, period, inv: (1u64 << 40) / period as u64, index: 0, acc: 0 })
+    }
+
+    /// Moves to an absolute lathe count (low priority: divides).
+    pub fn seek(&mut self, count: i64) {
+        let p = count.rem_euclid(self.period as i64) as u64 * self.table.len() as u64;
+        self.index = (p / self.period as u64) as u32;
+        self.acc = (p % self.period as u64) as u32;
+    }
+
+    /// Follows the lathe by `delta` counts: adds and compares only. Each
+    /// count moves N/period < 1 segment, so one compare per count suffices.
+    #[inline]
+    pub fn advance(&mut self, delta: i32) {
+        let n = self.table.len() as u32;
+        for _ in 0..delta.unsigned_abs() {
+            if delta > 0 {
+                self.acc += n;
+                if self.acc >= self.period {
+                    self.acc -= self.period;
+                    self.index = if self.index + 1 == n { 0 } else { self.index + 1 };
+                }
+            } else if self.acc >= n {
+                self.acc -= n;
+            } else {
+                self.acc += self.period - n;
+                self.index = if self.index == 0 { n - 1 } else { self.index - 1 };
+            }
+        }
+    }
+
+    /// The axis position in Q16 steps, `offset_q16` counts past the current
+    /// count (the lathe estimator's sub-count interpolation).
+    #[inline]
+    pub fn position_q16(&self, offset_q16: i32) -> i64 {
+        let n = self.table.len();
+        let i = self.index as usize;
+        let (a, b) = (self.table[i % n] as i64, self.table[(i + 1) % n] as i64);
+        // fraction of the segment in Q24: (acc + offset·N) / period; Q24 keeps
+        // the rounding under span / 2^24 even for a steep, coarse table.
+        let acc_q16 = ((self.acc as i64) << 16) + offset_q16 as i64 * n as i64;
+        let frac_q24 = (acc_q16 * self.inv as i64) >> 32; // |product| < 2^57
+        (a << 16) + (((b - a) * frac_q24) >> 8)
+    }
+
+    pub fn points(&self) -> &[i32] {
+        &self.table
+    }
+    pub fn period(&self) -> u32 {
+        self.period
+    }
+}
+
+#[cfg(test)]
+mod tests;
