@@ -162,5 +162,29 @@ fn gouges(setup: &Setup, plan: &Plan) -> bool {
     })
 }
 
+/// The plan as a cam table for the core: `points` X positions (steps) over
+/// a period in lathe counts, index 0 at a pass's middle. X repeats every
+/// pass, so when a pass spans whole counts the table covers just one (finer
+/// for the same size); otherwise the pattern's whole period.
+pub fn cam_table(setup: &Setup, plan: &Plan, counts_per_rev: u32, steps_per_mm: f64, points: usize) -> (Vec<i32>, u32) {
+    let (sides, revs) = setup.pattern();
+    let pattern_counts = revs.max(1) * counts_per_rev;
+    let period_counts =
+        if pattern_counts.is_multiple_of(sides.max(1)) { pattern_counts / sides.max(1) } else { pattern_counts };
+    let n = points.min(period_counts as usize).max(2);
+    let samples = plan.x.len() - 1;
+    let table = (0..n)
+        .map(|j| {
+            let a = TAU * period_counts as f64 / counts_per_rev as f64 * j as f64 / n as f64;
+            let tau = (a + plan.period_rad / 2.0).rem_euclid(plan.period_rad) - plan.period_rad / 2.0;
+            let at = (tau + plan.period_rad / 2.0) / plan.period_rad * samples as f64;
+            let (i, f) = (at.floor() as usize, at - at.floor());
+            let (x0, x1) = (plan.x[i.min(samples)], plan.x[(i + 1).min(samples)]);
+            ((x0 + (x1 - x0) * f) * steps_per_mm).round() as i32
+        })
+        .collect();
+    (table, period_counts)
+}
+
 #[cfg(test)]
 mod tests;

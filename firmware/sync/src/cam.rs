@@ -19,9 +19,11 @@ pub enum CamError {
     Step,
 }
 
-#[derive(Clone, Debug)]
+/// The table is borrowed for the program's life: in the firmware it sits in
+/// flash, so the controller stays small (fields within short load offsets).
+#[derive(Clone, Copy, Debug)]
 pub struct Cam {
-    table: heapless::Vec<i32, CAM_POINTS>,
+    table: &'static [i32],
     /// lathe counts per table period
     period: u32,
     /// floor(2^40 / period): acc/period in Q24 is (acc·2^16 · inv) >> 32
@@ -33,7 +35,7 @@ pub struct Cam {
 
 impl Cam {
     /// A cam over `period` lathe counts (revolutions × counts per rev).
-    pub fn new(points: &[i32], period: u32) -> Result<Cam, CamError> {
+    pub fn new(points: &'static [i32], period: u32) -> Result<Cam, CamError> {
         if points.len() < 2 || points.len() > CAM_POINTS {
             return Err(CamError::Points);
         }
@@ -45,9 +47,7 @@ impl Cam {
         if wraps.take(points.len()).any(|(a, b)| (*b as i64 - *a as i64).abs() >= 1 << 23) {
             return Err(CamError::Step);
         }
-        let mut table = heapless::Vec::new();
-        table.extend_from_slice(points).map_err(|_| CamError::Points)?;
-        Ok(Cam { table, period, inv: (1u64 << 40) / period as u64, index: 0, acc: 0 })
+        Ok(Cam { table: points, period, inv: (1u64 << 40) / period as u64, index: 0, acc: 0 })
     }
 
     /// Moves to an absolute lathe count (low priority: divides).
@@ -84,7 +84,10 @@ impl Cam {
     pub fn position_q16(&self, offset_q16: i32) -> i64 {
         let n = self.table.len();
         let i = self.index as usize;
-        let (a, b) = (self.table[i % n] as i64, self.table[(i + 1) % n] as i64);
+        let j = if i + 1 >= n { 0 } else { i + 1 };
+        // `get`: no panic path in the tick (index < n always holds).
+        let at = |k: usize| self.table.get(k).copied().unwrap_or(0) as i64;
+        let (a, b) = (at(i), at(j));
         // fraction of the segment in Q24: (acc + offset·N) / period; Q24 keeps
         // the rounding under span / 2^24 even for a steep, coarse table.
         let acc_q16 = ((self.acc as i64) << 16) + offset_q16 as i64 * n as i64;
@@ -93,7 +96,7 @@ impl Cam {
     }
 
     pub fn points(&self) -> &[i32] {
-        &self.table
+        self.table
     }
     pub fn period(&self) -> u32 {
         self.period

@@ -2,12 +2,14 @@
 //! multiplies and compares; no 64-bit division, no float) and commands from
 //! lower priority. The same code runs in the firmware and the simulator.
 
+use crate::cam::Cam;
 use crate::config::{Config, DriveKind};
 use crate::derived::{Derived, Timing};
 use crate::drive::{Bldc, StepBook};
 use crate::encoder::{Extender, IndexEvent, IndexTracker};
 use crate::estimator::Estimator;
 use crate::follower::Follower;
+use crate::follower::Limits;
 use crate::gear::Gear;
 use crate::state::{Fault, State};
 use crate::steps::StepPlan;
@@ -25,6 +27,28 @@ pub struct TickInput {
     pub cutter: u16,
     pub estop_open: bool,
     pub alarm: bool,
+    /// X-axis step pulses emitted (free-running 16-bit count), if fitted
+    pub x_emitted: u16,
+}
+
+/// An X axis (cross-slide) driven by the electronic cam.
+#[derive(Clone, Debug)]
+pub struct XAxis {
+    pub cam: Cam,
+    pub limits: Limits,
+    follower: Follower,
+    steps: StepBook,
+    last_target: i64,
+}
+
+impl XAxis {
+    pub fn new(cam: Cam, limits: Limits) -> XAxis {
+        XAxis { cam, limits, follower: Follower::default(), steps: StepBook::default(), last_target: 0 }
+    }
+    /// The commanded X position, Q16 steps.
+    pub fn position_q16(&self) -> i64 {
+        self.follower.position
+    }
 }
 
 /// What the hardware does until the next tick.
@@ -37,6 +61,8 @@ pub struct TickOutput {
     pub plan: StepPlan,
     /// BLDC speed command, Q16 cutter counts per tick
     pub speed_q16: i32,
+    /// X-axis steps for the next tick
+    pub x_plan: StepPlan,
 }
 
 /// Why a command was refused.
@@ -80,6 +106,7 @@ pub struct Controller {
     origin: i64,
     /// whole cutter turns dropped at engagement, in steps (a multiple of M)
     turns: i64,
+    x: Option<XAxis>,
     ticks: u64,
 }
 
@@ -104,6 +131,7 @@ impl Controller {
             rebase_pending: false,
             origin: 0,
             turns: 0,
+            x: None,
             ticks: 0,
         }
     }
@@ -128,6 +156,7 @@ impl Controller {
         let signed = if self.d.sense_positive { delta } else { -delta };
         self.gear.advance(crate::bound(signed as i64, self.d.max_counts_per_tick as i64) as i32);
         self.est.update(signed);
+        let clamped = crate::bound(delta as i64, self.d.max_counts_per_tick as i64) as i32;
         if io.estop_open {
             self.trip(Fault::EStop);
         }
@@ -137,7 +166,42 @@ impl Controller {
         let cutter = self.measure(io);
         self.update_target();
         self.step_state(cutter);
-        self.output(cutter)
+        let mut out = self.output(cutter);
+        if self.x.is_some() {
+            out.x_plan = self.tick_x(io, clamped, out.enable);
+        }
+        out
+    }
+
+    /// The X axis follows the cam while the cutter is engaged, else holds.
+    /// Out of line: a lathe without an X axis pays only the call.
+    #[inline(never)]
+    fn tick_x(&mut self, io: &TickInput, delta: i32, enable: bool) -> StepPlan {
+        let Some(x) = &mut self.x else { return StepPlan::default() };
+        // The cam is a function of the lathe's angle whatever the sense.
+        x.cam.advance(delta);
+        let offset = if self.d.sense_positive { self.est.offset_q16() } else { -self.est.offset_q16() };
+        let at = x.steps.read(io.x_emitted) << 16;
+        let target = x.cam.position_q16(offset);
+        let velocity = target - x.last_target;
+        x.last_target = target;
+        if !enable {
+            x.follower = Follower { position: at, velocity: 0 };
+            x.steps.hold(at);
+            return StepPlan::default();
+        }
+        match self.state {
+            State::Engaging | State::Synced => x.follower.track(target + velocity, velocity, &x.limits),
+            _ => x.follower.ramp_down(&x.limits),
+        }
+        // The axis must really be where it is commanded (its steps can be
+        // limited by the step generator): the same limit as the cutter's.
+        let lag = x.follower.position - at;
+        let plan = x.steps.plan(x.follower.position, &self.d.steps);
+        if self.state == State::Synced && lag.abs() > self.d.following_limit_q16 {
+            self.trip(Fault::FollowingError);
+        }
+        plan
     }
 
     fn on_index(&mut self, raw: u16) {

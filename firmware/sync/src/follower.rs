@@ -41,7 +41,11 @@ impl Follower {
             let r = relative.unsigned_abs().min(1 << 31);
             let brake = 2 * (lim.max_accel as u64).min(0xF_FFFF) * error.unsigned_abs().min(1 << 40);
             if r * r >= brake {
-                dv = if relative > 0 { -lim.max_accel } else { lim.max_accel };
+                // At the limit, but never past stopping the relative motion:
+                // with a generous limit and a tiny error, a full-limit brake
+                // would overshoot by far more than the error it corrects.
+                let stop = lim.max_accel.min(r as i64);
+                dv = if relative > 0 { -stop } else { stop };
             }
         }
         self.step(dv, lim);

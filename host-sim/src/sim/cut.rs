@@ -10,7 +10,7 @@ pub struct CutRecorder {
     env: Envelope,
     /// half-width of the in-stock window of the tip angle, rad
     window: f64,
-    last: Option<(f64, f64)>,
+    last: Option<(f64, f64, f64)>,
     pub passes_cut: u64,
 }
 
@@ -36,12 +36,13 @@ impl CutRecorder {
         self.last = None;
     }
 
-    /// Records the state at one tick: work angle `a`, cutter angle `theta`.
-    pub fn record(&mut self, a: f64, theta: f64) {
-        if let Some((a0, t0)) = self.last.replace((a, theta)) {
+    /// Records the state at one tick: work angle `a`, cutter angle `theta`,
+    /// and the X axis's change of centre distance `dx` (mm; 0 without one).
+    pub fn record(&mut self, a: f64, theta: f64, dx: f64) {
+        if let Some((a0, t0, x0)) = self.last.replace((a, theta, dx)) {
             for j in 0..self.setup.edges {
                 let edge = TAU * j as f64 / self.setup.edges as f64;
-                self.segment(a0, t0 + edge, a, theta + edge);
+                self.segment(a0, t0 + edge, a, theta + edge, (x0, dx));
             }
         }
     }
@@ -56,12 +57,13 @@ impl CutRecorder {
         k * TAU <= hi + w
     }
 
-    fn segment(&mut self, a0: f64, p0: f64, a1: f64, p1: f64) {
+    fn segment(&mut self, a0: f64, p0: f64, a1: f64, p1: f64, (dx0, dx1): (f64, f64)) {
         if !self.in_stock(p0, p1) {
             return;
         }
         let (x0, y0) = self.setup.tip_at(a0, p0);
         let (x1, y1) = self.setup.tip_at(a1, p1);
+        let ddx = (dx1 - dx0) / (((x1 - x0).hypot(y1 - y0) / PIECE_MM).ceil().clamp(1.0, 4096.0));
         let n = (((x1 - x0).hypot(y1 - y0) / PIECE_MM).ceil() as usize).clamp(1, 4096);
         // Both angles are linear in i, so their phasors turn by a constant
         // step: `tip_at` = X0·e^{−ia} − R1·e^{−i(a−θ)}, without trig per point.
@@ -72,8 +74,9 @@ impl CutRecorder {
         let turn = |(s, c): (f64, f64), (ds, dc): (f64, f64)| (s * dc + c * ds, c * dc - s * ds);
         let limit = self.setup.stock_radius_mm * 1.05;
         let mut pts: Vec<(f64, f64)> = Vec::with_capacity(n + 1);
-        for _ in 0..=n {
-            let p = (x0c * ea.1 - r1 * eu.1, -x0c * ea.0 + r1 * eu.0);
+        for i in 0..=n {
+            let xc = x0c + dx0 + ddx * i as f64;
+            let p = (xc * ea.1 - r1 * eu.1, -xc * ea.0 + r1 * eu.0);
             if p.0.hypot(p.1) < limit {
                 pts.push(p);
             }

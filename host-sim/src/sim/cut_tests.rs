@@ -11,7 +11,7 @@ fn perfect_cut(setup: &Setup, rpm: f64, tick_hz: f64, revs: f64) -> f64 {
     let s = setup.direction.sign();
     let mut a = 0.0;
     while a < revs * TAU {
-        rec.record(a, s * setup.gr() * a);
+        rec.record(a, s * setup.gr() * a, 0.0);
         a += da;
     }
     let (cut, ideal) = (rec.section(), Section::ideal(setup, bins));

@@ -49,9 +49,22 @@ pub struct Scenario {
     /// machinist withdraws the tool and stops the lathe; None: run the
     /// lathe profile as given
     pub cut_revolutions: Option<f64>,
+    /// an X axis (cross-slide) driven by the core's cam, if fitted
+    pub x_axis: Option<XSim>,
     /// a deliberately broken core for the "can the check fail" test:
     /// the gear's ratio numerator is off by this much
     pub sabotage_ratio_num: i32,
+}
+
+/// The X axis of a run: the cam table the core follows, and the axis.
+#[derive(Clone, Debug)]
+pub struct XSim {
+    pub table: &'static [i32],
+    pub period_counts: u32,
+    pub steps_per_mm: f64,
+    /// steps/s and steps/s²: the core's limits for X (the plant follows them)
+    pub max_rate_hz: f64,
+    pub max_accel: f64,
 }
 
 /// Start condition of the lathe.
@@ -135,6 +148,7 @@ impl Scenario {
             bldc_max_torque: 1.0,
             bldc_cut_torque: 0.2,
             cut_revolutions: Some(revolutions),
+            x_axis: None,
             sabotage_ratio_num: 0,
         }
     }

@@ -17,6 +17,19 @@ struct Plants {
     encoder: Encoder,
     stepper: Stepper,
     bldc: Bldc,
+    x: Stepper,
+}
+
+/// Fits the scenario's X axis to the core.
+fn fit_x(ctl: &mut Controller, sc: &Scenario) -> Result<(), String> {
+    let Some(x) = &sc.x_axis else { return Ok(()) };
+    let cam = polyturn_sync::cam::Cam::new(x.table, x.period_counts).map_err(|e| format!("cam table: {e:?}"))?;
+    let hz = sc.tick_hz as f64;
+    let limits = polyturn_sync::follower::Limits {
+        max_velocity: (x.max_rate_hz * 65536.0 / hz) as i64,
+        max_accel: ((x.max_accel * 65536.0 / (hz * hz)) as i64).max(1),
+    };
+    ctl.set_x_axis(Some(polyturn_sync::XAxis::new(cam, limits))).map_err(|r| r.describe().to_string())
 }
 
 /// Runs a scenario to the end (lathe at rest, everything settled).
@@ -30,12 +43,14 @@ pub fn run(sc: &Scenario) -> Result<SimResult, String> {
     }
     let mut ctl = Controller::new(core_cfg, Timing { tick_hz: sc.tick_hz, step_timer_hz: TIMER_HZ });
     ctl.start(0, 0, 0);
+    fit_x(&mut ctl, sc)?;
     let dt = 1.0 / sc.tick_hz as f64;
     let mut p = Plants {
         lathe: Lathe::new(sc.lathe.clone(), sc.seed),
         encoder: Encoder::new(sc.core.encoder_counts_per_rev),
         stepper: Stepper::new(sc.motor_max_rate_hz, sc.motor_max_accel, 2e-6),
         bldc: Bldc::new(sc.core.motor_steps_per_rev),
+        x: Stepper::new(1e9, 1e12, 2e-6),
     };
     p.bldc.max_torque = sc.bldc_max_torque;
     p.bldc.cut_torque = sc.bldc_cut_torque;
@@ -77,6 +92,7 @@ pub fn run(sc: &Scenario) -> Result<SimResult, String> {
             cutter: p.bldc.count() as u16,
             estop_open: estop,
             alarm: false,
+            x_emitted: p.x.pulses as u16,
         };
         let o = ctl.tick(&input);
         ctl.service();
@@ -85,6 +101,10 @@ pub fn run(sc: &Scenario) -> Result<SimResult, String> {
             DriveKind::Bldc => p.bldc.angle / TAU * m,
         };
         let theta = steps_now / m * TAU;
+        let dx = match &sc.x_axis {
+            Some(x) => p.x.execute(&o.x_plan, t, dt, TIMER_HZ as f64, o.halt) / x.steps_per_mm,
+            None => 0.0,
+        };
         let state = ctl.state();
         if state != last_state {
             if let State::Fault(f) = state {
@@ -110,7 +130,7 @@ pub fn run(sc: &Scenario) -> Result<SimResult, String> {
                 p.lathe.end_hold();
             }
             if let Some(pass) = passes.last_mut() {
-                pass.record(a, theta);
+                pass.record(a, theta, dx);
             }
         } else {
             cut_angle = None;

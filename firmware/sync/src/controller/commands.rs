@@ -131,8 +131,26 @@ impl Controller {
         self.origin
     }
 
+    /// Fits an X axis driven by `cam` (or removes it); only while idle.
+    pub fn set_x_axis(&mut self, x: Option<super::XAxis>) -> Result<(), Refusal> {
+        if self.state != State::Idle {
+            return Err(Refusal::NotIdle);
+        }
+        self.x = x;
+        self.rebase();
+        Ok(())
+    }
+
+    pub fn x_axis(&self) -> Option<&super::XAxis> {
+        self.x.as_ref()
+    }
+
     fn rebase(&mut self) {
         let rel = self.lathe.position() - self.origin;
+        if let Some(x) = &mut self.x {
+            x.cam.seek(rel);
+            x.last_target = x.cam.position_q16(0);
+        }
         self.gear = Gear::new(self.d.scale);
         self.gear.reset(if self.d.sense_positive { rel } else { -rel });
     }
