@@ -70,6 +70,9 @@ fn TIM1_TRG_COM_TIM11() {
             cutter: CutterCounter.read(),
             estop_open: safety::estop_open(),
             alarm: safety::alarm(),
+            // No X-axis step output on this board yet (the core only reads
+            // it when an X axis is fitted, which the firmware never does).
+            x_emitted: 0,
         };
         let out = io.core.tick(&input);
         if out.halt {
