@@ -8,7 +8,7 @@
 //! gives X(τ) = (R_c + R1·cos kτ) / cos τ. Passes repeat every Δ = 2π/(GR·Z)
 //! of lathe angle, so X is even and Δ-periodic: one pass and its link.
 
-use crate::geometry::{Envelope, Section, Setup};
+use crate::geometry::{Section, Setup};
 use std::f64::consts::{PI, TAU};
 
 /// What stops the flats from being made straight, if anything.
@@ -141,15 +141,7 @@ pub fn trace(setup: &Setup, plan: &Plan) -> Vec<(f64, f64)> {
 
 /// The section the compensated motion cuts (every pass is this one rotated).
 pub fn section(setup: &Setup, plan: &Plan, bins_per_side: usize) -> Section {
-    let n = setup.sides().max(1);
-    let sector = TAU / n as f64;
-    let mut one = Envelope::new(-sector / 2.0, sector, sector, bins_per_side, setup.stock_radius_mm);
-    one.add_polyline(&trace(setup, plan));
-    let mut env = Envelope::new(-sector / 2.0, TAU, TAU, bins_per_side * n as usize, setup.stock_radius_mm);
-    for i in 0..env.bins() {
-        env.radius[i] = one.radius[i % bins_per_side];
-    }
-    Section { sides: n, stock_radius: setup.stock_radius_mm, envelope: env }
+    Section::from_pass(setup, &trace(setup, plan), bins_per_side)
 }
 
 /// Whether the link between passes dips inside the straight-sided polygon.

@@ -40,12 +40,18 @@ pub fn pass_points(setup: &Setup, samples: usize) -> Vec<(f64, f64)> {
 impl Section {
     /// The exact model's section with `bins_per_side` samples per flat.
     pub fn ideal(setup: &Setup, bins_per_side: usize) -> Section {
+        Section::from_pass(setup, &pass_points(setup, pass_samples(setup)), bins_per_side)
+    }
+
+    /// The section cut by one pass's path (work-frame points, flat 0 in
+    /// the middle) and its N rotations: every pass is a rotation of pass 0
+    /// by a multiple of 2π/N (see the module notes). One sector is cut,
+    /// corners at ±π/N, then repeated round the circle.
+    pub fn from_pass(setup: &Setup, pass: &[(f64, f64)], bins_per_side: usize) -> Section {
         let n = setup.sides().max(1);
         let sector = TAU / n as f64;
-        // One sector, flat 0 in its middle, corners at ±π/N: every pass is
-        // a rotation of pass 0 by a multiple of 2π/N (see the module notes).
         let mut one = Envelope::new(-sector / 2.0, sector, sector, bins_per_side, setup.stock_radius_mm);
-        one.add_polyline(&pass_points(setup, pass_samples(setup)));
+        one.add_polyline(pass);
         let total = (bins_per_side * n as usize).max(2);
         let mut env = Envelope::new(-sector / 2.0, TAU, TAU, total, setup.stock_radius_mm);
         for i in 0..total {
