@@ -5,6 +5,8 @@
 //! sharp corner is made by two different smooth passes, with a smooth
 //! non-cutting link between cuts.
 
+use polyturn_sync::ratio::gcd;
+
 /// Why a cutting sequence was refused.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub enum SequenceError {
@@ -32,14 +34,6 @@ impl SequenceError {
     }
 }
 
-fn gcd(a: u32, b: u32) -> u32 {
-    if b == 0 {
-        a
-    } else {
-        gcd(b, a % b)
-    }
-}
-
 /// Checks m for N sides.
 pub fn check(sides: u32, m: u32) -> Result<(), SequenceError> {
     if sides < 3 {
@@ -48,7 +42,7 @@ pub fn check(sides: u32, m: u32) -> Result<(), SequenceError> {
     if m < 2 {
         return Err(SequenceError::MTooSmall);
     }
-    let g = gcd(sides, m);
+    let g = gcd(sides as u64, m as u64) as u32;
     if g != 1 {
         return Err(SequenceError::SharesFactor(g));
     }

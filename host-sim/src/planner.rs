@@ -2,6 +2,7 @@
 //! with what a machinist needs to choose between them.
 
 use crate::geometry::{Direction, Section, Setup};
+use polyturn_sync::ratio::gcd;
 use polyturn_sync::Ratio;
 
 #[derive(Clone, Debug, serde::Serialize)]
@@ -49,7 +50,7 @@ pub fn plan(req: &Request) -> Vec<Candidate> {
         for revs in 1..=req.max_revolutions {
             // GR·Z = N/r  →  GR = N/(r·Z), with gcd(N, r) = 1 so that N flats
             // (not fewer) come out over r turns.
-            if gcd(req.sides, revs) != 1 {
+            if gcd(req.sides as u64, revs as u64) != 1 {
                 continue;
             }
             let Ok(ratio) = Ratio::new(req.sides as u64, (revs * edges) as u64) else { continue };
@@ -127,14 +128,6 @@ fn min_cutter(setup: &Setup, tol: f64) -> Option<f64> {
         prev = r;
     }
     None
-}
-
-fn gcd(a: u32, b: u32) -> u32 {
-    if b == 0 {
-        a
-    } else {
-        gcd(b, a % b)
-    }
 }
 
 #[cfg(test)]

@@ -41,7 +41,8 @@ impl RatioError {
     }
 }
 
-pub(crate) const fn gcd(mut a: u64, mut b: u64) -> u64 {
+/// Greatest common divisor (Euclid), shared by the core and the host tools.
+pub const fn gcd(mut a: u64, mut b: u64) -> u64 {
     while b != 0 {
         let t = a % b;
         a = b;
