@@ -153,10 +153,12 @@ impl Controller {
         if let Some(raw) = io.index {
             self.on_index(raw);
         }
-        let signed = if self.d.sense_positive { delta } else { -delta };
-        self.gear.advance(crate::bound(signed as i64, self.d.max_counts_per_tick as i64) as i32);
-        self.est.update(signed);
+        // Bounded once (an implausible jump has tripped above): the gear and
+        // the X cam take the bounded count, the estimator the measured one.
         let clamped = crate::bound(delta as i64, self.d.max_counts_per_tick as i64) as i32;
+        let sign = |v: i32| if self.d.sense_positive { v } else { -v };
+        self.gear.advance(sign(clamped));
+        self.est.update(sign(delta));
         if io.estop_open {
             self.trip(Fault::EStop);
         }
