@@ -63,7 +63,7 @@ fn parts(syst: &SYST, per_1201: u32) {
     let mut ext = Extender::new(0);
     let lim = Limits { max_velocity: 8 << 16, max_accel: 42 };
     let mut f = Follower { position: 0, velocity: 174_763 };
-    let t = StepTiming { tick_len: 3840, min_period: 384, dir_setup: 480 };
+    let t = StepTiming { tick_len: 3840, min_period: 384, dir_setup: 480, pulse: 192 };
     let (mut g, mut e, mut x, mut fo, mut p) = (0, 0, 0, 0, 0);
     let mut target = 0i64;
     for k in 0..n {

@@ -24,7 +24,9 @@ pub fn outputs_inactive(dir: Peri<'static, P::PB12>, enable: Peri<'static, P::PB
     core::mem::forget(Output::new(dir, Level::Low, Speed::VeryHigh));
     let inactive = if active_high { Level::Low } else { Level::High };
     core::mem::forget(Output::new(enable, inactive, Speed::Low));
-    OutputPins { enable_active_high: active_high }
+    let mut pins = OutputPins { enable_active_high: false };
+    pins.set_polarity(active_high);
+    pins
 }
 
 #[derive(Clone, Copy)]
@@ -43,8 +45,13 @@ pub fn all_outputs_off() {
 }
 
 impl OutputPins {
+    /// Sets the active level, also for the panic handler (not per tick).
+    pub fn set_polarity(&mut self, active_high: bool) {
+        self.enable_active_high = active_high;
+        ENABLE_ACTIVE_HIGH.store(active_high, core::sync::atomic::Ordering::Relaxed);
+    }
+
     pub fn set_enable(&self, on: bool) {
-        ENABLE_ACTIVE_HIGH.store(self.enable_active_high, core::sync::atomic::Ordering::Relaxed);
         let high = on == self.enable_active_high;
         pac::GPIOB.bsrr().write(|w| if high { w.set_bs(ENABLE_PIN, true) } else { w.set_br(ENABLE_PIN, true) });
     }

@@ -31,10 +31,10 @@ static COST_WORST: AtomicU32 = AtomicU32::new(0);
 pub const TIMING: Timing = Timing { tick_hz: board::TICK_HZ, step_timer_hz: TIMER_HZ };
 
 pub fn start(config: Config, mut pins: OutputPins) {
-    pins.enable_active_high = config.enable_active_high;
+    pins.set_polarity(config.enable_active_high);
     pins.set_enable(false);
     let mut core = Controller::new(config, TIMING);
-    let mut steps = Steps { pulse_ticks: pulse_ticks(config.step_pulse_ns) };
+    let mut steps = Steps { pulse_ticks: pulse_of(&core) };
     core.start(LatheCounter.read(), steps.emitted(), CutterCounter.read());
     critical_section::with(|cs| IO.borrow(cs).replace(Some(Io { core, steps, pins })));
     // SAFETY: DWT is only used here, for the tick's cycle count.
@@ -52,8 +52,9 @@ pub fn start(config: Config, mut pins: OutputPins) {
     unsafe { interrupt::TIM1_TRG_COM_TIM11.enable() };
 }
 
-pub fn pulse_ticks(ns: u32) -> u16 {
-    ((ns as u64 * TIMER_HZ as u64).div_ceil(1_000_000_000)).min(u16::MAX as u64) as u16
+/// The STEP pulse width in timer ticks, as the core derived it.
+fn pulse_of(core: &Controller) -> u16 {
+    core.derived().steps.pulse.min(u16::MAX as u32) as u16
 }
 
 #[interrupt]
@@ -97,19 +98,14 @@ pub fn with_core<R>(f: impl FnOnce(&mut Controller) -> R) -> Option<R> {
 }
 
 /// Applies the settings the drivers hold themselves (pulse width, ENABLE
-/// polarity) after a console change. Low priority: the ns → timer ticks
-/// conversion divides, which the tick must not.
+/// polarity) after a console change, at low priority.
 pub fn apply_driver_settings() {
-    let cfg = with_core(|c| *c.config());
-    if let Some(cfg) = cfg {
-        let pulse = pulse_ticks(cfg.step_pulse_ns);
-        critical_section::with(|cs| {
-            if let Some(io) = IO.borrow(cs).borrow_mut().as_mut() {
-                io.steps.pulse_ticks = pulse;
-                io.pins.enable_active_high = cfg.enable_active_high;
-            }
-        });
-    }
+    critical_section::with(|cs| {
+        if let Some(io) = IO.borrow(cs).borrow_mut().as_mut() {
+            io.steps.pulse_ticks = pulse_of(&io.core);
+            io.pins.set_polarity(io.core.config().enable_active_high);
+        }
+    });
 }
 
 /// True if the tick ran since the last call (feeds the watchdog).

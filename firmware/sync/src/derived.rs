@@ -65,6 +65,7 @@ impl Derived {
                 tick_len: (t.step_timer_hz as u64 / hz) as u32,
                 min_period: ns_to_timer(c.step_pulse_ns.saturating_mul(2)).max(2),
                 dir_setup: ns_to_timer(c.dir_setup_ns),
+                pulse: ns_to_timer(c.step_pulse_ns),
             },
             still_ticks: (hz / 10) as u32,
             stall_ticks: (hz / 5) as u32,

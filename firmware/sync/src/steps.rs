@@ -46,6 +46,8 @@ pub struct StepTiming {
     pub min_period: u32,
     /// DIR to first STEP setup time
     pub dir_setup: u32,
+    /// STEP pulse high time (the drivers program it; half of min_period at most)
+    pub pulse: u32,
 }
 
 /// Plans the next tick. `from`/`to` are the commanded positions (Q16 steps)

@@ -2,7 +2,7 @@ use super::*;
 use proptest::prelude::*;
 use std::vec::Vec;
 
-const T: StepTiming = StepTiming { tick_len: 4000, min_period: 500, dir_setup: 500 };
+const T: StepTiming = StepTiming { tick_len: 4000, min_period: 500, dir_setup: 500, pulse: 250 };
 
 /// Runs a constant-velocity command through the planner and a perfect
 /// generator; returns the absolute times of all steps.
