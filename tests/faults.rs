@@ -12,8 +12,7 @@ fn overspeed_refuses_to_engage_with_a_reason() {
     let mut ctl = Controller::new(cfg, Timing::FIRMWARE);
     ctl.start(0, 0, 0);
     let mut count = 0u16;
-    for k in 0..20_000u32 {
-        let _ = k;
+    for _ in 0..20_000u32 {
         count = count.wrapping_add(2); // 2 counts per tick = 1250 rpm
         ctl.tick(&TickInput { lathe: count, ..TickInput::default() });
     }

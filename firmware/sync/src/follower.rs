@@ -16,6 +16,18 @@ pub struct Limits {
     pub max_accel: i64,
 }
 
+impl Limits {
+    /// Per-tick Q16 limits from steps/s and steps/s² at `tick_hz` (low
+    /// priority: divides). The speed rounds up, the acceleration down (≥ 1).
+    pub fn from_rates(rate_hz: u64, accel: u64, tick_hz: u64) -> Limits {
+        let hz = tick_hz.max(1);
+        Limits {
+            max_velocity: (rate_hz << 16).div_ceil(hz) as i64,
+            max_accel: ((accel << 16) / (hz * hz)).max(1) as i64,
+        }
+    }
+}
+
 #[derive(Clone, Copy, Debug, Default)]
 pub struct Follower {
     /// Q16 steps

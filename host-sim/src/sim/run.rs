@@ -24,11 +24,8 @@ struct Plants {
 fn fit_x(ctl: &mut Controller, sc: &Scenario) -> Result<(), String> {
     let Some(x) = &sc.x_axis else { return Ok(()) };
     let cam = polyturn_sync::cam::Cam::new(x.table, x.period_counts).map_err(|e| format!("cam table: {e:?}"))?;
-    let hz = sc.tick_hz as f64;
-    let limits = polyturn_sync::follower::Limits {
-        max_velocity: (x.max_rate_hz * 65536.0 / hz) as i64,
-        max_accel: ((x.max_accel * 65536.0 / (hz * hz)) as i64).max(1),
-    };
+    let limits =
+        polyturn_sync::follower::Limits::from_rates(x.max_rate_hz as u64, x.max_accel as u64, sc.tick_hz as u64);
     ctl.set_x_axis(Some(polyturn_sync::XAxis::new(cam, limits))).map_err(|r| r.describe().to_string())
 }
 
