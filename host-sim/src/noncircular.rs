@@ -7,6 +7,13 @@
 
 use polyturn_sync::ratio::gcd;
 
+pub mod path;
+#[cfg(test)]
+mod path_tests;
+pub mod plan;
+pub mod rounded;
+pub mod table;
+
 /// Why a cutting sequence was refused.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub enum SequenceError {

@@ -119,3 +119,38 @@ fn a_closed_pipe_ends_quietly_not_with_a_panic() {
     assert!(!err.contains("panicked"), "{err}");
     assert!(out.status.success());
 }
+
+const OCTAGON: &str = "cam --sides 8 --inscribed-radius 20 --x-max-speed 15 --x-max-accel 2000";
+
+#[test]
+fn cam_plans_sharp_corners_writes_the_table_and_rounds_when_too_fast() {
+    let dir = std::env::temp_dir().join(format!("polyturn-cam-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let table = dir.join("octagon.json");
+    let (code, out, err) = polyturn(&format!("{OCTAGON} --rpm 12 --json --table {}", table.display()));
+    assert_eq!(code, 0, "{err}");
+    let j: serde_json::Value = serde_json::from_str(&out).unwrap();
+    assert_eq!(j["corners"], "sharp");
+    assert_eq!(j["order"], serde_json::json!([0, 3, 6, 1, 4, 7, 2, 5]));
+    assert_eq!(j["within_1um"], true, "{out}");
+    assert!(j["velocity_jump_mm_s"].as_f64().unwrap() < 1e-3);
+    let file: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(&table).unwrap()).unwrap();
+    assert_eq!(file["format"], "polyturn-cam-1");
+    assert_eq!(file["points"].as_array().unwrap().len(), 900);
+    // faster than the axis allows for sharp corners: a fillet, and why
+    let (code, out, _) = polyturn(&format!("{OCTAGON} --rpm 30 --json"));
+    let j: serde_json::Value = serde_json::from_str(&out).unwrap();
+    assert_eq!((code, j["corners"].as_str()), (0, Some("rounded")));
+    assert!(j["corner_rounding_um"].as_f64().unwrap() > 1.0 && j["sharp_max_rpm"].as_f64().unwrap() < 30.0);
+}
+
+#[test]
+fn cam_refuses_bad_input_naming_the_flag() {
+    for (bad, flag) in
+        [("--rpm 12 --m 2", "--m"), ("--rpm 0", "--rpm"), ("--rpm 12 --steps-per-mm 5000", "--x-max-speed")]
+    {
+        let (code, out, err) = polyturn(&format!("{OCTAGON} {bad}"));
+        assert_eq!(code, 2, "{bad}: {out}");
+        assert!(err.starts_with(&format!("error: {flag} ")), "{bad}: {err}");
+    }
+}

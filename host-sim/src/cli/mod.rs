@@ -1,6 +1,7 @@
 //! The `polyturn` command line: one module per subcommand.
 
 pub mod args;
+pub mod cam;
 pub mod compensate;
 pub mod device;
 pub mod geometry;
@@ -16,7 +17,7 @@ pub fn help() -> String {
     format!(
         "polyturn {VERSION}: plan, draw and simulate polygon turning with a live rotating cutter\n\n\
          usage:\n  polyturn demo                 simulate a hexagon end to end, write hexagon.svg\n  \
-         {}\n  {}\n  {}\n  {}\n  {}\n  {}\n  \
+         {}\n  {}\n  {}\n  {}\n  {}\n  {}\n  {}\n  \
          polyturn --help | --version\n\n\
          Lengths are in mm. `polyturn <command> --help` shows a command's flags.",
         geometry::USAGE,
@@ -24,7 +25,8 @@ pub fn help() -> String {
         simulate::USAGE,
         device::USAGE,
         sequence::USAGE,
-        compensate::USAGE
+        compensate::USAGE,
+        cam::USAGE
     )
 }
 
@@ -46,6 +48,7 @@ pub fn dispatch(argv: &[String]) -> Result<String, CliError> {
         "device" => device::run(rest),
         "sequence" => sequence::run(rest),
         "compensate" => compensate::run(rest),
+        "cam" => cam::run(rest),
         "demo" => simulate::demo(rest),
         other => Err(CliError(format!("unknown command '{other}' (try polyturn --help)"))),
     }
@@ -59,6 +62,7 @@ fn usage_of(cmd: &str) -> Option<String> {
         "device" => device::USAGE,
         "sequence" => sequence::USAGE,
         "compensate" => compensate::USAGE,
+        "cam" => cam::USAGE,
         "demo" => "polyturn demo [--svg FILE] [--json]",
         _ => return None,
     };

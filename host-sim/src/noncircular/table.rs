@@ -1,0 +1,83 @@
+//! The cam table the firmware loads: X steps at evenly spaced lathe
+//! counts over the path's period, and the section that table cuts when the
+//! core interpolates it (linear between points, whole steps).
+
+use super::path::ToolPath;
+use polyturn_sync::cam::CAM_POINTS;
+use serde::{Deserialize, Serialize};
+use std::f64::consts::TAU;
+
+/// A cam table file (JSON): what `polyturn device --upload-cam` sends.
+/// X steps are measured from the inscribed radius, outward positive.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct CamFile {
+    pub format: String,
+    /// the lathe encoder the table was made for (counts per revolution)
+    pub counts_per_rev: u32,
+    /// lathe counts over which the table runs once
+    pub period_counts: u32,
+    pub steps_per_mm: f64,
+    /// the X axis limits in steps/s and steps/s²
+    pub max_rate_hz: u32,
+    pub max_accel: u32,
+    pub points: Vec<i32>,
+}
+
+pub const FORMAT: &str = "polyturn-cam-1";
+
+/// The shortest whole-count period: a path over m revolutions repeats
+/// every m/N revolution (one cut and one link), when that is whole counts.
+pub fn period_counts(path: &dyn ToolPath, counts_per_rev: u32) -> u32 {
+    let (all, sides) = (path.revolutions() * counts_per_rev, path.polygon().sides);
+    if all.is_multiple_of(sides) {
+        all / sides
+    } else {
+        all
+    }
+}
+
+/// Samples the path at CAM_POINTS (at most one per count) over its period.
+pub fn build(path: &dyn ToolPath, counts_per_rev: u32, steps_per_mm: f64, rates: (u32, u32)) -> CamFile {
+    let period = period_counts(path, counts_per_rev);
+    let n = (period as usize).min(CAM_POINTS);
+    let span = TAU * period as f64 / counts_per_rev as f64;
+    let points = (0..n)
+        .map(|i| ((path.at(span * i as f64 / n as f64)[0] - path.polygon().apothem_mm) * steps_per_mm).round() as i32)
+        .collect();
+    CamFile {
+        format: FORMAT.into(),
+        counts_per_rev,
+        period_counts: period,
+        steps_per_mm,
+        max_rate_hz: rates.0,
+        max_accel: rates.1,
+        points,
+    }
+}
+
+impl CamFile {
+    /// The tool's radius (mm) at unwrapped lathe angle `phi`, interpolated
+    /// as the core does it.
+    pub fn radius(&self, apothem_mm: f64, phi: f64) -> f64 {
+        let n = self.points.len();
+        let at = (phi / TAU * self.counts_per_rev as f64).rem_euclid(self.period_counts as f64);
+        let x = at * n as f64 / self.period_counts as f64;
+        let (i, f) = (x.floor() as usize % n, x - x.floor());
+        let (a, b) = (self.points[i] as f64, self.points[(i + 1) % n] as f64);
+        apothem_mm + (a + (b - a) * f) / self.steps_per_mm
+    }
+
+    /// Largest |section − the path's section| (mm) the table cuts: what
+    /// the core's interpolation and whole steps add.
+    pub fn deviation(&self, path: &dyn ToolPath, samples: usize) -> f64 {
+        let r = path.polygon().apothem_mm;
+        let revs = self.period_counts.div_ceil(self.counts_per_rev).max(path.revolutions());
+        (0..samples)
+            .map(|k| TAU * k as f64 / samples as f64)
+            .map(|phi| {
+                let cut = (0..revs).map(|i| self.radius(r, phi + TAU * i as f64)).fold(f64::INFINITY, f64::min);
+                (cut - path.section(phi)).abs()
+            })
+            .fold(0.0, f64::max)
+    }
+}
