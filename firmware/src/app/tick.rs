@@ -80,7 +80,7 @@ fn TIM1_TRG_COM_TIM11() {
             io.steps.halt();
         } else if io.core.config().drive == DriveKind::Stepper {
             io.steps.emit(&out.plan);
-        } else {
+        } else if io.core.config().drive == DriveKind::Bldc {
             let max = io.core.derived().limits.max_velocity;
             drivers::set_esc_pulse_us(if out.enable { esc::pulse_us(out.speed_q16, max) } else { 1000 });
         }

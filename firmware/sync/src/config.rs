@@ -21,6 +21,9 @@ pub enum DriveKind {
     Stepper,
     /// a velocity-driven spindle with its own encoder
     Bldc,
+    /// no rotating cutter: a single-point tool on the X cam (seed 004's
+    /// noncircular turning); the gear still runs, its output stays off
+    None,
 }
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -181,7 +184,8 @@ fn parse_drive(v: &str) -> Result<DriveKind, ConfigError> {
     match v.trim() {
         "stepper" => Ok(DriveKind::Stepper),
         "bldc" => Ok(DriveKind::Bldc),
-        _ => Err(range("drive", "stepper or bldc")),
+        "none" => Ok(DriveKind::None),
+        _ => Err(range("drive", "stepper, bldc or none")),
     }
 }
 

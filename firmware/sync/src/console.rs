@@ -198,7 +198,15 @@ fn value_of(c: &Config, name: &str, out: &mut Reply) -> bool {
         "max-accel" => write!(out, "max-accel={}", c.max_accel_steps_per_s2),
         "ferror" => write!(out, "ferror={}", c.following_error_limit_steps),
         "phase" => write_mdeg(out, c.phase_offset_mdeg),
-        "drive" => write!(out, "drive={}", if c.drive == DriveKind::Stepper { "stepper" } else { "bldc" }),
+        "drive" => write!(
+            out,
+            "drive={}",
+            match c.drive {
+                DriveKind::Stepper => "stepper",
+                DriveKind::Bldc => "bldc",
+                DriveKind::None => "none",
+            }
+        ),
         "dir-setup" => write!(out, "dir-setup={}", c.dir_setup_ns),
         "pulse" => write!(out, "pulse={}", c.step_pulse_ns),
         "enable" => write!(out, "enable={}", if c.enable_active_high { "high" } else { "low" }),

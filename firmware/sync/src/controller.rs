@@ -39,11 +39,13 @@ pub struct XAxis {
     follower: Follower,
     steps: StepBook,
     last_target: i64,
+    /// on its cam: within half a step and matching its speed
+    on_cam: bool,
 }
 
 impl XAxis {
     pub fn new(cam: Cam, limits: Limits) -> XAxis {
-        XAxis { cam, limits, follower: Follower::default(), steps: StepBook::default(), last_target: 0 }
+        XAxis { cam, limits, follower: Follower::default(), steps: StepBook::default(), last_target: 0, on_cam: false }
     }
     /// The commanded X position, Q16 steps.
     pub fn position_q16(&self) -> i64 {
@@ -190,6 +192,7 @@ impl Controller {
         if !enable {
             x.follower = Follower { position: at, velocity: 0 };
             x.steps.hold(at);
+            x.on_cam = false;
             return StepPlan::default();
         }
         match self.state {
@@ -198,6 +201,8 @@ impl Controller {
         }
         // The axis must really be where it is commanded (its steps can be
         // limited by the step generator): the same limit as the cutter's.
+        let off = target + velocity - x.follower.position;
+        x.on_cam = off.abs() < 1 << 15 && (x.follower.velocity - velocity).abs() <= 4 * x.limits.max_accel;
         let lag = x.follower.position - at;
         let plan = x.steps.plan(x.follower.position, &self.d.steps);
         if self.state == State::Synced && lag.abs() > self.d.following_limit_q16 {
@@ -220,6 +225,8 @@ impl Controller {
         match self.config.drive {
             DriveKind::Stepper => self.steps.read(io.emitted) << 16,
             DriveKind::Bldc => self.bldc.read(io.cutter) << 16,
+            // nothing to measure: the (unused) gear follows itself
+            DriveKind::None => self.follower.position,
         }
     }
 
@@ -240,7 +247,7 @@ impl Controller {
         match self.state {
             State::Idle => self.follower = Follower { position: cutter, velocity: 0 },
             State::Engaging | State::Synced => {
-                if self.target_velocity.abs() > lim.max_velocity {
+                if self.target_velocity.abs() > lim.max_velocity && self.config.drive != DriveKind::None {
                     self.trip(Fault::Overspeed);
                     return self.follower.ramp_down(&lim);
                 }
@@ -262,9 +269,13 @@ impl Controller {
     fn check_sync(&mut self, cutter: i64) {
         let error = self.target - self.follower.position;
         if self.state == State::Engaging {
-            let close = error.abs() < 1 << 15;
-            let matched = (self.follower.velocity - self.target_velocity).abs() <= 4 * self.d.limits.max_accel;
-            if close && matched {
+            // with no cutter (drive=none) only the X axis has to arrive
+            let none = self.config.drive == DriveKind::None;
+            let close = none || error.abs() < 1 << 15;
+            let matched = none || (self.follower.velocity - self.target_velocity).abs() <= 4 * self.d.limits.max_accel;
+            // synchronised means every axis: an X axis must be on its cam too
+            let x_on_cam = self.x.as_ref().is_none_or(|x| x.on_cam);
+            if close && matched && x_on_cam {
                 self.state = State::Synced;
                 info!("synced");
             }
@@ -273,6 +284,7 @@ impl Controller {
         let lag = match self.config.drive {
             DriveKind::Stepper => error,
             DriveKind::Bldc => self.follower.position - cutter,
+            DriveKind::None => 0,
         };
         if lag.abs() > self.d.following_limit_q16 {
             self.trip(Fault::FollowingError);
@@ -301,6 +313,7 @@ impl Controller {
                     self.trip(Fault::Stall);
                 }
             }
+            DriveKind::None => {}
         }
         out
     }

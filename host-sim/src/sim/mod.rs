@@ -10,6 +10,7 @@ pub mod lathe;
 pub mod report;
 mod rng;
 mod run;
+pub mod single_point;
 mod stepper;
 
 pub use cut::CutRecorder;

@@ -94,7 +94,7 @@ pub fn run(sc: &Scenario) -> Result<SimResult, String> {
         let o = ctl.tick(&input);
         ctl.service();
         let steps_now = match sc.core.drive {
-            DriveKind::Stepper => p.stepper.execute(&o.plan, t, dt, TIMER_HZ as f64, o.halt),
+            DriveKind::Stepper | DriveKind::None => p.stepper.execute(&o.plan, t, dt, TIMER_HZ as f64, o.halt),
             DriveKind::Bldc => p.bldc.angle / TAU * m,
         };
         let theta = steps_now / m * TAU;
@@ -161,7 +161,7 @@ pub fn run(sc: &Scenario) -> Result<SimResult, String> {
     let rel = count - ctl.gear_origin();
     let exact = scale.round(if sense > 0.0 { rel } else { -rel }) + ctl.turn_offset_steps();
     let cutter = match sc.core.drive {
-        DriveKind::Stepper => p.stepper.position,
+        DriveKind::Stepper | DriveKind::None => p.stepper.position,
         DriveKind::Bldc => p.bldc.count(),
     };
     let passes: Vec<Section> = passes.iter().map(CutRecorder::section).collect();

@@ -56,7 +56,7 @@ impl Controller {
     fn cutter_steps(&self) -> i64 {
         match self.config.drive {
             crate::config::DriveKind::Stepper => self.steps.emitted(),
-            crate::config::DriveKind::Bldc => self.follower.position >> 16,
+            crate::config::DriveKind::Bldc | crate::config::DriveKind::None => self.follower.position >> 16,
         }
     }
 
