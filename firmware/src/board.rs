@@ -30,6 +30,8 @@ pub const PINS: &[Pin] = &[
     pin("CUTTER_A", "PB6", "TIM4_CH1, encoder mode (BLDC mode)", true),
     pin("CUTTER_B", "PB7", "TIM4_CH2, encoder mode (BLDC mode)", true),
     pin("BLDC_PWM", "PB8", "TIM10_CH1, ESC pulse 1-2 ms at 50 Hz (BLDC mode)", true),
+    pin("X_STEP", "PB4", "push-pull output, one tick-long pulse (X axis cam)", true),
+    pin("X_DIR", "PB5", "push-pull output (X axis cam)", true),
     pin("USB_DM", "PA11", "USB OTG FS", true),
     pin("USB_DP", "PA12", "USB OTG FS", true),
     pin("STATUS_LED", "PC13", "active low, on-board LED", false),

@@ -9,3 +9,4 @@ pub mod esc;
 pub mod line;
 pub mod steptimer;
 pub mod store;
+pub mod xsteps;

@@ -17,6 +17,30 @@ use polyturn_sync::steps::{Dir, StepOutput, StepPlan};
 pub const TIMER_HZ: u32 = polyturn_firmware::board::SYSCLK_HZ;
 const DIR_PIN: usize = 12;
 const ENABLE_PIN: usize = 13;
+const X_STEP_PIN: usize = 4;
+const X_DIR_PIN: usize = 5;
+
+/// X STEP (PB4) and DIR (PB5) as outputs, low.
+pub fn x_outputs(step: Peri<'static, P::PB4>, dir: Peri<'static, P::PB5>) {
+    core::mem::forget(Output::new(step, Level::Low, Speed::High));
+    core::mem::forget(Output::new(dir, Level::Low, Speed::High));
+}
+
+/// The X pins for this tick, in one BSRR write.
+pub fn set_x_pins(p: polyturn_firmware::xsteps::XPins) {
+    pac::GPIOB.bsrr().write(|w| {
+        if p.step_high {
+            w.set_bs(X_STEP_PIN, true)
+        } else {
+            w.set_br(X_STEP_PIN, true)
+        }
+        if p.dir == Dir::Forward {
+            w.set_bs(X_DIR_PIN, true)
+        } else {
+            w.set_br(X_DIR_PIN, true)
+        }
+    });
+}
 
 /// DIR and ENABLE as outputs, ENABLE at its inactive level for the
 /// configured polarity (through reset the board's pull resistor holds it).
@@ -40,6 +64,7 @@ static ENABLE_ACTIVE_HIGH: core::sync::atomic::AtomicBool = core::sync::atomic::
 /// Everything off, from any context: no more steps, ENABLE inactive.
 pub fn all_outputs_off() {
     Steps { pulse_ticks: 0 }.halt();
+    pac::GPIOB.bsrr().write(|w| w.set_br(X_STEP_PIN, true));
     let pins = OutputPins { enable_active_high: ENABLE_ACTIVE_HIGH.load(core::sync::atomic::Ordering::Relaxed) };
     pins.set_enable(false);
 }

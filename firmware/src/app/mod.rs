@@ -10,7 +10,7 @@ mod settings;
 mod tick;
 mod usb;
 
-use defmt::info;
+use defmt::{info, warn};
 use defmt_rtt as _;
 use embassy_executor::{InterruptExecutor, Spawner};
 use embassy_stm32::interrupt;
@@ -64,8 +64,9 @@ async fn main(spawner: Spawner) {
     // The settings first (they say which level of ENABLE is inactive), then
     // the outputs, inactive, before anything else runs. Until then the pins
     // float and the board's pull resistor holds ENABLE inactive.
-    let (config, loaded, flash) = settings::load(p.FLASH);
+    let (config, loaded, flash, cam) = settings::load(p.FLASH);
     let pins = drivers::outputs_inactive(p.PB12, p.PB13, config.enable_active_high);
+    drivers::x_outputs(p.PB4, p.PB5);
     info!(
         "polyturn {} on STM32F411 (tick {} Hz): ratio {}/{}, {} edges, encoder {} counts, motor {} steps, settings {}",
         env!("CARGO_PKG_VERSION"),
@@ -83,6 +84,13 @@ async fn main(spawner: Spawner) {
     drivers::esc_pwm(p.TIM10, p.PB8);
     safety::inputs(p.PB0, p.PB14, p.PB15);
     tick::start(config, pins);
+    let cam = cam.filter(|(h, t)| match tick::with_core(|c| c.fit_cam(h, t)) {
+        Some(Ok(())) => true,
+        _ => {
+            warn!("the stored cam table does not fit these settings: X axis off");
+            false
+        }
+    });
 
     interrupt::USART6.set_priority(Priority::P6);
     let low = PLANNER.start(interrupt::USART6);
@@ -95,7 +103,7 @@ async fn main(spawner: Spawner) {
     // anyway (a plan never outlives its tick), the reset then disables ENABLE.
     let mut dog = IndependentWatchdog::new(p.IWDG, 4_000_000);
     dog.unleash();
-    if let Ok(t) = usb::console(p.USB_OTG_FS, p.PA12, p.PA11, flash) {
+    if let Ok(t) = usb::console(p.USB_OTG_FS, p.PA12, p.PA11, flash, cam) {
         spawner.spawn(t);
     }
     if let Ok(t) = report::every_second() {

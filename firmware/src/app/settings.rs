@@ -4,8 +4,13 @@
 use embassy_stm32::flash::{Blocking, Flash};
 use embassy_stm32::peripherals::FLASH;
 use embassy_stm32::Peri;
-use polyturn_firmware::store::{self, Loaded, SlotFlash};
+use polyturn_firmware::store::{self, Loaded, SlotFlash, CAM_POINTS_AT};
+use polyturn_sync::cam_upload::CamHeader;
 use polyturn_sync::Config;
+
+/// A cam table in flash: its header and its points, mapped in place.
+pub type StoredCam = (CamHeader, &'static [i32]);
+const FLASH_BASE: u32 = 0x0800_0000;
 
 /// Offsets from the start of flash of sectors 6 and 7.
 const SLOTS: [u32; 2] = [0x4_0000, 0x6_0000];
@@ -27,14 +32,29 @@ impl SlotFlash for Sectors {
     }
 }
 
-pub fn load(flash: Peri<'static, FLASH>) -> (Config, &'static str, Sectors) {
+pub fn load(flash: Peri<'static, FLASH>) -> (Config, &'static str, Sectors, Option<StoredCam>) {
     let mut dev = Sectors(Flash::new_blocking(flash));
     let (config, how) = store::load(&mut dev);
-    (config, if how == Loaded::Defaults { "defaults (none saved)" } else { "loaded from flash" }, dev)
+    let cam = newest_cam(&mut dev, how);
+    (config, if how == Loaded::Defaults { "defaults (none saved)" } else { "loaded from flash" }, dev, cam)
+}
+
+/// The cam table saved with the newest settings, checked, mapped in place.
+fn newest_cam(dev: &mut Sectors, how: Loaded) -> Option<StoredCam> {
+    let Loaded::Saved { slot, .. } = how else { return None };
+    let h = store::load_cam(dev, slot)?;
+    let at = (FLASH_BASE + SLOTS[slot] + CAM_POINTS_AT) as *const i32;
+    // SAFETY: memory-mapped flash, 4-byte aligned, checked by its CRC just
+    // now; this slot is not erased until a later save makes it the older
+    // one, and every save re-fits the cam from the new slot first.
+    Some((h, unsafe { core::slice::from_raw_parts(at, h.points as usize) }))
 }
 
 /// Saves (the console only asks while idle with the lathe at rest: the
 /// erase stalls the CPU for up to 2 s).
-pub fn save(dev: &mut Sectors, config: &Config) -> bool {
-    store::save(dev, config).is_ok()
+/// Returns the cam table as stored in the new slot (re-fit it from there).
+pub fn save(dev: &mut Sectors, config: &Config, cam: Option<(CamHeader, &[i32])>) -> Result<Option<StoredCam>, ()> {
+    store::save(dev, config, cam).map_err(|_| ())?;
+    let (_, how) = store::load(dev);
+    Ok(newest_cam(dev, how))
 }

@@ -10,6 +10,7 @@ use critical_section::Mutex;
 use embassy_stm32::interrupt;
 use embassy_stm32::interrupt::{InterruptExt, Priority};
 use embassy_stm32::pac;
+use polyturn_firmware::xsteps::XSteps;
 use polyturn_firmware::{board, esc};
 use polyturn_sync::encoder::Counter16;
 use polyturn_sync::steps::StepOutput;
@@ -19,6 +20,7 @@ struct Io {
     core: Controller,
     steps: Steps,
     pins: OutputPins,
+    x: XSteps,
 }
 
 static IO: Mutex<RefCell<Option<Io>>> = Mutex::new(RefCell::new(None));
@@ -36,7 +38,7 @@ pub fn start(config: Config, mut pins: OutputPins) {
     let mut core = Controller::new(config, TIMING);
     let mut steps = Steps { pulse_ticks: pulse_of(&core) };
     core.start(LatheCounter.read(), steps.emitted(), CutterCounter.read());
-    critical_section::with(|cs| IO.borrow(cs).replace(Some(Io { core, steps, pins })));
+    critical_section::with(|cs| IO.borrow(cs).replace(Some(Io { core, steps, pins, x: XSteps::default() })));
     // SAFETY: DWT is only used here, for the tick's cycle count.
     let mut cp = unsafe { cortex_m::Peripherals::steal() };
     cp.DCB.enable_trace();
@@ -71,9 +73,7 @@ fn TIM1_TRG_COM_TIM11() {
             cutter: CutterCounter.read(),
             estop_open: safety::estop_open(),
             alarm: safety::alarm(),
-            // No X-axis step output on this board yet (the core only reads
-            // it when an X axis is fitted, which the firmware never does).
-            x_emitted: 0,
+            x_emitted: io.x.emitted,
         };
         let out = io.core.tick(&input);
         if out.halt {
@@ -85,6 +85,7 @@ fn TIM1_TRG_COM_TIM11() {
             drivers::set_esc_pulse_us(if out.enable { esc::pulse_us(out.speed_q16, max) } else { 1000 });
         }
         io.pins.set_enable(out.enable);
+        drivers::set_x_pins(io.x.tick(&out.x_plan, out.halt));
     });
     TICKS.fetch_add(1, Ordering::Relaxed);
     let cost = cortex_m::peripheral::DWT::cycle_count().wrapping_sub(start);

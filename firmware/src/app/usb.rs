@@ -2,6 +2,7 @@
 //! replies out. `watch` streams status lines until the next input.
 
 use super::{settings, tick};
+use core::fmt::Write;
 use embassy_futures::join::join;
 use embassy_futures::select::{select, Either};
 use embassy_stm32::peripherals as P;
@@ -12,6 +13,7 @@ use embassy_usb::class::cdc_acm::{CdcAcmClass, State};
 use embassy_usb::driver::EndpointError;
 use embassy_usb::Builder;
 use polyturn_firmware::line::{Line, LineBuffer};
+use polyturn_sync::cam_upload::{CamHeader, CamUpload, Progress};
 use polyturn_sync::console::{self, Action, Reply};
 use static_cell::StaticCell;
 
@@ -26,8 +28,11 @@ pub async fn console(
     otg: Peri<'static, P::USB_OTG_FS>,
     dp: Peri<'static, P::PA12>,
     dm: Peri<'static, P::PA11>,
-    mut flash: settings::Sectors,
+    flash: settings::Sectors,
+    cam: Option<settings::StoredCam>,
 ) {
+    static UPLOAD: StaticCell<CamUpload> = StaticCell::new();
+    let mut store = Store { flash, cam, upload: UPLOAD.init(CamUpload::default()) };
     static EP_OUT: StaticCell<[u8; 256]> = StaticCell::new();
     static CONFIG_DESC: StaticCell<[u8; 256]> = StaticCell::new();
     static BOS_DESC: StaticCell<[u8; 256]> = StaticCell::new();
@@ -47,13 +52,21 @@ pub async fn console(
     join(dev.run(), async {
         loop {
             class.wait_connection().await;
-            let _ = session(&mut class, &mut flash).await;
+            let _ = session(&mut class, &mut store).await;
         }
     })
     .await;
 }
 
-async fn session(class: &mut Class, flash: &mut settings::Sectors) -> Result<(), EndpointError> {
+/// The flash, the cam table fitted from it, and the upload staging buffer:
+/// owned by the console task, the only writer.
+struct Store {
+    flash: settings::Sectors,
+    cam: Option<settings::StoredCam>,
+    upload: &'static mut CamUpload,
+}
+
+async fn session(class: &mut Class, store: &mut Store) -> Result<(), EndpointError> {
     let mut lines = LineBuffer::default();
     let mut packet = [0u8; 64];
     loop {
@@ -62,6 +75,7 @@ async fn session(class: &mut Class, flash: &mut settings::Sectors) -> Result<(),
             let (reply, action) = match lines.push(b) {
                 None => continue,
                 Some(Line::TooLong) => (too_long(), Action::None),
+                Some(Line::Text(text)) if text.starts_with(b"cam") => (cam_line(text, store), Action::None),
                 Some(Line::Text(text)) => {
                     // Parse and render outside the lock the tick shares;
                     // only `apply` (short, copies out) runs inside it.
@@ -76,7 +90,7 @@ async fn session(class: &mut Class, flash: &mut settings::Sectors) -> Result<(),
             };
             lines.clear();
             let reply = match action {
-                Action::Save => saved(flash),
+                Action::Save => saved(store),
                 _ => reply,
             };
             send(class, &reply).await?;
@@ -102,11 +116,70 @@ fn too_long() -> Reply {
 /// Writes the settings. Not under the tick's lock: the erase stalls the
 /// CPU (flash busy) for up to 2 s anyway, which is why `save` is refused
 /// unless idle with the lathe at rest.
-fn saved(flash: &mut settings::Sectors) -> Reply {
+fn saved(store: &mut Store) -> Reply {
     let cfg = tick::with_core(|c| *c.config());
+    let cam = store.cam;
+    let ok = cfg.is_some_and(|c| persist(&mut store.flash, &mut store.cam, &c, cam));
+    text(if ok { "ok saved" } else { "error: flash write failed: settings not saved" })
+}
+
+/// Saves settings and cam, then re-fits the cam from the new slot (the
+/// old slot will be erased by the next save).
+fn persist(
+    flash: &mut settings::Sectors,
+    fitted: &mut Option<settings::StoredCam>,
+    cfg: &polyturn_sync::Config,
+    cam: Option<(CamHeader, &[i32])>,
+) -> bool {
+    let Ok(stored) = settings::save(flash, cfg, cam) else { return false };
+    *fitted = stored;
+    match stored {
+        Some((h, t)) => tick::with_core(|c| c.fit_cam(&h, t)).is_some_and(|r| r.is_ok()),
+        None => true,
+    }
+}
+
+fn text(s: &str) -> Reply {
     let mut r = Reply::new();
-    let ok = cfg.is_some_and(|c| settings::save(flash, &c));
-    let _ = r.push_str(if ok { "ok saved" } else { "error: flash write failed: settings not saved" });
+    let _ = r.push_str(s);
+    r
+}
+
+/// `cam off`, or one line of an upload; a complete, checked table is saved
+/// to flash with the settings (idle, lathe at rest) and fitted from there.
+fn cam_line(line: &[u8], store: &mut Store) -> Reply {
+    let args = core::str::from_utf8(&line[3..]).unwrap_or("?");
+    let idle = tick::with_core(|c| c.state() == polyturn_sync::State::Idle && c.lathe_at_rest()).unwrap_or(false);
+    if args.trim() == "off" {
+        return match tick::with_core(|c| c.set_x_axis(None)) {
+            Some(Ok(())) => {
+                store.cam = None;
+                text("ok cam off (save to forget it)")
+            }
+            _ => text("error: stop first: the cam changes only while idle"),
+        };
+    }
+    let mut r = Reply::new();
+    let _ = match store.upload.line(args) {
+        Err(e) => write!(r, "error: {e}"),
+        Ok(Progress::Begun) => write!(r, "ok cam begin"),
+        Ok(Progress::Received(n)) => write!(r, "ok cam {n}"),
+        Ok(Progress::Complete(h)) if !idle => write!(
+            r,
+            "error: stop the lathe first: the table is saved to flash ({} points kept, send cam end again)",
+            h.points
+        ),
+        Ok(Progress::Complete(h)) => {
+            let cfg = tick::with_core(|c| *c.config()).unwrap_or_default();
+            match tick::with_core(|c| c.check_cam(&h)) {
+                Some(Err(e)) => write!(r, "error: {e}"),
+                _ if persist(&mut store.flash, &mut store.cam, &cfg, store.upload.table()) => {
+                    write!(r, "ok cam {} points saved and fitted", h.points)
+                }
+                _ => write!(r, "error: flash write failed: cam not saved"),
+            }
+        }
+    };
     r
 }
 

@@ -4,7 +4,7 @@ use super::*;
 /// being erased or programmed is left half done (some bits), the rest as
 /// they were. Programming can only clear bits, as on real flash.
 struct MockFlash {
-    slots: [[u8; RECORD]; 2],
+    slots: Vec<Vec<u8>>,
     budget: Option<usize>,
     noise: u8,
 }
@@ -14,7 +14,7 @@ struct PowerCut;
 
 impl MockFlash {
     fn new() -> MockFlash {
-        MockFlash { slots: [[0xFF; RECORD]; 2], budget: None, noise: 0x5A }
+        MockFlash { slots: vec![vec![0xFF; SLOT_LEN]; 2], budget: None, noise: 0x5A }
     }
     fn spend(&mut self) -> Result<(), PowerCut> {
         match &mut self.budget {
@@ -31,7 +31,7 @@ impl MockFlash {
 impl SlotFlash for MockFlash {
     type Error = PowerCut;
     fn erase(&mut self, slot: usize) -> Result<(), PowerCut> {
-        for i in 0..RECORD {
+        for i in 0..SLOT_LEN {
             if self.spend().is_err() {
                 self.slots[slot][i] |= self.noise; // half-erased byte
                 return Err(PowerCut);
@@ -59,6 +59,23 @@ impl SlotFlash for MockFlash {
     }
 }
 
+const HEADER: CamHeader =
+    CamHeader { points: 4, period_counts: 900, counts_per_rev: 2400, max_rate_hz: 12_000, max_accel: 1_600_000 };
+const CAM_OLD: [i32; 4] = [7, -3, 200, 5];
+const CAM_NEW: [i32; 4] = [9, 8, -7, 6];
+
+#[test]
+fn a_saved_cam_table_loads_back_and_a_corrupt_one_is_refused() {
+    let mut f = MockFlash::new();
+    save(&mut f, &settings("3"), Some((HEADER, &CAM_NEW[..]))).unwrap();
+    let (_, Loaded::Saved { slot, .. }) = load(&mut f) else { panic!("saved") };
+    assert_eq!(load_cam(&mut f, slot), Some(HEADER));
+    f.slots[slot][CAM_POINTS_AT as usize + 5] ^= 0x10; // one bit of one point
+    assert_eq!(load_cam(&mut f, slot), None);
+    save(&mut f, &settings("3"), None).unwrap();
+    assert_eq!(load_cam(&mut f, 1 - slot), None, "saved without a cam");
+}
+
 fn settings(ratio: &str) -> Config {
     Config::default().with("max-rpm", "500").unwrap().with("ratio", ratio).unwrap()
 }
@@ -67,7 +84,7 @@ fn settings(ratio: &str) -> Config {
 fn empty_or_corrupt_flash_loads_the_defaults_and_says_so() {
     let mut f = MockFlash::new();
     assert_eq!(load(&mut f), (Config::default(), Loaded::Defaults));
-    f.slots = [[0x37; RECORD]; 2];
+    f.slots = vec![vec![0x37; SLOT_LEN]; 2];
     assert_eq!(load(&mut f), (Config::default(), Loaded::Defaults));
 }
 
@@ -75,7 +92,7 @@ fn empty_or_corrupt_flash_loads_the_defaults_and_says_so() {
 fn the_newest_save_wins_across_many_saves() {
     let mut f = MockFlash::new();
     for (i, r) in ["3", "5/2", "11/3", "4/3", "2"].iter().enumerate() {
-        assert_eq!(save(&mut f, &settings(r)), Ok(i as u32 + 1));
+        assert_eq!(save(&mut f, &settings(r), None), Ok(i as u32 + 1));
         assert_eq!(load(&mut f).0, settings(r));
     }
 }
@@ -88,21 +105,26 @@ fn a_power_cut_at_every_point_leaves_the_old_or_the_new_never_a_mix() {
         for budget in 0.. {
             let mut f = MockFlash::new();
             for _ in 0..history {
-                save(&mut f, &settings("3")).unwrap();
+                save(&mut f, &settings("3"), None).unwrap();
             }
-            save(&mut f, &old).unwrap();
+            save(&mut f, &old, Some((HEADER, &CAM_OLD[..]))).unwrap();
             f.budget = Some(budget);
-            let finished = save(&mut f, &new).is_ok();
+            let finished = save(&mut f, &new, Some((HEADER, &CAM_NEW[..]))).is_ok();
             f.budget = None;
             let (got, how) = load(&mut f);
             assert!(matches!(how, Loaded::Saved { .. }));
             assert!(got == old || got == new, "history {history}, cut after {budget} ops: a mix");
+            // the cam table saved with those settings comes back with them
+            let Loaded::Saved { slot, .. } = how else { unreachable!() };
+            assert_eq!(load_cam(&mut f, slot), Some(HEADER), "history {history}, cut after {budget}");
+            let first = f.slots[slot][CAM_POINTS_AT as usize];
+            assert_eq!(first, if got == old { 7 } else { 9 }, "the table saved with those settings");
             if finished {
                 assert_eq!(got, new);
                 break;
             }
             cut_points += 1;
         }
-        assert!(cut_points >= 2 * RECORD, "every erase and write byte was a cut point");
+        assert!(cut_points >= SLOT_LEN + RECORD, "every erase and write byte was a cut point");
     }
 }

@@ -24,14 +24,18 @@ pub enum DecodeError {
 
 /// CRC-32 (IEEE, reflected), bitwise: small and only used off the tick.
 pub fn crc32(data: &[u8]) -> u32 {
-    let mut crc = !0u32;
+    !crc32_update(!0, data)
+}
+
+/// The CRC-32 register after `data` (start from !0, finish with !).
+pub fn crc32_update(mut crc: u32, data: &[u8]) -> u32 {
     for &b in data {
         crc ^= b as u32;
         for _ in 0..8 {
             crc = (crc >> 1) ^ (0xEDB8_8320 & (crc & 1).wrapping_neg());
         }
     }
-    !crc
+    crc
 }
 
 pub fn encode(c: &Config) -> [u8; LEN] {

@@ -24,7 +24,7 @@ pub enum Action {
 
 pub use crate::console_status::{write_status as status_line, Snapshot};
 
-pub const HELP: &str = "ok commands: get [name] | set <name> <value> | engage | stop | status | watch | save | defaults | clear | help; names: cpr steps ratio dir edges max-rate max-accel ferror phase drive dir-setup pulse enable max-rpm";
+pub const HELP: &str = "ok commands: get [name] | set <name> <value> | engage | stop | status | watch | save | defaults | clear | cam begin|data|end|off | help; names: cpr steps ratio dir edges max-rate max-accel ferror phase drive dir-setup pulse enable max-rpm";
 
 /// A parsed command line (no controller needed: parse outside any lock).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

@@ -10,6 +10,7 @@ extern crate std;
 mod fmt;
 
 pub mod cam;
+pub mod cam_upload;
 pub mod codec;
 pub mod config;
 pub mod console;

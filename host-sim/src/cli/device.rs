@@ -5,7 +5,7 @@ use super::args::{CliError, CliResult};
 use std::io::{BufRead, BufReader, Read, Write};
 use std::time::Duration;
 
-pub const USAGE: &str = "polyturn device [--port PATH] status | watch | get [NAME] | set NAME VALUE | engage | stop | clear | save | defaults | help";
+pub const USAGE: &str = "polyturn device [--port PATH] status | watch | get [NAME] | set NAME VALUE | engage | stop | clear | save | defaults | help | upload-cam FILE";
 
 /// A console session over any byte stream.
 pub struct Session<T: Read + Write> {
@@ -52,7 +52,7 @@ fn find_port() -> Option<String> {
 
 /// Builds the protocol line from the command words, refusing unknown ones.
 pub fn command_line(words: &[String]) -> CliResult<(String, bool)> {
-    let known = ["status", "watch", "get", "set", "engage", "stop", "clear", "save", "defaults", "help"];
+    let known = ["status", "watch", "get", "set", "engage", "stop", "clear", "save", "defaults", "help", "upload-cam"];
     let Some(cmd) = words.first() else { return Err(CliError(format!("usage: {USAGE}"))) };
     if !known.contains(&cmd.as_str()) {
         return Err(CliError(format!("unknown device command '{cmd}' (try: {})", known.join(", "))));
@@ -74,6 +74,9 @@ pub fn run(argv: &[String]) -> CliResult<String> {
         .open()
         .map_err(|e| CliError::flag("port", format!("cannot open {path}: {e}")))?;
     let mut s = Session::new(serial);
+    if let Some(file) = line.strip_prefix("upload-cam ") {
+        return upload(&mut s, file, &path);
+    }
     let reply = s.ask(&line).map_err(|e| CliError::flag("port", format!("{path}: no reply ({e})")))?;
     if !watch {
         return if reply.starts_with("error") { Err(CliError(format!("device: {reply}"))) } else { Ok(reply) };
@@ -86,6 +89,22 @@ pub fn run(argv: &[String]) -> CliResult<String> {
         }
         line = s.read_line().map_err(|e| CliError::flag("port", format!("{path}: {e}")))?;
     }
+}
+
+/// Sends a `polyturn cam --table` file line by line; stops at the first
+/// error (the device then discards the partial table).
+fn upload<P: Read + Write>(s: &mut Session<P>, file: &str, path: &str) -> CliResult<String> {
+    let text = std::fs::read_to_string(file).map_err(|e| CliError(format!("upload-cam: cannot read '{file}': {e}")))?;
+    let table: crate::noncircular::table::CamFile = serde_json::from_str(&text)
+        .map_err(|e| CliError(format!("upload-cam: '{file}' is not a polyturn cam table: {e}")))?;
+    let mut last = String::new();
+    for line in table.upload_lines() {
+        last = s.ask(&line).map_err(|e| CliError::flag("port", format!("{path}: no reply ({e})")))?;
+        if last.starts_with("error") {
+            return Err(CliError(format!("device: {last}")));
+        }
+    }
+    Ok(last)
 }
 
 #[cfg(test)]

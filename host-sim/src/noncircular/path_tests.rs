@@ -124,3 +124,16 @@ fn too_fast_for_sharp_corners_gives_the_smallest_fillet_that_fits() {
         last = f.radius_mm;
     }
 }
+
+#[test]
+fn the_upload_lines_deliver_the_table_to_the_core_intact() {
+    let (p, _) = sharp(8, 20.0);
+    let table = build(&p, 2400, 800.0, (12_000, 1_600_000));
+    let mut up = Box::new(polyturn_sync::cam_upload::CamUpload::default());
+    for line in table.upload_lines() {
+        assert!(line.len() <= 96, "fits the console's line buffer: {line}");
+        up.line(line.strip_prefix("cam").unwrap()).unwrap();
+    }
+    let (h, points) = up.table().expect("complete and checked");
+    assert_eq!((h.period_counts, points), (900, &table.points[..]));
+}

@@ -4,6 +4,7 @@
 
 use super::path::ToolPath;
 use polyturn_sync::cam::CAM_POINTS;
+use polyturn_sync::cam_upload::{checksum, CamHeader};
 use serde::{Deserialize, Serialize};
 use std::f64::consts::TAU;
 
@@ -56,6 +57,26 @@ pub fn build(path: &dyn ToolPath, counts_per_rev: u32, steps_per_mm: f64, rates:
 }
 
 impl CamFile {
+    /// The console lines that upload this table (see the sync core's
+    /// `cam_upload`): begin, data in chunks of 8, end with the CRC-32.
+    pub fn upload_lines(&self) -> Vec<String> {
+        let h = CamHeader {
+            points: self.points.len() as u32,
+            period_counts: self.period_counts,
+            counts_per_rev: self.counts_per_rev,
+            max_rate_hz: self.max_rate_hz,
+            max_accel: self.max_accel,
+        };
+        let [p, period, cpr, rate, accel] = h.words();
+        let mut lines = vec![format!("cam begin {p} {period} {cpr} {rate} {accel}")];
+        for (k, chunk) in self.points.chunks(8).enumerate() {
+            let values: Vec<String> = chunk.iter().map(i32::to_string).collect();
+            lines.push(format!("cam data {} {}", 8 * k, values.join(" ")));
+        }
+        lines.push(format!("cam end {:08x}", checksum(&h, &self.points)));
+        lines
+    }
+
     /// The tool's radius (mm) at unwrapped lathe angle `phi`, interpolated
     /// as the core does it.
     pub fn radius(&self, apothem_mm: f64, phi: f64) -> f64 {

@@ -141,6 +141,31 @@ impl Controller {
         Ok(())
     }
 
+    /// Fits the X axis to an uploaded (or stored) cam table; only while
+    /// idle, for this encoder, and no faster than one X step per two ticks
+    /// (the firmware's X step output).
+    pub fn fit_cam(&mut self, h: &crate::cam_upload::CamHeader, table: &'static [i32]) -> Result<(), &'static str> {
+        self.check_cam(h)?;
+        let cam = crate::cam::Cam::new(table, h.period_counts).map_err(|_| "cam table: bad points or period")?;
+        let limits =
+            crate::follower::Limits::from_rates(h.max_rate_hz as u64, h.max_accel as u64, self.timing.tick_hz as u64);
+        self.set_x_axis(Some(super::XAxis::new(cam, limits))).map_err(|r| r.describe())
+    }
+
+    /// Whether a cam with this header would fit (before it is stored).
+    pub fn check_cam(&self, h: &crate::cam_upload::CamHeader) -> Result<(), &'static str> {
+        if self.state != State::Idle {
+            return Err("stop first: the cam changes only while idle");
+        }
+        if h.counts_per_rev != self.config.encoder_counts_per_rev {
+            return Err("cam table made for another cpr: set cpr or remake the table");
+        }
+        if h.max_rate_hz > self.timing.tick_hz / 2 || h.max_rate_hz == 0 || h.max_accel == 0 {
+            return Err("cam max-rate must be 1..=12500 steps/s (one X step per two ticks), max-accel > 0");
+        }
+        Ok(())
+    }
+
     pub fn x_axis(&self) -> Option<&super::XAxis> {
         self.x.as_ref()
     }

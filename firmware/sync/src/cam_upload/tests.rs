@@ -1,0 +1,65 @@
+use super::*;
+use crate::{Config, Controller, Timing};
+use std::format;
+use std::string::String;
+use std::vec::Vec;
+
+fn lines(points: &[i32], crc_delta: u32) -> Vec<String> {
+    let h = CamHeader {
+        points: points.len() as u32,
+        period_counts: 900,
+        counts_per_rev: 2400,
+        max_rate_hz: 12_000,
+        max_accel: 1_600_000,
+    };
+    let mut out = std::vec![format!("begin {} 900 2400 12000 1600000", points.len())];
+    for (i, chunk) in points.chunks(8).enumerate() {
+        let vals: Vec<String> = chunk.iter().map(|v| format!("{v}")).collect();
+        out.push(format!("data {} {}", i * 8, vals.join(" ")));
+    }
+    out.push(format!("end {:08x}", checksum(&h, points) ^ crc_delta));
+    out
+}
+
+fn upload(u: &mut CamUpload, lines: &[String]) -> Result<Progress, &'static str> {
+    let mut last = Err("nothing");
+    for l in lines {
+        last = u.line(l);
+        last?;
+    }
+    last
+}
+
+#[test]
+fn a_table_sent_in_chunks_with_its_checksum_arrives_whole_and_runs_in_the_core() {
+    let points: Vec<i32> =
+        (0..900).map(|i| ((i as f64 / 900.0 * core::f64::consts::TAU).sin() * 2000.0) as i32).collect();
+    let mut u = std::boxed::Box::new(CamUpload::default());
+    let done = upload(&mut u, &lines(&points, 0)).unwrap();
+    let Progress::Complete(h) = done else { panic!("{done:?}") };
+    let (h2, got) = u.table().unwrap();
+    assert_eq!((h2, got), (h, &points[..]));
+    let mut ctl = Controller::new(Config::default(), Timing { tick_hz: 25_000, step_timer_hz: 100_000_000 });
+    ctl.fit_cam(&h, Vec::leak(got.to_vec())).unwrap();
+    assert_eq!(ctl.x_axis().unwrap().cam.points(), &points[..]);
+    // another encoder is refused, naming the setting
+    let other = Config { encoder_counts_per_rev: 4000, ..Config::default() };
+    ctl.set_config(other).unwrap();
+    assert!(ctl.fit_cam(&h, Vec::leak(points.clone())).unwrap_err().contains("cpr"));
+}
+
+#[test]
+fn a_corrupted_chunk_or_checksum_discards_the_table() {
+    let points: Vec<i32> = (0..64).collect();
+    let mut u = std::boxed::Box::new(CamUpload::default());
+    assert!(upload(&mut u, &lines(&points, 1)).unwrap_err().contains("checksum"));
+    assert!(u.table().is_none());
+    let mut bad = lines(&points, 0);
+    bad[3] = bad[3].replacen(" 17 ", " 71 ", 1); // one value changed in transit
+    assert!(upload(&mut u, &bad).unwrap_err().contains("checksum"));
+    let mut skipped = lines(&points, 0);
+    skipped.remove(2);
+    assert!(upload(&mut u, &skipped).unwrap_err().contains("order"));
+    assert!(u.line("data 0 1 2").unwrap_err().contains("cam begin first"), "an error ends the upload");
+    assert!(u.line("begin 5000 9000 2400 1 1").unwrap_err().contains("2..=1024"));
+}
