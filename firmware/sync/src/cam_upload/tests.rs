@@ -45,6 +45,7 @@ fn a_table_sent_in_chunks_with_its_checksum_arrives_whole_and_runs_in_the_core()
     // another encoder is refused, naming the setting
     let other = Config { encoder_counts_per_rev: 4000, ..Config::default() };
     ctl.set_config(other).unwrap();
+    assert!(ctl.x_axis().is_none(), "a cam in counts of the old encoder comes off");
     assert!(ctl.fit_cam(&h, Vec::leak(points.clone())).unwrap_err().contains("cpr"));
 }
 

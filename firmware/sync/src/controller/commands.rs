@@ -193,6 +193,11 @@ impl Controller {
         if matches!(self.state, State::Fault(f) if !f.immediate()) && self.follower.velocity != 0 {
             return Err(Refusal::NotIdle);
         }
+        if c.encoder_counts_per_rev != self.config.encoder_counts_per_rev && self.x.is_some() {
+            // the cam's period is in counts of the old encoder
+            warn!("cpr changed: the X cam table no longer fits, X axis off");
+            self.x = None;
+        }
         self.config = c;
         let d = Derived::new(&c, self.timing);
         if running {
