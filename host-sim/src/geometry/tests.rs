@@ -116,19 +116,23 @@ fn opposite_rolling_radii_follow_ghionea_eq_3_and_4() {
     assert_eq!(same.rolling_radii(), None);
 }
 
+/// For a cutter at least as fast as the lathe (every ratio the product
+/// cuts polygons with). Not a theorem in general: moving the tool in is a
+/// translation, not a superset of what it swept, and a slow cutter (1/3 ×
+/// 1 edge, opposite) does leave 1.2 µm more at one angle when 18 µm deeper.
 #[test]
 fn deeper_cuts_never_leave_more_material_anywhere() {
     use proptest::prelude::*;
     let cfg = ProptestConfig { cases: 40, ..ProptestConfig::default() };
     proptest!(cfg, |(r1 in 5.0f64..120.0, d1 in 0.2f64..4.0, extra in 0.01f64..3.0,
-                     p in 1u64..6, q in 1u64..4, edges in 1u32..5, same in any::<bool>())| {
-        let ratio = Ratio::new(p, q).unwrap();
+                     q in 1u64..4, over in 0u64..6, edges in 1u32..5, same in any::<bool>())| {
+        let ratio = Ratio::new(q + over, q).unwrap();
         let dir = if same { Direction::Same } else { Direction::Opposite };
         let mk = |doc| Setup { cutter_radius_mm: r1, stock_radius_mm: 10.0, depth_mm: doc,
                                ratio, edges, direction: dir };
         let (a, b) = (Section::ideal(&mk(d1), 64), Section::ideal(&mk(d1 + extra), 64));
         for (ra, rb) in a.envelope.radius.iter().zip(&b.envelope.radius) {
-            prop_assert!(*rb <= *ra + 1e-9);
+            prop_assert!(*rb <= *ra + 1e-9, "{rb} > {ra}");
         }
     });
 }
