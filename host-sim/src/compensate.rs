@@ -160,9 +160,7 @@ fn gouges(setup: &Setup, plan: &Plan) -> bool {
 /// for the same size); otherwise the pattern's whole period.
 pub fn cam_table(setup: &Setup, plan: &Plan, counts_per_rev: u32, steps_per_mm: f64, points: usize) -> (Vec<i32>, u32) {
     let (sides, revs) = setup.pattern();
-    let pattern_counts = revs.max(1) * counts_per_rev;
-    let period_counts =
-        if pattern_counts.is_multiple_of(sides.max(1)) { pattern_counts / sides.max(1) } else { pattern_counts };
+    let period_counts = crate::noncircular::table::shortest_period(revs, counts_per_rev, sides);
     let n = points.min(period_counts as usize).max(2);
     let samples = plan.x.len() - 1;
     let table = (0..n)

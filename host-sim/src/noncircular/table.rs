@@ -26,15 +26,22 @@ pub struct CamFile {
 
 pub const FORMAT: &str = "polyturn-cam-1";
 
-/// The shortest whole-count period: a path over m revolutions repeats
-/// every m/N revolution (one cut and one link), when that is whole counts.
-pub fn period_counts(path: &dyn ToolPath, counts_per_rev: u32) -> u32 {
-    let (all, sides) = (path.revolutions() * counts_per_rev, path.polygon().sides);
-    if all.is_multiple_of(sides) {
-        all / sides
+/// The shortest whole-count period of a cam that repeats `sides` times
+/// over `revolutions` lathe turns: one repeat when that is whole counts
+/// (a finer table for the same size), else the whole pattern.
+pub fn shortest_period(revolutions: u32, counts_per_rev: u32, sides: u32) -> u32 {
+    let all = revolutions.max(1) * counts_per_rev;
+    if all.is_multiple_of(sides.max(1)) {
+        all / sides.max(1)
     } else {
         all
     }
+}
+
+/// A path over m revolutions repeats every m/N revolution (one cut and one
+/// link).
+pub fn period_counts(path: &dyn ToolPath, counts_per_rev: u32) -> u32 {
+    shortest_period(path.revolutions(), counts_per_rev, path.polygon().sides)
 }
 
 /// Samples the path at CAM_POINTS (at most one per count) over its period.
