@@ -4,7 +4,7 @@
 use super::args::{Args, CliError, CliResult};
 use crate::geometry::svg::Drawing;
 use crate::noncircular::path::{Polygon, ToolPath};
-use crate::noncircular::plan::{best_link, plan, Axis, Evaluation, Limit, Outcome, TOLERANCE_MM};
+use crate::noncircular::plan::{plan, Axis, Evaluation, Limit, Outcome, TOLERANCE_MM};
 use crate::noncircular::rounded::Rounded;
 use crate::noncircular::table::{build, CamFile};
 use crate::noncircular::{check, order, smallest_m};
@@ -63,11 +63,15 @@ fn request(a: &Args) -> CliResult<Request> {
 pub fn run(argv: &[String]) -> CliResult<String> {
     let a = Args::parse(argv, VALUED, &["json"])?;
     let r = request(&a)?;
-    let (path, e, corners): (Box<dyn ToolPath>, Evaluation, Corners) = match plan(r.polygon, r.m, r.axis) {
-        Outcome::Sharp(p, e) => (Box::new(p), e, Corners::Sharp { m: r.m }),
-        Outcome::Rounded(f, e) if e.max_rpm >= r.axis.rpm => (Box::new(f), e, Corners::Rounded(f)),
-        Outcome::Rounded(_, e) => return Err(refusal(&e, &r)),
-    };
+    let (path, e, corners, sharp_rpm): (Box<dyn ToolPath>, Evaluation, Corners, f64) =
+        match plan(r.polygon, r.m, r.axis) {
+            Outcome::Sharp(p, e) => {
+                let rpm = e.max_rpm;
+                (Box::new(p), e, Corners::Sharp { m: r.m }, rpm)
+            }
+            Outcome::Rounded(f, e, sharp) if e.max_rpm >= r.axis.rpm => (Box::new(f), e, Corners::Rounded(f), sharp),
+            Outcome::Rounded(_, e, _) => return Err(refusal(&e, &r)),
+        };
     let rates = ((r.axis.max_speed * r.steps_per_mm) as u32, (r.axis.max_accel * r.steps_per_mm) as u32);
     let table = build(path.as_ref(), r.counts_per_rev, r.steps_per_mm, rates);
     let table_dev = table.deviation(path.as_ref(), 8192);
@@ -79,7 +83,6 @@ pub fn run(argv: &[String]) -> CliResult<String> {
         std::fs::write(file, drawing(path.as_ref(), &e, &table))
             .map_err(|e| CliError::flag("svg", format!("could not write '{file}': {e}")))?;
     }
-    let sharp_rpm = best_link(r.polygon, r.m, r.axis).1.max_rpm;
     let report = report(&e, &r, corners, &table, table_dev, sharp_rpm);
     if a.has("json") {
         return Ok(report.to_string());

@@ -115,7 +115,7 @@ fn too_fast_for_sharp_corners_gives_the_smallest_fillet_that_fits() {
     assert!(matches!(plan(poly, 3, axis), Outcome::Sharp(..)));
     let mut last = 0.0;
     for rpm in [20.0, 30.0, 45.0] {
-        let Outcome::Rounded(f, e) = plan(poly, 3, Axis { rpm, ..axis }) else { panic!("{rpm} rpm") };
+        let Outcome::Rounded(f, e, _) = plan(poly, 3, Axis { rpm, ..axis }) else { panic!("{rpm} rpm") };
         assert!(e.max_rpm >= rpm && e.peak_speed <= 15.0 * 1.0001, "{rpm}: {e:?}");
         // a slightly smaller fillet would not fit
         let tighter = Rounded { radius_mm: f.radius_mm * 0.98, ..f };

@@ -99,8 +99,9 @@ fn velocity_jump(path: &dyn ToolPath, w: f64) -> f64 {
 pub enum Outcome {
     Sharp(Path, Evaluation),
     /// the smallest fillet within the limits; its evaluation's `max_rpm`
-    /// is below the speed asked for only if no fillet fits at all
-    Rounded(Rounded, Evaluation),
+    /// is below the speed asked for only if no fillet fits at all. The last
+    /// field is the fastest lathe speed sharp corners would allow.
+    Rounded(Rounded, Evaluation, f64),
 }
 
 /// Tolerance for "reproduces the polygon" (the 1 µm).
@@ -123,7 +124,7 @@ pub fn plan(polygon: Polygon, m: u32, axis: Axis) -> Outcome {
             lo = mid;
         }
     }
-    Outcome::Rounded(fillet(hi), evaluate(&fillet(hi), axis))
+    Outcome::Rounded(fillet(hi), evaluate(&fillet(hi), axis), sharp.max_rpm)
 }
 
 const LINK_CHOICES: u32 = 24;
