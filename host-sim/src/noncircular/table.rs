@@ -64,16 +64,21 @@ pub fn build(path: &dyn ToolPath, counts_per_rev: u32, steps_per_mm: f64, rates:
 }
 
 impl CamFile {
-    /// The console lines that upload this table (see the sync core's
-    /// `cam_upload`): begin, data in chunks of 8, end with the CRC-32.
-    pub fn upload_lines(&self) -> Vec<String> {
-        let h = CamHeader {
+    /// What the core's `fit_cam` and the upload's `cam begin` take.
+    pub fn header(&self) -> CamHeader {
+        CamHeader {
             points: self.points.len() as u32,
             period_counts: self.period_counts,
             counts_per_rev: self.counts_per_rev,
             max_rate_hz: self.max_rate_hz,
             max_accel: self.max_accel,
-        };
+        }
+    }
+
+    /// The console lines that upload this table (see the sync core's
+    /// `cam_upload`): begin, data in chunks of 8, end with the CRC-32.
+    pub fn upload_lines(&self) -> Vec<String> {
+        let h = self.header();
         let [p, period, cpr, rate, accel] = h.words();
         let mut lines = vec![format!("cam begin {p} {period} {cpr} {rate} {accel}")];
         for (k, chunk) in self.points.chunks(8).enumerate() {

@@ -7,9 +7,7 @@ use super::lathe::{Lathe, LatheProfile, Leg};
 use super::stepper::Stepper;
 use crate::noncircular::path::ToolPath;
 use crate::noncircular::table::CamFile;
-use polyturn_sync::cam::Cam;
-use polyturn_sync::follower::Limits;
-use polyturn_sync::{Config, Controller, DriveKind, Fault, State, TickInput, Timing, XAxis};
+use polyturn_sync::{Config, Controller, DriveKind, Fault, State, TickInput, Timing};
 use std::f64::consts::TAU;
 
 const TICK_HZ: u32 = 25_000;
@@ -49,9 +47,8 @@ fn controller(sc: &SinglePoint) -> Result<Controller, String> {
     config.validate().map_err(|e| format!("--{} {}", e.field, e.allowed))?;
     let mut ctl = Controller::new(config, Timing { tick_hz: TICK_HZ, step_timer_hz: TIMER_HZ });
     ctl.start(0, 0, 0);
-    let cam = Cam::new(Vec::leak(t.points.clone()), t.period_counts).map_err(|e| format!("cam table: {e:?}"))?;
-    let limits = Limits::from_rates(t.max_rate_hz as u64, t.max_accel as u64, TICK_HZ as u64);
-    ctl.set_x_axis(Some(XAxis::new(cam, limits))).map_err(|r| r.describe().to_string())?;
+    // the firmware's own path: the same checks as a table from flash
+    ctl.fit_cam(&t.header(), Vec::leak(t.points.clone()))?;
     Ok(ctl)
 }
 
