@@ -102,15 +102,11 @@ async fn session(class: &mut Class, store: &mut Store) -> Result<(), EndpointErr
 }
 
 fn not_ready() -> Reply {
-    let mut r = Reply::new();
-    let _ = r.push_str("error: the controller is not running yet");
-    r
+    text("error: the controller is not running yet")
 }
 
 fn too_long() -> Reply {
-    let mut r = Reply::new();
-    let _ = r.push_str("error: line too long (96 characters at most)");
-    r
+    text("error: line too long (96 characters at most)")
 }
 
 /// Writes the settings. Not under the tick's lock: the erase stalls the
@@ -153,7 +149,8 @@ fn text(s: &str) -> Reply {
 /// to flash with the settings (idle, lathe at rest) and fitted from there.
 fn cam_line(line: &[u8], store: &mut Store) -> Reply {
     let args = core::str::from_utf8(&line[3..]).unwrap_or("?");
-    let idle = tick::with_core(|c| c.state() == polyturn_sync::State::Idle && c.lathe_at_rest()).unwrap_or(false);
+    // asked only once a table is complete (not under the lock per chunk)
+    let idle = || tick::with_core(|c| c.state() == polyturn_sync::State::Idle && c.lathe_at_rest()).unwrap_or(false);
     if args.trim() == "off" {
         return match tick::with_core(|c| c.set_x_axis(None)) {
             Some(Ok(())) => {
@@ -168,7 +165,7 @@ fn cam_line(line: &[u8], store: &mut Store) -> Reply {
         Err(e) => write!(r, "error: {e}"),
         Ok(Progress::Begun) => write!(r, "ok cam begin"),
         Ok(Progress::Received(n)) => write!(r, "ok cam {n}"),
-        Ok(Progress::Complete(h)) if !idle => write!(
+        Ok(Progress::Complete(h)) if !idle() => write!(
             r,
             "error: stop the lathe first: the table is saved to flash ({} points kept, send cam end again)",
             h.points
