@@ -23,9 +23,12 @@ pub struct Polygon {
 impl Polygon {
     /// The polygon's radius at workpiece angle `phi`.
     pub fn radius(&self, phi: f64) -> f64 {
+        self.apothem_mm / self.side_angle(phi).cos()
+    }
+    /// ψ: the angle from the middle of the nearest side, in ±π/N.
+    pub fn side_angle(&self, phi: f64) -> f64 {
         let s = TAU / self.sides as f64;
-        let psi = (phi + s / 2.0).rem_euclid(s) - s / 2.0;
-        self.apothem_mm / psi.cos()
+        (phi + s / 2.0).rem_euclid(s) - s / 2.0
     }
     /// Half the angle a side spans: the corner is at ψ = ±π/N.
     pub fn half_side(&self) -> f64 {

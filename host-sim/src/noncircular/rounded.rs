@@ -57,8 +57,7 @@ impl ToolPath for Rounded {
     }
 
     fn at(&self, phi: f64) -> [f64; 3] {
-        let s = self.period();
-        let psi = (phi + s / 2.0).rem_euclid(s) - s / 2.0;
+        let psi = self.polygon.side_angle(phi);
         if psi.abs() <= self.tangent() {
             return line(self.polygon.apothem_mm, psi);
         }
