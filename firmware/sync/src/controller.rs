@@ -12,6 +12,7 @@ use crate::follower::Follower;
 use crate::follower::Limits;
 use crate::gear::Gear;
 use crate::state::{Fault, State};
+use crate::steps::pipe::{StepPipe, LEAD_TICKS};
 use crate::steps::StepPlan;
 
 /// What the hardware reports at the start of a tick.
@@ -98,7 +99,7 @@ pub struct Controller {
     gear: Gear,
     est: Estimator,
     follower: Follower,
-    steps: StepBook,
+    steps: StepPipe,
     bldc: Bldc,
     /// target at the last tick's end, Q16 steps, and its speed
     target: i64,
@@ -125,7 +126,7 @@ impl Controller {
             gear: Gear::new(d.scale),
             est: Estimator::new(d.still_ticks),
             follower: Follower::default(),
-            steps: StepBook::default(),
+            steps: StepPipe::default(),
             bldc: Bldc::default(),
             target: 0,
             target_velocity: 0,
@@ -223,15 +224,30 @@ impl Controller {
     /// The cutter's position in Q16 steps: emitted steps, or its encoder.
     fn measure(&mut self, io: &TickInput) -> i64 {
         match self.config.drive {
-            DriveKind::Stepper => self.steps.read(io.emitted) << 16,
+            DriveKind::Stepper => {
+                if matches!(self.state, State::Fault(f) if f.immediate()) {
+                    self.steps.halted(io.emitted);
+                } else if !self.steps.check(io.emitted) {
+                    self.trip(Fault::StepOutput);
+                    self.steps.halted(io.emitted);
+                }
+                self.steps.position() << 16
+            }
             DriveKind::Bldc => self.bldc.read(io.cutter) << 16,
             // nothing to measure: the (unused) gear follows itself
             DriveKind::None => self.follower.position,
         }
     }
 
+    /// Ticks from the encoder reading to the end of the window that this
+    /// tick's plan fills: one, plus the step output's pipeline.
+    pub(crate) fn ahead(&self) -> i64 {
+        1 + if self.config.drive == DriveKind::Stepper { LEAD_TICKS } else { 0 }
+    }
+
     /// Exact rounded gear target + rounding remainder + sub-count
-    /// interpolation + phase offset, predicted to the end of this tick.
+    /// interpolation + phase offset, predicted to the end of the window this
+    /// tick plans (the stepper's plan runs two ticks later: `steps::pipe`).
     fn update_target(&mut self) {
         let d = &self.d;
         let exact = (self.gear.steps() << 16) + ((self.gear.rem2() * d.rem_inv) >> 24);
@@ -239,7 +255,8 @@ impl Controller {
         let limit = (d.max_counts_per_tick as i64) << 16;
         let v_counts = crate::bound(self.est.velocity_q32() >> 16, limit);
         self.target_velocity = (v_counts * d.steps_per_count_q16) >> 16;
-        self.target = exact + interp + d.phase_offset_q16 + (self.turns << 16) + self.target_velocity;
+        let ahead = self.target_velocity * self.ahead();
+        self.target = exact + interp + d.phase_offset_q16 + (self.turns << 16) + ahead;
     }
 
     fn step_state(&mut self, cutter: i64) {
@@ -301,7 +318,7 @@ impl Controller {
         let mut out = TickOutput { enable, halt, ..TickOutput::default() };
         if !enable {
             self.bldc.reset();
-            self.steps.hold(self.follower.position);
+            self.steps.hold(self.follower.position, &self.d.steps);
             return out;
         }
         match self.config.drive {

@@ -36,6 +36,11 @@ pub struct Derived {
     pub tick_hz: u32,
 }
 
+/// Shortest STEP pulse the board emits: a `pulse` setting below it is
+/// stretched to it (drivers take longer pulses; the limit is the DMA's
+/// reload time, see `polyturn_firmware::stepgen`).
+pub const STEP_FLOOR_NS: u32 = 1_000;
+
 fn ceil_div(a: u64, b: u64) -> u64 {
     a.div_ceil(b.max(1))
 }
@@ -49,6 +54,10 @@ impl Derived {
         // of jitter allowance; a tick can never move half the 16-bit range.
         let counts = ceil_div(c.max_lathe_rpm as u64 * c.encoder_counts_per_rev as u64 * 5, 60 * hz * 4) + 2;
         let ns_to_timer = |ns: u32| ceil_div(ns as u64 * t.step_timer_hz as u64, 1_000_000_000) as u32;
+        // The step timer takes its next segment by DMA at each update: no
+        // segment may be shorter than the DMA needs (`STEP_FLOOR_NS`), and
+        // every pulse is a segment's high part.
+        let pulse = ns_to_timer(c.step_pulse_ns.max(STEP_FLOOR_NS));
         Derived {
             scale,
             sense_positive: c.sense == Sense::Same,
@@ -60,9 +69,10 @@ impl Derived {
             phase_offset_q16: ((c.phase_offset_mdeg as i64 * c.motor_steps_per_rev as i64) << 16) / 360_000,
             steps: StepTiming {
                 tick_len: (t.step_timer_hz as u64 / hz) as u32,
-                min_period: ns_to_timer(c.step_pulse_ns.saturating_mul(2)).max(2),
+                // high for `pulse`, then at least as long low
+                min_period: 2 * pulse,
                 dir_setup: ns_to_timer(c.dir_setup_ns),
-                pulse: ns_to_timer(c.step_pulse_ns),
+                pulse,
             },
             still_ticks: (hz / 10) as u32,
             stall_ticks: (hz / 5) as u32,

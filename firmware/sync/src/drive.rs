@@ -4,10 +4,13 @@
 use crate::derived::Derived;
 use crate::encoder::Extender;
 use crate::follower::Follower;
-use crate::steps::{plan, Dir, StepPlan, StepTiming};
+use crate::steps::{plan, Dir, Prev, StepPlan, StepTiming};
 
-/// Step/dir: what was emitted (from the hardware's pulse counter) and what
-/// was last commanded. Steps planned but not emitted are planned again.
+/// Step/dir for an output that runs each plan in the tick it was planned
+/// (the X axis, stepped from the tick): what was emitted (from its pulse
+/// count) and what was last commanded. Steps planned but not emitted are
+/// planned again. The cutter's hardware-timed output runs its plans two
+/// ticks later and keeps its books in `steps::pipe`.
 #[derive(Clone, Copy, Debug, Default)]
 pub struct StepBook {
     pulses: Extender,
@@ -32,7 +35,7 @@ impl StepBook {
 
     #[inline]
     pub fn plan(&mut self, to: i64, timing: &StepTiming) -> StepPlan {
-        let p = plan(self.last_to, to, self.emitted, self.dir, timing);
+        let p = plan(self.last_to, to, self.emitted, &Prev::idle(self.dir), timing);
         if p.count > 0 {
             self.dir = p.dir;
         }

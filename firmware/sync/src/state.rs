@@ -15,12 +15,16 @@ pub enum Fault {
     DriveAlarm,
     /// the BLDC's encoder does not follow the speed command
     Stall,
+    /// the step output's pulse count does not match what was planned: the
+    /// hardware did not do what it was told
+    StepOutput,
 }
 
 impl Fault {
-    /// E-stop and alarm stop motion at once; the others ramp down.
+    /// E-stop, alarm and a step-output fault stop motion at once; the
+    /// others ramp down.
     pub fn immediate(self) -> bool {
-        matches!(self, Fault::EStop | Fault::DriveAlarm)
+        matches!(self, Fault::EStop | Fault::DriveAlarm | Fault::StepOutput)
     }
 
     pub fn name(self) -> &'static str {
@@ -31,6 +35,7 @@ impl Fault {
             Fault::EStop => "estop",
             Fault::DriveAlarm => "drive-alarm",
             Fault::Stall => "stall",
+            Fault::StepOutput => "step-output",
         }
     }
 
@@ -43,6 +48,7 @@ impl Fault {
             Fault::EStop => "e-stop open: close it, then clear",
             Fault::DriveAlarm => "drive reports an alarm: check the drive, then clear",
             Fault::Stall => "cutter encoder not following: check motor and its encoder",
+            Fault::StepOutput => "step pulses did not match the plan: a firmware or board fault, please report it",
         }
     }
 }

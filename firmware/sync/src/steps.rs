@@ -42,28 +42,83 @@ pub trait StepOutput {
 pub struct StepTiming {
     /// timer ticks per control tick
     pub tick_len: u32,
-    /// shortest allowed period (pulse high + low)
+    /// shortest allowed period (pulse high + low), at least 2 × `pulse`
     pub min_period: u32,
     /// DIR to first STEP setup time
     pub dir_setup: u32,
-    /// STEP pulse high time (the drivers program it; half of min_period at most)
+    /// STEP pulse high time
     pub pulse: u32,
 }
 
+/// Where the previous tick's steps left the output, in timer ticks relative
+/// to the start of the tick being planned (so usually negative): the next
+/// step must keep the minimum spacing from the last one, and after a
+/// reversal DIR (which changes when the last pulse has ended) needs its
+/// setup time before the next rising edge.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct Prev {
+    pub dir: Dir,
+    /// the last rising edge (`FAR` when there was none lately)
+    pub rise: i32,
+    /// when DIR may change: the end of the last pulse, or a tick boundary
+    pub end: i32,
+}
+
+/// "Long ago": far enough that no spacing rule reaches into this tick.
+pub const FAR: i32 = -(1 << 30);
+
+impl Prev {
+    /// No step lately, DIR as given: a reversal waits its setup time from
+    /// the start of the tick.
+    pub const fn idle(dir: Dir) -> Prev {
+        Prev { dir, rise: FAR, end: 0 }
+    }
+
+    /// The earliest time in this tick a step in `dir` may rise.
+    #[inline]
+    pub fn earliest(&self, dir: Dir, t: &StepTiming) -> u32 {
+        let spaced = self.rise.saturating_add(t.min_period as i32);
+        let e = if dir == self.dir { spaced } else { spaced.max(self.end.saturating_add(t.dir_setup as i32)) };
+        e.max(0) as u32
+    }
+
+    /// The same edges seen from the next tick, after `plan` was emitted.
+    #[inline]
+    pub fn after(&self, plan: &StepPlan, t: &StepTiming) -> Prev {
+        let len = t.tick_len as i32;
+        if plan.count == 0 {
+            // a tick without steps is filled to its end: DIR may change from
+            // the next tick's start
+            return Prev { dir: self.dir, rise: self.rise.saturating_sub(len).max(FAR), end: 0 };
+        }
+        let rise = (plan.first + (plan.count as u32 - 1) * plan.period) as i32 - len;
+        Prev { dir: plan.dir, rise, end: rise + t.pulse as i32 }
+    }
+}
+
 /// Plans the next tick. `from`/`to` are the commanded positions (Q16 steps)
-/// at the start and end of the tick; `emitted` the steps emitted so far.
+/// at the start and end of the tick; `emitted` the steps emitted (or
+/// committed) so far; `prev` where the last steps left the output.
 /// Uses one 32-bit division (a single UDIV on Cortex-M4) per tick with steps.
 #[inline]
-pub fn plan(from: i64, to: i64, emitted: i64, last_dir: Dir, t: &StepTiming) -> StepPlan {
+pub fn plan(from: i64, to: i64, emitted: i64, prev: &Prev, t: &StepTiming) -> StepPlan {
     let whole = (to + (1 << 15)) >> 16;
     let wanted = whole - emitted;
+    let none = StepPlan { count: 0, dir: prev.dir, first: 0, period: 0 };
     if wanted == 0 {
-        return StepPlan { count: 0, dir: last_dir, first: 0, period: 0 };
+        return none;
     }
     let dir = if wanted > 0 { Dir::Forward } else { Dir::Reverse };
-    let setup = if dir != last_dir { t.dir_setup } else { 0 };
+    let earliest = prev.earliest(dir, t);
     let min_period = t.min_period.max(1); // lets the compiler drop the div-by-zero panic
-    let max_fit = 1 + (t.tick_len.saturating_sub(setup + 1)) / min_period;
+    // Every rising edge falls inside this tick (the pulse counter has it
+    // when the next tick reads it); what does not fit waits.
+    let room = t.tick_len.saturating_sub(1);
+    if earliest > room {
+        return none;
+    }
+    let max_fit = 1 + (room - earliest) / min_period;
     let count = (wanted.unsigned_abs()).min(max_fit as u64) as u32;
     let travel = (to - from).unsigned_abs();
     let on_schedule = emitted == (from + (1 << 15)) >> 16;
@@ -79,23 +134,20 @@ pub fn plan(from: i64, to: i64, emitted: i64, last_dir: Dir, t: &StepTiming) -> 
         let first = ((boundary.max(0) as u64 * period as u64) >> 16) as u32;
         (first, period.max(min_period))
     } else {
-        // Late (catching up on steps not emitted in time): the first at once,
-        // the rest spread evenly over the tick.
+        // Late (catching up on steps not emitted in time): the first as soon
+        // as allowed, the rest spread evenly over the tick.
         let period = (t.tick_len / count.saturating_add(1).max(1)).max(min_period);
         (0, period)
     };
-    // Every step's edge must fall inside this tick, so the pulse counter has
-    // it when the next tick reads it: a step planned past the tick's end
-    // would be counted late and planned twice. What does not fit waits.
-    // (The firmware lets a pulse still high at the tick's end finish.)
-    let first = first.max(setup);
-    let room = t.tick_len.saturating_sub(1);
+    let first = first.max(earliest);
     if first > room {
-        return StepPlan { count: 0, dir: last_dir, first: 0, period: 0 };
+        return none;
     }
     let count = count.min(1 + (room - first) / period);
     StepPlan { count: count as u16, dir, first, period }
 }
+
+pub mod pipe;
 
 #[cfg(test)]
 mod tests;

@@ -5,6 +5,7 @@
 //! the step's instant (steps at half-step crossings, see `steps.rs`).
 
 use polyturn_sync::steps::{Dir, StepPlan};
+use std::collections::VecDeque;
 
 #[derive(Clone, Debug)]
 pub struct Stepper {
@@ -14,6 +15,10 @@ pub struct Stepper {
     pub max_accel: f64,
     /// seconds from the tick's start to the first possible step (ISR latency)
     pub latency_s: f64,
+    /// ticks between a plan and its emission: 0 for the tick-stepped X
+    /// axis, 2 for the cutter's DMA-fed timer (`steps::pipe`)
+    pub lead_ticks: usize,
+    queue: VecDeque<StepPlan>,
     /// pulses received (the 16-bit counter the firmware reads)
     pub pulses: u64,
     /// rotor position in steps (whole steps moved)
@@ -25,11 +30,13 @@ pub struct Stepper {
 }
 
 impl Stepper {
-    pub fn new(max_rate_hz: f64, max_accel: f64, latency_s: f64) -> Stepper {
+    pub fn new(max_rate_hz: f64, max_accel: f64, latency_s: f64, lead_ticks: usize) -> Stepper {
         Stepper {
             max_rate_hz,
             max_accel,
             latency_s,
+            lead_ticks,
+            queue: VecDeque::with_capacity(lead_ticks + 1),
             pulses: 0,
             position: 0,
             stalled: false,
@@ -41,7 +48,14 @@ impl Stepper {
 
     /// Runs one tick's plan starting at `t0`; returns the rotor's smooth
     /// position at `t0` (steps), now that the next step's time is known.
+    /// A halt drops the plans in flight too.
     pub fn execute(&mut self, plan: &StepPlan, t0: f64, dt: f64, timer_hz: f64, halt: bool) -> f64 {
+        self.queue.push_back(*plan);
+        if halt {
+            self.queue.clear();
+        }
+        let plan = if self.queue.len() > self.lead_ticks { self.queue.pop_front().unwrap_or_default() } else { StepPlan::default() };
+        let plan = &plan;
         let sign = if plan.dir == Dir::Forward { 1.0 } else { -1.0 };
         let n = if halt { 0 } else { plan.count as usize };
         let at = |i: usize| t0 + self.latency_s + (plan.first as f64 + (i as f64) * plan.period as f64) / timer_hz;
@@ -91,7 +105,7 @@ mod tests {
     #[test]
     fn too_fast_a_command_stalls_the_rotor_but_the_pulses_count() {
         // 4 steps per 40 µs tick is 100 kHz, ten times what it can follow.
-        let mut s = Stepper::new(10_000.0, 1e12, 0.0);
+        let mut s = Stepper::new(10_000.0, 1e12, 0.0, 0);
         let plan = StepPlan { count: 4, dir: Dir::Forward, first: 100, period: 900 };
         for k in 0..100 {
             s.execute(&plan, k as f64 * 40e-6, 40e-6, 100e6, false);

@@ -44,7 +44,7 @@ impl Controller {
         Status {
             state: self.state,
             lathe_velocity_q32: self.est.velocity_q32(),
-            phase_error_q16: self.target - self.target_velocity - self.follower.position + self.follower.velocity,
+            phase_error_q16: self.target - self.follower.position - (self.target_velocity - self.follower.velocity) * self.ahead(),
             cutter_steps: self.cutter_steps(),
             target_steps: self.gear.steps(),
             lathe_counts: self.lathe.position(),
@@ -55,7 +55,7 @@ impl Controller {
 
     fn cutter_steps(&self) -> i64 {
         match self.config.drive {
-            crate::config::DriveKind::Stepper => self.steps.emitted(),
+            crate::config::DriveKind::Stepper => self.steps.position(),
             crate::config::DriveKind::Bldc | crate::config::DriveKind::None => self.follower.position >> 16,
         }
     }
@@ -114,7 +114,7 @@ impl Controller {
     /// the offset is a whole number of M steps.
     fn drop_whole_turns(&mut self) {
         let m = self.config.motor_steps_per_rev as i64;
-        let behind = (self.target - self.target_velocity - self.follower.position) >> 16;
+        let behind = (self.target - self.follower.position) >> 16;
         let turns = (behind + behind.signum() * m / 2) / m;
         self.turns -= turns * m;
         self.target -= (turns * m) << 16;

@@ -4,20 +4,19 @@ use std::vec::Vec;
 
 const T: StepTiming = StepTiming { tick_len: 4000, min_period: 500, dir_setup: 500, pulse: 250 };
 
+
 /// Runs a constant-velocity command through the planner and a perfect
 /// generator; returns the absolute times of all steps.
 fn run(v_q16: i64, ticks: i64) -> (Vec<i64>, i64) {
-    let (mut pos, mut emitted, mut dir) = (0i64, 0i64, Dir::Forward);
+    let (mut pos, mut emitted, mut prev) = (0i64, 0i64, Prev::idle(Dir::Forward));
     let mut times = std::vec::Vec::new();
     for k in 0..ticks {
-        let p = plan(pos, pos + v_q16, emitted, dir, &T);
+        let p = plan(pos, pos + v_q16, emitted, &prev, &T);
+        prev = prev.after(&p, &T);
         for i in 0..p.count as i64 {
             times.push(k * T.tick_len as i64 + p.first as i64 + i * p.period as i64);
         }
         emitted += if p.dir == Dir::Forward { p.count as i64 } else { -(p.count as i64) };
-        if p.count > 0 {
-            dir = p.dir;
-        }
         pos += v_q16;
     }
     (times, emitted)
@@ -48,16 +47,16 @@ fn slow_motion_puts_steps_at_their_half_step_crossings() {
 #[test]
 fn a_step_that_would_fall_past_the_tick_waits_for_the_next() {
     // The half-step crossing is exactly at the tick's end: no step now.
-    let p = plan(0, 1 << 15, 0, Dir::Forward, &T);
+    let p = plan(0, 1 << 15, 0, &Prev::idle(Dir::Forward), &T);
     assert_eq!(p.count, 0);
     // ...and goes out at once in the next tick.
-    let q = plan(1 << 15, (1 << 15) + 100, 0, Dir::Forward, &T);
+    let q = plan(1 << 15, (1 << 15) + 100, 0, &Prev::idle(Dir::Forward), &T);
     assert_eq!((q.count, q.first), (1, 0));
 }
 
 #[test]
 fn a_reversal_waits_for_the_dir_setup_time() {
-    let p = plan(0, -(3 << 16), 0, Dir::Forward, &T);
+    let p = plan(0, -(3 << 16), 0, &Prev::idle(Dir::Forward), &T);
     assert_eq!(p.dir, Dir::Reverse);
     assert!(p.first >= T.dir_setup);
 }
@@ -70,7 +69,7 @@ proptest! {
         let to = from + dv;
         let emitted = ((from + (1 << 15)) >> 16) + lag;
         let last = if rev { Dir::Reverse } else { Dir::Forward };
-        let p = plan(from, to, emitted, last, &T);
+        let p = plan(from, to, emitted, &Prev::idle(last), &T);
         if p.count > 0 {
             prop_assert!(p.period >= T.min_period);
             prop_assert!(p.first + p.period * (p.count as u32 - 1) < T.tick_len);
@@ -78,6 +77,84 @@ proptest! {
             let wanted = ((to + (1 << 15)) >> 16) - emitted;
             prop_assert!(p.count as i64 <= wanted.abs());
             prop_assert_eq!(p.dir == Dir::Forward, wanted > 0);
+        }
+    }
+}
+
+/// The step after a tick boundary keeps the minimum spacing from the last
+/// step of the tick before (issue 11: a late plan once started at once,
+/// 30 timer cycles after the previous pulse).
+#[test]
+fn a_late_step_keeps_its_spacing_from_the_previous_tick() {
+    // the previous tick's last step rose 100 ticks before this tick began
+    let prev = Prev { dir: Dir::Forward, rise: -100, end: -100 + T.pulse as i32 };
+    // two steps behind and standing: the late path would put the first at 0
+    let p = plan(0, 0, -2, &prev, &T);
+    assert_eq!(p.count, 2);
+    assert_eq!(p.first, T.min_period - 100, "first step {} ticks after the previous", p.first + 100);
+}
+
+/// A reversal waits for DIR's setup time after the last pulse has ended
+/// (DIR changes only while STEP is low), even when that pulse was in the
+/// tick before.
+#[test]
+fn a_reversal_after_a_step_near_the_boundary_waits_setup_after_its_end() {
+    let prev = Prev { dir: Dir::Forward, rise: -50, end: -50 + T.pulse as i32 };
+    // fast enough that its first crossing (250) comes before DIR is ready
+    let p = plan(0, -(8 << 16), 0, &prev, &T);
+    assert_eq!(p.dir, Dir::Reverse);
+    assert_eq!(p.first as i32, prev.end + T.dir_setup as i32);
+}
+
+/// The first step lands exactly on its half-step crossing: at 1/8 step
+/// per 500 ticks from 3/8, the crossing of 1/2 is 500 ticks in.
+#[test]
+fn the_first_step_lands_on_its_half_step_crossing() {
+    let from = 3 << 13; // 3/8 step
+    let to = from + (1 << 16); // one step per tick: 4000 ticks per step
+    let p = plan(from, to, 0, &Prev::idle(Dir::Forward), &T);
+    assert_eq!((p.count, p.first, p.period), (1, 500, 4000));
+    // backwards from -3/8: the crossing of -1/2 is 500 ticks in as well
+    let q = plan(-from, -to, 0, &Prev::idle(Dir::Reverse), &T);
+    assert_eq!((q.count, q.dir, q.first), (1, Dir::Reverse, 500));
+}
+
+/// Seen from the next tick, the last step of a plan moves back a tick;
+/// an empty tick is filled to its end, so DIR may change at its boundary.
+#[test]
+fn prev_after_a_plan_and_after_an_empty_tick() {
+    let p = StepPlan { count: 3, dir: Dir::Reverse, first: 100, period: 1000 };
+    let a = Prev::idle(Dir::Forward).after(&p, &T);
+    assert_eq!(a, Prev { dir: Dir::Reverse, rise: 2100 - 4000, end: 2100 - 4000 + 250 });
+    let b = a.after(&StepPlan::default(), &T);
+    assert_eq!(b, Prev { dir: Dir::Reverse, rise: 2100 - 8000, end: 0 });
+    assert_eq!(Prev::idle(Dir::Forward).after(&StepPlan::default(), &T).rise, FAR);
+}
+
+proptest! {
+    /// Across tick boundaries too: every rising edge at least min_period
+    /// after the one before, and a reversal at least dir_setup after the
+    /// last pulse ended, whatever the command does.
+    #[test]
+    fn spacing_and_dir_setup_hold_across_ticks(moves in proptest::collection::vec(-300_000i64..300_000, 1..200)) {
+        let (mut pos, mut emitted, mut prev) = (0i64, 0i64, Prev::idle(Dir::Forward));
+        let (mut last_rise, mut last_end, mut last_dir) = (i64::MIN / 2, i64::MIN / 2, Dir::Forward);
+        for (k, dv) in moves.iter().enumerate() {
+            let p = plan(pos, pos + dv, emitted, &prev, &T);
+            prev = prev.after(&p, &T);
+            let t0 = k as i64 * T.tick_len as i64;
+            for i in 0..p.count as i64 {
+                let rise = t0 + p.first as i64 + i * p.period as i64;
+                prop_assert!(rise - last_rise >= T.min_period as i64, "spacing {} at tick {k}", rise - last_rise);
+                if p.dir != last_dir {
+                    prop_assert!(rise - last_end >= T.dir_setup as i64, "setup {} at tick {k}", rise - last_end);
+                }
+                last_rise = rise;
+                last_end = rise + T.pulse as i64;
+                last_dir = p.dir;
+            }
+            emitted += if p.dir == Dir::Forward { p.count as i64 } else { -(p.count as i64) };
+            pos += dv;
         }
     }
 }
