@@ -7,6 +7,6 @@
 pub mod board;
 pub mod esc;
 pub mod line;
-pub mod steptimer;
+pub mod stepgen;
 pub mod store;
 pub mod xsteps;

@@ -1,0 +1,134 @@
+//! The cutter's STEP/DIR output: TIM1 fed by DMA, one tick's plan two ticks
+//! after it was made (`polyturn_sync::steps::pipe`).
+//!
+//! Why this shape (issue 11): TIM1 only takes new ARR/CCR values at an
+//! update event, and with a repetition counter that event comes once per
+//! train (RM0383 §12.3.3), so a train cannot change its period after its
+//! first pulse, and software that re-arms the timer each tick starts it at
+//! the interrupt's latency, not at the tick. Here TIM1 never waits for
+//! software: every update event makes it fetch its next segment (ARR, RCR,
+//! CCR1, CCR2) from a ring in RAM by a DMA burst (§12.3.19), so segments
+//! follow each other to the cycle. The tick only writes RAM: the plan for
+//! tick k+2 at tick k, while the DMA is still on tick k+1's segments. DIR is
+//! TIM1's channel 2, so it changes on the segment boundary too, never while
+//! STEP is high. TIM2 counts STEP pulses (TIM1's OC1REF as its clock), and
+//! the core checks that count against what it planned.
+//!
+//! The ISR's latency does not move a step: it only has to write tick k+2's
+//! segments before the DMA reaches them, at the start of tick k+1's last
+//! segment, which is no earlier than `MIN_SEGMENT` before tick k+2. So the
+//! deadline is `tick − MIN_SEGMENT` cycles after the tick, whatever the
+//! steps. A late write is detected (the DMA's position, NDTR) and halts.
+
+pub mod entries;
+pub mod program;
+
+use entries::{Entry, Layout};
+use polyturn_sync::steps::{Dir, StepPlan, StepTiming};
+use program::{apply, Bus, Op};
+
+/// Segments in the ring: at most three per tick, two ticks in flight, and
+/// room to see the DMA overtake the writer.
+pub const RING_ENTRIES: usize = 16;
+const PENDING_MAX: usize = 8;
+
+/// Shortest segment, timer cycles: the DMA's four-word burst must land
+/// before the segment ends. 1 µs at 96 MHz; `STEP_FLOOR_NS` keeps every
+/// pulse at least this long.
+pub const MIN_SEGMENT: u32 = 96;
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Fail {
+    /// re-arming found the tick too far gone to sync (it retries)
+    ArmLate,
+    /// the DMA reached segments not yet written: halted
+    Late,
+}
+
+pub struct Generator {
+    ring: u32,
+    write: usize,
+    silenced: usize,
+    layout: Layout,
+    armed: bool,
+}
+
+impl Generator {
+    /// `ring`: the address of `RING_ENTRIES × 4` words of RAM for the DMA.
+    pub const fn new(ring: u32) -> Generator {
+        Generator { ring, write: 0, silenced: 0, layout: Layout::armed(Dir::Forward), armed: false }
+    }
+
+    pub fn armed(&self) -> bool {
+        self.armed
+    }
+
+    /// Someone else (the E-stop interrupt, the panic handler) applied
+    /// `program::HALT`: re-arm at the next tick that has no halt.
+    pub fn halted_elsewhere(&mut self) {
+        self.armed = false;
+    }
+
+    /// One control tick: the core's plan for tick k+2, or its halt.
+    pub fn tick(&mut self, plan: &StepPlan, halt: bool, t: &StepTiming, bus: &mut impl Bus) -> Result<(), Fail> {
+        if halt {
+            if self.armed {
+                let _ = apply(&program::HALT, bus);
+                self.armed = false;
+            }
+            return Ok(());
+        }
+        if !self.armed {
+            self.arm(t.tick_len, bus)?;
+        }
+        let read = self.dma_entry(bus);
+        let pending = (self.write + RING_ENTRIES - read) % RING_ENTRIES;
+        if pending > PENDING_MAX {
+            let _ = apply(&program::HALT, bus);
+            self.armed = false;
+            return Err(Fail::Late);
+        }
+        // segments already taken by the DMA go silent: if the tick ever
+        // stopped writing, the DMA would find silence, not old steps
+        while self.silenced != read {
+            self.put(self.silenced, &Entry::silent(t.tick_len, Dir::Forward), bus);
+            self.silenced = (self.silenced + 1) % RING_ENTRIES;
+        }
+        for e in self.layout.tick(plan, t, MIN_SEGMENT) {
+            self.put(self.write, &e, bus);
+            self.write = (self.write + 1) % RING_ENTRIES;
+        }
+        Ok(())
+    }
+
+    fn arm(&mut self, tick_len: u32, bus: &mut impl Bus) -> Result<(), Fail> {
+        // the stream is off (boot, or after HALT): silence the whole ring
+        for i in 0..RING_ENTRIES {
+            self.put(i, &Entry::silent(tick_len, Dir::Forward), bus);
+        }
+        let ops: [Op; 25] = program::arm(self.ring, tick_len, entries::dir_level(Dir::Forward));
+        if apply(&ops, bus).is_err() {
+            let _ = apply(&program::HALT, bus);
+            return Err(Fail::ArmLate);
+        }
+        *self = Generator { ring: self.ring, write: 0, silenced: 0, layout: Layout::armed(Dir::Forward), armed: true };
+        Ok(())
+    }
+
+    /// The segment the DMA reads next: a burst under way counts as read.
+    fn dma_entry(&self, bus: &mut impl Bus) -> usize {
+        let left = bus.read(program::S5NDTR) % program::RING_WORDS;
+        let done = (program::RING_WORDS - left) % program::RING_WORDS;
+        (done.div_ceil(program::BURST_WORDS) as usize) % RING_ENTRIES
+    }
+
+    fn put(&self, slot: usize, e: &Entry, bus: &mut impl Bus) {
+        let base = self.ring + (slot as u32) * program::BURST_WORDS * 4;
+        for (i, w) in e.words().iter().enumerate() {
+            bus.write(base + 4 * i as u32, *w);
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests;

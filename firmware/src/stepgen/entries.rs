@@ -1,0 +1,103 @@
+//! A tick's step plan as TIM1 segments. A segment is what one update event
+//! loads (RM0383 §12.3.3: ARR, RCR and CCRx take their preloaded values at
+//! the update event, and the repetition counter makes the next update come
+//! after RCR + 1 periods): `rcr + 1` identical periods of `arr + 1` cycles,
+//! STEP (PWM mode 2) low for `ccr1` cycles then high to the period's end,
+//! DIR (PWM mode 1) high while the count is below `ccr2`.
+//!
+//! Segments follow each other with no gap, so the output's timeline is
+//! exact: each tick's segments end where the next tick's begin.
+
+use polyturn_sync::steps::{Dir, StepPlan, StepTiming};
+
+/// CCR1 above any count: STEP stays low (PWM mode 2, §12.3.10).
+pub const SILENT: u32 = 0xFFFF;
+
+/// DIR high (CCR2 above any count, PWM mode 1) for forward, low for reverse.
+pub const fn dir_level(dir: Dir) -> u32 {
+    match dir {
+        Dir::Forward => 0xFFFF,
+        Dir::Reverse => 0,
+    }
+}
+
+/// The four registers one DMA burst writes, in the burst's order.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Entry {
+    pub arr: u32,
+    pub rcr: u32,
+    pub ccr1: u32,
+    pub ccr2: u32,
+}
+
+impl Entry {
+    /// `len` cycles of STEP low (len ≤ 0xFFFF: ARR stays below SILENT).
+    pub const fn silent(len: u32, dir: Dir) -> Entry {
+        Entry { arr: len - 1, rcr: 0, ccr1: SILENT, ccr2: dir_level(dir) }
+    }
+
+    /// `times` pulses, each `gap` cycles low then `high` cycles high.
+    pub const fn pulses(gap: u32, high: u32, times: u32, dir: Dir) -> Entry {
+        Entry { arr: gap + high - 1, rcr: times - 1, ccr1: gap, ccr2: dir_level(dir) }
+    }
+
+    /// Cycles from this segment's update event to the next.
+    pub fn len(&self) -> u32 {
+        (self.arr + 1) * (self.rcr + 1)
+    }
+
+    pub fn words(&self) -> [u32; 4] {
+        [self.arr, self.rcr, self.ccr1, self.ccr2]
+    }
+}
+
+/// Where the segments written so far end, relative to the start of the
+/// next tick, and the DIR they leave. Mirrors `steps::Prev` (the planner
+/// puts DIR's change at `end`, the end of the last pulse).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Layout {
+    end: i32,
+    dir: Dir,
+}
+
+/// Up to three segments per tick.
+pub type Segments = heapless::Vec<Entry, 3>;
+
+impl Layout {
+    /// The state after arming: the ring starts on a tick boundary.
+    pub const fn armed(dir: Dir) -> Layout {
+        Layout { end: 0, dir }
+    }
+
+    /// The segments of one tick. `min_segment` is the shortest segment the
+    /// DMA can reload in time; the planner keeps every pulse and gap at
+    /// least that long (`STEP_FLOOR_NS`), and a shorter stretch before the
+    /// tick's start joins the first segment.
+    pub fn tick(&mut self, plan: &StepPlan, t: &StepTiming, min_segment: u32) -> Segments {
+        let mut out = Segments::new();
+        let len = t.tick_len as i32;
+        // DIR changes at the first segment of the tick: at the end of the
+        // last pulse, when there was one
+        let dir = if plan.count > 0 { plan.dir } else { self.dir };
+        let mut at = self.end;
+        if -at >= min_segment as i32 {
+            // the rest of the time before this tick: its own segment, so
+            // this tick's last segment starts no earlier than the tick
+            let _ = out.push(Entry::silent(-at as u32, dir));
+            at = 0;
+        }
+        if plan.count == 0 {
+            let _ = out.push(Entry::silent((len - at) as u32, dir));
+            *self = Layout { end: 0, dir };
+            return out;
+        }
+        let first = plan.first as i32;
+        let _ = out.push(Entry::pulses((first - at) as u32, t.pulse, 1, dir));
+        if plan.count > 1 {
+            let _ = out.push(Entry::pulses(plan.period - t.pulse, t.pulse, plan.count as u32 - 1, dir));
+        }
+        let last = first + (plan.count as i32 - 1) * plan.period as i32;
+        *self = Layout { end: last + t.pulse as i32 - len, dir };
+        out
+    }
+}

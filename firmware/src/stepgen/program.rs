@@ -1,0 +1,176 @@
+//! The register writes the MCU performs on the step output, as data: the
+//! MCU applies these lists verbatim (`apply`, through a five-line `Bus` over
+//! volatile pointers) and the host runs the same lists through a model of
+//! the peripherals written from RM0383 (`polyturn-stm32-model`).
+//!
+//! Addresses: RM0383 §2.3 (memory map), §12.4.21 (TIM1 register map),
+//! §13.4.21 (TIM2), §14.5.12 (TIM11), §9.5.11 (DMA). Bit positions: the
+//! register descriptions of the same chapters; the model's tests check
+//! them against ST's SVD (stm32-metapac).
+
+/// One bus operation.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Op {
+    /// a 32-bit write
+    Write(u32, u32),
+    /// read `addr` until `(value & mask) == 0`, at most `polls` times
+    WaitClear { addr: u32, mask: u32, polls: u16 },
+    /// `to = from + add`, unless that reaches `limit` (too late in the tick)
+    Sync { from: u32, to: u32, add: u32, limit: u32 },
+}
+
+/// The seam: the MCU's volatile accesses, or the host's model.
+pub trait Bus {
+    fn write(&mut self, addr: u32, value: u32);
+    fn read(&mut self, addr: u32) -> u32;
+}
+
+/// Applies `ops` in order; `Err(i)` if op `i` could not complete (the rest
+/// is not applied).
+pub fn apply(ops: &[Op], bus: &mut impl Bus) -> Result<(), usize> {
+    for (i, op) in ops.iter().enumerate() {
+        match *op {
+            Op::Write(addr, value) => bus.write(addr, value),
+            Op::WaitClear { addr, mask, polls } => {
+                if !(0..polls).any(|_| bus.read(addr) & mask == 0) {
+                    return Err(i);
+                }
+            }
+            Op::Sync { from, to, add, limit } => {
+                let at = bus.read(from).wrapping_add(add);
+                if at >= limit {
+                    return Err(i);
+                }
+                bus.write(to, at);
+            }
+        }
+    }
+    Ok(())
+}
+
+pub const TIM1: u32 = 0x4001_0000;
+pub const TIM2: u32 = 0x4000_0000;
+pub const TIM11: u32 = 0x4001_4800;
+pub const DMA2: u32 = 0x4002_6400;
+
+// timer register offsets (§12.4.21)
+pub const CR1: u32 = 0x00;
+pub const CR2: u32 = 0x04;
+pub const SMCR: u32 = 0x08;
+pub const DIER: u32 = 0x0C;
+pub const EGR: u32 = 0x14;
+pub const CCMR1: u32 = 0x18;
+pub const CCER: u32 = 0x20;
+pub const CNT: u32 = 0x24;
+pub const PSC: u32 = 0x28;
+pub const ARR: u32 = 0x2C;
+pub const RCR: u32 = 0x30;
+pub const CCR1: u32 = 0x34;
+pub const CCR2: u32 = 0x38;
+pub const BDTR: u32 = 0x44;
+pub const DCR: u32 = 0x48;
+pub const DMAR: u32 = 0x4C;
+
+// DMA2 stream 5 (§9.5.11: SxCR at 0x10 + 0x18 × x)
+pub const HIFCR: u32 = DMA2 + 0x0C;
+pub const S5CR: u32 = DMA2 + 0x10 + 0x18 * 5;
+pub const S5NDTR: u32 = DMA2 + 0x14 + 0x18 * 5;
+pub const S5PAR: u32 = DMA2 + 0x18 + 0x18 * 5;
+pub const S5M0AR: u32 = DMA2 + 0x1C + 0x18 * 5;
+pub const S5FCR: u32 = DMA2 + 0x24 + 0x18 * 5;
+
+// TIMx_CR1 (§12.4.1)
+const CEN: u32 = 1 << 0;
+const ARPE: u32 = 1 << 7;
+// TIMx_CR2.MMS = 100: OC1REF is TRGO (§12.4.2), TIM2 counts it
+const MMS_OC1REF: u32 = 0b100 << 4;
+// TIMx_SMCR (§13.4.3): SMS = 111 external clock mode 1, TS = 000 ITR0 (TIM1)
+const SMS_ECM1: u32 = 0b111;
+// TIMx_DIER.UDE (§12.4.4)
+const UDE: u32 = 1 << 8;
+// TIMx_EGR.UG (§12.4.6)
+const UG: u32 = 1 << 0;
+// TIMx_CCMR1 output (§12.4.7): OC1M bits 6:4, OC1PE bit 3, OC2M 14:12, OC2PE 11
+const OC1_PWM2: u32 = 0b111 << 4;
+const OC1_FORCE_LOW: u32 = 0b100 << 4;
+const OC2_PWM1: u32 = 0b110 << 12;
+const PRELOADS: u32 = (1 << 3) | (1 << 11);
+/// STEP in PWM mode 2 (low until CCR1, then high to the end of the
+/// segment); DIR in PWM mode 1 (high while CNT < CCR2)
+pub const CCMR1_RUN: u32 = OC1_PWM2 | OC2_PWM1 | PRELOADS;
+/// STEP forced low at once; DIR unchanged
+pub const CCMR1_HALT: u32 = OC1_FORCE_LOW | OC2_PWM1 | PRELOADS;
+// TIMx_CCER (§12.4.9): CC1E bit 0, CC2E bit 4, active high
+const CC1E_CC2E: u32 = (1 << 0) | (1 << 4);
+// TIMx_BDTR.MOE (§12.4.18): an advanced timer's outputs need it
+const MOE: u32 = 1 << 15;
+/// TIMx_DCR (§12.4.19): DMA bursts start at ARR (offset 0x2C / 4 = 11) and
+/// write 4 registers: ARR, RCR, CCR1, CCR2
+pub const DCR_BURST: u32 = (3 << 8) | (ARR / 4);
+pub const BURST_WORDS: u32 = 4;
+
+/// DMA2_S5CR (§9.5.5): channel 6 (TIM1_UP on stream 5, table 28), very
+/// high priority, words from memory (incremented) to the peripheral,
+/// circular.
+pub const S5CR_RUN: u32 = (6 << 25) | (0b11 << 16) | (0b10 << 13) | (0b10 << 11) | (1 << 10) | (1 << 8) | (0b01 << 6);
+const DMA_EN: u32 = 1 << 0;
+/// HIFCR: clear every flag of stream 5 (bits 6, 8–11)
+const STREAM5_FLAGS: u32 = 0b1111 << 8 | 1 << 6;
+
+/// TIM2 counts TIM1's OC1REF rising edges: every STEP pulse.
+pub const COUNTER_INIT: [Op; 3] =
+    [Op::Write(TIM2 + SMCR, SMS_ECM1), Op::Write(TIM2 + ARR, u32::MAX), Op::Write(TIM2 + CR1, CEN)];
+
+/// Stops everything at once: STEP low (a pulse that is high is cut short),
+/// no more DMA requests, the counter stopped, the DMA stream off.
+pub const HALT: [Op; 4] = [
+    Op::Write(TIM1 + CCMR1, CCMR1_HALT),
+    Op::Write(TIM1 + DIER, 0),
+    Op::Write(TIM1 + CR1, ARPE),
+    Op::Write(S5CR, S5CR_RUN),
+];
+
+/// Cycles from reading TIM11's counter to the write of TIM1's landing, in
+/// `Sync`: a load, an add and a store on the APB2 bus. Any error is a
+/// fixed offset of every step (a few ns), measured on the bench.
+pub const SYNC_CYCLES: u32 = 8;
+
+/// Words in the DMA ring (entries × 4 registers).
+pub const RING_WORDS: u32 = super::RING_ENTRIES as u32 * BURST_WORDS;
+
+/// (Re-)arms the output from any state. The DMA ring at `ring` must be
+/// silent. The counter runs one segment to the end of the current tick
+/// (its count set from TIM11's, `Sync`), then a silent tick, then the ring's
+/// first entry: the plan made in this tick, as `steps::pipe` expects.
+pub const fn arm(ring: u32, tick_len: u32, dir_level: u32) -> [Op; 25] {
+    [
+        // stop: no requests, stream off and drained, counter stopped, STEP low
+        Op::Write(TIM1 + DIER, 0),
+        Op::Write(S5CR, S5CR_RUN),
+        Op::WaitClear { addr: S5CR, mask: DMA_EN, polls: 64 },
+        Op::Write(HIFCR, STREAM5_FLAGS),
+        Op::Write(TIM1 + CR1, ARPE),
+        Op::Write(TIM1 + CCMR1, CCMR1_HALT),
+        // a silent segment of a tick, loaded at once by UG (UDE is off, so no request)
+        Op::Write(TIM1 + PSC, 0),
+        Op::Write(TIM1 + ARR, tick_len - 1),
+        Op::Write(TIM1 + RCR, 0),
+        Op::Write(TIM1 + CCR1, super::entries::SILENT),
+        Op::Write(TIM1 + CCR2, dir_level),
+        Op::Write(TIM1 + EGR, UG),
+        // PWM mode only now: CNT = 0 < CCR1, so STEP stays low (no runt)
+        Op::Write(TIM1 + CCMR1, CCMR1_RUN),
+        Op::Write(TIM1 + CR2, MMS_OC1REF),
+        Op::Write(TIM1 + CCER, CC1E_CC2E),
+        Op::Write(TIM1 + BDTR, MOE),
+        Op::Write(TIM1 + DCR, DCR_BURST),
+        Op::Write(S5PAR, TIM1 + DMAR),
+        Op::Write(S5M0AR, ring),
+        Op::Write(S5NDTR, RING_WORDS),
+        Op::Write(S5FCR, 0),
+        Op::Write(S5CR, S5CR_RUN | DMA_EN),
+        Op::Write(TIM1 + DIER, UDE),
+        Op::Write(TIM1 + CR1, ARPE | CEN),
+        Op::Sync { from: TIM11 + CNT, to: TIM1 + CNT, add: SYNC_CYCLES, limit: tick_len - 1 },
+    ]
+}

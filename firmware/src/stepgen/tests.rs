@@ -1,0 +1,127 @@
+//! The segments against the plans they come from, and the bus programs'
+//! own semantics. The timer itself is checked in `tests/stepgen_model.rs`,
+//! against the model written from RM0383.
+
+use super::entries::{Entry, Layout, SILENT};
+use super::program::{apply, Bus, Op};
+use super::*;
+use polyturn_sync::steps::{plan, Prev};
+use proptest::prelude::*;
+use std::vec::Vec;
+
+const T: StepTiming = StepTiming { tick_len: 3840, min_period: 192, dir_setup: 480, pulse: 96 };
+
+/// Rising edges (absolute cycles) a list of segments makes from `start`.
+fn rises(segments: &[Entry], start: i64) -> (Vec<i64>, i64) {
+    let (mut at, mut out) = (start, Vec::new());
+    for s in segments {
+        for _ in 0..=s.rcr {
+            if s.ccr1 <= s.arr {
+                out.push(at + s.ccr1 as i64);
+            }
+            at += s.arr as i64 + 1;
+        }
+    }
+    (out, at)
+}
+
+proptest! {
+    /// Whatever the command does, the segments put every rising edge where
+    /// the plan says, join up with no gap, and each is long enough for the
+    /// DMA and short enough for the 16-bit timer.
+    #[test]
+    fn segments_put_every_step_where_the_plan_says(moves in proptest::collection::vec(-400_000i64..400_000, 1..120)) {
+        let (mut pos, mut emitted, mut prev, mut layout) = (0i64, 0i64, Prev::idle(Dir::Forward), Layout::armed(Dir::Forward));
+        let mut timeline = 0i64; // where the segments end, absolute
+        for (k, dv) in moves.iter().enumerate() {
+            let p = plan(pos, pos + dv, emitted, &prev, &T);
+            prev = prev.after(&p, &T);
+            let tick0 = k as i64 * T.tick_len as i64;
+            let segs = layout.tick(&p, &T, MIN_SEGMENT);
+            let (got, end) = rises(&segs, timeline);
+            let want: Vec<i64> = (0..p.count as i64).map(|i| tick0 + p.first as i64 + i * p.period as i64).collect();
+            prop_assert_eq!(got, want);
+            for s in &segs {
+                prop_assert!(s.len() >= MIN_SEGMENT, "segment of {} cycles", s.len());
+                prop_assert!(s.arr < SILENT && s.rcr <= 255);
+                // DIR changes at the tick's first segment, before any pulse
+                if p.count > 0 {
+                    prop_assert_eq!(s_dir(s), p.dir);
+                }
+            }
+            // the last segment starts no earlier than MIN_SEGMENT before the tick
+            let last_len = segs.last().unwrap().len() as i64;
+            prop_assert!(end - last_len >= tick0 - MIN_SEGMENT as i64);
+            timeline = end;
+            emitted += if p.dir == Dir::Forward { p.count as i64 } else { -(p.count as i64) };
+            pos += dv;
+        }
+    }
+}
+
+fn s_dir(s: &Entry) -> Dir {
+    if s.ccr2 == 0 {
+        Dir::Reverse
+    } else {
+        Dir::Forward
+    }
+}
+
+/// A bus that answers reads from a script and logs writes.
+#[derive(Default)]
+struct Script {
+    reads: Vec<u32>,
+    writes: Vec<(u32, u32)>,
+}
+
+impl Bus for Script {
+    fn write(&mut self, addr: u32, value: u32) {
+        self.writes.push((addr, value));
+    }
+    fn read(&mut self, _addr: u32) -> u32 {
+        if self.reads.is_empty() {
+            0
+        } else {
+            self.reads.remove(0)
+        }
+    }
+}
+
+#[test]
+fn a_wait_gives_up_after_its_polls_and_stops_the_program() {
+    let ops = [Op::WaitClear { addr: 4, mask: 1, polls: 3 }, Op::Write(8, 1)];
+    let mut bus = Script { reads: vec![1, 1, 1, 0], ..Default::default() };
+    assert_eq!(apply(&ops, &mut bus), Err(0));
+    assert!(bus.writes.is_empty());
+    let mut bus = Script { reads: vec![1, 1, 0], ..Default::default() };
+    assert_eq!(apply(&ops, &mut bus), Ok(()));
+    assert_eq!(bus.writes, vec![(8, 1)]);
+}
+
+#[test]
+fn sync_copies_the_tick_count_plus_its_delay_unless_too_late() {
+    let op = [Op::Sync { from: 1, to: 2, add: 8, limit: 3839 }];
+    let mut bus = Script { reads: vec![100], ..Default::default() };
+    assert_eq!(apply(&op, &mut bus), Ok(()));
+    assert_eq!(bus.writes, vec![(2, 108)]);
+    let mut bus = Script { reads: vec![3831], ..Default::default() };
+    assert_eq!(apply(&op, &mut bus), Err(0));
+    assert!(bus.writes.is_empty());
+}
+
+#[test]
+fn a_halted_generator_writes_nothing_until_it_re_arms() {
+    let mut g = Generator::new(0x2000_0000);
+    let mut bus = Script::default();
+    g.tick(&StepPlan::default(), true, &T, &mut bus).unwrap();
+    assert!(bus.writes.is_empty(), "not armed: nothing to halt");
+    g.tick(&StepPlan::default(), false, &T, &mut bus).unwrap();
+    assert!(g.armed());
+    let n = bus.writes.len();
+    g.tick(&StepPlan::default(), true, &T, &mut bus).unwrap();
+    assert_eq!(&bus.writes[n..], &program::HALT.map(|op| match op {
+        Op::Write(a, v) => (a, v),
+        _ => unreachable!(),
+    }));
+    assert!(!g.armed());
+}
