@@ -22,8 +22,8 @@ pub const PINS: &[Pin] = &[
     pin("LATHE_A", "PA6", "TIM3_CH1, encoder mode, input filter", true),
     pin("LATHE_B", "PA7", "TIM3_CH2, encoder mode, input filter", true),
     pin("LATHE_INDEX", "PB0", "EXTI0, rising edge", true),
-    pin("CUTTER_STEP", "PA8", "TIM1_CH1, hardware-timed pulses", true),
-    pin("CUTTER_DIR", "PB12", "push-pull output", true),
+    pin("CUTTER_STEP", "PA8", "TIM1_CH1, pulses from DMA-fed segments", true),
+    pin("CUTTER_DIR", "PA9", "TIM1_CH2, changes on a segment boundary, never while STEP is high", true),
     pin("CUTTER_ENABLE", "PB13", "push-pull output, inactive at reset", true),
     pin("ESTOP", "PB14", "EXTI14, pull-up, normally closed to GND: open = stop", true),
     pin("DRIVE_ALARM", "PB15", "EXTI15, pull-up, alarm pulls to GND", true),
@@ -45,7 +45,7 @@ pub const SYSCLK_HZ: u32 = 96_000_000;
 
 /// Timers the firmware uses, and what for (none shared).
 pub const TIMERS: &[(&str, &str)] = &[
-    ("TIM1", "step pulses: one-pulse mode, repetition counter = steps - 1"),
+    ("TIM1", "STEP (CH1) and DIR (CH2): segments loaded by DMA2 stream 5 at each update event"),
     ("TIM2", "counts the step pulses (slave of TIM1's OC1REF via ITR0)"),
     ("TIM3", "lathe encoder (encoder mode, input filter)"),
     ("TIM4", "cutter encoder (BLDC mode)"),

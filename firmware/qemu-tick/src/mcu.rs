@@ -55,7 +55,7 @@ fn parts(syst: &SYST, per_1201: u32) {
     use polyturn_sync::estimator::Estimator;
     use polyturn_sync::follower::{Follower, Limits};
     use polyturn_sync::gear::Gear;
-    use polyturn_sync::steps::{plan, StepTiming};
+    use polyturn_sync::steps::{plan, Prev, StepTiming};
     let instr = |counts: u32| counts as u64 * 1201 / per_1201 as u64;
     let n = 1000u32;
     let mut gear = Gear::new(Scale::new(2, 1, 3200, 2400).unwrap());
@@ -77,7 +77,7 @@ fn parts(syst: &SYST, per_1201: u32) {
         fo += measure(syst, || f.track(core::hint::black_box(target), 174_763, &lim));
         let to = f.position;
         p += measure(syst, || {
-            core::hint::black_box(plan(from, to, (from + (1 << 15)) >> 16, Dir::Forward, &t));
+            core::hint::black_box(plan(from, to, (from + (1 << 15)) >> 16, &Prev::idle(Dir::Forward), &t));
         });
     }
     hprintln!(
@@ -106,7 +106,9 @@ fn main() -> ! {
     ctl.start(0, 0, 0);
     // A synthetic lathe: up to 600 rpm (0.96 counts per tick, 24.8 fixed
     // point) in 0.2 s, hold, down in 0.2 s, then at rest.
-    let (mut pos_q8, mut emitted, mut dir) = (0u32, 0u32, Dir::Forward);
+    let (mut pos_q8, mut emitted) = (0u32, 0u32);
+    // plans in flight: the hardware runs each two ticks after it was made
+    let mut flight = [0u32; 2];
     let (mut worst, mut sum_synced, mut synced) = (0u32, 0u64, 0u32);
     let total = 30_000u32;
     let ramp = |k: u32| -> u32 {
@@ -125,13 +127,10 @@ fn main() -> ! {
         let input = TickInput { lathe: (pos_q8 >> 8) as u16, emitted: emitted as u16, ..TickInput::default() };
         let mut out = TickOutput::default();
         let cost = measure(syst, || out = polyturn_tick(&mut ctl, &input));
-        // A perfect step generator: every planned step is emitted.
-        if out.plan.count > 0 {
-            dir = out.plan.dir;
-        }
-        let _ = dir;
-        // The hardware counts pulses up whichever way DIR points.
-        emitted = emitted.wrapping_add(out.plan.count as u32);
+        // A perfect step generator: every planned step is emitted, two
+        // ticks later; the counter counts up whichever way DIR points.
+        emitted = emitted.wrapping_add(flight[0]);
+        flight = [flight[1], out.plan.count as u32];
         if !engaged {
             engaged = ctl.engage().is_ok();
         }

@@ -4,18 +4,18 @@
 
 use embassy_stm32::gpio::{Level, Output, OutputType, Speed};
 use embassy_stm32::pac;
-use embassy_stm32::pac::timer::vals::{FilterValue, Mms, Ocm, Sms, Ts};
+use embassy_stm32::pac::timer::vals::{FilterValue, Ocm};
 use embassy_stm32::peripherals as P;
 use embassy_stm32::timer::qei::{Qei, QeiMode};
 use embassy_stm32::timer::simple_pwm::PwmPin;
 use embassy_stm32::Peri;
-use polyturn_firmware::steptimer;
+use polyturn_firmware::stepgen;
+use polyturn_firmware::stepgen::program::Bus;
 use polyturn_sync::encoder::Counter16;
-use polyturn_sync::steps::{Dir, StepOutput, StepPlan};
+use polyturn_sync::steps::Dir;
 
 /// Timer clock (APB1 ×2 and APB2 ×1 both give the system clock).
 pub const TIMER_HZ: u32 = polyturn_firmware::board::SYSCLK_HZ;
-const DIR_PIN: usize = 12;
 const ENABLE_PIN: usize = 13;
 const X_STEP_PIN: usize = 4;
 const X_DIR_PIN: usize = 5;
@@ -42,10 +42,9 @@ pub fn set_x_pins(p: polyturn_firmware::xsteps::XPins) {
     });
 }
 
-/// DIR and ENABLE as outputs, ENABLE at its inactive level for the
-/// configured polarity (through reset the board's pull resistor holds it).
-pub fn outputs_inactive(dir: Peri<'static, P::PB12>, enable: Peri<'static, P::PB13>, active_high: bool) -> OutputPins {
-    core::mem::forget(Output::new(dir, Level::Low, Speed::VeryHigh));
+/// ENABLE as an output at its inactive level for the configured polarity
+/// (through reset the board's pull resistor holds it).
+pub fn outputs_inactive(enable: Peri<'static, P::PB13>, active_high: bool) -> OutputPins {
     let inactive = if active_high { Level::Low } else { Level::High };
     core::mem::forget(Output::new(enable, inactive, Speed::Low));
     let mut pins = OutputPins { enable_active_high: false };
@@ -63,7 +62,7 @@ static ENABLE_ACTIVE_HIGH: core::sync::atomic::AtomicBool = core::sync::atomic::
 
 /// Everything off, from any context: no more steps, ENABLE inactive.
 pub fn all_outputs_off() {
-    Steps { pulse_ticks: 0 }.halt();
+    let _ = stepgen::program::apply(&stepgen::program::HALT, &mut Mmio);
     pac::GPIOB.bsrr().write(|w| w.set_br(X_STEP_PIN, true));
     let pins = OutputPins { enable_active_high: ENABLE_ACTIVE_HIGH.load(core::sync::atomic::Ordering::Relaxed) };
     pins.set_enable(false);
@@ -79,12 +78,6 @@ impl OutputPins {
     pub fn set_enable(&self, on: bool) {
         let high = on == self.enable_active_high;
         pac::GPIOB.bsrr().write(|w| if high { w.set_bs(ENABLE_PIN, true) } else { w.set_br(ENABLE_PIN, true) });
-    }
-    fn set_dir(dir: Dir) {
-        pac::GPIOB.bsrr().write(|w| match dir {
-            Dir::Forward => w.set_bs(DIR_PIN, true),
-            Dir::Reverse => w.set_br(DIR_PIN, true),
-        });
     }
 }
 
@@ -122,84 +115,53 @@ impl Counter16 for CutterCounter {
     }
 }
 
-/// TIM1 CH1 (PA8) makes the pulses in one-pulse mode with its repetition
-/// counter; TIM2, clocked by TIM1's OC1REF through ITR0, counts them.
-pub fn step_generator(
+/// The step output's registers and RAM, as the MCU sees them: the only
+/// place the `stepgen` programs touch hardware.
+pub struct Mmio;
+
+impl Bus for Mmio {
+    fn write(&mut self, addr: u32, value: u32) {
+        // SAFETY: `stepgen::program` names only TIM1, TIM2, TIM11, DMA2
+        // registers (RM0383 §2.3) and the RING below, all word-aligned.
+        unsafe { (addr as *mut u32).write_volatile(value) }
+    }
+    fn read(&mut self, addr: u32) -> u32 {
+        // SAFETY: as for `write`.
+        unsafe { (addr as *const u32).read_volatile() }
+    }
+}
+
+/// RAM the DMA reads TIM1's segments from (only through `Mmio`).
+pub struct Ring(core::cell::UnsafeCell<[u32; stepgen::program::RING_WORDS as usize]>);
+// SAFETY: written only by the tick (through volatile writes), read by the DMA.
+unsafe impl Sync for Ring {}
+static RING: Ring = Ring(core::cell::UnsafeCell::new([0; stepgen::program::RING_WORDS as usize]));
+
+pub fn ring_address() -> u32 {
+    RING.0.get() as u32
+}
+
+/// TIM1 CH1 (PA8) is STEP and CH2 (PA9) is DIR, both fed by DMA2 stream 5;
+/// TIM2, clocked by TIM1's OC1REF through ITR0, counts the pulses. Nothing
+/// runs until the first tick arms the generator.
+pub fn step_output(
     t1: Peri<'static, P::TIM1>,
-    pin: Peri<'static, P::PA8>,
+    step: Peri<'static, P::PA8>,
+    dir: Peri<'static, P::PA9>,
     t2: Peri<'static, P::TIM2>,
-    _pulse_ns: u32,
 ) {
     core::mem::forget(embassy_stm32::timer::low_level::Timer::new(t1));
     core::mem::forget(embassy_stm32::timer::low_level::Timer::new(t2));
-    core::mem::forget(PwmPin::new(pin, OutputType::PushPull));
-    let t = pac::TIM1;
-    t.cr1().modify(|w| {
-        w.set_cen(false);
-        w.set_opm(true);
-    });
-    t.psc().write_value(0);
-    t.ccmr_output(0).modify(|w| w.set_ocm(0, Ocm::FORCE_INACTIVE));
-    t.ccer().modify(|w| w.set_cce(0, true));
-    t.bdtr().modify(|w| w.set_moe(true));
-    t.cr2().modify(|w| w.set_mms(Mms::COMPARE_OC1));
-    let c = pac::TIM2;
-    c.smcr().modify(|w| {
-        w.set_ts(Ts::ITR0);
-        w.set_sms(Sms::EXT_CLOCK_MODE);
-    });
-    c.arr().write_value(u32::MAX);
-    c.cr1().modify(|w| w.set_cen(true));
+    pac::RCC.ahb1enr().modify(|w| w.set_dma2en(true));
+    // PA8/PA9 to TIM1 (AF1); the timer drives them only once armed
+    core::mem::forget(PwmPin::new(step, OutputType::PushPull));
+    core::mem::forget(PwmPin::new(dir, OutputType::PushPull));
+    let _ = stepgen::program::apply(&stepgen::program::COUNTER_INIT, &mut Mmio);
 }
 
-/// The step output seam over TIM1/TIM2.
-pub struct Steps {
-    pub pulse_ticks: u16,
-}
-
-impl StepOutput for Steps {
-    fn emit(&mut self, plan: &StepPlan) {
-        let Some(p) = steptimer::program(plan, self.pulse_ticks) else { return };
-        let t = pac::TIM1;
-        // The last pulse of the previous tick may still be high (its edge was
-        // inside that tick): let it finish, at most one pulse width (OPM
-        // clears CEN at its end), so the driver never sees a cut-short pulse.
-        for _ in 0..512 {
-            if !t.cr1().read().cen() {
-                break;
-            }
-        }
-        OutputPins::set_dir(plan.dir);
-        t.cr1().modify(|w| {
-            w.set_cen(false);
-            w.set_arpe(false);
-        });
-        t.ccmr_output(0).modify(|w| {
-            w.set_ocpe(0, false);
-            w.set_ocm(0, Ocm::PWM_MODE2);
-        });
-        t.rcr().write(|w| w.set_rep(p.rcr as u16));
-        t.arr().write(|w| w.set_arr(p.first_arr));
-        t.ccr(0).write(|w| w.set_ccr(p.first_ccr));
-        t.egr().write(|w| w.set_ug(true)); // load RCR, CNT = 0
-                                           // Steady cycles go to the preload registers, taken at the first update.
-        t.cr1().modify(|w| w.set_arpe(true));
-        t.ccmr_output(0).modify(|w| w.set_ocpe(0, true));
-        t.arr().write(|w| w.set_arr(p.arr));
-        t.ccr(0).write(|w| w.set_ccr(p.ccr));
-        t.sr().write_value(pac::timer::regs::SrAdv(0));
-        t.cr1().modify(|w| w.set_cen(true));
-    }
-
-    fn emitted(&mut self) -> u16 {
-        pac::TIM2.cnt().read() as u16
-    }
-
-    fn halt(&mut self) {
-        let t = pac::TIM1;
-        t.cr1().modify(|w| w.set_cen(false));
-        t.ccmr_output(0).modify(|w| w.set_ocm(0, Ocm::FORCE_INACTIVE));
-    }
+/// TIM2's count of STEP pulses, for the core's check.
+pub fn steps_counted() -> u16 {
+    pac::TIM2.cnt().read() as u16
 }
 
 /// TIM10 CH1 (PB8): ESC servo pulses at 50 Hz, 1 µs resolution.

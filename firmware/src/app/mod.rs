@@ -65,7 +65,7 @@ async fn main(spawner: Spawner) {
     // the outputs, inactive, before anything else runs. Until then the pins
     // float and the board's pull resistor holds ENABLE inactive.
     let (config, loaded, flash, cam) = settings::load(p.FLASH);
-    let pins = drivers::outputs_inactive(p.PB12, p.PB13, config.enable_active_high);
+    let pins = drivers::outputs_inactive(p.PB13, config.enable_active_high);
     drivers::x_outputs(p.PB4, p.PB5);
     info!(
         "polyturn {} on STM32F411 (tick {} Hz): ratio {}/{}, {} edges, encoder {} counts, motor {} steps, settings {}",
@@ -80,7 +80,7 @@ async fn main(spawner: Spawner) {
     );
     drivers::lathe_encoder(p.TIM3, p.PA6, p.PA7);
     drivers::cutter_encoder(p.TIM4, p.PB6, p.PB7);
-    drivers::step_generator(p.TIM1, p.PA8, p.TIM2, config.step_pulse_ns);
+    drivers::step_output(p.TIM1, p.PA8, p.PA9, p.TIM2);
     drivers::esc_pwm(p.TIM10, p.PB8);
     safety::inputs(p.PB0, p.PB14, p.PB15);
     tick::start(config, pins);

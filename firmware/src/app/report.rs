@@ -13,7 +13,8 @@ pub async fn every_second() {
         if let Some(snap) = tick::with_core(|c| polyturn_sync::console::Snapshot::of(c)) {
             let mut line = polyturn_sync::console::Reply::new();
             snap.write(&mut line);
-            info!("{} | tick {} cycles avg, {} worst ({} ticks)", line.as_str(), avg, worst, ticks);
+            let late = tick::steps_late();
+            info!("{} | tick {} cycles avg, {} worst ({} ticks), step segments late {}", line.as_str(), avg, worst, ticks, late);
         }
     }
 }

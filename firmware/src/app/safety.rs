@@ -2,21 +2,27 @@
 //! on alarm) and the lathe index, on EXTI. E-stop and alarm halt the step
 //! timer in their own interrupt, at once; the tick then latches the fault.
 
-use super::drivers::Steps;
-use core::sync::atomic::{AtomicU32, Ordering};
+use super::drivers::Mmio;
+use core::sync::atomic::{AtomicBool, AtomicU32, Ordering};
 use embassy_stm32::gpio::{Input, Pull};
 use embassy_stm32::interrupt;
 use embassy_stm32::interrupt::{InterruptExt, Priority};
 use embassy_stm32::pac;
 use embassy_stm32::peripherals as P;
 use embassy_stm32::Peri;
-use polyturn_sync::steps::StepOutput;
 
 const INDEX: usize = 0;
 const ESTOP: usize = 14;
 const ALARM: usize = 15;
 const LATCHED: u32 = 1 << 16;
 static INDEX_RAW: AtomicU32 = AtomicU32::new(0);
+/// Set when this interrupt halted the step output; the tick re-arms it.
+static HALTED: AtomicBool = AtomicBool::new(false);
+
+/// True once after the E-stop or alarm interrupt halted the step output.
+pub fn take_halted() -> bool {
+    HALTED.swap(false, Ordering::Relaxed)
+}
 
 pub fn inputs(index: Peri<'static, P::PB0>, estop: Peri<'static, P::PB14>, alarm: Peri<'static, P::PB15>) {
     core::mem::forget(Input::new(index, Pull::Down));
@@ -78,6 +84,7 @@ fn EXTI15_10() {
         w.set_line(ALARM, true);
     });
     if estop_open() || alarm() {
-        Steps { pulse_ticks: 0 }.halt();
+        let _ = polyturn_firmware::stepgen::program::apply(&polyturn_firmware::stepgen::program::HALT, &mut Mmio);
+        HALTED.store(true, Ordering::Relaxed);
     }
 }

@@ -2,7 +2,7 @@
 //! Reads the counters, runs the core's tick, applies its output. The core
 //! is shared with lower priorities through a critical section.
 
-use super::drivers::{self, CutterCounter, LatheCounter, OutputPins, Steps, TIMER_HZ};
+use super::drivers::{self, CutterCounter, LatheCounter, Mmio, OutputPins, TIMER_HZ};
 use super::safety;
 use core::cell::RefCell;
 use core::sync::atomic::{AtomicU32, Ordering};
@@ -10,15 +10,15 @@ use critical_section::Mutex;
 use embassy_stm32::interrupt;
 use embassy_stm32::interrupt::{InterruptExt, Priority};
 use embassy_stm32::pac;
+use polyturn_firmware::stepgen::Generator;
 use polyturn_firmware::xsteps::XSteps;
 use polyturn_firmware::{board, esc};
 use polyturn_sync::encoder::Counter16;
-use polyturn_sync::steps::StepOutput;
 use polyturn_sync::{Config, Controller, DriveKind, TickInput, Timing};
 
 struct Io {
     core: Controller,
-    steps: Steps,
+    steps: Generator,
     pins: OutputPins,
     x: XSteps,
 }
@@ -29,6 +29,8 @@ static LAST_SEEN: AtomicU32 = AtomicU32::new(0);
 /// Tick cost in CPU cycles: running sum and worst, reset by `take_cost`.
 static COST_SUM: AtomicU32 = AtomicU32::new(0);
 static COST_WORST: AtomicU32 = AtomicU32::new(0);
+/// Ticks whose segments the DMA reached before they were written.
+static STEPS_LATE: AtomicU32 = AtomicU32::new(0);
 
 pub const TIMING: Timing = Timing { tick_hz: board::TICK_HZ, step_timer_hz: TIMER_HZ };
 
@@ -36,8 +38,8 @@ pub fn start(config: Config, mut pins: OutputPins) {
     pins.set_polarity(config.enable_active_high);
     pins.set_enable(false);
     let mut core = Controller::new(config, TIMING);
-    let mut steps = Steps { pulse_ticks: pulse_of(&core) };
-    core.start(LatheCounter.read(), steps.emitted(), CutterCounter.read());
+    let steps = Generator::new(drivers::ring_address());
+    core.start(LatheCounter.read(), drivers::steps_counted(), CutterCounter.read());
     critical_section::with(|cs| IO.borrow(cs).replace(Some(Io { core, steps, pins, x: XSteps::default() })));
     // SAFETY: DWT is only used here, for the tick's cycle count.
     let mut cp = unsafe { cortex_m::Peripherals::steal() };
@@ -54,11 +56,6 @@ pub fn start(config: Config, mut pins: OutputPins) {
     unsafe { interrupt::TIM1_TRG_COM_TIM11.enable() };
 }
 
-/// The STEP pulse width in timer ticks, as the core derived it.
-fn pulse_of(core: &Controller) -> u16 {
-    core.derived().steps.pulse.min(u16::MAX as u32) as u16
-}
-
 #[interrupt]
 fn TIM1_TRG_COM_TIM11() {
     let start = cortex_m::peripheral::DWT::cycle_count();
@@ -69,18 +66,25 @@ fn TIM1_TRG_COM_TIM11() {
         let input = TickInput {
             lathe: LatheCounter.read(),
             index: safety::take_index(),
-            emitted: io.steps.emitted(),
+            emitted: drivers::steps_counted(),
             cutter: CutterCounter.read(),
             estop_open: safety::estop_open(),
             alarm: safety::alarm(),
             x_emitted: io.x.emitted,
         };
         let out = io.core.tick(&input);
-        if out.halt {
-            io.steps.halt();
-        } else if io.core.config().drive == DriveKind::Stepper {
-            io.steps.emit(&out.plan);
-        } else if io.core.config().drive == DriveKind::Bldc {
+        if safety::take_halted() {
+            io.steps.halted_elsewhere();
+        }
+        // the plan for two ticks on: RAM writes only (stepgen); a halt or
+        // a (re-)arm applies its register program
+        if out.halt || io.core.config().drive == DriveKind::Stepper {
+            let timing = io.core.derived().steps;
+            if io.steps.tick(&out.plan, out.halt, &timing, &mut Mmio).is_err() {
+                STEPS_LATE.fetch_add(1, Ordering::Relaxed);
+            }
+        }
+        if io.core.config().drive == DriveKind::Bldc {
             let max = io.core.derived().limits.max_velocity;
             drivers::set_esc_pulse_us(if out.enable { esc::pulse_us(out.speed_q16, max) } else { 1000 });
         }
@@ -98,12 +102,11 @@ pub fn with_core<R>(f: impl FnOnce(&mut Controller) -> R) -> Option<R> {
     critical_section::with(|cs| IO.borrow(cs).borrow_mut().as_mut().map(|io| f(&mut io.core)))
 }
 
-/// Applies the settings the drivers hold themselves (pulse width, ENABLE
-/// polarity) after a console change, at low priority.
+/// Applies the setting the drivers hold themselves (ENABLE polarity) after
+/// a console change, at low priority. (The pulse width is the core's.)
 pub fn apply_driver_settings() {
     critical_section::with(|cs| {
         if let Some(io) = IO.borrow(cs).borrow_mut().as_mut() {
-            io.steps.pulse_ticks = pulse_of(&io.core);
             io.pins.set_polarity(io.core.config().enable_active_high);
         }
     });
@@ -113,6 +116,12 @@ pub fn apply_driver_settings() {
 pub fn alive() -> bool {
     let now = TICKS.load(Ordering::Relaxed);
     now != LAST_SEEN.swap(now, Ordering::Relaxed)
+}
+
+/// Ticks whose step segments were written too late (each one halted the
+/// output), since boot.
+pub fn steps_late() -> u32 {
+    STEPS_LATE.load(Ordering::Relaxed)
 }
 
 /// (ticks, average cycles, worst cycles) since the last call.

@@ -42,7 +42,7 @@ impl Entry {
     }
 
     /// Cycles from this segment's update event to the next.
-    pub fn len(&self) -> u32 {
+    pub fn cycles(&self) -> u32 {
         (self.arr + 1) * (self.rcr + 1)
     }
 

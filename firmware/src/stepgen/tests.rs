@@ -42,7 +42,7 @@ proptest! {
             let want: Vec<i64> = (0..p.count as i64).map(|i| tick0 + p.first as i64 + i * p.period as i64).collect();
             prop_assert_eq!(got, want);
             for s in &segs {
-                prop_assert!(s.len() >= MIN_SEGMENT, "segment of {} cycles", s.len());
+                prop_assert!(s.cycles() >= MIN_SEGMENT, "segment of {} cycles", s.len());
                 prop_assert!(s.arr < SILENT && s.rcr <= 255);
                 // DIR changes at the tick's first segment, before any pulse
                 if p.count > 0 {
@@ -50,7 +50,7 @@ proptest! {
                 }
             }
             // the last segment starts no earlier than MIN_SEGMENT before the tick
-            let last_len = segs.last().unwrap().len() as i64;
+            let last_len = segs.last().unwrap().cycles() as i64;
             prop_assert!(end - last_len >= tick0 - MIN_SEGMENT as i64);
             timeline = end;
             emitted += if p.dir == Dir::Forward { p.count as i64 } else { -(p.count as i64) };
