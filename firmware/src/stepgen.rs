@@ -64,7 +64,7 @@ impl Generator {
     }
 
     /// Someone else (the E-stop interrupt, the panic handler) applied
-    /// `program::HALT`: re-arm at the next tick that has no halt.
+    /// `program::halt`: re-arm at the next tick that has no halt.
     pub fn halted_elsewhere(&mut self) {
         self.armed = false;
     }
@@ -73,18 +73,18 @@ impl Generator {
     pub fn tick(&mut self, plan: &StepPlan, halt: bool, t: &StepTiming, bus: &mut impl Bus) -> Result<(), Fail> {
         if halt {
             if self.armed {
-                let _ = apply(&program::HALT, bus);
+                let _ = apply(&program::halt(t.pulse), bus);
                 self.armed = false;
             }
             return Ok(());
         }
         if !self.armed {
-            self.arm(t.tick_len, bus)?;
+            self.arm(t, bus)?;
         }
         let read = self.dma_entry(bus);
         let pending = (self.write + RING_ENTRIES - read) % RING_ENTRIES;
         if pending > PENDING_MAX {
-            let _ = apply(&program::HALT, bus);
+            let _ = apply(&program::halt(t.pulse), bus);
             self.armed = false;
             return Err(Fail::Late);
         }
@@ -101,14 +101,15 @@ impl Generator {
         Ok(())
     }
 
-    fn arm(&mut self, tick_len: u32, bus: &mut impl Bus) -> Result<(), Fail> {
+    fn arm(&mut self, t: &StepTiming, bus: &mut impl Bus) -> Result<(), Fail> {
+        let tick_len = t.tick_len;
         // the stream is off (boot, or after HALT): silence the whole ring
         for i in 0..RING_ENTRIES {
             self.put(i, &Entry::silent(tick_len, Dir::Forward), bus);
         }
         let ops: [Op; 25] = program::arm(self.ring, tick_len, entries::dir_level(Dir::Forward));
         if apply(&ops, bus).is_err() {
-            let _ = apply(&program::HALT, bus);
+            let _ = apply(&program::halt(t.pulse), bus);
             return Err(Fail::ArmLate);
         }
         *self = Generator { ring: self.ring, write: 0, silenced: 0, layout: Layout::armed(Dir::Forward), armed: true };

@@ -4,6 +4,7 @@
 pub mod cli;
 pub mod compensate;
 pub mod geometry;
+pub mod hwsim;
 pub mod noncircular;
 pub mod planner;
 pub mod sim;

@@ -62,7 +62,7 @@ static ENABLE_ACTIVE_HIGH: core::sync::atomic::AtomicBool = core::sync::atomic::
 
 /// Everything off, from any context: no more steps, ENABLE inactive.
 pub fn all_outputs_off() {
-    let _ = stepgen::program::apply(&stepgen::program::HALT, &mut Mmio);
+    halt_steps();
     pac::GPIOB.bsrr().write(|w| w.set_br(X_STEP_PIN, true));
     let pins = OutputPins { enable_active_high: ENABLE_ACTIVE_HIGH.load(core::sync::atomic::Ordering::Relaxed) };
     pins.set_enable(false);
@@ -129,6 +129,25 @@ impl Bus for Mmio {
         // SAFETY: as for `write`.
         unsafe { (addr as *const u32).read_volatile() }
     }
+    fn delay(&mut self, cycles: u32) {
+        // the timers run at the CPU clock (board::SYSCLK_HZ)
+        cortex_m::asm::delay(cycles);
+    }
+}
+
+/// The STEP pulse width in timer cycles, for halts from outside the tick.
+static HALT_PULSE: core::sync::atomic::AtomicU32 = core::sync::atomic::AtomicU32::new(0);
+
+/// Sets the pulse width `halt_steps` waits out (at start and on changes).
+pub fn set_halt_pulse(cycles: u32) {
+    HALT_PULSE.store(cycles, core::sync::atomic::Ordering::Relaxed);
+}
+
+/// Stops the step output from any context (E-stop, panic): no pulse rises
+/// after it, a high one ends at full width.
+pub fn halt_steps() {
+    let pulse = HALT_PULSE.load(core::sync::atomic::Ordering::Relaxed);
+    let _ = stepgen::program::apply(&stepgen::program::halt(pulse), &mut Mmio);
 }
 
 /// RAM the DMA reads TIM1's segments from (only through `Mmio`).

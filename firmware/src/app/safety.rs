@@ -2,7 +2,6 @@
 //! on alarm) and the lathe index, on EXTI. E-stop and alarm halt the step
 //! timer in their own interrupt, at once; the tick then latches the fault.
 
-use super::drivers::Mmio;
 use core::sync::atomic::{AtomicBool, AtomicU32, Ordering};
 use embassy_stm32::gpio::{Input, Pull};
 use embassy_stm32::interrupt;
@@ -84,7 +83,7 @@ fn EXTI15_10() {
         w.set_line(ALARM, true);
     });
     if estop_open() || alarm() {
-        let _ = polyturn_firmware::stepgen::program::apply(&polyturn_firmware::stepgen::program::HALT, &mut Mmio);
+        super::drivers::halt_steps();
         HALTED.store(true, Ordering::Relaxed);
     }
 }

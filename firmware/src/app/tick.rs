@@ -39,6 +39,7 @@ pub fn start(config: Config, mut pins: OutputPins) {
     pins.set_enable(false);
     let mut core = Controller::new(config, TIMING);
     let steps = Generator::new(drivers::ring_address());
+    drivers::set_halt_pulse(core.derived().steps.pulse);
     core.start(LatheCounter.read(), drivers::steps_counted(), CutterCounter.read());
     critical_section::with(|cs| IO.borrow(cs).replace(Some(Io { core, steps, pins, x: XSteps::default() })));
     // SAFETY: DWT is only used here, for the tick's cycle count.
@@ -102,12 +103,13 @@ pub fn with_core<R>(f: impl FnOnce(&mut Controller) -> R) -> Option<R> {
     critical_section::with(|cs| IO.borrow(cs).borrow_mut().as_mut().map(|io| f(&mut io.core)))
 }
 
-/// Applies the setting the drivers hold themselves (ENABLE polarity) after
-/// a console change, at low priority. (The pulse width is the core's.)
+/// Applies the settings the drivers hold themselves (ENABLE polarity, the
+/// pulse width a halt waits out) after a console change, at low priority.
 pub fn apply_driver_settings() {
     critical_section::with(|cs| {
         if let Some(io) = IO.borrow(cs).borrow_mut().as_mut() {
             io.pins.set_polarity(io.core.config().enable_active_high);
+            drivers::set_halt_pulse(io.core.derived().steps.pulse);
         }
     });
 }

@@ -17,12 +17,15 @@ pub enum Op {
     WaitClear { addr: u32, mask: u32, polls: u16 },
     /// `to = from + add`, unless that reaches `limit` (too late in the tick)
     Sync { from: u32, to: u32, add: u32, limit: u32 },
+    /// wait at least this many timer (= CPU) cycles
+    Delay(u32),
 }
 
 /// The seam: the MCU's volatile accesses, or the host's model.
 pub trait Bus {
     fn write(&mut self, addr: u32, value: u32);
     fn read(&mut self, addr: u32) -> u32;
+    fn delay(&mut self, cycles: u32);
 }
 
 /// Applies `ops` in order; `Err(i)` if op `i` could not complete (the rest
@@ -43,6 +46,7 @@ pub fn apply(ops: &[Op], bus: &mut impl Bus) -> Result<(), usize> {
                 }
                 bus.write(to, at);
             }
+            Op::Delay(cycles) => bus.delay(cycles),
         }
     }
     Ok(())
@@ -121,14 +125,21 @@ const STREAM5_FLAGS: u32 = 0b1111 << 8 | 1 << 6;
 pub const COUNTER_INIT: [Op; 3] =
     [Op::Write(TIM2 + SMCR, SMS_ECM1), Op::Write(TIM2 + ARR, u32::MAX), Op::Write(TIM2 + CR1, CEN)];
 
-/// Stops everything at once: STEP low (a pulse that is high is cut short),
-/// no more DMA requests, the counter stopped, the DMA stream off.
-pub const HALT: [Op; 4] = [
-    Op::Write(TIM1 + CCMR1, CCMR1_HALT),
-    Op::Write(TIM1 + DIER, 0),
-    Op::Write(TIM1 + CR1, ARPE),
-    Op::Write(S5CR, S5CR_RUN),
-];
+/// Stops the output at once without a runt: the counter stops first, so no
+/// pulse rises after it (§12.3.2: the counter counts only while CEN = 1,
+/// and OC1REF follows CNT against CCR1); a pulse that is high stays high
+/// for at least `pulse` cycles more, so the driver sees every pulse TIM2
+/// counted; then STEP is forced low (§12.4.7, OC1M = 100), DMA requests
+/// end and the stream stops.
+pub const fn halt(pulse: u32) -> [Op; 5] {
+    [
+        Op::Write(TIM1 + CR1, ARPE),
+        Op::Delay(pulse),
+        Op::Write(TIM1 + CCMR1, CCMR1_HALT),
+        Op::Write(TIM1 + DIER, 0),
+        Op::Write(S5CR, S5CR_RUN),
+    ]
+}
 
 /// Cycles from reading TIM11's counter to the write of TIM1's landing, in
 /// `Sync`: a load, an add and a store on the APB2 bus. Any error is a
@@ -151,6 +162,9 @@ pub const fn arm(ring: u32, tick_len: u32, dir_level: u32) -> [Op; 25] {
         Op::Write(HIFCR, STREAM5_FLAGS),
         Op::Write(TIM1 + CR1, ARPE),
         Op::Write(TIM1 + CCMR1, CCMR1_HALT),
+        // TRGO = OC1REF (held low) before the UG: with MMS at its reset
+        // value the UG itself is TRGO (§12.4.2), and TIM2 would count it
+        Op::Write(TIM1 + CR2, MMS_OC1REF),
         // a silent segment of a tick, loaded at once by UG (UDE is off, so no request)
         Op::Write(TIM1 + PSC, 0),
         Op::Write(TIM1 + ARR, tick_len - 1),
@@ -160,7 +174,6 @@ pub const fn arm(ring: u32, tick_len: u32, dir_level: u32) -> [Op; 25] {
         Op::Write(TIM1 + EGR, UG),
         // PWM mode only now: CNT = 0 < CCR1, so STEP stays low (no runt)
         Op::Write(TIM1 + CCMR1, CCMR1_RUN),
-        Op::Write(TIM1 + CR2, MMS_OC1REF),
         Op::Write(TIM1 + CCER, CC1E_CC2E),
         Op::Write(TIM1 + BDTR, MOE),
         Op::Write(TIM1 + DCR, DCR_BURST),

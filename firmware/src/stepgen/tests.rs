@@ -42,7 +42,7 @@ proptest! {
             let want: Vec<i64> = (0..p.count as i64).map(|i| tick0 + p.first as i64 + i * p.period as i64).collect();
             prop_assert_eq!(got, want);
             for s in &segs {
-                prop_assert!(s.cycles() >= MIN_SEGMENT, "segment of {} cycles", s.len());
+                prop_assert!(s.cycles() >= MIN_SEGMENT, "segment of {} cycles", s.cycles());
                 prop_assert!(s.arr < SILENT && s.rcr <= 255);
                 // DIR changes at the tick's first segment, before any pulse
                 if p.count > 0 {
@@ -77,6 +77,9 @@ struct Script {
 impl Bus for Script {
     fn write(&mut self, addr: u32, value: u32) {
         self.writes.push((addr, value));
+    }
+    fn delay(&mut self, cycles: u32) {
+        self.writes.push((u32::MAX, cycles));
     }
     fn read(&mut self, _addr: u32) -> u32 {
         if self.reads.is_empty() {
@@ -119,9 +122,11 @@ fn a_halted_generator_writes_nothing_until_it_re_arms() {
     assert!(g.armed());
     let n = bus.writes.len();
     g.tick(&StepPlan::default(), true, &T, &mut bus).unwrap();
-    assert_eq!(&bus.writes[n..], &program::HALT.map(|op| match op {
+    let want = program::halt(T.pulse).map(|op| match op {
         Op::Write(a, v) => (a, v),
+        Op::Delay(c) => (u32::MAX, c),
         _ => unreachable!(),
-    }));
+    });
+    assert_eq!(&bus.writes[n..], &want);
     assert!(!g.armed());
 }

@@ -100,7 +100,7 @@ impl Prev {
 /// Plans the next tick. `from`/`to` are the commanded positions (Q16 steps)
 /// at the start and end of the tick; `emitted` the steps emitted (or
 /// committed) so far; `prev` where the last steps left the output.
-/// Uses one 32-bit division (a single UDIV on Cortex-M4) per tick with steps.
+/// Uses two 32-bit divisions (UDIV on Cortex-M4) per tick with steps.
 #[inline]
 pub fn plan(from: i64, to: i64, emitted: i64, prev: &Prev, t: &StepTiming) -> StepPlan {
     let whole = (to + (1 << 15)) >> 16;
@@ -129,9 +129,12 @@ pub fn plan(from: i64, to: i64, emitted: i64, prev: &Prev, t: &StepTiming) -> St
         } else {
             from - ((emitted << 16) - (1 << 15))
         };
-        // tick_len < 2^16 and travel < 2^31: a 32-bit UDIV, not __aeabi_uldivmod.
-        let period = (t.tick_len.min(0xFFFF) << 16) / (travel as u32).max(1);
-        let first = ((boundary.max(0) as u64 * period as u64) >> 16) as u32;
+        // Rounded to the nearest timer tick. tick_len < 2^15, travel < 2^31
+        // and boundary ≤ 2^16 keep both in 32 bits: two UDIVs, no
+        // __aeabi_uldivmod.
+        let (len, travel) = (t.tick_len.min(0x7FFF), (travel as u32).max(1));
+        let period = ((len << 16) + travel / 2) / travel;
+        let first = ((boundary.clamp(0, 1 << 16) as u32) * len + travel / 2) / travel;
         (first, period.max(min_period))
     } else {
         // Late (catching up on steps not emitted in time): the first as soon
