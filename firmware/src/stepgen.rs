@@ -81,16 +81,18 @@ impl Generator {
         if !self.armed {
             self.arm(t, bus)?;
         }
-        let read = self.dma_entry(bus);
-        let pending = (self.write + RING_ENTRIES - read) % RING_ENTRIES;
+        let (started, finished) = self.dma_entries(bus);
+        let pending = (self.write + RING_ENTRIES - started) % RING_ENTRIES;
         if pending > PENDING_MAX {
             let _ = apply(&program::halt(t.pulse), bus);
             self.armed = false;
             return Err(Fail::Late);
         }
-        // segments already taken by the DMA go silent: if the tick ever
-        // stopped writing, the DMA would find silence, not old steps
-        while self.silenced != read {
+        // segments the DMA has taken whole go silent: if the tick ever
+        // stopped writing, the DMA would find silence, not old steps (not
+        // the one whose burst is under way: its last words are still to
+        // be read, and a mix of two segments is no segment)
+        while self.silenced != finished {
             self.put(self.silenced, &Entry::silent(t.tick_len, Dir::Forward), bus);
             self.silenced = (self.silenced + 1) % RING_ENTRIES;
         }
@@ -116,11 +118,13 @@ impl Generator {
         Ok(())
     }
 
-    /// The segment the DMA reads next: a burst under way counts as read.
-    fn dma_entry(&self, bus: &mut impl Bus) -> usize {
+    /// Segments whose DMA burst has started, and those it has finished
+    /// (they differ while a burst is under way).
+    fn dma_entries(&self, bus: &mut impl Bus) -> (usize, usize) {
         let left = bus.read(program::S5NDTR) % program::RING_WORDS;
         let done = (program::RING_WORDS - left) % program::RING_WORDS;
-        (done.div_ceil(program::BURST_WORDS) as usize) % RING_ENTRIES
+        let started = done.div_ceil(program::BURST_WORDS) as usize % RING_ENTRIES;
+        (started, (done / program::BURST_WORDS) as usize)
     }
 
     fn put(&self, slot: usize, e: &Entry, bus: &mut impl Bus) {

@@ -10,13 +10,28 @@ fn row(name: &str, o: &Outcome) {
     let f = |v: Option<f64>| v.map_or("-".to_string(), |v| format!("{v:.1}"));
     println!(
         "{name:<34} {:>8} {:>8} {:>8} {:>5} {:>6} {:>6} {:>6} {:>8} {:>4}/{:<4}/{:<4} {:>4} {:>4} {}",
-        r.steps, o.believed, o.exact, r.unseen, r.min_high, r.min_low, f(o.spacing_error), f(o.delay),
-        r.reversals, o.command_reversals, o.target_reversals, o.late, o.overruns, o.faults.join(",")
+        r.steps,
+        o.believed,
+        o.exact,
+        r.unseen,
+        r.min_high,
+        r.min_low,
+        f(o.spacing_error),
+        f(o.delay),
+        r.reversals,
+        o.command_reversals,
+        o.target_reversals,
+        o.late,
+        o.overruns,
+        o.faults.join(",")
     );
 }
 
 fn main() {
-    println!("{:<34} {:>8} {:>8} {:>8} {:>5} {:>6} {:>6} {:>6} {:>8} {:>11} {:>4} {:>4} faults", "scenario", "driver", "core", "exact", "unseen", "hi", "lo", "space", "delay", "rev/cmd/exact", "late", "ovr");
+    println!(
+        "{:<34} {:>8} {:>8} {:>8} {:>5} {:>6} {:>6} {:>6} {:>8} {:>11} {:>4} {:>4} faults",
+        "scenario", "driver", "core", "exact", "unseen", "hi", "lo", "space", "delay", "rev/cmd/exact", "late", "ovr"
+    );
     for lat in [(200, 400), (900, 1_100), (1_800, 2_000), (200, 2_000)] {
         let isr = Isr::new(lat);
         for hz in [1, 10, 100, 1_000, 10_000, 64_000, 150_000, 250_000] {

@@ -14,7 +14,14 @@ pub async fn every_second() {
             let mut line = polyturn_sync::console::Reply::new();
             snap.write(&mut line);
             let late = tick::steps_late();
-            info!("{} | tick {} cycles avg, {} worst ({} ticks), step segments late {}", line.as_str(), avg, worst, ticks, late);
+            info!(
+                "{} | tick {} cycles avg, {} worst ({} ticks), step segments late {}",
+                line.as_str(),
+                avg,
+                worst,
+                ticks,
+                late
+            );
         }
     }
 }

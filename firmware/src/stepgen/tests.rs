@@ -130,3 +130,24 @@ fn a_halted_generator_writes_nothing_until_it_re_arms() {
     assert_eq!(&bus.writes[n..], &want);
     assert!(!g.armed());
 }
+
+#[test]
+fn a_segment_whose_burst_is_under_way_is_not_silenced() {
+    let ring = 0x2000_0000;
+    let mut g = Generator::new(ring);
+    // arm: the stream reads as stopped, TIM11 at 100; then NDTR full
+    let mut bus = Script { reads: vec![0, 100, program::RING_WORDS], ..Default::default() };
+    g.tick(&StepPlan::default(), false, &T, &mut bus).unwrap();
+    for _ in 0..2 {
+        bus.reads = vec![program::RING_WORDS];
+        g.tick(&StepPlan::default(), false, &T, &mut bus).unwrap();
+    }
+    // a tick later the DMA has read slot 0 and two words of slot 1
+    bus.reads = vec![program::RING_WORDS - 6];
+    let before = bus.writes.len();
+    g.tick(&StepPlan::default(), false, &T, &mut bus).unwrap();
+    let slot = |a: u32| (a.wrapping_sub(ring) / 16) as usize;
+    let touched: Vec<usize> = bus.writes[before..].iter().map(|(a, _)| slot(*a)).collect();
+    assert!(touched.contains(&0), "slot 0, read whole, is silenced");
+    assert!(!touched.contains(&1), "slot 1 is mid-burst: {touched:?}");
+}

@@ -57,11 +57,7 @@ pub fn steady(rate_millihz: u64, ticks: u64, isr: Isr, params: Params) -> Outcom
     for k in 0..ticks + 4 {
         let to = q(k.min(ticks));
         rig.tick(|counted, _| {
-            let good = books.check(counted);
-            if !good && ok && std::env::var("HWSIM_DEBUG").is_ok() {
-                eprintln!("tick {k}: counted {counted}, books {:?}", books);
-            }
-            ok &= good;
+            ok &= books.check(counted);
             (books.plan(to, &t), false, t)
         });
     }
@@ -87,7 +83,7 @@ pub fn steady(rate_millihz: u64, ticks: u64, isr: Isr, params: Params) -> Outcom
         delay: (!errors.is_empty()).then_some(delay),
         target_reversals: 0,
         command_reversals: 0,
-        late: rig.late,
+        late: rig.late + rig.mcu.dma_requests_lost(),
         overruns: rig.overruns,
         faults,
         pulse: t.pulse as u64,
@@ -99,7 +95,14 @@ pub fn steady(rate_millihz: u64, ticks: u64, isr: Isr, params: Params) -> Outcom
 /// whole controller, engaged from rest; `estop` opens the E-stop between
 /// two instants (its interrupt halts the output mid-tick), after which the
 /// machinist clears and engages again.
-pub fn lathe(config: Config, counts: &dyn Fn(f64) -> f64, seconds: f64, isr: Isr, params: Params, estop: Option<(f64, f64)>) -> Outcome {
+pub fn lathe(
+    config: Config,
+    counts: &dyn Fn(f64) -> f64,
+    seconds: f64,
+    isr: Isr,
+    params: Params,
+    estop: Option<(f64, f64)>,
+) -> Outcome {
     let t = timing(&config);
     let mut ctl = Controller::new(config, TIMING);
     let mut rig = Rig::new(params, isr);
@@ -129,7 +132,8 @@ pub fn lathe(config: Config, counts: &dyn Fn(f64) -> f64, seconds: f64, isr: Isr
         }
         rig.tick(|counted, read_at| {
             lathe_now = counts(read_at as f64 / TIMER_HZ as f64).floor() as i64;
-            let input = TickInput { lathe: lathe_now as u16, emitted: counted, estop_open: open, ..TickInput::default() };
+            let input =
+                TickInput { lathe: lathe_now as u16, emitted: counted, estop_open: open, ..TickInput::default() };
             let out = ctl.tick(&input);
             (out.plan, out.halt, t)
         });
@@ -151,7 +155,7 @@ pub fn lathe(config: Config, counts: &dyn Fn(f64) -> f64, seconds: f64, isr: Isr
         delay: None,
         target_reversals: target.reversals,
         command_reversals: commanded.reversals,
-        late: rig.late,
+        late: rig.late + rig.mcu.dma_requests_lost(),
         overruns: rig.overruns,
         faults,
         pulse: t.pulse as u64,

@@ -45,7 +45,12 @@ pub fn run(sc: &Scenario) -> Result<SimResult, String> {
     let mut p = Plants {
         lathe: Lathe::new(sc.lathe.clone(), sc.seed),
         encoder: Encoder::new(sc.core.encoder_counts_per_rev),
-        stepper: Stepper::new(sc.motor_max_rate_hz, sc.motor_max_accel, 0.0, polyturn_sync::steps::pipe::LEAD_TICKS as usize),
+        stepper: Stepper::new(
+            sc.motor_max_rate_hz,
+            sc.motor_max_accel,
+            0.0,
+            polyturn_sync::steps::pipe::LEAD_TICKS as usize,
+        ),
         bldc: Bldc::new(sc.core.motor_steps_per_rev),
         x: Stepper::new(1e9, 1e12, 2e-6, 0),
     };

@@ -54,7 +54,11 @@ impl Stepper {
         if halt {
             self.queue.clear();
         }
-        let plan = if self.queue.len() > self.lead_ticks { self.queue.pop_front().unwrap_or_default() } else { StepPlan::default() };
+        let plan = if self.queue.len() > self.lead_ticks {
+            self.queue.pop_front().unwrap_or_default()
+        } else {
+            StepPlan::default()
+        };
         let plan = &plan;
         let sign = if plan.dir == Dir::Forward { 1.0 } else { -1.0 };
         let n = if halt { 0 } else { plan.count as usize };

@@ -44,7 +44,9 @@ impl Controller {
         Status {
             state: self.state,
             lathe_velocity_q32: self.est.velocity_q32(),
-            phase_error_q16: self.target - self.follower.position - (self.target_velocity - self.follower.velocity) * self.ahead(),
+            phase_error_q16: self.target
+                - self.follower.position
+                - (self.target_velocity - self.follower.velocity) * self.ahead(),
             cutter_steps: self.cutter_steps(),
             target_steps: self.gear.steps(),
             lathe_counts: self.lathe.position(),

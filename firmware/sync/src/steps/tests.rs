@@ -4,7 +4,6 @@ use std::vec::Vec;
 
 const T: StepTiming = StepTiming { tick_len: 4000, min_period: 500, dir_setup: 500, pulse: 250 };
 
-
 /// Runs a constant-velocity command through the planner and a perfect
 /// generator; returns the absolute times of all steps.
 fn run(v_q16: i64, ticks: i64) -> (Vec<i64>, i64) {

@@ -1,0 +1,65 @@
+//! A cycle-level software model of four STM32F411 peripherals — TIM1, TIM2, TIM11 and
+//! DMA2 stream 5 — written from the reference manual RM0383 (cross-checked with
+//! RM0090/RM0401, whose TIM1/TIM2/DMA chapters describe the same IP), to serve as a
+//! test oracle for firmware that drives them. It is not derived from the firmware.
+//!
+//! Every behaviour cites its section in doc comments. The [`Mcu`] is driven like the
+//! hardware: 32-bit register writes and reads at their bus addresses ([`addr`]), and
+//! [`Mcu::step`] advances one timer-kernel clock (CK_INT = 96 MHz for every timer).
+//!
+//! # Assumptions
+//! * GPIO/AF are not modelled: PA8/PA9 are taken to be in alternate function TIM1
+//!   (CH1/CH2). A pin the timer does not drive (CCxE = 0 or MOE = 0, RM0383 §12.4.9)
+//!   reads `false`, as the board's pull-downs hold it low.
+//! * OCxREF follows the counter in the same cycle (no extra output synchronisation
+//!   stage: the manual's waveforms show none).
+//! * A write to a register or field that is not modelled panics with its address; bits
+//!   that are "reserved, must be kept at reset value" must be written 0. The rc_w0
+//!   status registers accept 1s anywhere (writing 1 has no effect, §12.4.5).
+//! * Where the manual gives no figure it is a [`Params`] field with a documented default.
+//! * Order within a cycle: TIM1 counts, TIM2 samples TIM1's TRGO of the same cycle
+//!   (then delays it by its resynchronisation), TIM11 counts, then DMA transfers due in
+//!   that cycle land. A CPU write happens between two cycles and acts at once.
+//! * Output-compare match modes act only on counter ticks (a CCRx or CNT write that
+//!   makes CNT = CCRx is not a match); the manual does not say either way.
+//!
+//! # Not modelled (writing such a configuration panics)
+//! Down/center-aligned counting, slave modes other than TIM2's external clock mode 1 on
+//! ITR0, input capture, channels 3/4 of TIM1 and TIM11's channel, complementary outputs,
+//! dead time, break, LOCK, OSSI, OCxCE/ETR, TRGO of TIM2/TIM11, CCxDE/COMDE/TDE DMA
+//! requests, DMA streams other than DMA2 stream 5, FIFO mode, bursts, double buffer,
+//! peripheral flow control, PINC, peripheral addresses outside TIM1, the NVIC (flags and
+//! interrupt-enable bits are kept, interrupts are not delivered), GPIO/AF and RCC.
+
+pub mod addr;
+pub mod bits;
+mod dma;
+mod mcu;
+mod tim1;
+mod tim11;
+mod tim2;
+mod timebase;
+
+pub use mcu::{Edge, Mcu, Params, PinId};
+
+/// What OCxREF does when OCxM is switched into a PWM mode while the timer runs.
+///
+/// RM0383 §12.3.10 says that in PWM mode "TIMx_CNT and TIMx_CCRx are always compared",
+/// i.e. OCxREF follows the comparison at once ([`Reevaluate`](Self::Reevaluate), the
+/// default). The OCxM bit description in the same IP's manuals (RM0008/RM0090 TIMx_CCMR1
+/// note, RM0367/RM0453 §"PWM mode") restricts it: "the OCREF level changes only when the
+/// result of the comparison changes or when the output compare mode switches from
+/// 'frozen' mode to 'PWM' mode" ([`OnlyFromFrozen`](Self::OnlyFromFrozen)): leaving a
+/// forced mode for PWM then keeps the forced level until the next compare or overflow.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum PwmModeSwitch {
+    #[default]
+    Reevaluate,
+    OnlyFromFrozen,
+}
+
+/// Panic for a register, field or configuration the model does not implement.
+#[track_caller]
+pub(crate) fn unmodelled(what: &str) -> ! {
+    panic!("stm32-model: not modelled: {what}")
+}

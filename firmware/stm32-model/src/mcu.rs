@@ -1,0 +1,206 @@
+//! The MCU: bus decoding, SRAM, the per-cycle schedule and the fast path.
+
+mod bus;
+
+use crate::addr;
+use crate::dma::Dma;
+use crate::tim1::Tim1;
+use crate::tim11::Tim11;
+use crate::tim2::Tim2;
+use crate::PwmModeSwitch;
+
+/// Figures the manual does not give.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Params {
+    /// CK_INT cycles from a DMA request (or from the previous transfer of the same burst)
+    /// to the moment the transfer's write lands in TIM1. RM0383 §9 gives no timing;
+    /// default 6: one cycle to sample the request, one to arbitrate (§9.3.4), and an
+    /// AHB→APB2 write of a value the direct mode already preloaded ("the DMA preloads
+    /// only one data from the memory ... to ensure an immediate data transfer", §9.2),
+    /// about 4 cycles through the bridge. An estimate: sweep it in tests. A request raised
+    /// by a CPU write lands no earlier than the next cycle, whatever this value.
+    pub dma_latency_cycles: u32,
+    /// CK_INT cycles between a TRGI rising edge and the TIM2 count it causes in external
+    /// clock mode 1. RM0383 §13.3.3 only says the delay "is due to the
+    /// resynchronization circuit"; default 2 (a two-flip-flop synchroniser). At most 62.
+    pub tim2_resync_cycles: u32,
+    /// OCxREF on a switch into PWM mode; see [`PwmModeSwitch`].
+    pub pwm_mode_switch: PwmModeSwitch,
+}
+
+impl Default for Params {
+    fn default() -> Params {
+        Params { dma_latency_cycles: 6, tim2_resync_cycles: 2, pwm_mode_switch: PwmModeSwitch::Reevaluate }
+    }
+}
+
+/// PA8 carries TIM1_CH1 (OC1), PA9 TIM1_CH2 (OC2).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum PinId {
+    Pa8,
+    Pa9,
+}
+
+/// A change of a pin's level: made by step number `cycle` (so `Mcu::cycle() == cycle`
+/// right after it), or by a register write made while `Mcu::cycle() == cycle`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Edge {
+    pub cycle: u64,
+    pub pin: PinId,
+    pub high: bool,
+}
+
+/// The modelled MCU. Equality compares the whole modelled state (registers, internal
+/// counters, SRAM, edges), not caches.
+#[derive(Clone, Debug)]
+pub struct Mcu {
+    params: Params,
+    cycle: u64,
+    tim1: Tim1,
+    tim2: Tim2,
+    tim11: Tim11,
+    dma: Dma,
+    sram: Vec<u8>,
+    edges: Vec<Edge>,
+    pins: [bool; 2],
+    dma_lost: u64,
+    /// Nothing counts, nothing is pending: a step only advances the cycle count.
+    quiescent: bool,
+}
+
+impl PartialEq for Mcu {
+    fn eq(&self, o: &Mcu) -> bool {
+        (self.params, self.cycle, &self.tim1, &self.tim2, &self.tim11, &self.dma)
+            == (o.params, o.cycle, &o.tim1, &o.tim2, &o.tim11, &o.dma)
+            && (&self.sram, &self.edges, self.pins, self.dma_lost) == (&o.sram, &o.edges, o.pins, o.dma_lost)
+    }
+}
+
+impl Eq for Mcu {}
+
+impl Mcu {
+    /// Every register at its reset value, SRAM zeroed, cycle 0.
+    pub fn new(params: Params) -> Mcu {
+        Mcu {
+            params,
+            cycle: 0,
+            tim1: Tim1::new(params.pwm_mode_switch),
+            tim2: Tim2::new(params.tim2_resync_cycles),
+            tim11: Tim11::new(),
+            dma: Dma::new(),
+            sram: vec![0; addr::SRAM_SIZE as usize],
+            edges: Vec::new(),
+            pins: [false; 2],
+            dma_lost: 0,
+            quiescent: false,
+        }
+    }
+
+    pub fn cycle(&self) -> u64 {
+        self.cycle
+    }
+    pub fn pa8(&self) -> bool {
+        self.pins[0]
+    }
+    pub fn pa9(&self) -> bool {
+        self.pins[1]
+    }
+    pub fn edges(&self) -> &[Edge] {
+        &self.edges
+    }
+    /// TIM11 update events so far: every overflow (§14.3.2) and every UG (§14.5.4).
+    pub fn tim11_updates(&self) -> u64 {
+        self.tim11.updates
+    }
+    /// How many of those set TIM11's UIF (a UG with URS = 1 does not, §14.5.1), i.e. the
+    /// update interrupts the control tick would take with UIE = 1.
+    pub fn tim11_uif_sets(&self) -> u64 {
+        self.tim11.uif_sets
+    }
+    /// TIM1 update DMA requests that were not served: raised while the stream was
+    /// disabled, or while the previous one was still pending (merged).
+    pub fn dma_requests_lost(&self) -> u64 {
+        self.dma_lost + self.tim1.dma_overruns
+    }
+
+    /// Advance one CK_INT cycle: TIM1, then TIM2 sampling TIM1's TRGO of this cycle,
+    /// then TIM11, then any DMA transfer that lands in this cycle.
+    #[inline]
+    pub fn step(&mut self) {
+        self.cycle += 1;
+        if self.quiescent {
+            return;
+        }
+        self.tim1.step();
+        self.tim2.step(self.tim1.trgo);
+        self.tim11.step();
+        self.sync_dma();
+        while self.dma.next_due <= self.cycle {
+            self.dma_transfer();
+        }
+        self.record_edges();
+        self.quiescent =
+            self.tim1.idle() && self.tim11.idle() && self.dma.idle() && self.tim2.idle(self.tim1.quiet_trgo());
+    }
+
+    /// Step to `cycle`, skipping stretches where only counters advance.
+    pub fn run_until(&mut self, cycle: u64) {
+        while self.cycle < cycle {
+            let quiet = self
+                .tim1
+                .quiet_cycles()
+                .min(self.tim2.quiet_cycles(self.tim1.quiet_trgo()))
+                .min(self.tim11.quiet_cycles())
+                .min(self.dma.quiet_cycles(self.cycle))
+                .min(cycle - self.cycle);
+            if quiet == 0 {
+                self.step();
+            } else {
+                self.cycle += quiet;
+                self.tim1.skip(quiet);
+                self.tim2.skip(quiet, self.tim1.trgo);
+                self.tim11.skip(quiet);
+            }
+        }
+    }
+
+    /// Connect TIM1's update request line to the stream: a request the stream cannot take
+    /// (EN = 0) is lost; an accepted one lands `dma_latency_cycles` later.
+    fn sync_dma(&mut self) {
+        if self.tim1.dma_req {
+            if !self.dma.accepts() {
+                self.tim1.drop_dma_request();
+                self.dma_lost += 1;
+            } else if self.dma.idle() {
+                self.dma.schedule(self.cycle + self.params.dma_latency_cycles as u64);
+            }
+        }
+    }
+
+    fn dma_transfer(&mut self) {
+        let t = self.dma.current();
+        let value = self.sram_read(t.mem, t.size);
+        self.tim1.dma_write(t.par - addr::TIM1, value);
+        self.dma.finish();
+        self.sync_dma();
+    }
+
+    #[inline]
+    fn record_edges(&mut self) {
+        if self.tim1.pins_dirty {
+            self.push_edges();
+        }
+    }
+
+    #[cold]
+    fn push_edges(&mut self) {
+        self.tim1.pins_dirty = false;
+        for (i, pin) in [PinId::Pa8, PinId::Pa9].into_iter().enumerate() {
+            let high = self.tim1.pins[i];
+            if high != self.pins[i] {
+                self.pins[i] = high;
+                self.edges.push(Edge { cycle: self.cycle, pin, high });
+            }
+        }
+    }
+}

@@ -1,0 +1,176 @@
+//! The cutter's step output on the model of TIM1, TIM2, TIM11 and DMA2
+//! written from RM0383 (issue 11), with the real core and the firmware's
+//! own register programs: what a driver receives, against what the core
+//! believes and the exact target.
+
+use polyturn_firmware::stepgen::program::{self as prog, apply, Bus, Op};
+use polyturn_host::hwsim::scenarios::{lathe, ramp, rocking, steady, Outcome};
+use polyturn_host::hwsim::{driver::receive, Isr, TICK_LEN};
+use polyturn_stm32_model::{Mcu, Params, PwmModeSwitch};
+use polyturn_sync::Config;
+
+fn config(ratio: &str, rpm: &str) -> Config {
+    let c = Config::default().with("max-rate", "250000").unwrap().with("max-rpm", rpm).unwrap();
+    c.with("ratio", ratio).unwrap()
+}
+
+/// Every pulse a driver needing the pulse width high and low sees, every
+/// step where the core believes it is, and no more reversals than the
+/// position the core commanded.
+fn assert_clean(name: &str, o: &Outcome) {
+    let r = &o.received;
+    assert!(o.exact_agreement(), "{name}: driver {} core {} exact {}", r.steps, o.believed, o.exact);
+    assert_eq!(r.unseen, 0, "{name}: pulses a driver could miss");
+    assert!(
+        r.pulses == 0 || (r.min_high >= o.pulse && r.min_low >= o.pulse),
+        "{name}: high {} low {}",
+        r.min_high,
+        r.min_low
+    );
+    assert_eq!(r.dir_while_high, 0, "{name}: DIR changed during a pulse");
+    assert!(r.reversals <= o.command_reversals.max(o.target_reversals), "{name}: {} reversals", r.reversals);
+    assert_eq!((o.late, o.overruns), (0, 0), "{name}: late segments or overrun ticks");
+}
+
+#[test]
+fn steps_land_within_two_cycles_of_the_ideal_train_from_10_hz_to_250_khz() {
+    for hz in [10u64, 1_000, 64_000, 150_000, 250_000] {
+        let ticks = (25_000 * 2 / hz).clamp(400, 25_000);
+        let o = steady(hz * 1000, ticks, Isr::new((200, 2_000)), Params::default());
+        assert_clean(&format!("{hz} Hz"), &o);
+        assert!(o.faults.is_empty(), "{hz} Hz: {:?}", o.faults);
+        if let Some(e) = o.spacing_error {
+            assert!(e <= 2.0, "{hz} Hz: spacing error {e} cycles");
+        }
+    }
+}
+
+#[test]
+fn the_interrupts_latency_moves_no_step() {
+    // the same command with the tick's interrupt early, late and jittery:
+    // the very same edges, to the cycle
+    let edges = |lat| steady(64_000_000, 600, Isr::new(lat), Params::default()).received.rises;
+    let early = edges((200, 200));
+    assert!(early.len() > 1000);
+    assert_eq!(early, edges((2_000, 2_000)));
+    assert_eq!(early, edges((200, 2_000)));
+}
+
+#[test]
+fn a_lathe_ramp_to_top_speed_loses_no_step_at_2_1_and_11_3() {
+    for (ratio, rpm) in [("2", 2_300.0), ("11/3", 1_250.0)] {
+        let c = config(ratio, &format!("{rpm}"));
+        // 1 s to top speed: within the default max-accel
+        let o = lathe(c, &ramp(2400.0, rpm, 1.0, 0.1), 2.3, Isr::new((200, 2_000)), Params::default(), None);
+        assert!(o.received.pulses > 40_000, "{ratio}: {} pulses", o.received.pulses);
+        assert_clean(ratio, &o);
+        assert!(o.faults.is_empty(), "{ratio}: {:?}", o.faults);
+    }
+}
+
+#[test]
+fn a_chuck_rocked_by_hand_never_doubles_a_step() {
+    let o = lathe(config("2", "2000"), &rocking(40.0, 0.6), 0.8, Isr::new((200, 2_000)), Params::default(), None);
+    assert!(o.target_reversals > 30);
+    assert_clean("rocking", &o);
+}
+
+#[test]
+fn an_estop_mid_train_then_a_second_engagement_keeps_the_books_exact() {
+    // under both readings of a switch into PWM mode (see the model)
+    for switch in [PwmModeSwitch::Reevaluate, PwmModeSwitch::OnlyFromFrozen] {
+        let params = Params { pwm_mode_switch: switch, ..Params::default() };
+        // engaging again while the lathe turns: the catch-up needs time
+        let o = lathe(
+            config("2", "2000"),
+            &ramp(2400.0, 600.0, 0.2, 0.5),
+            2.5,
+            Isr::new((200, 2_000)),
+            params,
+            Some((0.4, 0.45)),
+        );
+        assert_eq!(o.faults, vec!["estop"]);
+        assert_clean("estop", &o);
+    }
+}
+
+/// A bus straight onto the model, one cycle per access.
+struct Direct<'a>(&'a mut Mcu);
+impl Bus for Direct<'_> {
+    fn write(&mut self, a: u32, v: u32) {
+        self.0.step();
+        self.0.write(a, v)
+    }
+    fn read(&mut self, a: u32) -> u32 {
+        self.0.step();
+        self.0.read(a)
+    }
+    fn delay(&mut self, c: u32) {
+        let at = self.0.cycle() + c as u64;
+        self.0.run_until(at)
+    }
+}
+
+/// Arms TIM1 on a ring of pulse segments (or the program `patch` makes of
+/// the arm program), halts it at `halt_at`; returns the model.
+fn armed_run(patch: impl Fn(&mut Vec<Op>), halt_at: u64) -> Mcu {
+    let mut mcu = Mcu::new(Params::default());
+    mcu.write(prog::TIM11 + prog::PSC, 0);
+    mcu.write(prog::TIM11 + prog::ARR, TICK_LEN - 1);
+    mcu.write(prog::TIM11 + prog::CR1, 1);
+    apply(&prog::COUNTER_INIT, &mut Direct(&mut mcu)).unwrap();
+    let ring = 0x2000_0400;
+    // every segment: 300 cycles low, then a 192-cycle pulse
+    for i in 0..16 {
+        for (j, w) in [491, 0, 300, 0xFFFF].iter().enumerate() {
+            mcu.write(ring + 16 * i + 4 * j as u32, *w);
+        }
+    }
+    let mut ops = prog::arm(ring, TICK_LEN, 0xFFFF).to_vec();
+    patch(&mut ops);
+    apply(&ops, &mut Direct(&mut mcu)).unwrap();
+    mcu.run_until(halt_at);
+    apply(&prog::halt(192), &mut Direct(&mut mcu)).unwrap();
+    mcu.run_until(halt_at + 10_000);
+    mcu
+}
+
+#[test]
+fn arming_counts_no_pulse_and_a_halt_cuts_none() {
+    // halt at every phase of a pulse: TIM2 counts exactly the pulses the
+    // driver saw, each a full pulse wide
+    for offset in (0..492).step_by(7) {
+        let mut mcu = armed_run(|_| {}, 3 * TICK_LEN as u64 + offset);
+        let counted = mcu.read(prog::TIM2 + prog::CNT) as u64;
+        let r = receive(mcu.edges(), 192, true);
+        assert_eq!(counted, r.pulses, "halt at +{offset}");
+        assert!(r.pulses > 0 && r.min_high >= 192 && r.unseen == 0, "halt at +{offset}: {r:?}");
+    }
+}
+
+#[test]
+fn the_model_catches_an_arm_program_that_sets_trgo_after_its_ug() {
+    // the first version of `arm` did: with MMS at reset, UG is TRGO
+    // (RM0383 §12.4.2) and TIM2 counts a pulse nobody sent
+    let late_mms = |ops: &mut Vec<Op>| {
+        let i = ops.iter().position(|op| *op == Op::Write(prog::TIM1 + prog::CR2, 0b100 << 4)).unwrap();
+        let mms = ops.remove(i);
+        let ug = ops.iter().position(|op| *op == Op::Write(prog::TIM1 + 0x14, 1)).unwrap();
+        ops.insert(ug + 1, mms);
+    };
+    let mut bad = armed_run(late_mms, 2 * TICK_LEN as u64);
+    let mut good = armed_run(|_| {}, 2 * TICK_LEN as u64);
+    assert_eq!(good.read(prog::TIM2 + prog::CNT), 0);
+    assert_eq!(bad.read(prog::TIM2 + prog::CNT), 1);
+}
+
+#[test]
+fn a_slow_dma_still_loads_whole_segments() {
+    // four transfers of 20 cycles: the burst takes 80 of a segment's
+    // shortest 96; the tick writes the ring all the while
+    let params = Params { dma_latency_cycles: 20, ..Params::default() };
+    let o = steady(250_000_000, 600, Isr::new((200, 2_000)), params);
+    assert_clean("250 kHz", &o);
+    let o = lathe(config("2", "2000"), &rocking(40.0, 0.6), 0.8, Isr::new((200, 2_000)), params, None);
+    assert_clean("rocking", &o);
+}
