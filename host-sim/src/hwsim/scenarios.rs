@@ -32,6 +32,8 @@ pub struct Outcome {
     pub faults: Vec<&'static str>,
     /// the shortest STEP high and low a driver must accept (cycles)
     pub pulse: u64,
+    /// the DIR setup time the driver needs (cycles)
+    pub dir_setup: u64,
 }
 
 impl Outcome {
@@ -87,6 +89,7 @@ pub fn steady(rate_millihz: u64, ticks: u64, isr: Isr, params: Params) -> Outcom
         overruns: rig.overruns,
         faults,
         pulse: t.pulse as u64,
+        dir_setup: t.dir_setup as u64,
         received,
     }
 }
@@ -159,6 +162,7 @@ pub fn lathe(
         overruns: rig.overruns,
         faults,
         pulse: t.pulse as u64,
+        dir_setup: t.dir_setup as u64,
         received,
     }
 }
