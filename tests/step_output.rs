@@ -129,6 +129,8 @@ fn armed_run(patch: impl Fn(&mut Vec<Op>), halt_at: u64) -> Mcu {
     }
     let mut ops = prog::arm(ring, TICK_LEN, 0xFFFF).to_vec();
     patch(&mut ops);
+    // as the tick's interrupt does on entry
+    mcu.write(prog::TIM11 + prog::SR, 0);
     apply(&ops, &mut Direct(&mut mcu)).unwrap();
     mcu.run_until(halt_at);
     apply(&prog::halt(192), &mut Direct(&mut mcu)).unwrap();

@@ -27,10 +27,10 @@ use entries::{Entry, Layout};
 use polyturn_sync::steps::{Dir, StepPlan, StepTiming};
 use program::{apply, Bus, Op};
 
-/// Segments in the ring: at most three per tick, two ticks in flight, and
-/// room to see the DMA overtake the writer.
-pub const RING_ENTRIES: usize = 16;
-const PENDING_MAX: usize = 8;
+/// Segments in the ring: two ticks in flight of at most `MAX_SEGMENTS`
+/// each, and as much again to tell a DMA that overtook the writer.
+pub const RING_ENTRIES: usize = 128;
+const PENDING_MAX: usize = 64;
 
 /// Shortest segment, timer cycles: the DMA's four-word burst must land
 /// before the segment ends. 1 µs at 96 MHz; `STEP_FLOOR_NS` keeps every
@@ -51,12 +51,24 @@ pub struct Generator {
     silenced: usize,
     layout: Layout,
     armed: bool,
+    /// every ring entry is silent (the DMA may start on it)
+    silent: bool,
 }
 
 impl Generator {
     /// `ring`: the address of `RING_ENTRIES × 4` words of RAM for the DMA.
     pub const fn new(ring: u32) -> Generator {
-        Generator { ring, write: 0, silenced: 0, layout: Layout::armed(Dir::Forward), armed: false }
+        Generator { ring, write: 0, silenced: 0, layout: Layout::armed(Dir::Forward), armed: false, silent: false }
+    }
+
+    /// Silences the whole ring (RAM only; the DMA must be stopped): at
+    /// boot, before the first tick, and after every halt. Zeroed RAM is no
+    /// silence: CCR1 = 0 holds STEP high in PWM mode 2.
+    pub fn silence(&mut self, tick_len: u32, bus: &mut impl Bus) {
+        for i in 0..RING_ENTRIES {
+            self.put(i, &Entry::silent(tick_len, Dir::Forward), bus);
+        }
+        self.silent = true;
     }
 
     pub fn armed(&self) -> bool {
@@ -67,6 +79,7 @@ impl Generator {
     /// `program::halt`: re-arm at the next tick that has no halt.
     pub fn halted_elsewhere(&mut self) {
         self.armed = false;
+        self.silent = false;
     }
 
     /// One control tick: the core's plan for tick k+2, or its halt.
@@ -75,10 +88,21 @@ impl Generator {
             if self.armed {
                 let _ = apply(&program::halt(t.pulse), bus);
                 self.armed = false;
+            } else if !self.silent {
+                // a tick after the halt: the stream is off, so the ring
+                // can be silenced while nothing is urgent
+                self.silence(t.tick_len, bus);
             }
             return Ok(());
         }
         if !self.armed {
+            if !self.silent {
+                // halted by the E-stop interrupt and released before this
+                // tick saw it: silence now, arm at the next tick (the
+                // plan of this tick is not emitted: the books catch it)
+                self.silence(t.tick_len, bus);
+                return Err(Fail::ArmLate);
+            }
             self.arm(t, bus)?;
         }
         let (started, finished) = self.dma_entries(bus);
@@ -105,16 +129,14 @@ impl Generator {
 
     fn arm(&mut self, t: &StepTiming, bus: &mut impl Bus) -> Result<(), Fail> {
         let tick_len = t.tick_len;
-        // the stream is off (boot, or after HALT): silence the whole ring
-        for i in 0..RING_ENTRIES {
-            self.put(i, &Entry::silent(tick_len, Dir::Forward), bus);
-        }
         let ops: [Op; 25] = program::arm(self.ring, tick_len, entries::dir_level(Dir::Forward));
         if apply(&ops, bus).is_err() {
             let _ = apply(&program::halt(t.pulse), bus);
             return Err(Fail::ArmLate);
         }
-        *self = Generator { ring: self.ring, write: 0, silenced: 0, layout: Layout::armed(Dir::Forward), armed: true };
+        let ring = self.ring;
+        *self =
+            Generator { ring, write: 0, silenced: 0, layout: Layout::armed(Dir::Forward), armed: true, silent: false };
         Ok(())
     }
 

@@ -50,7 +50,7 @@ mod tests {
     use super::*;
 
     fn plan(count: u16, dir: Dir) -> StepPlan {
-        StepPlan { count, dir, first: 0, period: 0 }
+        StepPlan { count, dir, ..StepPlan::default() }
     }
 
     /// The core's side: it asks for what is not yet emitted, each tick.

@@ -84,7 +84,9 @@ impl Rig {
         let start = mcu.cycle() + TICK_LEN as u64;
         let mut bus = ModelBus { mcu: &mut mcu, access: isr.access as u64 };
         apply(&prog::COUNTER_INIT, &mut bus).expect("counter init");
-        Rig { mcu, gen: Generator::new(RING), isr, rng: isr.seed | 1, start, ticks: 0, overruns: 0, late: 0 }
+        let mut gen = Generator::new(RING);
+        gen.silence(TICK_LEN, &mut bus);
+        Rig { mcu, gen, isr, rng: isr.seed | 1, start, ticks: 0, overruns: 0, late: 0 }
     }
 
     fn latency(&mut self) -> u64 {
@@ -105,7 +107,11 @@ impl Rig {
     /// read at, returns the core's output; the generator then applies it.
     pub fn tick(&mut self, core: impl FnOnce(u16, u64) -> (StepPlan, bool, StepTiming)) {
         let k = self.ticks;
-        let read_at = (self.tick_start(k) + self.latency()).max(self.mcu.cycle());
+        let entry = (self.tick_start(k) + self.latency()).max(self.mcu.cycle());
+        self.mcu.run_until(entry);
+        // `app::tick` clears TIM11's update flag first thing
+        self.mcu.write(prog::TIM11 + prog::SR, 0);
+        let read_at = entry + 2 * self.isr.access as u64;
         self.mcu.run_until(read_at);
         let counted = self.mcu.read(prog::TIM2 + prog::CNT) as u16;
         let (plan, halt, timing) = core(counted, read_at);

@@ -38,7 +38,9 @@ pub fn start(config: Config, mut pins: OutputPins) {
     pins.set_polarity(config.enable_active_high);
     pins.set_enable(false);
     let mut core = Controller::new(config, TIMING);
-    let steps = Generator::new(drivers::ring_address());
+    let mut steps = Generator::new(drivers::ring_address());
+    // zeroed RAM is no silence (CCR1 = 0 is STEP high): before any tick
+    steps.silence(core.derived().steps.tick_len, &mut Mmio);
     drivers::set_halt_pulse(core.derived().steps.pulse);
     core.start(LatheCounter.read(), drivers::steps_counted(), CutterCounter.read());
     critical_section::with(|cs| IO.borrow(cs).replace(Some(Io { core, steps, pins, x: XSteps::default() })));
@@ -60,6 +62,8 @@ pub fn start(config: Config, mut pins: OutputPins) {
 #[interrupt]
 fn TIM1_TRG_COM_TIM11() {
     let start = cortex_m::peripheral::DWT::cycle_count();
+    // first thing: stepgen's re-arm reads UIF to know the tick has not
+    // ended under it (`program::arm`, its `Sync`)
     pac::TIM11.sr().write_value(pac::timer::regs::Sr1ch(0));
     critical_section::with(|cs| {
         let mut io = IO.borrow(cs).borrow_mut();

@@ -60,8 +60,11 @@ pub struct Layout {
     dir: Dir,
 }
 
-/// Up to three segments per tick.
-pub type Segments = heapless::Vec<Entry, 3>;
+/// Segments per tick at most: a pad, the first pulse, and one per further
+/// step (a run of equal gaps is one segment). The board's tick of 3840
+/// cycles holds at most 20 steps of the shortest period (2 × 96 cycles).
+pub const MAX_SEGMENTS: usize = 24;
+pub type Segments = heapless::Vec<Entry, MAX_SEGMENTS>;
 
 impl Layout {
     /// The state after arming: the ring starts on a tick boundary.
@@ -72,7 +75,8 @@ impl Layout {
     /// The segments of one tick. `min_segment` is the shortest segment the
     /// DMA can reload in time; the planner keeps every pulse and gap at
     /// least that long (`STEP_FLOOR_NS`), and a shorter stretch before the
-    /// tick's start joins the first segment.
+    /// tick's start joins the first segment. Each step rises at
+    /// `plan.at(i)`; equal gaps in a row share one segment (its RCR).
     pub fn tick(&mut self, plan: &StepPlan, t: &StepTiming, min_segment: u32) -> Segments {
         let mut out = Segments::new();
         let len = t.tick_len as i32;
@@ -91,13 +95,21 @@ impl Layout {
             *self = Layout { end: 0, dir };
             return out;
         }
-        let first = plan.first as i32;
+        let first = plan.at(0) as i32;
         let _ = out.push(Entry::pulses((first - at) as u32, t.pulse, 1, dir));
-        if plan.count > 1 {
-            let _ = out.push(Entry::pulses(plan.period - t.pulse, t.pulse, plan.count as u32 - 1, dir));
+        let mut last = plan.at(0);
+        for i in 1..plan.count as u32 {
+            let gap = plan.at(i) - last;
+            last += gap;
+            match out.last_mut() {
+                Some(e) if e.ccr1 != SILENT && e.arr + 1 == gap && e.rcr < 255 => e.rcr += 1,
+                _ => {
+                    // capacity holds every plan of the board's timing (test)
+                    let _ = out.push(Entry::pulses(gap - t.pulse, t.pulse, 1, dir));
+                }
+            }
         }
-        let last = first + (plan.count as i32 - 1) * plan.period as i32;
-        *self = Layout { end: last + t.pulse as i32 - len, dir };
+        *self = Layout { end: last as i32 + t.pulse as i32 - len, dir };
         out
     }
 }

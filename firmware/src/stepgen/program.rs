@@ -15,8 +15,10 @@ pub enum Op {
     Write(u32, u32),
     /// read `addr` until `(value & mask) == 0`, at most `polls` times
     WaitClear { addr: u32, mask: u32, polls: u16 },
-    /// `to = from + add`, unless that reaches `limit` (too late in the tick)
-    Sync { from: u32, to: u32, add: u32, limit: u32 },
+    /// `to = from + add`, unless that reaches `limit`, or `flag` has
+    /// `mask` set once `from` is read (too late in the tick, or already in
+    /// the next one)
+    Sync { from: u32, to: u32, add: u32, limit: u32, flag: u32, mask: u32 },
     /// wait at least this many timer (= CPU) cycles
     Delay(u32),
 }
@@ -39,9 +41,9 @@ pub fn apply(ops: &[Op], bus: &mut impl Bus) -> Result<(), usize> {
                     return Err(i);
                 }
             }
-            Op::Sync { from, to, add, limit } => {
+            Op::Sync { from, to, add, limit, flag, mask } => {
                 let at = bus.read(from).wrapping_add(add);
-                if at >= limit {
+                if at >= limit || bus.read(flag) & mask != 0 {
                     return Err(i);
                 }
                 bus.write(to, at);
@@ -72,6 +74,7 @@ pub const RCR: u32 = 0x30;
 pub const CCR1: u32 = 0x34;
 pub const CCR2: u32 = 0x38;
 pub const BDTR: u32 = 0x44;
+pub const SR: u32 = 0x10;
 pub const DCR: u32 = 0x48;
 pub const DMAR: u32 = 0x4C;
 
@@ -184,6 +187,15 @@ pub const fn arm(ring: u32, tick_len: u32, dir_level: u32) -> [Op; 25] {
         Op::Write(S5CR, S5CR_RUN | DMA_EN),
         Op::Write(TIM1 + DIER, UDE),
         Op::Write(TIM1 + CR1, ARPE | CEN),
-        Op::Sync { from: TIM11 + CNT, to: TIM1 + CNT, add: SYNC_CYCLES, limit: tick_len - 1 },
+        // the tick's interrupt cleared TIM11's UIF on entry: still clear
+        // after the count was read means the count is this tick's
+        Op::Sync {
+            from: TIM11 + CNT,
+            to: TIM1 + CNT,
+            add: SYNC_CYCLES,
+            limit: tick_len - 1,
+            flag: TIM11 + SR,
+            mask: 1,
+        },
     ]
 }

@@ -39,7 +39,7 @@ proptest! {
             let tick0 = k as i64 * T.tick_len as i64;
             let segs = layout.tick(&p, &T, MIN_SEGMENT);
             let (got, end) = rises(&segs, timeline);
-            let want: Vec<i64> = (0..p.count as i64).map(|i| tick0 + p.first as i64 + i * p.period as i64).collect();
+            let want: Vec<i64> = (0..p.count as u32).map(|i| tick0 + p.at(i) as i64).collect();
             prop_assert_eq!(got, want);
             for s in &segs {
                 prop_assert!(s.cycles() >= MIN_SEGMENT, "segment of {} cycles", s.cycles());
@@ -103,11 +103,15 @@ fn a_wait_gives_up_after_its_polls_and_stops_the_program() {
 
 #[test]
 fn sync_copies_the_tick_count_plus_its_delay_unless_too_late() {
-    let op = [Op::Sync { from: 1, to: 2, add: 8, limit: 3839 }];
-    let mut bus = Script { reads: vec![100], ..Default::default() };
+    let op = [Op::Sync { from: 1, to: 2, add: 8, limit: 3839, flag: 3, mask: 1 }];
+    let mut bus = Script { reads: vec![100, 0], ..Default::default() };
     assert_eq!(apply(&op, &mut bus), Ok(()));
     assert_eq!(bus.writes, vec![(2, 108)]);
-    let mut bus = Script { reads: vec![3831], ..Default::default() };
+    let mut bus = Script { reads: vec![3831, 0], ..Default::default() };
+    assert_eq!(apply(&op, &mut bus), Err(0));
+    assert!(bus.writes.is_empty());
+    // a small count with the update flag set is the next tick's
+    let mut bus = Script { reads: vec![5, 1], ..Default::default() };
     assert_eq!(apply(&op, &mut bus), Err(0));
     assert!(bus.writes.is_empty());
 }
@@ -116,6 +120,8 @@ fn sync_copies_the_tick_count_plus_its_delay_unless_too_late() {
 fn a_halted_generator_writes_nothing_until_it_re_arms() {
     let mut g = Generator::new(0x2000_0000);
     let mut bus = Script::default();
+    g.silence(T.tick_len, &mut bus);
+    bus.writes.clear();
     g.tick(&StepPlan::default(), true, &T, &mut bus).unwrap();
     assert!(bus.writes.is_empty(), "not armed: nothing to halt");
     g.tick(&StepPlan::default(), false, &T, &mut bus).unwrap();
@@ -135,8 +141,9 @@ fn a_halted_generator_writes_nothing_until_it_re_arms() {
 fn a_segment_whose_burst_is_under_way_is_not_silenced() {
     let ring = 0x2000_0000;
     let mut g = Generator::new(ring);
-    // arm: the stream reads as stopped, TIM11 at 100; then NDTR full
-    let mut bus = Script { reads: vec![0, 100, program::RING_WORDS], ..Default::default() };
+    // arm: the stream reads as stopped, TIM11 at 100 and no update; then NDTR full
+    let mut bus = Script { reads: vec![0, 100, 0, program::RING_WORDS], ..Default::default() };
+    g.silence(T.tick_len, &mut bus);
     g.tick(&StepPlan::default(), false, &T, &mut bus).unwrap();
     for _ in 0..2 {
         bus.reads = vec![program::RING_WORDS];

@@ -22,10 +22,23 @@ pub enum Dir {
 pub struct StepPlan {
     pub count: u16,
     pub dir: Dir,
-    /// timer ticks from the start of the tick to the first step
+    /// timer ticks from the start of the tick to the first step (whole part)
     pub first: u32,
-    /// timer ticks between steps
+    /// timer ticks between steps (whole part)
     pub period: u32,
+    /// the fractions of `first` and `period`, in 1/256 of a timer tick
+    pub first_frac: u8,
+    pub frac: u8,
+}
+
+impl StepPlan {
+    /// Timer ticks from the start of the tick to step `i` (from 0): each
+    /// step rounded to the nearest tick of the exact, evenly spaced train.
+    #[inline]
+    pub fn at(&self, i: u32) -> u32 {
+        let period_q8 = (self.period << 8) + self.frac as u32;
+        self.first + ((self.first_frac as u32 + i * period_q8 + 128) >> 8)
+    }
 }
 
 /// The hardware seam: emit a plan; count what was really emitted.
@@ -92,7 +105,7 @@ impl Prev {
             // the next tick's start
             return Prev { dir: self.dir, rise: self.rise.saturating_sub(len).max(FAR), end: 0 };
         }
-        let rise = (plan.first + (plan.count as u32 - 1) * plan.period) as i32 - len;
+        let rise = plan.at(plan.count as u32 - 1) as i32 - len;
         Prev { dir: plan.dir, rise, end: rise + t.pulse as i32 }
     }
 }
@@ -105,7 +118,7 @@ impl Prev {
 pub fn plan(from: i64, to: i64, emitted: i64, prev: &Prev, t: &StepTiming) -> StepPlan {
     let whole = (to + (1 << 15)) >> 16;
     let wanted = whole - emitted;
-    let none = StepPlan { count: 0, dir: prev.dir, first: 0, period: 0 };
+    let none = StepPlan { count: 0, dir: prev.dir, ..StepPlan::default() };
     if wanted == 0 {
         return none;
     }
@@ -122,35 +135,61 @@ pub fn plan(from: i64, to: i64, emitted: i64, prev: &Prev, t: &StepTiming) -> St
     let count = (wanted.unsigned_abs()).min(max_fit as u64) as u32;
     let travel = (to - from).unsigned_abs();
     let on_schedule = emitted == (from + (1 << 15)) >> 16;
-    let (first, period) = if on_schedule && travel > 0 && travel < 1 << 31 {
+    let (first, first_frac, period, frac) = if on_schedule && travel > 0 && travel < 1 << 31 {
         // The first half-step boundary after `from` in the direction of motion.
         let boundary = if dir == Dir::Forward {
             ((emitted << 16) + (1 << 15)) - from
         } else {
             from - ((emitted << 16) - (1 << 15))
         };
-        // Rounded to the nearest timer tick. tick_len < 2^15, travel < 2^31
-        // and boundary ≤ 2^16 keep both in 32 bits: two UDIVs, no
+        // The first step rounded to the nearest timer tick, the period to
+        // 1/256 tick (so every step of the tick is within half a tick of
+        // its exact instant). tick_len < 2^15, boundary ≤ 2^16 and, for the
+        // fraction, travel < 2^24 keep all in 32 bits: UDIVs, no
         // __aeabi_uldivmod.
         let (len, travel) = (t.tick_len.min(0x7FFF), (travel as u32).max(1));
-        let period = ((len << 16) + travel / 2) / travel;
-        let first = ((boundary.clamp(0, 1 << 16) as u32) * len + travel / 2) / travel;
-        (first, period.max(min_period))
+        let (first, first_frac) = q8_ratio((boundary.clamp(0, 1 << 16) as u32) * len, travel);
+        let (mut period, mut frac) = q8_ratio(len << 16, travel);
+        if period < min_period {
+            (period, frac) = (min_period, 0);
+        }
+        (first, first_frac, period, frac)
     } else {
         // Late (catching up on steps not emitted in time): the first as soon
         // as allowed, the rest spread evenly over the tick.
         let period = (t.tick_len / count.saturating_add(1).max(1)).max(min_period);
-        (0, period)
+        (0, 0, period, 0)
     };
-    let first = first.max(earliest);
+    let (first, first_frac) = if first < earliest { (earliest, 0) } else { (first, first_frac) };
     if first > room {
         return none;
     }
     let count = count.min(1 + (room - first) / period);
-    StepPlan { count: count as u16, dir, first, period }
+    let p = StepPlan { count: count as u16, dir, first, period, first_frac, frac };
+    // The fractions can carry the last step past the tick: drop it, unless
+    // only the rounding did (its exact instant is inside the tick, within
+    // half a timer tick of its end: it rises with the next tick's start,
+    // still long before the next tick reads the pulse counter).
+    if p.at(count - 1) > t.tick_len {
+        return StepPlan { count: count as u16 - 1, ..p };
+    }
+    p
 }
 
 pub mod pipe;
+
+/// `num / den` as a whole part and a fraction in 1/256, rounded: 32-bit
+/// UDIVs only (the fraction needs `den` < 2^24, else it is 0).
+#[inline]
+fn q8_ratio(num: u32, den: u32) -> (u32, u8) {
+    let (whole, rest) = (num / den, num % den);
+    let frac = if den < 1 << 24 { ((rest << 8) + den / 2) / den } else { 0 };
+    if frac > 255 {
+        (whole + 1, 0)
+    } else {
+        (whole, frac as u8)
+    }
+}
 
 #[cfg(test)]
 mod tests;

@@ -62,7 +62,7 @@ impl Stepper {
         let plan = &plan;
         let sign = if plan.dir == Dir::Forward { 1.0 } else { -1.0 };
         let n = if halt { 0 } else { plan.count as usize };
-        let at = |i: usize| t0 + self.latency_s + (plan.first as f64 + (i as f64) * plan.period as f64) / timer_hz;
+        let at = |i: usize| t0 + self.latency_s + plan.at(i as u32) as f64 / timer_hz;
         let smooth_now = self.smooth_at(t0, (n > 0).then(|| (at(0), sign)));
         // The rotor follows the pulse rate averaged over ~1 ms (its
         // mechanical time constant), not each tick's whole-step count.
@@ -110,7 +110,7 @@ mod tests {
     fn too_fast_a_command_stalls_the_rotor_but_the_pulses_count() {
         // 4 steps per 40 µs tick is 100 kHz, ten times what it can follow.
         let mut s = Stepper::new(10_000.0, 1e12, 0.0, 0);
-        let plan = StepPlan { count: 4, dir: Dir::Forward, first: 100, period: 900 };
+        let plan = StepPlan { count: 4, dir: Dir::Forward, first: 100, period: 900, ..StepPlan::default() };
         for k in 0..100 {
             s.execute(&plan, k as f64 * 40e-6, 40e-6, 100e6, false);
         }

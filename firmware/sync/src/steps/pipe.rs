@@ -142,7 +142,7 @@ impl StepPipe {
     pub fn plan(&mut self, to: i64, t: &StepTiming) -> StepPlan {
         if self.halt.is_some() {
             self.last_to = to;
-            return StepPlan { count: 0, dir: self.prev.dir, first: 0, period: 0 };
+            return StepPlan { count: 0, dir: self.prev.dir, ..StepPlan::default() };
         }
         let p = plan(self.last_to, to, self.position, &self.prev, t);
         self.prev = self.prev.after(&p, t);
@@ -156,7 +156,7 @@ impl StepPipe {
     pub fn hold(&mut self, position: i64, t: &StepTiming) {
         self.last_to = position;
         if self.halt.is_none() {
-            let none = StepPlan { count: 0, dir: self.prev.dir, first: 0, period: 0 };
+            let none = StepPlan { count: 0, dir: self.prev.dir, ..StepPlan::default() };
             self.prev = self.prev.after(&none, t);
             self.push(Window { count: 0, dir: self.prev.dir });
         }

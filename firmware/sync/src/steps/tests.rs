@@ -13,7 +13,7 @@ fn run(v_q16: i64, ticks: i64) -> (Vec<i64>, i64) {
         let p = plan(pos, pos + v_q16, emitted, &prev, &T);
         prev = prev.after(&p, &T);
         for i in 0..p.count as i64 {
-            times.push(k * T.tick_len as i64 + p.first as i64 + i * p.period as i64);
+            times.push(k * T.tick_len as i64 + p.at(i as u32) as i64);
         }
         emitted += if p.dir == Dir::Forward { p.count as i64 } else { -(p.count as i64) };
         pos += v_q16;
@@ -23,13 +23,16 @@ fn run(v_q16: i64, ticks: i64) -> (Vec<i64>, i64) {
 
 #[test]
 fn steps_are_evenly_spaced_across_tick_boundaries() {
-    // 1.37 steps per tick: the gaps between steps may differ by rounding only.
-    let (times, emitted) = run((1.37 * 65536.0) as i64, 2000);
-    assert_eq!(emitted, ((1.37 * 65536.0) as i64 * 2000 + (1 << 15)) >> 16);
-    let gaps: std::vec::Vec<i64> = times.windows(2).map(|w| w[1] - w[0]).collect();
-    let ideal = 4000.0 / 1.37;
-    for g in &gaps {
-        assert!((*g as f64 - ideal).abs() <= 2.0, "gap {g} vs {ideal}");
+    // 1.37 and 4.94 steps per tick: every step within half a timer tick
+    // (and a little for the 1/256 fraction) of its exact instant, so gaps
+    // differ from the ideal by at most one tick
+    for v in [(1.37 * 65536.0) as i64, (4.94 * 65536.0) as i64] {
+        let (times, emitted) = run(v, 2000);
+        assert_eq!(emitted, (v * 2000 + (1 << 15)) >> 16);
+        for (n, t) in times.iter().enumerate() {
+            let exact = ((n as f64 + 0.5) * 65536.0) / v as f64 * 4000.0;
+            assert!((*t as f64 - exact).abs() <= 0.55, "step {n} at {t}, exact {exact}");
+        }
     }
 }
 
@@ -71,7 +74,7 @@ proptest! {
         let p = plan(from, to, emitted, &Prev::idle(last), &T);
         if p.count > 0 {
             prop_assert!(p.period >= T.min_period);
-            prop_assert!(p.first + p.period * (p.count as u32 - 1) < T.tick_len);
+            prop_assert!(p.at(p.count as u32 - 1) <= T.tick_len);
             if p.dir != last { prop_assert!(p.first >= T.dir_setup); }
             let wanted = ((to + (1 << 15)) >> 16) - emitted;
             prop_assert!(p.count as i64 <= wanted.abs());
@@ -112,17 +115,17 @@ fn the_first_step_lands_on_its_half_step_crossing() {
     let from = 3 << 13; // 3/8 step
     let to = from + (1 << 16); // one step per tick: 4000 ticks per step
     let p = plan(from, to, 0, &Prev::idle(Dir::Forward), &T);
-    assert_eq!((p.count, p.first, p.period), (1, 500, 4000));
+    assert_eq!((p.count, p.at(0), p.period), (1, 500, 4000));
     // backwards from -3/8: the crossing of -1/2 is 500 ticks in as well
     let q = plan(-from, -to, 0, &Prev::idle(Dir::Reverse), &T);
-    assert_eq!((q.count, q.dir, q.first), (1, Dir::Reverse, 500));
+    assert_eq!((q.count, q.dir, q.at(0)), (1, Dir::Reverse, 500));
 }
 
 /// Seen from the next tick, the last step of a plan moves back a tick;
 /// an empty tick is filled to its end, so DIR may change at its boundary.
 #[test]
 fn prev_after_a_plan_and_after_an_empty_tick() {
-    let p = StepPlan { count: 3, dir: Dir::Reverse, first: 100, period: 1000 };
+    let p = StepPlan { count: 3, dir: Dir::Reverse, first: 100, period: 1000, ..StepPlan::default() };
     let a = Prev::idle(Dir::Forward).after(&p, &T);
     assert_eq!(a, Prev { dir: Dir::Reverse, rise: 2100 - 4000, end: 2100 - 4000 + 250 });
     let b = a.after(&StepPlan::default(), &T);
@@ -143,7 +146,7 @@ proptest! {
             prev = prev.after(&p, &T);
             let t0 = k as i64 * T.tick_len as i64;
             for i in 0..p.count as i64 {
-                let rise = t0 + p.first as i64 + i * p.period as i64;
+                let rise = t0 + p.at(i as u32) as i64;
                 prop_assert!(rise - last_rise >= T.min_period as i64, "spacing {} at tick {k}", rise - last_rise);
                 if p.dir != last_dir {
                     prop_assert!(rise - last_end >= T.dir_setup as i64, "setup {} at tick {k}", rise - last_end);
