@@ -3,10 +3,13 @@
 //! own register programs: what a driver receives, against what the core
 //! believes and the exact target.
 
+use polyturn_firmware::stepgen::entries::Entry;
 use polyturn_firmware::stepgen::program::{self as prog, apply, Bus, Op};
+use polyturn_firmware::stepgen::RING_ENTRIES;
 use polyturn_host::hwsim::scenarios::{lathe, ramp, rocking, steady, Outcome};
 use polyturn_host::hwsim::{driver::receive, Isr, TICK_LEN};
 use polyturn_stm32_model::{Mcu, Params, PwmModeSwitch};
+use polyturn_sync::steps::Dir;
 use polyturn_sync::Config;
 
 fn config(ratio: &str, rpm: &str) -> Config {
@@ -122,12 +125,14 @@ fn armed_run(patch: impl Fn(&mut Vec<Op>), halt_at: u64) -> Mcu {
     apply(&prog::COUNTER_INIT, &mut Direct(&mut mcu)).unwrap();
     let ring = 0x2000_0400;
     // every segment: 300 cycles low, then a 192-cycle pulse
-    for i in 0..16 {
-        for (j, w) in [491, 0, 300, 0xFFFF].iter().enumerate() {
-            mcu.write(ring + 16 * i + 4 * j as u32, *w);
+    let pulse = Entry::pulses(300, 192, 1, Dir::Forward);
+    for i in 0..RING_ENTRIES as u32 {
+        for (j, w) in pulse.words().iter().enumerate() {
+            mcu.write(ring + 4 * (prog::BURST_WORDS * i + j as u32), *w);
         }
     }
-    let mut ops = prog::arm(ring, TICK_LEN, 0xFFFF).to_vec();
+    let mut ops = prog::quiet(TICK_LEN, 0xFFFF).to_vec();
+    ops.extend(prog::arm(ring, TICK_LEN));
     patch(&mut ops);
     // as the tick's interrupt does on entry
     mcu.write(prog::TIM11 + prog::SR, 0);
@@ -169,9 +174,9 @@ fn the_model_catches_an_arm_program_that_sets_trgo_after_its_ug() {
 
 #[test]
 fn a_slow_dma_still_loads_whole_segments() {
-    // four transfers of 20 cycles: the burst takes 80 of a segment's
+    // five transfers of 16 cycles: the burst takes 80 of a segment's
     // shortest 96; the tick writes the ring all the while
-    let params = Params { dma_latency_cycles: 20, ..Params::default() };
+    let params = Params { dma_latency_cycles: 16, ..Params::default() };
     let o = steady(250_000_000, 600, Isr::new((200, 2_000)), params);
     assert_clean("250 kHz", &o);
     let o = lathe(config("2", "2000"), &rocking(40.0, 0.6), 0.8, Isr::new((200, 2_000)), params, None);

@@ -6,33 +6,35 @@
 //! train (RM0383 §12.3.3), so a train cannot change its period after its
 //! first pulse, and software that re-arms the timer each tick starts it at
 //! the interrupt's latency, not at the tick. Here TIM1 never waits for
-//! software: every update event makes it fetch its next segment (ARR, RCR,
-//! CCR1, CCR2) from a ring in RAM by a DMA burst (§12.3.19), so segments
-//! follow each other to the cycle. The tick only writes RAM: the plan for
-//! tick k+2 at tick k, while the DMA is still on tick k+1's segments. DIR is
-//! TIM1's channel 2, so it changes on the segment boundary too, never while
-//! STEP is high. TIM2 counts STEP pulses (TIM1's OC1REF as its clock), and
-//! the core checks that count against what it planned.
+//! software: every update event makes it fetch its next segment (PSC, ARR,
+//! RCR, CCR1, CCR2) from a ring in RAM by a DMA burst (§12.3.19), so
+//! segments follow each other to the cycle. The tick only writes RAM: the
+//! plan for tick k+2 at tick k, while the DMA is still on tick k+1's
+//! segments. DIR is TIM1's channel 2, so it changes on a segment boundary,
+//! never while STEP is high. TIM2 counts STEP pulses (TIM1's OC1REF as its
+//! clock), and the core checks that count against what it planned.
 //!
 //! The ISR's latency does not move a step: it only has to write tick k+2's
 //! segments before the DMA reaches them, at the start of tick k+1's last
-//! segment, which is no earlier than `MIN_SEGMENT` before tick k+2. So the
-//! deadline is `tick − MIN_SEGMENT` cycles after the tick, whatever the
-//! steps. A late write is detected (the DMA's position, NDTR) and halts.
+//! segment, which is no earlier than `MIN_SEGMENT` before tick k+2. (The
+//! DMA reads each burst's first word early, §9.3.12: that word is a
+//! constant, see `entries::Entry`.) So the deadline is `tick − MIN_SEGMENT`
+//! cycles after the tick, whatever the steps. A late write is detected
+//! from the DMA's position (NDTR, before and after writing) and halts.
 
 pub mod entries;
 pub mod program;
 
 use entries::{Entry, Layout};
 use polyturn_sync::steps::{Dir, StepPlan, StepTiming};
-use program::{apply, Bus, Op};
+use program::{apply, Bus};
 
 /// Segments in the ring: two ticks in flight of at most `MAX_SEGMENTS`
 /// each, and as much again to tell a DMA that overtook the writer.
 pub const RING_ENTRIES: usize = 128;
 const PENDING_MAX: usize = 64;
 
-/// Shortest segment, timer cycles: the DMA's four-word burst must land
+/// Shortest segment, timer cycles: the DMA's five-word burst must land
 /// before the segment ends. 1 µs at 96 MHz; `STEP_FLOOR_NS` keeps every
 /// pulse at least this long.
 pub const MIN_SEGMENT: u32 = 96;
@@ -41,7 +43,7 @@ pub const MIN_SEGMENT: u32 = 96;
 pub enum Fail {
     /// re-arming found the tick too far gone to sync (it retries)
     ArmLate,
-    /// the DMA reached segments not yet written: halted
+    /// the DMA reached segments not yet written, or stopped: halted
     Late,
 }
 
@@ -56,23 +58,28 @@ pub struct Generator {
 }
 
 impl Generator {
-    /// `ring`: the address of `RING_ENTRIES × 4` words of RAM for the DMA.
+    /// `ring`: the address of `RING_ENTRIES × 5` words of RAM for the DMA.
     pub const fn new(ring: u32) -> Generator {
         Generator { ring, write: 0, silenced: 0, layout: Layout::armed(Dir::Forward), armed: false, silent: false }
     }
 
-    /// Silences the whole ring (RAM only; the DMA must be stopped): at
-    /// boot, before the first tick, and after every halt. Zeroed RAM is no
-    /// silence: CCR1 = 0 holds STEP high in PWM mode 2.
-    pub fn silence(&mut self, tick_len: u32, bus: &mut impl Bus) {
-        for i in 0..RING_ENTRIES {
-            self.put(i, &Entry::silent(tick_len, Dir::Forward), bus);
-        }
-        self.silent = true;
-    }
-
     pub fn armed(&self) -> bool {
         self.armed
+    }
+
+    /// At boot, before the first tick: outputs driven quietly (STEP low),
+    /// the ring silent. Zeroed RAM is no silence: CCR1 = 0 holds STEP high.
+    pub fn prepare(&mut self, tick_len: u32, bus: &mut impl Bus) {
+        let _ = apply(&program::quiet(tick_len, entries::dir_level(Dir::Forward)), bus);
+        self.silence(bus);
+    }
+
+    /// Silences the whole ring (RAM only; the stream must be off).
+    fn silence(&mut self, bus: &mut impl Bus) {
+        for i in 0..RING_ENTRIES {
+            self.put(i, &Entry::filler(), bus);
+        }
+        self.silent = true;
     }
 
     /// Someone else (the E-stop interrupt, the panic handler) applied
@@ -82,16 +89,21 @@ impl Generator {
         self.silent = false;
     }
 
+    fn halt(&mut self, t: &StepTiming, bus: &mut impl Bus) {
+        let _ = apply(&program::halt(t.pulse), bus);
+        self.armed = false;
+        self.silent = false;
+    }
+
     /// One control tick: the core's plan for tick k+2, or its halt.
     pub fn tick(&mut self, plan: &StepPlan, halt: bool, t: &StepTiming, bus: &mut impl Bus) -> Result<(), Fail> {
         if halt {
             if self.armed {
-                let _ = apply(&program::halt(t.pulse), bus);
-                self.armed = false;
+                self.halt(t, bus);
             } else if !self.silent {
                 // a tick after the halt: the stream is off, so the ring
                 // can be silenced while nothing is urgent
-                self.silence(t.tick_len, bus);
+                self.silence(bus);
             }
             return Ok(());
         }
@@ -100,38 +112,46 @@ impl Generator {
                 // halted by the E-stop interrupt and released before this
                 // tick saw it: silence now, arm at the next tick (the
                 // plan of this tick is not emitted: the books catch it)
-                self.silence(t.tick_len, bus);
+                self.silence(bus);
                 return Err(Fail::ArmLate);
             }
             self.arm(t, bus)?;
         }
+        // the stream runs, and has not reached what this tick writes
         let (started, finished) = self.dma_entries(bus);
         let pending = (self.write + RING_ENTRIES - started) % RING_ENTRIES;
-        if pending > PENDING_MAX {
-            let _ = apply(&program::halt(t.pulse), bus);
-            self.armed = false;
+        if pending > PENDING_MAX || bus.read(program::S5CR) & program::DMA_EN == 0 {
+            self.halt(t, bus);
             return Err(Fail::Late);
         }
-        // segments the DMA has taken whole go silent: if the tick ever
-        // stopped writing, the DMA would find silence, not old steps (not
-        // the one whose burst is under way: its last words are still to
-        // be read, and a mix of two segments is no segment)
+        // segments the DMA has taken whole go silent (not the one whose
+        // burst is under way: its last words are still to be read, and a
+        // mix of two segments is no segment)
         while self.silenced != finished {
-            self.put(self.silenced, &Entry::silent(t.tick_len, Dir::Forward), bus);
+            self.put(self.silenced, &Entry::filler(), bus);
             self.silenced = (self.silenced + 1) % RING_ENTRIES;
         }
-        for e in self.layout.tick(plan, t, MIN_SEGMENT) {
-            self.put(self.write, &e, bus);
+        let first = self.write;
+        let segments = self.layout.tick(plan, t, MIN_SEGMENT);
+        for e in &segments {
+            self.put(self.write, e, bus);
             self.write = (self.write + 1) % RING_ENTRIES;
+        }
+        // did the DMA start one of them while they were being written?
+        let (now, _) = self.dma_entries(bus);
+        let reached = (now + RING_ENTRIES - first) % RING_ENTRIES;
+        if (1..=segments.len()).contains(&reached) {
+            self.halt(t, bus);
+            return Err(Fail::Late);
         }
         Ok(())
     }
 
     fn arm(&mut self, t: &StepTiming, bus: &mut impl Bus) -> Result<(), Fail> {
-        let tick_len = t.tick_len;
-        let ops: [Op; 25] = program::arm(self.ring, tick_len, entries::dir_level(Dir::Forward));
-        if apply(&ops, bus).is_err() {
-            let _ = apply(&program::halt(t.pulse), bus);
+        let quiet = program::quiet(t.tick_len, entries::dir_level(Dir::Forward));
+        if apply(&quiet, bus).is_err() || apply(&program::arm(self.ring, t.tick_len), bus).is_err() {
+            self.halt(t, bus);
+            self.silent = true; // the stream never ran on the ring
             return Err(Fail::ArmLate);
         }
         let ring = self.ring;

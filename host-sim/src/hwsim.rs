@@ -85,7 +85,7 @@ impl Rig {
         let mut bus = ModelBus { mcu: &mut mcu, access: isr.access as u64 };
         apply(&prog::COUNTER_INIT, &mut bus).expect("counter init");
         let mut gen = Generator::new(RING);
-        gen.silence(TICK_LEN, &mut bus);
+        gen.prepare(TICK_LEN, &mut bus);
         Rig { mcu, gen, isr, rng: isr.seed | 1, start, ticks: 0, overruns: 0, late: 0 }
     }
 

@@ -39,8 +39,8 @@ pub fn start(config: Config, mut pins: OutputPins) {
     pins.set_enable(false);
     let mut core = Controller::new(config, TIMING);
     let mut steps = Generator::new(drivers::ring_address());
-    // zeroed RAM is no silence (CCR1 = 0 is STEP high): before any tick
-    steps.silence(core.derived().steps.tick_len, &mut Mmio);
+    // STEP/DIR driven quietly from now on, the ring silent: before any tick
+    steps.prepare(core.derived().steps.tick_len, &mut Mmio);
     drivers::set_halt_pulse(core.derived().steps.pulse);
     core.start(LatheCounter.read(), drivers::steps_counted(), CutterCounter.read());
     critical_section::with(|cs| IO.borrow(cs).replace(Some(Io { core, steps, pins, x: XSteps::default() })));
@@ -82,12 +82,12 @@ fn TIM1_TRG_COM_TIM11() {
             io.steps.halted_elsewhere();
         }
         // the plan for two ticks on: RAM writes only (stepgen); a halt or
-        // a (re-)arm applies its register program
-        if out.halt || io.core.config().drive == DriveKind::Stepper {
-            let timing = io.core.derived().steps;
-            if io.steps.tick(&out.plan, out.halt, &timing, &mut Mmio).is_err() {
-                STEPS_LATE.fetch_add(1, Ordering::Relaxed);
-            }
+        // a (re-)arm applies its register program. Any other drive keeps
+        // the step output halted.
+        let stepping = io.core.config().drive == DriveKind::Stepper;
+        let timing = io.core.derived().steps;
+        if io.steps.tick(&out.plan, out.halt || !stepping, &timing, &mut Mmio).is_err() {
+            STEPS_LATE.fetch_add(1, Ordering::Relaxed);
         }
         if io.core.config().drive == DriveKind::Bldc {
             let max = io.core.derived().limits.max_velocity;

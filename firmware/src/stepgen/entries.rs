@@ -21,7 +21,11 @@ pub const fn dir_level(dir: Dir) -> u32 {
     }
 }
 
-/// The four registers one DMA burst writes, in the burst's order.
+/// The registers one DMA burst writes: PSC (always 0), then ARR, RCR, CCR1,
+/// CCR2. PSC comes first because in direct mode the DMA reads a burst's
+/// first word from RAM before the request, right after the previous burst
+/// (RM0383 §9.3.12), possibly before the tick has written the segment:
+/// a constant there is harmless (PSC is preloaded too, §12.3.1).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct Entry {
     pub arr: u32,
@@ -46,8 +50,16 @@ impl Entry {
         (self.arr + 1) * (self.rcr + 1)
     }
 
-    pub fn words(&self) -> [u32; 4] {
-        [self.arr, self.rcr, self.ccr1, self.ccr2]
+    pub fn words(&self) -> [u32; 5] {
+        [0, self.arr, self.rcr, self.ccr1, self.ccr2]
+    }
+
+    /// Silence that lasts: if the tick ever stopped writing, the DMA would
+    /// lap the ring through these, 256 × 65535 cycles (0.17 s) each, so an
+    /// old segment could come round only after 22 s, long after the
+    /// watchdog has reset the MCU.
+    pub const fn filler() -> Entry {
+        Entry { arr: 0xFFFE, rcr: 255, ccr1: SILENT, ccr2: dir_level(Dir::Forward) }
     }
 }
 

@@ -15,9 +15,8 @@ pub enum Op {
     Write(u32, u32),
     /// read `addr` until `(value & mask) == 0`, at most `polls` times
     WaitClear { addr: u32, mask: u32, polls: u16 },
-    /// `to = from + add`, unless that reaches `limit`, or `flag` has
-    /// `mask` set once `from` is read (too late in the tick, or already in
-    /// the next one)
+    /// `to = from + add`, unless that reaches `limit`; then fails if `flag`
+    /// has `mask` set (the tick ended around the copy: too late)
     Sync { from: u32, to: u32, add: u32, limit: u32, flag: u32, mask: u32 },
     /// wait at least this many timer (= CPU) cycles
     Delay(u32),
@@ -42,11 +41,15 @@ pub fn apply(ops: &[Op], bus: &mut impl Bus) -> Result<(), usize> {
                 }
             }
             Op::Sync { from, to, add, limit, flag, mask } => {
+                // read and write back to back: their distance is `add`
                 let at = bus.read(from).wrapping_add(add);
-                if at >= limit || bus.read(flag) & mask != 0 {
+                if at >= limit {
                     return Err(i);
                 }
                 bus.write(to, at);
+                if bus.read(flag) & mask != 0 {
+                    return Err(i);
+                }
             }
             Op::Delay(cycles) => bus.delay(cycles),
         }
@@ -86,9 +89,13 @@ pub const S5PAR: u32 = DMA2 + 0x18 + 0x18 * 5;
 pub const S5M0AR: u32 = DMA2 + 0x1C + 0x18 * 5;
 pub const S5FCR: u32 = DMA2 + 0x24 + 0x18 * 5;
 
-// TIMx_CR1 (§12.4.1)
+// TIMx_CR1 (§12.4.1). URS: only an overflow sets UIF and requests DMA, so
+// a UG never starts a burst (UIF set by a UG could otherwise request one
+// the moment UDE is set)
 const CEN: u32 = 1 << 0;
+const URS: u32 = 1 << 2;
 const ARPE: u32 = 1 << 7;
+const CR1_STOPPED: u32 = ARPE | URS;
 // TIMx_CR2.MMS = 100: OC1REF is TRGO (§12.4.2), TIM2 counts it
 const MMS_OC1REF: u32 = 0b100 << 4;
 // TIMx_SMCR (§13.4.3): SMS = 111 external clock mode 1, TS = 000 ITR0 (TIM1)
@@ -111,16 +118,16 @@ pub const CCMR1_HALT: u32 = OC1_FORCE_LOW | OC2_PWM1 | PRELOADS;
 const CC1E_CC2E: u32 = (1 << 0) | (1 << 4);
 // TIMx_BDTR.MOE (§12.4.18): an advanced timer's outputs need it
 const MOE: u32 = 1 << 15;
-/// TIMx_DCR (§12.4.19): DMA bursts start at ARR (offset 0x2C / 4 = 11) and
-/// write 4 registers: ARR, RCR, CCR1, CCR2
-pub const DCR_BURST: u32 = (3 << 8) | (ARR / 4);
-pub const BURST_WORDS: u32 = 4;
+/// TIMx_DCR (§12.4.19): DMA bursts start at PSC (offset 0x28 / 4 = 10) and
+/// write 5 registers: PSC, ARR, RCR, CCR1, CCR2 (`entries::Entry::words`)
+pub const DCR_BURST: u32 = (4 << 8) | (PSC / 4);
+pub const BURST_WORDS: u32 = 5;
 
 /// DMA2_S5CR (§9.5.5): channel 6 (TIM1_UP on stream 5, table 28), very
 /// high priority, words from memory (incremented) to the peripheral,
 /// circular.
 pub const S5CR_RUN: u32 = (6 << 25) | (0b11 << 16) | (0b10 << 13) | (0b10 << 11) | (1 << 10) | (1 << 8) | (0b01 << 6);
-const DMA_EN: u32 = 1 << 0;
+pub const DMA_EN: u32 = 1 << 0;
 /// HIFCR: clear every flag of stream 5 (bits 6, 8–11)
 const STREAM5_FLAGS: u32 = 0b1111 << 8 | 1 << 6;
 
@@ -136,7 +143,7 @@ pub const COUNTER_INIT: [Op; 3] =
 /// end and the stream stops.
 pub const fn halt(pulse: u32) -> [Op; 5] {
     [
-        Op::Write(TIM1 + CR1, ARPE),
+        Op::Write(TIM1 + CR1, CR1_STOPPED),
         Op::Delay(pulse),
         Op::Write(TIM1 + CCMR1, CCMR1_HALT),
         Op::Write(TIM1 + DIER, 0),
@@ -149,36 +156,47 @@ pub const fn halt(pulse: u32) -> [Op; 5] {
 /// fixed offset of every step (a few ns), measured on the bench.
 pub const SYNC_CYCLES: u32 = 8;
 
-/// Words in the DMA ring (entries × 4 registers).
+/// Words in the DMA ring (entries × 5 registers).
 pub const RING_WORDS: u32 = super::RING_ENTRIES as u32 * BURST_WORDS;
 
-/// (Re-)arms the output from any state. The DMA ring at `ring` must be
-/// silent. The counter runs one segment to the end of the current tick
-/// (its count set from TIM11's, `Sync`), then a silent tick, then the ring's
-/// first entry: the plan made in this tick, as `steps::pipe` expects.
-pub const fn arm(ring: u32, tick_len: u32, dir_level: u32) -> [Op; 25] {
+/// Stops everything and drives the outputs quietly: STEP low (forced),
+/// DIR at `dir_level`, loaded by UG with DMA requests off. At boot, so the
+/// pins are driven from then on (AF1 with the timer's outputs off would
+/// leave them floating, §12.4.9), and as the first part of `arm`.
+pub const fn quiet(tick_len: u32, dir_level: u32) -> [Op; 16] {
     [
         // stop: no requests, stream off and drained, counter stopped, STEP low
         Op::Write(TIM1 + DIER, 0),
         Op::Write(S5CR, S5CR_RUN),
         Op::WaitClear { addr: S5CR, mask: DMA_EN, polls: 64 },
         Op::Write(HIFCR, STREAM5_FLAGS),
-        Op::Write(TIM1 + CR1, ARPE),
+        Op::Write(TIM1 + CR1, CR1_STOPPED),
         Op::Write(TIM1 + CCMR1, CCMR1_HALT),
         // TRGO = OC1REF (held low) before the UG: with MMS at its reset
         // value the UG itself is TRGO (§12.4.2), and TIM2 would count it
         Op::Write(TIM1 + CR2, MMS_OC1REF),
-        // a silent segment of a tick, loaded at once by UG (UDE is off, so no request)
+        // a silent segment of a tick, loaded at once by UG
         Op::Write(TIM1 + PSC, 0),
         Op::Write(TIM1 + ARR, tick_len - 1),
         Op::Write(TIM1 + RCR, 0),
         Op::Write(TIM1 + CCR1, super::entries::SILENT),
         Op::Write(TIM1 + CCR2, dir_level),
         Op::Write(TIM1 + EGR, UG),
-        // PWM mode only now: CNT = 0 < CCR1, so STEP stays low (no runt)
-        Op::Write(TIM1 + CCMR1, CCMR1_RUN),
         Op::Write(TIM1 + CCER, CC1E_CC2E),
         Op::Write(TIM1 + BDTR, MOE),
+        Op::Write(TIM1 + SR, 0),
+    ]
+}
+
+/// (Re-)arms the output from any state, after `quiet`. The DMA ring at
+/// `ring` must be silent. The counter runs one segment to the end of the
+/// current tick (its count set from TIM11's, `Sync`), then a silent tick,
+/// then the ring's first entry: the plan made in this tick, as
+/// `steps::pipe` expects.
+pub const fn arm(ring: u32, tick_len: u32) -> [Op; 10] {
+    [
+        // PWM mode only now: CNT = 0 < CCR1, so STEP stays low (no runt)
+        Op::Write(TIM1 + CCMR1, CCMR1_RUN),
         Op::Write(TIM1 + DCR, DCR_BURST),
         Op::Write(S5PAR, TIM1 + DMAR),
         Op::Write(S5M0AR, ring),
@@ -186,9 +204,9 @@ pub const fn arm(ring: u32, tick_len: u32, dir_level: u32) -> [Op; 25] {
         Op::Write(S5FCR, 0),
         Op::Write(S5CR, S5CR_RUN | DMA_EN),
         Op::Write(TIM1 + DIER, UDE),
-        Op::Write(TIM1 + CR1, ARPE | CEN),
+        Op::Write(TIM1 + CR1, CR1_STOPPED | CEN),
         // the tick's interrupt cleared TIM11's UIF on entry: still clear
-        // after the count was read means the count is this tick's
+        // after the copy means the count was this tick's
         Op::Sync {
             from: TIM11 + CNT,
             to: TIM1 + CNT,

@@ -110,20 +110,23 @@ fn sync_copies_the_tick_count_plus_its_delay_unless_too_late() {
     let mut bus = Script { reads: vec![3831, 0], ..Default::default() };
     assert_eq!(apply(&op, &mut bus), Err(0));
     assert!(bus.writes.is_empty());
-    // a small count with the update flag set is the next tick's
+    // the update flag set after the copy: the count may be the next
+    // tick's, so the program fails (and the generator halts what it set)
     let mut bus = Script { reads: vec![5, 1], ..Default::default() };
     assert_eq!(apply(&op, &mut bus), Err(0));
-    assert!(bus.writes.is_empty());
+    assert_eq!(bus.writes, vec![(2, 13)]);
 }
 
 #[test]
 fn a_halted_generator_writes_nothing_until_it_re_arms() {
     let mut g = Generator::new(0x2000_0000);
     let mut bus = Script::default();
-    g.silence(T.tick_len, &mut bus);
+    g.prepare(T.tick_len, &mut bus);
     bus.writes.clear();
     g.tick(&StepPlan::default(), true, &T, &mut bus).unwrap();
     assert!(bus.writes.is_empty(), "not armed: nothing to halt");
+    // arm: stream off, TIM11 at 0, no update; NDTR full, stream on, NDTR full
+    bus.reads = vec![0, 0, 0, program::RING_WORDS, 1, program::RING_WORDS];
     g.tick(&StepPlan::default(), false, &T, &mut bus).unwrap();
     assert!(g.armed());
     let n = bus.writes.len();
@@ -141,19 +144,22 @@ fn a_halted_generator_writes_nothing_until_it_re_arms() {
 fn a_segment_whose_burst_is_under_way_is_not_silenced() {
     let ring = 0x2000_0000;
     let mut g = Generator::new(ring);
-    // arm: the stream reads as stopped, TIM11 at 100 and no update; then NDTR full
-    let mut bus = Script { reads: vec![0, 100, 0, program::RING_WORDS], ..Default::default() };
-    g.silence(T.tick_len, &mut bus);
+    let mut bus = Script::default();
+    g.prepare(T.tick_len, &mut bus);
+    // arm: the stream reads as stopped, TIM11 at 100 and no update; then
+    // NDTR full, the stream on, NDTR full
+    bus.reads = vec![0, 100, 0, program::RING_WORDS, 1, program::RING_WORDS];
     g.tick(&StepPlan::default(), false, &T, &mut bus).unwrap();
     for _ in 0..2 {
-        bus.reads = vec![program::RING_WORDS];
+        bus.reads = vec![program::RING_WORDS, 1, program::RING_WORDS];
         g.tick(&StepPlan::default(), false, &T, &mut bus).unwrap();
     }
     // a tick later the DMA has read slot 0 and two words of slot 1
-    bus.reads = vec![program::RING_WORDS - 6];
+    let w = program::BURST_WORDS;
+    bus.reads = vec![program::RING_WORDS - w - 2, 1, program::RING_WORDS - w - 2];
     let before = bus.writes.len();
     g.tick(&StepPlan::default(), false, &T, &mut bus).unwrap();
-    let slot = |a: u32| (a.wrapping_sub(ring) / 16) as usize;
+    let slot = |a: u32| (a.wrapping_sub(ring) / (4 * program::BURST_WORDS)) as usize;
     let touched: Vec<usize> = bus.writes[before..].iter().map(|(a, _)| slot(*a)).collect();
     assert!(touched.contains(&0), "slot 0, read whole, is silenced");
     assert!(!touched.contains(&1), "slot 1 is mid-burst: {touched:?}");

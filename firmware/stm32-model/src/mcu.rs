@@ -66,6 +66,12 @@ pub struct Mcu {
     dma_lost: u64,
     /// Nothing counts, nothing is pending: a step only advances the cycle count.
     quiescent: bool,
+    /// Direct mode, memory to peripheral: the stream reads its next item from
+    /// memory before the request comes (RM0383 §9.3.12: "the DMA preloads only
+    /// one data from the memory to the internal FIFO to ensure an immediate data
+    /// transfer as soon as a DMA request is triggered"): when it is enabled and
+    /// after each transfer. `None` while the stream is off.
+    prefetched: Option<u32>,
 }
 
 impl PartialEq for Mcu {
@@ -73,6 +79,7 @@ impl PartialEq for Mcu {
         (self.params, self.cycle, &self.tim1, &self.tim2, &self.tim11, &self.dma)
             == (o.params, o.cycle, &o.tim1, &o.tim2, &o.tim11, &o.dma)
             && (&self.sram, &self.edges, self.pins, self.dma_lost) == (&o.sram, &o.edges, o.pins, o.dma_lost)
+            && self.prefetched == o.prefetched
     }
 }
 
@@ -93,6 +100,7 @@ impl Mcu {
             pins: [false; 2],
             dma_lost: 0,
             quiescent: false,
+            prefetched: None,
         }
     }
 
@@ -179,10 +187,26 @@ impl Mcu {
 
     fn dma_transfer(&mut self) {
         let t = self.dma.current();
-        let value = self.sram_read(t.mem, t.size);
+        let value = match self.prefetched.take() {
+            Some(v) => v,
+            None => self.sram_read(t.mem, t.size),
+        };
         self.tim1.dma_write(t.par - addr::TIM1, value);
         self.dma.finish();
+        self.prefetch();
         self.sync_dma();
+    }
+
+    /// Latches the stream's next item while it is enabled (see `prefetched`).
+    pub(crate) fn prefetch(&mut self) {
+        if !self.dma.accepts() {
+            self.prefetched = None;
+        } else if self.prefetched.is_none() {
+            let t = self.dma.current();
+            let in_sram = t.mem.wrapping_sub(addr::SRAM_BASE) < addr::SRAM_SIZE && t.mem.is_multiple_of(t.size);
+            // (outside SRAM the transfer itself reports the access)
+            self.prefetched = in_sram.then(|| self.sram_read(t.mem, t.size));
+        }
     }
 
     #[inline]

@@ -219,3 +219,26 @@ fn update_requests_while_the_stream_is_disabled_are_lost() {
     m.run_until(50);
     assert_eq!(m.read(TIM1_CCR2), 0);
 }
+
+// §9.3.12 direct mode: "the DMA preloads only one data from the memory to the internal
+// FIFO to ensure an immediate data transfer as soon as a DMA request is triggered". The
+// item is read from RAM when the stream is enabled and after each transfer, so a later
+// write to that word does not reach the peripheral (the stepgen bug an independent review
+// found: a burst's first word read before the tick wrote it).
+#[test]
+fn direct_mode_reads_the_next_item_before_its_request() {
+    let mut m = mcu();
+    sram_u16(&mut m, BUF, &[111, 222]);
+    dma5(&mut m, TIM1_CCR2, BUF, 2, dma_cr::SIZE_HALF, false);
+    // overwritten after the enable: the stream already holds 111
+    sram_u16(&mut m, BUF, &[999, 222]);
+    m.write(TIM1_DIER, dier::UDE.mask());
+    m.write(TIM1_EGR, egr::UG.mask());
+    m.run_until(20);
+    assert_eq!(m.read(TIM1_CCR2), 111, "the item read at enable");
+    // the second item was read right after the first transfer
+    sram_u16(&mut m, BUF, &[0, 888]);
+    m.write(TIM1_EGR, egr::UG.mask());
+    m.run_until(40);
+    assert_eq!(m.read(TIM1_CCR2), 222, "the item read after the previous transfer");
+}

@@ -25,7 +25,10 @@ impl Mcu {
             Some((addr::TIM1, o)) => self.tim1.write(o, value),
             Some((addr::TIM2, o)) => self.tim2.write(o, value),
             Some((addr::TIM11, o)) => self.tim11.write(o, value),
-            Some((_, o)) => self.dma.write(o, value),
+            Some((_, o)) => {
+                self.dma.write(o, value);
+                self.prefetch();
+            }
             None => {
                 let i = self.sram_index(a, 4);
                 self.sram[i..i + 4].copy_from_slice(&value.to_le_bytes());
