@@ -182,3 +182,13 @@ fn a_slow_dma_still_loads_whole_segments() {
     let o = lathe(config("2", "2000"), &rocking(40.0, 0.6), 0.8, Isr::new((200, 2_000)), params, None);
     assert_clean("rocking", &o);
 }
+
+#[test]
+fn a_dir_setup_longer_than_a_tick_still_lets_the_cutter_reverse() {
+    // 60 µs: a tick and a half. DIR turns first, the steps follow when
+    // its setup has run out.
+    let c = config("2", "2000").with("dir-setup", "60000").unwrap();
+    let o = lathe(c, &rocking(40.0, 0.6), 0.9, Isr::new((200, 2_000)), Params::default(), None);
+    assert!(o.received.reversals > 10, "{} reversals", o.received.reversals);
+    assert_clean("long DIR setup", &o);
+}

@@ -92,9 +92,9 @@ impl Layout {
     pub fn tick(&mut self, plan: &StepPlan, t: &StepTiming, min_segment: u32) -> Segments {
         let mut out = Segments::new();
         let len = t.tick_len as i32;
-        // DIR changes at the first segment of the tick: at the end of the
-        // last pulse, when there was one
-        let dir = if plan.count > 0 { plan.dir } else { self.dir };
+        // DIR takes the plan's direction at the first segment of the tick:
+        // at the end of the last pulse, when there was one (`Prev::after`)
+        let dir = plan.dir;
         let mut at = self.end;
         if -at >= min_segment as i32 {
             // the rest of the time before this tick: its own segment, so

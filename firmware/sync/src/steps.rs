@@ -76,6 +76,9 @@ pub struct Prev {
     pub rise: i32,
     /// when DIR may change: the end of the last pulse, or a tick boundary
     pub end: i32,
+    /// when DIR last changed (`FAR` when not lately): a step in `dir`
+    /// waits for its setup time from then
+    pub dir_since: i32,
 }
 
 /// "Long ago": far enough that no spacing rule reaches into this tick.
@@ -85,28 +88,33 @@ impl Prev {
     /// No step lately, DIR as given: a reversal waits its setup time from
     /// the start of the tick.
     pub const fn idle(dir: Dir) -> Prev {
-        Prev { dir, rise: FAR, end: 0 }
+        Prev { dir, rise: FAR, end: 0, dir_since: FAR }
     }
 
     /// The earliest time in this tick a step in `dir` may rise.
     #[inline]
     pub fn earliest(&self, dir: Dir, t: &StepTiming) -> u32 {
         let spaced = self.rise.saturating_add(t.min_period as i32);
-        let e = if dir == self.dir { spaced } else { spaced.max(self.end.saturating_add(t.dir_setup as i32)) };
-        e.max(0) as u32
+        let changed = if dir == self.dir { self.dir_since } else { self.end };
+        spaced.max(changed.saturating_add(t.dir_setup as i32)).max(0) as u32
     }
 
     /// The same edges seen from the next tick, after `plan` was emitted.
+    /// DIR takes the plan's direction at the tick's first segment, at
+    /// `end` (an empty plan may turn it ahead of a reversal whose setup
+    /// time does not fit in this tick).
     #[inline]
     pub fn after(&self, plan: &StepPlan, t: &StepTiming) -> Prev {
         let len = t.tick_len as i32;
+        let back = |v: i32| v.saturating_sub(len).max(FAR);
+        let dir_since = if plan.dir != self.dir { self.end - len } else { back(self.dir_since) };
         if plan.count == 0 {
             // a tick without steps is filled to its end: DIR may change from
             // the next tick's start
-            return Prev { dir: self.dir, rise: self.rise.saturating_sub(len).max(FAR), end: 0 };
+            return Prev { dir: plan.dir, rise: back(self.rise), end: 0, dir_since };
         }
         let rise = plan.at(plan.count as u32 - 1) as i32 - len;
-        Prev { dir: plan.dir, rise, end: rise + t.pulse as i32 }
+        Prev { dir: plan.dir, rise, end: rise + t.pulse as i32, dir_since }
     }
 }
 
@@ -118,11 +126,13 @@ impl Prev {
 pub fn plan(from: i64, to: i64, emitted: i64, prev: &Prev, t: &StepTiming) -> StepPlan {
     let whole = (to + (1 << 15)) >> 16;
     let wanted = whole - emitted;
-    let none = StepPlan { count: 0, dir: prev.dir, ..StepPlan::default() };
     if wanted == 0 {
-        return none;
+        return StepPlan { dir: prev.dir, ..StepPlan::default() };
     }
     let dir = if wanted > 0 { Dir::Forward } else { Dir::Reverse };
+    // no step fits this tick: DIR turns now all the same, so that a setup
+    // time longer than a tick still runs out
+    let none = StepPlan { dir, ..StepPlan::default() };
     let earliest = prev.earliest(dir, t);
     let min_period = t.min_period.max(1); // lets the compiler drop the div-by-zero panic
                                           // Every rising edge falls inside this tick (the pulse counter has it
@@ -160,7 +170,10 @@ pub fn plan(from: i64, to: i64, emitted: i64, prev: &Prev, t: &StepTiming) -> St
         let period = (t.tick_len / count.saturating_add(1).max(1)).max(min_period);
         (0, 0, period, 0)
     };
-    let (first, first_frac) = if first < earliest { (earliest, 0) } else { (first, first_frac) };
+    // (compared rounded: a first step already as late as allowed keeps its
+    // fraction, and with it the exact spacing of the steps after it)
+    let rounded = first + ((first_frac as u32 + 128) >> 8);
+    let (first, first_frac) = if rounded < earliest { (earliest, 0) } else { (first, first_frac) };
     if first > room {
         return none;
     }

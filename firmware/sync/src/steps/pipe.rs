@@ -142,7 +142,7 @@ impl StepPipe {
     pub fn plan(&mut self, to: i64, t: &StepTiming) -> StepPlan {
         if self.halt.is_some() {
             self.last_to = to;
-            return StepPlan { count: 0, dir: self.prev.dir, ..StepPlan::default() };
+            return StepPlan::default();
         }
         let p = plan(self.last_to, to, self.position, &self.prev, t);
         self.prev = self.prev.after(&p, t);
@@ -151,14 +151,14 @@ impl StepPipe {
         p
     }
 
-    /// Holds still at `position` (Q16): an empty window.
+    /// Holds still at `position` (Q16): an empty window (DIR forward, as
+    /// the controller's empty output says).
     #[inline]
     pub fn hold(&mut self, position: i64, t: &StepTiming) {
         self.last_to = position;
         if self.halt.is_none() {
-            let none = StepPlan { count: 0, dir: self.prev.dir, ..StepPlan::default() };
-            self.prev = self.prev.after(&none, t);
-            self.push(Window { count: 0, dir: self.prev.dir });
+            self.prev = self.prev.after(&StepPlan::default(), t);
+            self.push(Window { count: 0, dir: Dir::Forward });
         }
     }
 }

@@ -26,7 +26,8 @@ fn steps_are_evenly_spaced_across_tick_boundaries() {
     // 1.37 and 4.94 steps per tick: every step within half a timer tick
     // (and a little for the 1/256 fraction) of its exact instant, so gaps
     // differ from the ideal by at most one tick
-    for v in [(1.37 * 65536.0) as i64, (4.94 * 65536.0) as i64] {
+    // (523 974 Q16 steps: a period of 500.3 ticks, just over min_period)
+    for v in [(1.37 * 65536.0) as i64, (4.94 * 65536.0) as i64, 523_974] {
         let (times, emitted) = run(v, 2000);
         assert_eq!(emitted, (v * 2000 + (1 << 15)) >> 16);
         for (n, t) in times.iter().enumerate() {
@@ -89,7 +90,7 @@ proptest! {
 #[test]
 fn a_late_step_keeps_its_spacing_from_the_previous_tick() {
     // the previous tick's last step rose 100 ticks before this tick began
-    let prev = Prev { dir: Dir::Forward, rise: -100, end: -100 + T.pulse as i32 };
+    let prev = Prev { dir: Dir::Forward, rise: -100, end: -100 + T.pulse as i32, dir_since: FAR };
     // two steps behind and standing: the late path would put the first at 0
     let p = plan(0, 0, -2, &prev, &T);
     assert_eq!(p.count, 2);
@@ -101,7 +102,7 @@ fn a_late_step_keeps_its_spacing_from_the_previous_tick() {
 /// tick before.
 #[test]
 fn a_reversal_after_a_step_near_the_boundary_waits_setup_after_its_end() {
-    let prev = Prev { dir: Dir::Forward, rise: -50, end: -50 + T.pulse as i32 };
+    let prev = Prev { dir: Dir::Forward, rise: -50, end: -50 + T.pulse as i32, dir_since: FAR };
     // fast enough that its first crossing (250) comes before DIR is ready
     let p = plan(0, -(8 << 16), 0, &prev, &T);
     assert_eq!(p.dir, Dir::Reverse);
@@ -127,9 +128,9 @@ fn the_first_step_lands_on_its_half_step_crossing() {
 fn prev_after_a_plan_and_after_an_empty_tick() {
     let p = StepPlan { count: 3, dir: Dir::Reverse, first: 100, period: 1000, ..StepPlan::default() };
     let a = Prev::idle(Dir::Forward).after(&p, &T);
-    assert_eq!(a, Prev { dir: Dir::Reverse, rise: 2100 - 4000, end: 2100 - 4000 + 250 });
-    let b = a.after(&StepPlan::default(), &T);
-    assert_eq!(b, Prev { dir: Dir::Reverse, rise: 2100 - 8000, end: 0 });
+    assert_eq!(a, Prev { dir: Dir::Reverse, rise: 2100 - 4000, end: 2100 - 4000 + 250, dir_since: -4000 });
+    let b = a.after(&StepPlan { dir: Dir::Reverse, ..StepPlan::default() }, &T);
+    assert_eq!(b, Prev { dir: Dir::Reverse, rise: 2100 - 8000, end: 0, dir_since: -8000 });
     assert_eq!(Prev::idle(Dir::Forward).after(&StepPlan::default(), &T).rise, FAR);
 }
 
@@ -159,4 +160,73 @@ proptest! {
             pos += dv;
         }
     }
+}
+
+/// Backwards from step 5: the first crossing (of 4½) is where it belongs
+/// (the reverse boundary arithmetic with a non-zero count).
+#[test]
+fn a_reverse_step_from_a_later_position_lands_on_its_crossing() {
+    let from = (5 << 16) - (1 << 13); // 4⅞ steps
+    let p = plan(from, from - (1 << 16), 5, &Prev::idle(Dir::Reverse), &T);
+    // 4⅞ → 4½ is ⅜ of a step at one step per tick: 1500 ticks in
+    assert_eq!((p.count, p.dir, p.at(0)), (1, Dir::Reverse, 1500));
+}
+
+/// A DIR setup longer than a tick puts the reversal off by whole ticks.
+#[test]
+fn a_dir_setup_longer_than_a_tick_delays_the_reversal() {
+    let t = StepTiming { dir_setup: 5_000, ..T };
+    let prev = Prev { dir: Dir::Forward, rise: -300, end: -50, dir_since: FAR };
+    // nothing fits, but DIR turns now, at the end of the last pulse
+    let p = plan(0, -(1 << 16), 0, &prev, &t);
+    assert_eq!((p.count, p.dir), (0, Dir::Reverse));
+    let next = prev.after(&p, &t);
+    // 5000 cycles after the pulse's end: 950 into the next tick
+    let q = plan(0, -(8 << 16), 0, &next, &t);
+    assert_eq!((q.count, q.dir, q.at(0)), (7, Dir::Reverse, 950));
+}
+
+/// A step due at the tick's last cycle goes out in this tick.
+#[test]
+fn a_step_due_at_the_last_cycle_is_not_put_off() {
+    // one step per tick; from −0.49975 steps the crossing of ½ is 3999 in
+    let from = -32_752;
+    let p = plan(from, from + (1 << 16), 0, &Prev::idle(Dir::Forward), &T);
+    assert_eq!((p.count, p.at(0)), (1, 3_999));
+}
+
+/// Catching up spreads the steps behind evenly over the tick.
+#[test]
+fn catching_up_spreads_the_missing_steps_over_the_tick() {
+    let p = plan(0, 0, -2, &Prev::idle(Dir::Forward), &T);
+    assert_eq!((p.count, p.first, p.period), (2, 0, 4_000 / 3));
+}
+
+/// A reversal that must wait late into the tick emits what fits before
+/// its end, and never lets the fractions carry a step past it.
+#[test]
+fn a_late_reversal_emits_only_what_fits() {
+    let t = StepTiming { dir_setup: 2_999, ..T };
+    let prev = Prev { dir: Dir::Forward, rise: -250, end: 0, dir_since: FAR };
+    // eight steps a tick backwards: period 500.9 ticks
+    let p = plan(0, -523_346, 0, &prev, &t);
+    assert_eq!((p.dir, p.first, p.period), (Dir::Reverse, 2_999, 500));
+    assert!(p.frac > 200);
+    // three whole periods fit after 2999; with the fraction the third
+    // would rise at 4001
+    assert_eq!(p.count, 2);
+    assert!(p.at(1) <= t.tick_len);
+    // and a slower one: after a late first, the rest wait for the next tick
+    let t = StepTiming { dir_setup: 3_000, ..T };
+    let p = plan(0, -3 << 16, 0, &prev, &t);
+    assert_eq!((p.count, p.at(0), p.period), (1, 3_000, 4_000 / 3));
+}
+
+#[test]
+fn q8_ratios_round_to_the_nearest_256th() {
+    assert_eq!(q8_ratio(1, 3), (0, 85));
+    assert_eq!(q8_ratio(2, 3), (0, 171));
+    assert_eq!(q8_ratio(255, 256), (0, 255));
+    assert_eq!(q8_ratio(511, 512), (1, 0));
+    assert_eq!(q8_ratio(7, 2), (3, 128));
 }

@@ -139,3 +139,70 @@ fn a_halt_seen_a_tick_late_still_settles_exactly() {
     assert_eq!(books.position(), hw.position);
     assert_eq!(hw.position, 3 + 1);
 }
+
+#[test]
+fn the_books_start_from_the_counter_as_it_stands() {
+    let mut books = StepPipe::default();
+    books.start(40_000);
+    assert!(books.check(40_000));
+    let mut fresh = StepPipe::default();
+    fresh.start(0);
+    assert!(!fresh.check(40_000), "40000 pulses nobody planned");
+}
+
+#[test]
+fn pulses_of_the_queued_window_counted_early_are_caught() {
+    let mut books = StepPipe::default();
+    books.start(0);
+    let mut hw = Hardware::new();
+    for k in 0..4 {
+        assert!(books.check(hw.counted as u16));
+        hw.queue.push_back(books.plan((k + 1) * (3 << 16), &T));
+        hw.end_window();
+    }
+    // the running window done, and one pulse more: of the queued one
+    hw.emit(u16::MAX);
+    assert!(books.check(hw.counted as u16));
+    assert!(!books.check(hw.counted as u16 + 1));
+}
+
+#[test]
+fn a_halt_inside_a_reverse_window_settles_backwards() {
+    let mut books = StepPipe::default();
+    books.start(0);
+    let mut hw = Hardware::new();
+    for to in [6 << 16, 6 << 16, 2 << 16, 2 << 16] {
+        assert!(books.check(hw.counted as u16));
+        hw.queue.push_back(books.plan(to, &T));
+        hw.end_window();
+    }
+    // the −4 window runs; cut after 3 of its pulses
+    let before = hw.position;
+    hw.emit(3);
+    books.halted(hw.counted as u16);
+    assert_eq!(hw.position, before - 3);
+    assert_eq!(books.position(), hw.position);
+}
+
+#[test]
+fn idle_ticks_between_plans_keep_the_windows_in_step() {
+    // plan, hold, hold, plan...: every tick is one window, planned or not
+    let mut books = StepPipe::default();
+    books.start(0);
+    let mut hw = Hardware::new();
+    let mut to = 0;
+    for k in 0..30 {
+        assert!(books.check(hw.counted as u16), "tick {k}");
+        if k % 3 == 0 {
+            to += 3 << 16;
+            hw.queue.push_back(books.plan(to, &T));
+        } else {
+            books.hold(to, &T);
+            hw.queue.push_back(StepPlan::default());
+        }
+        hw.end_window();
+    }
+    hw.end_window();
+    hw.end_window();
+    assert_eq!(books.position(), hw.position);
+}
