@@ -134,9 +134,10 @@ pub fn plan(from: i64, to: i64, emitted: i64, prev: &Prev, t: &StepTiming) -> St
     // time longer than a tick still runs out
     let none = StepPlan { dir, ..StepPlan::default() };
     let earliest = prev.earliest(dir, t);
-    let min_period = t.min_period.max(1); // lets the compiler drop the div-by-zero panic
-                                          // Every rising edge falls inside this tick (the pulse counter has it
-                                          // when the next tick reads it); what does not fit waits.
+    // (max(1) lets the compiler drop the division-by-zero panic)
+    let min_period = t.min_period.max(1);
+    // Every rising edge falls inside this tick (the pulse counter has it
+    // when the next tick reads it); what does not fit waits.
     let room = t.tick_len.saturating_sub(1);
     if earliest > room {
         return none;

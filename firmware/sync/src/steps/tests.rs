@@ -230,3 +230,28 @@ fn q8_ratios_round_to_the_nearest_256th() {
     assert_eq!(q8_ratio(511, 512), (1, 0));
     assert_eq!(q8_ratio(7, 2), (3, 128));
 }
+
+#[test]
+fn a_tick_without_steps_leaves_dir_where_it_was() {
+    let prev = Prev::idle(Dir::Reverse);
+    let p = plan(-(3 << 16), -(3 << 16), -3, &prev, &T);
+    assert_eq!((p.count, p.dir), (0, Dir::Reverse));
+}
+
+#[test]
+fn a_step_allowed_only_at_the_last_cycle_still_goes() {
+    let t = StepTiming { dir_setup: 3_999, ..T };
+    let prev = Prev { dir: Dir::Forward, rise: -300, end: 0, dir_since: FAR };
+    let p = plan(0, -(8 << 16), 0, &prev, &t);
+    assert_eq!((p.count, p.dir, p.at(0)), (1, Dir::Reverse, 3_999));
+}
+
+#[test]
+fn catching_up_after_a_late_first_step_fits_the_rest_before_the_tick_ends() {
+    // twenty steps behind, the first allowed at 2000: ten would fit at the
+    // shortest period, so they are spread at 4000/11; six of those fit
+    let t = StepTiming { tick_len: 4_000, min_period: 200, dir_setup: 2_000, pulse: 100 };
+    let prev = Prev { dir: Dir::Reverse, rise: -100, end: 0, dir_since: FAR };
+    let p = plan(0, 0, -20, &prev, &t);
+    assert_eq!((p.count, p.dir, p.first, p.period), (6, Dir::Forward, 2_000, 363));
+}
