@@ -1,23 +1,53 @@
 //! BLDC speed command → ESC servo pulse: 1000 µs stop … 2000 µs full speed
 //! (the usual RC ESC range), for a unidirectional ESC.
 
+/// The pulse that stops an RC ESC.
+pub const STOP_US: u16 = 1000;
+
+/// The ESC pulse for this tick: a speed only while a BLDC drive is enabled
+/// and nothing halts it; every fault, E-stop, alarm or other drive gets the
+/// stop pulse.
+pub fn command(bldc: bool, enable: bool, halt: bool, speed_q16: i32, max_q16: i64) -> u16 {
+    if bldc && enable && !halt {
+        pulse_us(speed_q16, max_q16)
+    } else {
+        STOP_US
+    }
+}
+
 /// `speed_q16` and `max_q16` as the core gives them (Q16 counts per tick).
+/// In 32 bits (no 64-bit division in the tick): `max-rate` ≤ 250 kHz at
+/// 25 kHz keeps `max_q16` ≤ 655 360, so `frac × 1000` < 2^32.
 pub fn pulse_us(speed_q16: i32, max_q16: i64) -> u16 {
     if max_q16 <= 0 {
-        return 1000;
+        return STOP_US;
     }
-    let frac = (speed_q16.unsigned_abs() as i64).min(max_q16);
-    (1000 + frac * 1000 / max_q16) as u16
+    let max = max_q16.min(4_000_000) as u32;
+    let frac = speed_q16.unsigned_abs().min(max);
+    STOP_US + (frac * 1000 / max) as u16
 }
 
 #[cfg(test)]
 mod tests {
+    use super::*;
+
     #[test]
     fn stop_half_and_full_and_never_beyond() {
-        assert_eq!(super::pulse_us(0, 1000), 1000);
-        assert_eq!(super::pulse_us(500, 1000), 1500);
-        assert_eq!(super::pulse_us(5000, 1000), 2000);
-        assert_eq!(super::pulse_us(-500, 1000), 1500);
-        assert_eq!(super::pulse_us(10, 0), 1000);
+        assert_eq!(pulse_us(0, 1000), 1000);
+        assert_eq!(pulse_us(500, 1000), 1500);
+        assert_eq!(pulse_us(5000, 1000), 2000);
+        assert_eq!(pulse_us(-500, 1000), 1500);
+        assert_eq!(pulse_us(10, 0), 1000);
+        // the largest the settings allow: 250 kHz at 25 kHz, Q16
+        assert_eq!(pulse_us(655_360, 655_360), 2000);
+        assert_eq!(pulse_us(327_680, 655_360), 1500);
+    }
+
+    #[test]
+    fn anything_but_an_enabled_running_bldc_gets_the_stop_pulse() {
+        assert_eq!(command(true, true, false, 500, 1000), 1500);
+        assert_eq!(command(true, true, true, 500, 1000), STOP_US, "halt (E-stop, alarm)");
+        assert_eq!(command(true, false, false, 500, 1000), STOP_US, "disabled (fault, idle)");
+        assert_eq!(command(false, true, false, 500, 1000), STOP_US, "another drive");
     }
 }

@@ -60,9 +60,11 @@ pub struct OutputPins {
 /// The ENABLE polarity, for the panic handler (which has no other state).
 static ENABLE_ACTIVE_HIGH: core::sync::atomic::AtomicBool = core::sync::atomic::AtomicBool::new(false);
 
-/// Everything off, from any context: no more steps, ENABLE inactive.
+/// Everything off, from any context: no more steps, the ESC's stop pulse,
+/// ENABLE inactive.
 pub fn all_outputs_off() {
     halt_steps();
+    set_esc_pulse_us(polyturn_firmware::esc::STOP_US);
     pac::GPIOB.bsrr().write(|w| w.set_br(X_STEP_PIN, true));
     let pins = OutputPins { enable_active_high: ENABLE_ACTIVE_HIGH.load(core::sync::atomic::Ordering::Relaxed) };
     pins.set_enable(false);
@@ -194,9 +196,11 @@ pub fn esc_pwm(tim: Peri<'static, P::TIM10>, pin: Peri<'static, P::PB8>) {
     t.psc().write_value((TIMER_HZ / 1_000_000 - 1) as u16);
     t.arr().write(|w| w.set_arr(19_999));
     t.ccr(0).write(|w| w.set_ccr(1_000));
+    // no CCR preload: a new pulse width (the stop pulse above all) takes
+    // effect in the pulse under way, not at the next 20 ms period
     t.ccmr_output(0).modify(|w| {
         w.set_ocm(0, Ocm::PWM_MODE1);
-        w.set_ocpe(0, true);
+        w.set_ocpe(0, false);
     });
     t.ccer().modify(|w| w.set_cce(0, true));
     t.cr1().modify(|w| {

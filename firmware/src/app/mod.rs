@@ -98,9 +98,9 @@ async fn main(spawner: Spawner) {
         low.spawn(t);
     }
 
-    // 4 s: longer than a 128 KiB sector erase (2 s at most), which stalls
-    // the CPU while settings are saved; a hung tick stops the steps at once
-    // anyway (a plan never outlives its tick), the reset then disables ENABLE.
+    // 4 s: longer than a 128 KiB sector erase, which stalls the CPU while
+    // settings are saved. A hung tick leaves at most two ticks of queued
+    // steps, then silent fillers (stepgen); the reset then disables ENABLE.
     let mut dog = IndependentWatchdog::new(p.IWDG, 4_000_000);
     dog.unleash();
     if let Ok(t) = usb::console(p.USB_OTG_FS, p.PA12, p.PA11, flash, cam) {

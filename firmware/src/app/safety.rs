@@ -84,6 +84,7 @@ fn EXTI15_10() {
     });
     if estop_open() || alarm() {
         super::drivers::halt_steps();
+        super::drivers::set_esc_pulse_us(polyturn_firmware::esc::STOP_US);
         HALTED.store(true, Ordering::Relaxed);
     }
 }

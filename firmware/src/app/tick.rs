@@ -66,7 +66,9 @@ fn TIM1_TRG_COM_TIM11() {
     // ended under it (`program::arm`, its `Sync`)
     pac::TIM11.sr().write_value(pac::timer::regs::Sr1ch(0));
     critical_section::with(|cs| {
-        let mut io = IO.borrow(cs).borrow_mut();
+        // (try_: nothing else can hold it inside the critical section, and
+        // the tick keeps no panic path)
+        let Ok(mut io) = IO.borrow(cs).try_borrow_mut() else { return };
         let Some(io) = io.as_mut() else { return };
         let input = TickInput {
             lathe: LatheCounter.read(),
@@ -89,10 +91,10 @@ fn TIM1_TRG_COM_TIM11() {
         if io.steps.tick(&out.plan, out.halt || !stepping, &timing, &mut Mmio).is_err() {
             STEPS_LATE.fetch_add(1, Ordering::Relaxed);
         }
-        if io.core.config().drive == DriveKind::Bldc {
-            let max = io.core.derived().limits.max_velocity;
-            drivers::set_esc_pulse_us(if out.enable { esc::pulse_us(out.speed_q16, max) } else { 1000 });
-        }
+        // every tick, whatever the drive: a fault or halt stops the ESC too
+        let bldc = io.core.config().drive == DriveKind::Bldc;
+        let max = io.core.derived().limits.max_velocity;
+        drivers::set_esc_pulse_us(esc::command(bldc, out.enable, out.halt, out.speed_q16, max));
         io.pins.set_enable(out.enable);
         drivers::set_x_pins(io.x.tick(&out.x_plan, out.halt));
     });
@@ -138,11 +140,24 @@ pub fn take_cost() -> (u32, u32, u32) {
     (ticks, sum / board::TICK_HZ, worst)
 }
 
-/// Low-priority planning: work the tick must not do (re-basing the gear).
+/// Low-priority planning: work the tick must not do (re-basing the gear),
+/// and the log of every change of state (the tick does not log).
 #[embassy_executor::task]
 pub async fn service() {
+    let mut last = polyturn_sync::State::Idle;
     loop {
-        with_core(|c| c.service());
+        if let Some(state) = with_core(|c| {
+            c.service();
+            c.state()
+        }) {
+            if state != last {
+                match state {
+                    polyturn_sync::State::Fault(f) => defmt::warn!("fault: {}: {}", f.name(), f.reason()),
+                    s => defmt::info!("{}", s.name()),
+                }
+                last = state;
+            }
+        }
         embassy_time::Timer::after_millis(1).await;
     }
 }

@@ -275,7 +275,6 @@ impl Controller {
                 self.follower.ramp_down(&lim);
                 if self.follower.velocity == 0 {
                     self.state = State::Idle;
-                    info!("idle");
                 }
             }
             State::Fault(f) if f.immediate() => self.follower = Follower { position: cutter, velocity: 0 },
@@ -294,7 +293,6 @@ impl Controller {
             let x_on_cam = self.x.as_ref().is_none_or(|x| x.on_cam);
             if close && matched && x_on_cam {
                 self.state = State::Synced;
-                info!("synced");
             }
             return;
         }
@@ -344,7 +342,8 @@ impl Controller {
                 return;
             }
         }
-        warn!("fault: {}", f.name());
+        // (no log here: the tick calls this, and logging is not for the
+        // tick; the firmware's service task logs every change of state)
         self.state = State::Fault(f);
     }
 }
