@@ -54,9 +54,39 @@ pub const TIMERS: &[(&str, &str)] = &[
     ("TIM11", "control tick, 25 kHz update interrupt at the highest priority"),
 ];
 
+/// Interrupt priorities, in one place (0 is the most urgent; the NVIC of
+/// the STM32F411 has 16 levels). The control tick is strictly above every
+/// other interrupt but the E-stop/alarm one, which may share its level
+/// (both only stop things, and equal levels do not pre-empt each other).
+/// `app` applies this map at boot and checks every enabled interrupt
+/// against it.
+pub const PRIORITIES: &[(&str, u8)] = &[
+    ("TIM1_TRG_COM_TIM11", 0), // control tick
+    ("EXTI15_10", 0),          // E-stop, drive alarm
+    ("EXTI0", 1),              // lathe index
+    ("TIM5", 2),               // embassy's time driver
+    ("OTG_FS", 3),             // USB console
+    ("USART6", 6),             // planning executor (InterruptExecutor)
+];
+
+/// The interrupt that may share the tick's level.
+pub const SHARES_TICK: &str = "EXTI15_10";
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn only_the_estop_shares_the_ticks_priority_and_nothing_outranks_it() {
+        let tick = PRIORITIES.iter().find(|p| p.0 == "TIM1_TRG_COM_TIM11").unwrap().1;
+        for (name, level) in PRIORITIES {
+            assert!(*level < 16, "{name}: the NVIC has 16 levels");
+            assert!(*level >= tick, "{name} outranks the tick");
+            if *level == tick && *name != "TIM1_TRG_COM_TIM11" {
+                assert_eq!(*name, SHARES_TICK);
+            }
+        }
+    }
 
     #[test]
     fn every_pin_is_used_once() {

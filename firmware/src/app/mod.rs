@@ -1,9 +1,12 @@
 //! The MCU application: wires the Black Pill's hardware to the sync core.
-//! Priorities: the control tick (TIM11 update) highest; the planning
-//! executor (InterruptExecutor on USART6's vector) below it; USB, console,
-//! flash, logging and the watchdog in the thread executor.
+//! Priorities (`board::PRIORITIES`, applied and checked at boot): the
+//! control tick (TIM11 update) highest, the E-stop beside it; then the
+//! index, embassy's timer, USB; the planning executor (InterruptExecutor on
+//! USART6's vector) below them; console, flash, logging and the watchdog in
+//! the thread executor.
 
 mod drivers;
+mod priorities;
 mod report;
 mod safety;
 mod settings;
@@ -14,7 +17,6 @@ use defmt::{info, warn};
 use defmt_rtt as _;
 use embassy_executor::{InterruptExecutor, Spawner};
 use embassy_stm32::interrupt;
-use embassy_stm32::interrupt::{InterruptExt, Priority};
 use embassy_stm32::time::Hertz;
 use embassy_stm32::wdg::IndependentWatchdog;
 use embassy_time::Timer;
@@ -30,6 +32,26 @@ fn panic(_info: &core::panic::PanicInfo) -> ! {
 }
 
 static PLANNER: InterruptExecutor = InterruptExecutor::new();
+
+/// The watchdog's period as embassy computes it, for a 32 kHz LSI. The
+/// F411's LSI is 17 to 47 kHz (DS10314), so the real period is 5.4 to 15 s:
+/// longer than a 128 KiB sector erase at ×8 parallelism (4 s at most),
+/// which stalls the CPU while settings are saved (the erase pets the dog
+/// first). A hung tick leaves at most two ticks of queued steps, then
+/// silent fillers (stepgen); the reset then disables ENABLE.
+const WATCHDOG_US: u32 = 8_000_000;
+
+/// Flash prefetch and both caches on: embassy's init sets only the wait
+/// states (RM0383 §3.4.1 FLASH_ACR), and without them every figure in
+/// cycles is worse than the instruction counts suggest. The data cache is
+/// turned off and reset around flash writes (`settings::cache_off`).
+fn flash_accelerator_on() {
+    embassy_stm32::pac::FLASH.acr().modify(|w| {
+        w.set_prften(true);
+        w.set_icen(true);
+        w.set_dcen(true);
+    });
+}
 
 #[interrupt]
 unsafe fn USART6() {
@@ -61,6 +83,9 @@ fn clocks() -> embassy_stm32::Config {
 #[embassy_executor::main]
 async fn main(spawner: Spawner) {
     let p = embassy_stm32::init(clocks());
+    flash_accelerator_on();
+    // before any of ours is enabled; embassy's timer is already running
+    priorities::apply();
     // The settings first (they say which level of ENABLE is inactive), then
     // the outputs, inactive, before anything else runs. Until then the pins
     // float and the board's pull resistor holds ENABLE inactive.
@@ -92,16 +117,12 @@ async fn main(spawner: Spawner) {
         }
     });
 
-    interrupt::USART6.set_priority(Priority::P6);
     let low = PLANNER.start(interrupt::USART6);
     if let Ok(t) = tick::service() {
         low.spawn(t);
     }
 
-    // 4 s: longer than a 128 KiB sector erase, which stalls the CPU while
-    // settings are saved. A hung tick leaves at most two ticks of queued
-    // steps, then silent fillers (stepgen); the reset then disables ENABLE.
-    let mut dog = IndependentWatchdog::new(p.IWDG, 4_000_000);
+    let mut dog = IndependentWatchdog::new(p.IWDG, WATCHDOG_US);
     dog.unleash();
     if let Ok(t) = usb::console(p.USB_OTG_FS, p.PA12, p.PA11, flash, cam) {
         spawner.spawn(t);
@@ -111,12 +132,20 @@ async fn main(spawner: Spawner) {
     }
     let mut led =
         embassy_stm32::gpio::Output::new(p.PC13, embassy_stm32::gpio::Level::High, embassy_stm32::gpio::Speed::Low);
+    let mut loops = 0u32;
     loop {
         // The watchdog is fed only while the tick runs: a hung tick resets
         // the MCU, and reset leaves every output inactive.
         if tick::alive() {
             dog.pet();
         }
+        if loops == 1 {
+            // 100 ms in: every driver has enabled its interrupts
+            if priorities::check() {
+                info!("interrupt priorities as in board::PRIORITIES");
+            }
+        }
+        loops = loops.saturating_add(1);
         led.toggle();
         Timer::after_millis(100).await;
     }

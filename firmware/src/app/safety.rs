@@ -5,7 +5,7 @@
 use core::sync::atomic::{AtomicBool, AtomicU32, Ordering};
 use embassy_stm32::gpio::{Input, Pull};
 use embassy_stm32::interrupt;
-use embassy_stm32::interrupt::{InterruptExt, Priority};
+use embassy_stm32::interrupt::InterruptExt;
 use embassy_stm32::pac;
 use embassy_stm32::peripherals as P;
 use embassy_stm32::Peri;
@@ -42,8 +42,7 @@ pub fn inputs(index: Peri<'static, P::PB0>, estop: Peri<'static, P::PB14>, alarm
             w.set_line(line, true);
         }
     });
-    interrupt::EXTI0.set_priority(Priority::P0);
-    interrupt::EXTI15_10.set_priority(Priority::P0);
+    // (their priorities: `board::PRIORITIES`, applied before this)
     // SAFETY: handlers below only touch atomics and the step timer.
     unsafe {
         interrupt::EXTI0.enable();

@@ -19,13 +19,33 @@ const SECTOR: u32 = 0x2_0000;
 /// The settings sectors; owned by the console task, the only writer.
 pub struct Sectors(Flash<'static, Blocking>);
 
+/// Runs a flash erase or write with the data cache off, then resets it
+/// before turning it back on (RM0383 §3.5.2: the cache is not kept
+/// coherent with flash being programmed, and DCRST acts only while it is
+/// off); embassy does this only for dual-bank parts.
+fn cache_off<R>(f: impl FnOnce() -> R) -> R {
+    use embassy_stm32::pac::FLASH;
+    let on = FLASH.acr().read().dcen();
+    FLASH.acr().modify(|w| w.set_dcen(false));
+    let r = f();
+    if on {
+        FLASH.acr().modify(|w| w.set_dcrst(true));
+        FLASH.acr().modify(|w| w.set_dcrst(false));
+        FLASH.acr().modify(|w| w.set_dcen(true));
+    }
+    r
+}
+
 impl SlotFlash for Sectors {
     type Error = embassy_stm32::flash::Error;
     fn erase(&mut self, slot: usize) -> Result<(), Self::Error> {
-        self.0.blocking_erase(SLOTS[slot], SLOTS[slot] + SECTOR)
+        // the erase stalls the CPU for up to 4 s (DS10314, ×8 parallelism):
+        // the watchdog starts a full period now (`app::WATCHDOG_US`)
+        embassy_stm32::pac::IWDG.kr().write(|w| w.set_key(embassy_stm32::pac::iwdg::vals::Key::RESET));
+        cache_off(|| self.0.blocking_erase(SLOTS[slot], SLOTS[slot] + SECTOR))
     }
     fn write(&mut self, slot: usize, offset: u32, data: &[u8]) -> Result<(), Self::Error> {
-        self.0.blocking_write(SLOTS[slot] + offset, data)
+        cache_off(|| self.0.blocking_write(SLOTS[slot] + offset, data))
     }
     fn read(&mut self, slot: usize, offset: u32, buf: &mut [u8]) -> Result<(), Self::Error> {
         self.0.blocking_read(SLOTS[slot] + offset, buf)

@@ -8,7 +8,7 @@ use core::cell::RefCell;
 use core::sync::atomic::{AtomicU32, Ordering};
 use critical_section::Mutex;
 use embassy_stm32::interrupt;
-use embassy_stm32::interrupt::{InterruptExt, Priority};
+use embassy_stm32::interrupt::InterruptExt;
 use embassy_stm32::pac;
 use polyturn_firmware::stepgen::Generator;
 use polyturn_firmware::xsteps::XSteps;
@@ -54,7 +54,6 @@ pub fn start(config: Config, mut pins: OutputPins) {
     t.arr().write(|w| w.set_arr((TIMER_HZ / board::TICK_HZ - 1) as u16));
     t.dier().modify(|w| w.set_uie(true));
     t.cr1().modify(|w| w.set_cen(true));
-    interrupt::TIM1_TRG_COM_TIM11.set_priority(Priority::P0);
     // SAFETY: the handler below is ready and the shared state is set.
     unsafe { interrupt::TIM1_TRG_COM_TIM11.enable() };
 }

@@ -1,0 +1,61 @@
+//! Applies `board::PRIORITIES` and checks, at boot, that no enabled
+//! interrupt has the tick's level but the one allowed to share it (an
+//! interrupt enabled by a driver without a priority is at 0, the tick's).
+
+use cortex_m::interrupt::InterruptNumber;
+use cortex_m::peripheral::NVIC;
+use embassy_stm32::interrupt;
+use embassy_stm32::interrupt::{InterruptExt, Priority};
+use polyturn_firmware::board::{PRIORITIES, SHARES_TICK};
+
+fn level(n: u8) -> Priority {
+    // the NVIC keeps the top 4 bits (RM0383 / PM0214 §4.3.7)
+    Priority::from(n << 4)
+}
+
+pub fn apply() {
+    for &(name, n) in PRIORITIES {
+        let p = level(n);
+        match name {
+            "TIM1_TRG_COM_TIM11" => interrupt::TIM1_TRG_COM_TIM11.set_priority(p),
+            "EXTI15_10" => interrupt::EXTI15_10.set_priority(p),
+            "EXTI0" => interrupt::EXTI0.set_priority(p),
+            "TIM5" => interrupt::TIM5.set_priority(p),
+            "OTG_FS" => interrupt::OTG_FS.set_priority(p),
+            "USART6" => interrupt::USART6.set_priority(p),
+            _ => defmt::error!("priority map: unknown interrupt {}", name),
+        }
+    }
+}
+
+#[derive(Clone, Copy)]
+struct Irq(u16);
+// SAFETY: any number below the F411's 86 vectors is a valid interrupt.
+unsafe impl InterruptNumber for Irq {
+    fn number(self) -> u16 {
+        self.0
+    }
+}
+
+/// True when every enabled interrupt at the tick's level is the tick or
+/// the one allowed to share it; logs each that is not.
+pub fn check() -> bool {
+    let tick = interrupt::TIM1_TRG_COM_TIM11.get_priority();
+    let allowed = [interrupt::TIM1_TRG_COM_TIM11.number(), shared()];
+    let mut ok = true;
+    for n in 0..86u16 {
+        let irq = Irq(n);
+        if NVIC::is_enabled(irq) && NVIC::get_priority(irq) <= u8::from(tick) && !allowed.contains(&n) {
+            defmt::error!("interrupt {} is enabled at the tick's priority", n);
+            ok = false;
+        }
+    }
+    ok
+}
+
+fn shared() -> u16 {
+    match SHARES_TICK {
+        "EXTI15_10" => interrupt::EXTI15_10.number(),
+        _ => u16::MAX,
+    }
+}
