@@ -4,8 +4,12 @@
 //! (each step sits where the commanded position crosses a half step, as in
 //! Klipper's stepcompress and Didge's evenly spaced steps).
 //!
-//! The core closes on the steps really emitted (read back from hardware), so
-//! a step that was planned but not emitted is planned again, never lost.
+//! Each step rises within half a timer tick of its exact instant, at least
+//! a pulse high and a pulse low after the step before (across ticks too),
+//! and after a reversal DIR's setup time after DIR turned (`Prev`). The
+//! X axis, stepped from the tick, closes on the steps it really emitted
+//! (`drive::StepBook`); the cutter's hardware-timed output runs each plan
+//! two ticks later and its books check the pulse count (`pipe`).
 
 /// Which way DIR points.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
@@ -39,15 +43,6 @@ impl StepPlan {
         let period_q8 = (self.period << 8) + self.frac as u32;
         self.first + ((self.first_frac as u32 + i * period_q8 + 128) >> 8)
     }
-}
-
-/// The hardware seam: emit a plan; count what was really emitted.
-pub trait StepOutput {
-    fn emit(&mut self, plan: &StepPlan);
-    /// A free-running, wrapping 16-bit count of the pulses emitted.
-    fn emitted(&mut self) -> u16;
-    /// Stop at once (E-stop, alarm): abort any pulses not yet emitted.
-    fn halt(&mut self);
 }
 
 /// Timing constants of the step generator, in its timer's ticks.
