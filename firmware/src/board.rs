@@ -21,7 +21,7 @@ const fn pin(signal: &'static str, pin: &'static str, function: &'static str, ft
 pub const PINS: &[Pin] = &[
     pin("LATHE_A", "PA6", "TIM3_CH1, encoder mode, input filter", true),
     pin("LATHE_B", "PA7", "TIM3_CH2, encoder mode, input filter", true),
-    pin("LATHE_INDEX", "PB0", "EXTI0, rising edge", true),
+    pin("LATHE_INDEX", "PB0", "TIM3_CH3 input capture (AF2): the count latched in hardware at the rising edge", true),
     pin("CUTTER_STEP", "PA8", "TIM1_CH1, pulses from DMA-fed segments", true),
     pin("CUTTER_DIR", "PA9", "TIM1_CH2, changes on a segment boundary, never while STEP is high", true),
     pin("CUTTER_ENABLE", "PB13", "push-pull output, inactive at reset", true),
@@ -63,9 +63,8 @@ pub const TIMERS: &[(&str, &str)] = &[
 pub const PRIORITIES: &[(&str, u8)] = &[
     ("TIM1_TRG_COM_TIM11", 0), // control tick
     ("EXTI15_10", 0),          // E-stop, drive alarm
-    ("EXTI0", 1),              // lathe index
-    ("TIM5", 2),               // embassy's time driver
-    ("OTG_FS", 3),             // USB console
+    ("TIM5", 1),               // embassy's time driver
+    ("OTG_FS", 2),             // USB console
     ("USART6", 6),             // planning executor (InterruptExecutor)
 ];
 

@@ -6,6 +6,7 @@
 
 pub mod board;
 pub mod esc;
+pub mod led;
 pub mod line;
 pub mod stepgen;
 pub mod store;

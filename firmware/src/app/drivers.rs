@@ -91,10 +91,44 @@ fn encoder_filter(t: pac::timer::TimGp16) {
     });
 }
 
-pub fn lathe_encoder(tim: Peri<'static, P::TIM3>, a: Peri<'static, P::PA6>, b: Peri<'static, P::PA7>) {
+pub fn lathe_encoder(
+    tim: Peri<'static, P::TIM3>,
+    a: Peri<'static, P::PA6>,
+    b: Peri<'static, P::PA7>,
+    index: Peri<'static, P::PB0>,
+) {
     let cfg = embassy_stm32::timer::qei::Config { mode: QeiMode::Mode3, ..Default::default() };
     core::mem::forget(Qei::new(tim, a, b, cfg));
     encoder_filter(pac::TIM3);
+    index_capture(index);
+}
+
+/// The index on PB0 = TIM3_CH3 (AF2, DS10314 table 9): channel 3 captures
+/// the encoder count at the index's rising edge in hardware (RM0383
+/// §13.3.5 input capture; CC3S = 01, IC3 on TI3, §13.4.8; CC3E, rising,
+/// §13.4.9), so the latched count does not wait for any interrupt.
+fn index_capture(pin: Peri<'static, P::PB0>) {
+    let _ = pin;
+    pac::GPIOB.pupdr().modify(|w| w.set_pupdr(0, pac::gpio::vals::Pupdr::PULL_DOWN));
+    pac::GPIOB.afr(0).modify(|w| w.set_afr(0, 2));
+    pac::GPIOB.moder().modify(|w| w.set_moder(0, pac::gpio::vals::Moder::ALTERNATE));
+    let t = pac::TIM3;
+    t.ccmr_input(1).modify(|w| {
+        w.set_ccs(0, pac::timer::vals::CcmrInputCcs::from_bits(0b01));
+        w.set_icf(0, FilterValue::FCK_INT_N8);
+    });
+    t.ccer().modify(|w| {
+        w.set_ccp(2, false);
+        w.set_ccnp(2, false);
+        w.set_cce(2, true);
+    });
+}
+
+/// The lathe count latched at the last index edge, once (reading CCR3
+/// clears CC3IF, §13.4.5).
+pub fn take_index() -> Option<u16> {
+    let t = pac::TIM3;
+    t.sr().read().ccif(2).then(|| t.ccr(2).read().ccr())
 }
 
 pub fn cutter_encoder(tim: Peri<'static, P::TIM4>, a: Peri<'static, P::PB6>, b: Peri<'static, P::PB7>) {

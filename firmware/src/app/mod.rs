@@ -16,6 +16,7 @@ mod usb;
 use defmt::{info, warn};
 use defmt_rtt as _;
 use embassy_executor::{InterruptExecutor, Spawner};
+use embassy_stm32::gpio::Level;
 use embassy_stm32::interrupt;
 use embassy_stm32::time::Hertz;
 use embassy_stm32::wdg::IndependentWatchdog;
@@ -103,11 +104,11 @@ async fn main(spawner: Spawner) {
         config.motor_steps_per_rev,
         loaded
     );
-    drivers::lathe_encoder(p.TIM3, p.PA6, p.PA7);
+    drivers::lathe_encoder(p.TIM3, p.PA6, p.PA7, p.PB0);
     drivers::cutter_encoder(p.TIM4, p.PB6, p.PB7);
     drivers::step_output(p.TIM1, p.PA8, p.PA9, p.TIM2);
     drivers::esc_pwm(p.TIM10, p.PB8);
-    safety::inputs(p.PB0, p.PB14, p.PB15);
+    safety::inputs(p.PB14, p.PB15);
     tick::start(config, pins);
     let cam = cam.filter(|(h, t)| match tick::with_core(|c| c.fit_cam(h, t)) {
         Some(Ok(())) => true,
@@ -130,23 +131,27 @@ async fn main(spawner: Spawner) {
     if let Ok(t) = report::every_second() {
         spawner.spawn(t);
     }
+    // PC13's LED is active low; `led::lit` says what it shows
     let mut led =
         embassy_stm32::gpio::Output::new(p.PC13, embassy_stm32::gpio::Level::High, embassy_stm32::gpio::Speed::Low);
     let mut loops = 0u32;
     loop {
         // The watchdog is fed only while the tick runs: a hung tick resets
         // the MCU, and reset leaves every output inactive.
-        if tick::alive() {
+        let alive = tick::alive();
+        if alive {
             dog.pet();
         }
-        if loops == 1 {
+        let state = tick::with_core(|c| c.state()).unwrap_or(polyturn_sync::State::Idle);
+        let ms = embassy_time::Instant::now().as_millis() as u32;
+        led.set_level(if polyturn_firmware::led::lit(state, alive, ms) { Level::Low } else { Level::High });
+        if loops == 2 {
             // 100 ms in: every driver has enabled its interrupts
             if priorities::check() {
                 info!("interrupt priorities as in board::PRIORITIES");
             }
         }
         loops = loops.saturating_add(1);
-        led.toggle();
-        Timer::after_millis(100).await;
+        Timer::after_millis(50).await;
     }
 }

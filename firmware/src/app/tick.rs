@@ -71,7 +71,7 @@ fn TIM1_TRG_COM_TIM11() {
         let Some(io) = io.as_mut() else { return };
         let input = TickInput {
             lathe: LatheCounter.read(),
-            index: safety::take_index(),
+            index: drivers::take_index(),
             emitted: drivers::steps_counted(),
             cutter: CutterCounter.read(),
             estop_open: safety::estop_open(),
