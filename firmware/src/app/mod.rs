@@ -110,7 +110,7 @@ async fn main(spawner: Spawner) {
     drivers::esc_pwm(p.TIM10, p.PB8);
     safety::inputs(p.PB14, p.PB15);
     tick::start(config, pins);
-    let cam = cam.filter(|(h, t)| match tick::with_core(|c| c.fit_cam(h, t)) {
+    let cam = cam.filter(|(h, t)| match tick::fit_cam(h, t) {
         Some(Ok(())) => true,
         _ => {
             warn!("the stored cam table does not fit these settings: X axis off");

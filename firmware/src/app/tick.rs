@@ -108,6 +108,16 @@ pub fn with_core<R>(f: impl FnOnce(&mut Controller) -> R) -> Option<R> {
     critical_section::with(|cs| IO.borrow(cs).borrow_mut().as_mut().map(|io| f(&mut io.core)))
 }
 
+/// Fits a cam table: the points are checked outside the lock (a pass over
+/// the whole table), only the swap is under it.
+pub fn fit_cam(h: &polyturn_sync::cam_upload::CamHeader, table: &'static [i32]) -> Option<Result<(), &'static str>> {
+    let x = match polyturn_sync::controller::prepare_cam(h, table, TIMING) {
+        Ok(x) => x,
+        Err(e) => return Some(Err(e)),
+    };
+    with_core(|c| c.install_cam(h, x))
+}
+
 /// Applies the settings the drivers hold themselves (ENABLE polarity, the
 /// pulse width a halt waits out) after a console change, at low priority.
 pub fn apply_driver_settings() {

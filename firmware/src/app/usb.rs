@@ -132,7 +132,7 @@ fn persist(
     let Some((h, t)) = stored else { return true };
     // Never leave the X axis on the old slot's table: the next save erases
     // it. If the table no longer fits (another cpr), the X axis comes off.
-    if tick::with_core(|c| c.fit_cam(&h, t)).is_some_and(|r| r.is_err()) {
+    if tick::fit_cam(&h, t).is_some_and(|r| r.is_err()) {
         let _ = tick::with_core(|c| c.set_x_axis(None));
         *fitted = None;
     }

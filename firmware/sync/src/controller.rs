@@ -349,7 +349,7 @@ impl Controller {
 }
 
 mod commands;
-pub use commands::Status;
+pub use commands::{prepare_cam, Status};
 
 #[cfg(test)]
 mod tests;

@@ -147,11 +147,15 @@ impl Controller {
     /// idle, for this encoder, and no faster than one X step per two ticks
     /// (the firmware's X step output).
     pub fn fit_cam(&mut self, h: &crate::cam_upload::CamHeader, table: &'static [i32]) -> Result<(), &'static str> {
+        let x = prepare_cam(h, table, self.timing)?;
+        self.install_cam(h, x)
+    }
+
+    /// The quick half of `fit_cam`, for a cam `prepare_cam` built: the
+    /// firmware calls it under the tick's lock, the long half outside.
+    pub fn install_cam(&mut self, h: &crate::cam_upload::CamHeader, x: super::XAxis) -> Result<(), &'static str> {
         self.check_cam(h)?;
-        let cam = crate::cam::Cam::new(table, h.period_counts).map_err(|_| "cam table: bad points or period")?;
-        let limits =
-            crate::follower::Limits::from_rates(h.max_rate_hz as u64, h.max_accel as u64, self.timing.tick_hz as u64);
-        self.set_x_axis(Some(super::XAxis::new(cam, limits))).map_err(|r| r.describe())
+        self.set_x_axis(Some(x)).map_err(|r| r.describe())
     }
 
     /// Whether a cam with this header would fit (before it is stored).
@@ -223,4 +227,18 @@ impl Controller {
             _ => None,
         }
     }
+}
+
+/// The long half of `Controller::fit_cam`, which needs no controller: the
+/// table's points are checked (`Cam::new`, one pass over them) and the
+/// limits derived. Runs outside the tick's lock (issue 12: at boot it took
+/// about 30 000 instructions under it, eight ticks).
+pub fn prepare_cam(
+    h: &crate::cam_upload::CamHeader,
+    table: &'static [i32],
+    timing: crate::derived::Timing,
+) -> Result<super::XAxis, &'static str> {
+    let cam = crate::cam::Cam::new(table, h.period_counts).map_err(|_| "cam table: bad points or period")?;
+    let limits = crate::follower::Limits::from_rates(h.max_rate_hz as u64, h.max_accel as u64, timing.tick_hz as u64);
+    Ok(super::XAxis::new(cam, limits))
 }
