@@ -37,6 +37,25 @@ pub struct Outcome {
 }
 
 impl Outcome {
+    /// What the driver saw on the rig, against the core's belief and the
+    /// exact target; the rest for the caller to fill.
+    fn of(rig: &Rig, t: &StepTiming, believed: i64, exact: i64, faults: Vec<&'static str>) -> Outcome {
+        Outcome {
+            received: receive(rig.mcu.edges(), t.pulse as u64, true),
+            believed,
+            exact,
+            spacing_error: None,
+            delay: None,
+            target_reversals: 0,
+            command_reversals: 0,
+            late: rig.late + rig.mcu.dma_requests_lost(),
+            overruns: rig.overruns,
+            faults,
+            pulse: t.pulse as u64,
+            dir_setup: t.dir_setup as u64,
+        }
+    }
+
     /// Steps the driver took, the core's belief and the exact target agree.
     pub fn exact_agreement(&self) -> bool {
         self.received.steps == self.believed && self.believed == self.exact
@@ -79,18 +98,9 @@ pub fn steady(rate_millihz: u64, ticks: u64, isr: Isr, params: Params) -> Outcom
     let delay = errors.iter().sum::<f64>() / errors.len().max(1) as f64;
     let faults = if ok { vec![] } else { vec!["step-output"] };
     Outcome {
-        believed: books.position(),
-        exact: (q(ticks) + (1 << 15)) >> 16,
         spacing_error: (errors.len() > 1).then_some(spacing),
         delay: (!errors.is_empty()).then_some(delay),
-        target_reversals: 0,
-        command_reversals: 0,
-        late: rig.late + rig.mcu.dma_requests_lost(),
-        overruns: rig.overruns,
-        faults,
-        pulse: t.pulse as u64,
-        dir_setup: t.dir_setup as u64,
-        received,
+        ..Outcome::of(&rig, &t, books.position(), (q(ticks) + (1 << 15)) >> 16, faults)
     }
 }
 
@@ -150,20 +160,11 @@ pub fn lathe(
         target.see(Scale::round(scale, lathe_now));
         commanded.see((ctl.follower().position + (1 << 15)) >> 16);
     }
-    let received = receive(rig.mcu.edges(), t.pulse as u64, true);
+    let exact = Scale::round(scale, lathe_now) + ctl.turn_offset_steps();
     Outcome {
-        believed: ctl.status().cutter_steps,
-        exact: Scale::round(scale, lathe_now) + ctl.turn_offset_steps(),
-        spacing_error: None,
-        delay: None,
         target_reversals: target.reversals,
         command_reversals: commanded.reversals,
-        late: rig.late + rig.mcu.dma_requests_lost(),
-        overruns: rig.overruns,
-        faults,
-        pulse: t.pulse as u64,
-        dir_setup: t.dir_setup as u64,
-        received,
+        ..Outcome::of(&rig, &t, ctl.status().cutter_steps, exact, faults)
     }
 }
 
