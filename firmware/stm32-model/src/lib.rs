@@ -63,3 +63,13 @@ pub enum PwmModeSwitch {
 pub(crate) fn unmodelled(what: &str) -> ! {
     panic!("stm32-model: not modelled: {what}")
 }
+
+/// Panic if a write to register `reg` of `timer` (at `base + o`) sets a bit
+/// outside `allowed` (reserved, or not modelled).
+#[track_caller]
+pub(crate) fn only_bits(timer: &str, base: u32, o: u32, reg: &str, value: u32, allowed: u32) {
+    if value & !allowed != 0 {
+        let a = base + o;
+        unmodelled(&format!("write {value:#x} to {timer}_{reg} ({a:#010x}) sets bits {:#x}", value & !allowed));
+    }
+}

@@ -63,21 +63,14 @@ impl Tim11 {
 
     pub fn write(&mut self, o: u32, v: u32) {
         use crate::addr::off;
-        let only = |reg: &str, allowed: u32| {
-            if v & !allowed != 0 {
-                let a = crate::addr::TIM11 + o;
-                unmodelled(&format!("write {v:#x} to TIM11_{reg} ({a:#010x}) sets bits {:#x}", v & !allowed));
-            }
-        };
+        let only = |reg: &str, allowed: u32| crate::only_bits("TIM11", crate::addr::TIM11, o, reg, v, allowed);
         match o {
             off::CR1 => {
                 // TIM10/11_CR1 (§14.5.1): CKD, ARPE, URS, UDIS, CEN; bits 6:3 (where
                 // TIM1 has OPM, DIR, CMS) are reserved on TIM10/11.
                 only("CR1", cr1::CEN.mask() | cr1::UDIS.mask() | cr1::URS.mask() | cr1::ARPE.mask() | cr1::CKD.mask());
-                self.tb.cen = cr1::CEN.on(v);
-                self.tb.udis = cr1::UDIS.on(v);
-                self.tb.urs = cr1::URS.on(v);
-                self.tb.set_arpe(cr1::ARPE.on(v));
+                // (OPM is reserved here: `only` above keeps it 0)
+                self.tb.write_cr1(v);
                 self.ckd = cr1::CKD.get(v);
             }
             off::DIER => {
@@ -119,14 +112,7 @@ impl Tim11 {
     pub fn read(&self, o: u32) -> u32 {
         use crate::addr::off;
         match o {
-            off::CR1 => {
-                let t = &self.tb;
-                cr1::CEN.val(t.cen as u32)
-                    | cr1::UDIS.val(t.udis as u32)
-                    | cr1::URS.val(t.urs as u32)
-                    | cr1::ARPE.val(t.arpe as u32)
-                    | cr1::CKD.val(self.ckd)
-            }
+            off::CR1 => self.tb.cr1() | cr1::CKD.val(self.ckd),
             off::DIER => self.dier,
             off::SR => sr::UIF.val(self.tb.uif as u32),
             off::EGR => 0,

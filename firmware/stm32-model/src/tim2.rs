@@ -103,23 +103,14 @@ impl Tim2 {
 
     pub fn write(&mut self, o: u32, v: u32) {
         use crate::addr::off;
-        let only = |reg: &str, allowed: u32| {
-            if v & !allowed != 0 {
-                let a = crate::addr::TIM2 + o;
-                unmodelled(&format!("write {v:#x} to TIM2_{reg} ({a:#010x}) sets bits {:#x}", v & !allowed));
-            }
-        };
+        let only = |reg: &str, allowed: u32| crate::only_bits("TIM2", crate::addr::TIM2, o, reg, v, allowed);
         match o {
             off::CR1 => {
                 if cr1::DIR.on(v) || cr1::CMS.get(v) != 0 {
                     unmodelled("TIM2_CR1 (0x40000000): only up-counting is modelled (DIR = 0, CMS = 00)");
                 }
                 only("CR1", 0x3FF & !(cr1::DIR.mask() | cr1::CMS.mask()));
-                self.tb.cen = cr1::CEN.on(v);
-                self.tb.udis = cr1::UDIS.on(v);
-                self.tb.urs = cr1::URS.on(v);
-                self.tb.opm = cr1::OPM.on(v);
-                self.tb.set_arpe(cr1::ARPE.on(v));
+                self.tb.write_cr1(v);
                 self.ckd = cr1::CKD.get(v);
             }
             off::SMCR => {
@@ -166,15 +157,7 @@ impl Tim2 {
     pub fn read(&self, o: u32) -> u32 {
         use crate::addr::off;
         match o {
-            off::CR1 => {
-                let t = &self.tb;
-                cr1::CEN.val(t.cen as u32)
-                    | cr1::UDIS.val(t.udis as u32)
-                    | cr1::URS.val(t.urs as u32)
-                    | cr1::OPM.val(t.opm as u32)
-                    | cr1::ARPE.val(t.arpe as u32)
-                    | cr1::CKD.val(self.ckd)
-            }
+            off::CR1 => self.tb.cr1() | cr1::CKD.val(self.ckd),
             off::SMCR => self.smcr,
             off::DIER => self.dier,
             off::SR => sr::UIF.val(self.tb.uif as u32),

@@ -41,6 +41,27 @@ pub(crate) struct TimeBase {
 }
 
 impl TimeBase {
+    /// CR1's time-base bits from a written value: CEN, UDIS, URS, OPM, ARPE
+    /// (§12.4.1, §13.4.1, §14.5.1; OPM is reserved, so 0, on TIM10/11).
+    pub fn write_cr1(&mut self, v: u32) {
+        use crate::bits::cr1;
+        self.cen = cr1::CEN.on(v);
+        self.udis = cr1::UDIS.on(v);
+        self.urs = cr1::URS.on(v);
+        self.opm = cr1::OPM.on(v);
+        self.set_arpe(cr1::ARPE.on(v));
+    }
+
+    /// Those bits as CR1 reads them back.
+    pub fn cr1(&self) -> u32 {
+        use crate::bits::cr1;
+        cr1::CEN.val(self.cen as u32)
+            | cr1::UDIS.val(self.udis as u32)
+            | cr1::URS.val(self.urs as u32)
+            | cr1::OPM.val(self.opm as u32)
+            | cr1::ARPE.val(self.arpe as u32)
+    }
+
     /// Reset state: every register 0 (ARR reset value is 0 on these parts, see the
     /// TIMx_ARR descriptions §12.4.12, §13.4.12, §14.5.9).
     pub fn new(max: u32) -> TimeBase {

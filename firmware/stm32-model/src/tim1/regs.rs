@@ -7,11 +7,9 @@ use crate::bits::{bdtr, ccer, ccmr, cr1, cr2, dcr, dier, egr, sr};
 use crate::unmodelled;
 
 /// Panics unless `value` only sets bits in `allowed`.
+#[track_caller]
 fn only(o: u32, reg: &str, value: u32, allowed: u32) {
-    if value & !allowed != 0 {
-        let a = crate::addr::TIM1 + o;
-        unmodelled(&format!("write {value:#x} to TIM1_{reg} ({a:#010x}) sets bits {:#x}", value & !allowed));
-    }
+    crate::only_bits("TIM1", crate::addr::TIM1, o, reg, value, allowed);
 }
 
 fn unknown(o: u32) -> ! {
@@ -37,11 +35,7 @@ impl Tim1 {
                         | cr1::ARPE.mask()
                         | cr1::CKD.mask(),
                 );
-                self.tb.cen = cr1::CEN.on(v);
-                self.tb.udis = cr1::UDIS.on(v);
-                self.tb.urs = cr1::URS.on(v);
-                self.tb.opm = cr1::OPM.on(v);
-                self.tb.set_arpe(cr1::ARPE.on(v));
+                self.tb.write_cr1(v);
                 self.ckd = cr1::CKD.get(v);
                 self.reeval();
             }
@@ -152,15 +146,7 @@ impl Tim1 {
 
     pub fn read(&mut self, o: u32) -> u32 {
         match o {
-            off::CR1 => {
-                let t = &self.tb;
-                cr1::CEN.val(t.cen as u32)
-                    | cr1::UDIS.val(t.udis as u32)
-                    | cr1::URS.val(t.urs as u32)
-                    | cr1::OPM.val(t.opm as u32)
-                    | cr1::ARPE.val(t.arpe as u32)
-                    | cr1::CKD.val(self.ckd)
-            }
+            off::CR1 => self.tb.cr1() | cr1::CKD.val(self.ckd),
             off::CR2 => self.cr2,
             off::SMCR | off::CCMR2 | off::EGR => 0,
             off::DIER => self.dier,
