@@ -82,7 +82,8 @@ pub fn steady(rate_millihz: u64, ticks: u64, isr: Isr, params: Params) -> Outcom
             (books.plan(to, &t), false, t)
         });
     }
-    let received = receive(rig.mcu.edges(), t.pulse as u64, true);
+    let faults = if ok { vec![] } else { vec!["step-output"] };
+    let mut o = Outcome::of(&rig, &t, books.position(), (q(ticks) + (1 << 15)) >> 16, faults);
     // step m (from 1) rises where the command crosses m − ½, inside the
     // window that runs tick j's plan (two ticks later, `steps::pipe`)
     let ideal = |m: i64| -> f64 {
@@ -93,15 +94,12 @@ pub fn steady(rate_millihz: u64, ticks: u64, isr: Isr, params: Params) -> Outcom
         let start = rig.tick_start(j + 3) as f64;
         start + TICK_LEN as f64 * (c - a) as f64 / (b - a).max(1) as f64
     };
-    let errors: Vec<f64> = received.rises.iter().enumerate().map(|(i, &r)| r as f64 - ideal(i as i64 + 1)).collect();
+    let errors: Vec<f64> = o.received.rises.iter().enumerate().map(|(i, &r)| r as f64 - ideal(i as i64 + 1)).collect();
     let spacing = errors.windows(2).map(|w| (w[1] - w[0]).abs()).fold(0.0, f64::max);
     let delay = errors.iter().sum::<f64>() / errors.len().max(1) as f64;
-    let faults = if ok { vec![] } else { vec!["step-output"] };
-    Outcome {
-        spacing_error: (errors.len() > 1).then_some(spacing),
-        delay: (!errors.is_empty()).then_some(delay),
-        ..Outcome::of(&rig, &t, books.position(), (q(ticks) + (1 << 15)) >> 16, faults)
-    }
+    o.spacing_error = (errors.len() > 1).then_some(spacing);
+    o.delay = (!errors.is_empty()).then_some(delay);
+    o
 }
 
 /// A lathe motion (encoder counts as a function of seconds) through the
