@@ -8,7 +8,7 @@
 //! Segments follow each other with no gap, so the output's timeline is
 //! exact: each tick's segments end where the next tick's begin.
 
-use polyturn_sync::steps::{Dir, StepPlan, StepTiming};
+use polyturn_sync::steps::{Dir, Prev, StepPlan, StepTiming};
 
 /// CCR1 above any count: STEP stays low (PWM mode 2, §12.3.10).
 pub const SILENT: u32 = 0xFFFF;
@@ -63,13 +63,12 @@ impl Entry {
     }
 }
 
-/// Where the segments written so far end, relative to the start of the
-/// next tick, and the DIR they leave. Mirrors `steps::Prev` (the planner
-/// puts DIR's change at `end`, the end of the last pulse).
+/// Where the segments written so far end: `Prev::end`, relative to the
+/// start of the next tick, the same books the planner keeps (it puts DIR's
+/// change there, at the end of the last pulse).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct Layout {
-    end: i32,
-    dir: Dir,
+    prev: Prev,
 }
 
 /// Segments per tick at most: a pad, the first pulse, and one per further
@@ -81,7 +80,7 @@ pub type Segments = heapless::Vec<Entry, MAX_SEGMENTS>;
 impl Layout {
     /// The state after arming: the ring starts on a tick boundary.
     pub const fn armed(dir: Dir) -> Layout {
-        Layout { end: 0, dir }
+        Layout { prev: Prev::idle(dir) }
     }
 
     /// The segments of one tick. `min_segment` is the shortest segment the
@@ -95,16 +94,16 @@ impl Layout {
         // DIR takes the plan's direction at the first segment of the tick:
         // at the end of the last pulse, when there was one (`Prev::after`)
         let dir = plan.dir;
-        let mut at = self.end;
+        let mut at = self.prev.end;
         if -at >= min_segment as i32 {
             // the rest of the time before this tick: its own segment, so
             // this tick's last segment starts no earlier than the tick
             let _ = out.push(Entry::silent(-at as u32, dir));
             at = 0;
         }
+        self.prev = self.prev.after(plan, t);
         if plan.count == 0 {
             let _ = out.push(Entry::silent((len - at) as u32, dir));
-            *self = Layout { end: 0, dir };
             return out;
         }
         let first = plan.at(0) as i32;
@@ -121,7 +120,6 @@ impl Layout {
                 }
             }
         }
-        *self = Layout { end: last as i32 + t.pulse as i32 - len, dir };
         out
     }
 }
