@@ -94,14 +94,8 @@ fn dma_register_addresses_match_metapac() {
     }
 }
 
-/// Build a register value with metapac's setters and return its bits.
-macro_rules! bits {
-    ($ty:ty, |$r:ident| $set:expr) => {{
-        let mut $r = <$ty>::default();
-        $set;
-        $r.0
-    }};
-}
+#[macro_use]
+mod build_bits;
 
 #[test]
 fn dma_bit_fields_match_metapac() {

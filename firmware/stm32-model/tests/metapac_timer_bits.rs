@@ -5,14 +5,8 @@ use polyturn_stm32_model::bits::*;
 use stm32_metapac::timer::regs;
 use stm32_metapac::timer::vals;
 
-/// Build a register value with metapac's setters and return its bits.
-macro_rules! bits {
-    ($ty:ty, |$r:ident| $set:expr) => {{
-        let mut $r = <$ty>::default();
-        $set;
-        $r.0
-    }};
-}
+#[macro_use]
+mod build_bits;
 
 #[test]
 fn timer_bit_fields_match_metapac() {
