@@ -164,9 +164,9 @@ impl Tim1 {
     /// UG (§12.4.6): counter and prescaler counter re-initialised even when UDIS = 1; the
     /// update event itself only when UDIS = 0 (§12.4.1 UDIS).
     fn ug(&mut self) {
-        self.tb.reinit();
+        let uev = self.tb.ug();
         self.pending_ug = true;
-        if !self.tb.udis {
+        if uev {
             self.update_event(Source::Ug);
         }
         self.reeval();

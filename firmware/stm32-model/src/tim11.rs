@@ -77,19 +77,11 @@ impl Tim11 {
                 only("DIER", dier::UIE.mask() | dier::ccie(0).mask());
                 self.dier = v;
             }
-            off::SR => {
-                if !sr::UIF.on(v) {
-                    self.tb.uif = false;
-                }
-            }
+            off::SR => self.tb.write_uif(v),
             off::EGR => {
                 only("EGR (only UG)", egr::UG.mask());
-                if egr::UG.on(v) {
-                    // UG (§14.5.4): re-initialise counter and prescaler, UEV unless UDIS.
-                    self.tb.reinit();
-                    if !self.tb.udis {
-                        self.update_event(false);
-                    }
+                if egr::UG.on(v) && self.tb.ug() {
+                    self.update_event(false);
                 }
             }
             off::CNT => {

@@ -128,19 +128,11 @@ impl Tim2 {
                 only("DIER (only UIE)", dier::UIE.mask());
                 self.dier = v;
             }
-            off::SR => {
-                if !sr::UIF.on(v) {
-                    self.tb.uif = false;
-                }
-            }
+            off::SR => self.tb.write_uif(v),
             off::EGR => {
                 only("EGR (only UG)", egr::UG.mask());
-                if egr::UG.on(v) {
-                    // UG (§13.4.6): counter and prescaler re-initialised; UEV unless UDIS.
-                    self.tb.reinit();
-                    if !self.tb.udis {
-                        self.update_event(false);
-                    }
+                if egr::UG.on(v) && self.tb.ug() {
+                    self.update_event(false);
                 }
             }
             off::CNT => self.tb.cnt = v,

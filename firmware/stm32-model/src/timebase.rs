@@ -143,9 +143,20 @@ impl TimeBase {
     /// the prescaler counter is cleared too (anyway the prescaler ratio is not affected)"
     /// (§12.4.6 EGR.UG). Returns nothing: the caller decides about the update event,
     /// which UDIS may forbid while the re-initialisation still happens (§12.4.1 UDIS).
-    pub fn reinit(&mut self) {
+    /// UG (§12.4.6, §13.4.6, §14.5.4): counter and prescaler counter
+    /// re-initialised even when UDIS = 1; true when the update event follows
+    /// (UDIS = 0, §12.4.1).
+    pub fn ug(&mut self) -> bool {
         self.cnt = 0;
         self.psc_cnt = 0;
+        !self.udis
+    }
+
+    /// A write to SR: UIF is rc_w0 (§12.4.5, §13.4.5, §14.5.3).
+    pub fn write_uif(&mut self, v: u32) {
+        if !crate::bits::sr::UIF.on(v) {
+            self.uif = false;
+        }
     }
 
     /// TIMx_ARR write: with ARPE = 0 the shadow follows at once (§12.3.1: "transferred in

@@ -57,9 +57,7 @@ impl Tim1 {
             }
             off::SR => {
                 // rc_w0 (§12.4.5): writing 0 clears a flag, writing 1 has no effect.
-                if !sr::UIF.on(v) {
-                    self.tb.uif = false;
-                }
+                self.tb.write_uif(v);
                 for (c, ch) in self.ch.iter_mut().enumerate() {
                     if !sr::ccif(c as u32).on(v) {
                         ch.ccif = false;
