@@ -6,8 +6,11 @@
 
 pub mod board;
 pub mod esc;
+pub mod flashprog;
+pub mod iwdg;
 pub mod led;
 pub mod line;
+pub mod regs;
 pub mod stepgen;
 pub mod store;
 pub mod xsteps;

@@ -13,6 +13,8 @@
 #![cfg_attr(target_os = "none", no_main)]
 
 #[cfg(target_os = "none")]
+mod locked;
+#[cfg(target_os = "none")]
 mod mcu;
 
 #[cfg(not(target_os = "none"))]

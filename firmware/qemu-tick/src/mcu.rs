@@ -13,7 +13,7 @@ fn panic(info: &core::panic::PanicInfo) -> ! {
     loop {}
 }
 
-const TIMING: Timing = Timing { tick_hz: 25_000, step_timer_hz: 96_000_000 };
+pub(crate) const TIMING: Timing = Timing { tick_hz: 25_000, step_timer_hz: 96_000_000 };
 
 /// The tick under test, kept out of line so its cost is measured alone.
 #[inline(never)]
@@ -28,7 +28,7 @@ fn now(syst: &SYST) -> u32 {
 }
 
 /// SysTick counts elapsed over `f` (it counts down, 24 bits).
-fn measure(syst: &SYST, f: impl FnOnce()) -> u32 {
+pub(crate) fn measure(syst: &SYST, f: impl FnOnce()) -> u32 {
     let a = now(syst);
     f();
     let b = now(syst);
@@ -151,8 +151,9 @@ fn main() -> ! {
     hprintln!("ticks: {} total, {} synced at 600 rpm", total, synced);
     hprintln!("tick instructions: average {} (synced, common path), worst {}", avg_instr, worst_instr);
     hprintln!("gear: lathe {} counts, exact target {} steps, cutter {} steps", lathe, exact, cutter);
-    let ok = synced > 10_000 && exact == cutter;
     parts(syst, per_1201);
+    let locked = crate::locked::report(syst, per_1201);
+    let ok = synced > 10_000 && exact == cutter && locked.is_some();
     hprintln!("{}", if ok { "1 passed, 0 failed" } else { "0 passed, 1 failed" });
     debug::exit(if ok { debug::EXIT_SUCCESS } else { debug::EXIT_FAILURE });
     loop {}

@@ -34,13 +34,12 @@ fn panic(_info: &core::panic::PanicInfo) -> ! {
 
 static PLANNER: InterruptExecutor = InterruptExecutor::new();
 
-/// The watchdog's period as embassy computes it, for a 32 kHz LSI. The
-/// F411's LSI is 17 to 47 kHz (DS10314), so the real period is 5.4 to 15 s:
-/// longer than a 128 KiB sector erase at ×8 parallelism (4 s at most),
-/// which stalls the CPU while settings are saved (the erase pets the dog
-/// first). A hung tick leaves at most two ticks of queued steps, then
-/// silent fillers (stepgen); the reset then disables ENABLE.
-const WATCHDOG_US: u32 = 8_000_000;
+/// The watchdog: `iwdg::WATCHDOG_US` as embassy computes it for a 32 kHz
+/// LSI, really 5.4 to 15 s over the F411's LSI range (`iwdg`), longer than
+/// a settings save (`flashprog`: the erase pets it first). A hung tick
+/// leaves at most two ticks of queued steps, then silent fillers
+/// (stepgen); the reset then disables ENABLE.
+use polyturn_firmware::iwdg::WATCHDOG_US;
 
 /// Flash prefetch and both caches on: embassy's init sets only the wait
 /// states (RM0383 §3.4.1 FLASH_ACR), and without them every figure in

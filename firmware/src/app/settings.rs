@@ -1,9 +1,12 @@
 //! Settings in the last two 128 KiB flash sectors (6 and 7), through the
 //! host-tested power-fail-safe store.
 
+use super::drivers::Mmio;
 use embassy_stm32::flash::{Blocking, Flash};
 use embassy_stm32::peripherals::FLASH;
 use embassy_stm32::Peri;
+use polyturn_firmware::flashprog;
+use polyturn_firmware::regs::apply;
 use polyturn_firmware::store::{self, Loaded, SlotFlash, CAM_POINTS_AT};
 use polyturn_sync::cam_upload::CamHeader;
 use polyturn_sync::Config;
@@ -12,9 +15,9 @@ use polyturn_sync::Config;
 pub type StoredCam = (CamHeader, &'static [i32]);
 const FLASH_BASE: u32 = 0x0800_0000;
 
-/// Offsets from the start of flash of sectors 6 and 7.
+/// Offsets from the start of flash of sectors 6 and 7 (RM0383 §3.3 Table 4).
 const SLOTS: [u32; 2] = [0x4_0000, 0x6_0000];
-const SECTOR: u32 = 0x2_0000;
+const SLOT_SECTORS: [u8; 2] = [6, 7];
 
 /// The settings sectors; owned by the console task, the only writer.
 pub struct Sectors(Flash<'static, Blocking>);
@@ -36,19 +39,30 @@ fn cache_off<R>(f: impl FnOnce() -> R) -> R {
     r
 }
 
+/// Why a flash operation failed.
+#[derive(Debug, defmt::Format)]
+pub enum FlashError {
+    /// the erase program stopped at this step (`flashprog::erase_sector`)
+    Erase(usize),
+    Write(embassy_stm32::flash::Error),
+}
+
 impl SlotFlash for Sectors {
-    type Error = embassy_stm32::flash::Error;
-    fn erase(&mut self, slot: usize) -> Result<(), Self::Error> {
-        // the erase stalls the CPU for up to 4 s (DS10314, ×8 parallelism):
-        // the watchdog starts a full period now (`app::WATCHDOG_US`)
+    type Error = FlashError;
+    fn erase(&mut self, slot: usize) -> Result<(), FlashError> {
+        // The erase stalls the CPU for up to 2 s (×32, `flashprog`): the
+        // watchdog starts a full period now; its shortest real period is
+        // 5.4 s (`iwdg`, tests/flash_erase.rs checks the margin). Our own
+        // program, not embassy's erase, which runs at ×8 (twice as long).
         embassy_stm32::pac::IWDG.kr().write(|w| w.set_key(embassy_stm32::pac::iwdg::vals::Key::RESET));
-        cache_off(|| self.0.blocking_erase(SLOTS[slot], SLOTS[slot] + SECTOR))
+        let program = flashprog::erase_sector(SLOT_SECTORS[slot]);
+        cache_off(|| apply(&program, &mut Mmio)).map_err(FlashError::Erase)
     }
-    fn write(&mut self, slot: usize, offset: u32, data: &[u8]) -> Result<(), Self::Error> {
-        cache_off(|| self.0.blocking_write(SLOTS[slot] + offset, data))
+    fn write(&mut self, slot: usize, offset: u32, data: &[u8]) -> Result<(), FlashError> {
+        cache_off(|| self.0.blocking_write(SLOTS[slot] + offset, data)).map_err(FlashError::Write)
     }
-    fn read(&mut self, slot: usize, offset: u32, buf: &mut [u8]) -> Result<(), Self::Error> {
-        self.0.blocking_read(SLOTS[slot] + offset, buf)
+    fn read(&mut self, slot: usize, offset: u32, buf: &mut [u8]) -> Result<(), FlashError> {
+        self.0.blocking_read(SLOTS[slot] + offset, buf).map_err(FlashError::Write)
     }
 }
 
@@ -71,10 +85,10 @@ fn newest_cam(dev: &mut Sectors, how: Loaded) -> Option<StoredCam> {
 }
 
 /// Saves (the console only asks while idle with the lathe at rest: the
-/// erase stalls the CPU for up to 2 s).
+/// erase stalls the CPU for up to 2 s, `flashprog`).
 /// Returns the cam table as stored in the new slot (re-fit it from there).
 pub fn save(dev: &mut Sectors, config: &Config, cam: Option<(CamHeader, &[i32])>) -> Result<Option<StoredCam>, ()> {
-    store::save(dev, config, cam).map_err(|_| ())?;
+    store::save(dev, config, cam).map_err(|e| defmt::warn!("settings not saved: {}", e))?;
     let (_, how) = store::load(dev);
     Ok(newest_cam(dev, how))
 }

@@ -77,10 +77,13 @@ async fn session(class: &mut Class, store: &mut Store) -> Result<(), EndpointErr
                 Some(Line::TooLong) => (too_long(), Action::None),
                 Some(Line::Text(text)) if text.starts_with(b"cam") => (cam_line(text, store), Action::None),
                 Some(Line::Text(text)) => {
-                    // Parse and render outside the lock the tick shares;
-                    // only `apply` (short, copies out) runs inside it.
+                    // Parse, derive new settings and render outside the
+                    // lock the tick shares; inside it only a copy of the
+                    // settings and `apply_prepared` (short, copies out).
                     let cmd = console::parse(text);
-                    let outcome = tick::with_core(|c| console::apply(cmd, c));
+                    let pre = tick::with_core(|c| (*c.config(), c.config_generation()))
+                        .and_then(|(cfg, generation)| console::prepare(&cmd, cfg, generation, tick::TIMING));
+                    let outcome = tick::with_core(|c| console::apply_prepared(cmd, pre, c));
                     tick::apply_driver_settings();
                     match outcome {
                         Some(outcome) => console::render(&outcome),
@@ -115,28 +118,37 @@ fn too_long() -> Reply {
 fn saved(store: &mut Store) -> Reply {
     let cfg = tick::with_core(|c| *c.config());
     let cam = store.cam;
-    let ok = cfg.is_some_and(|c| persist(&mut store.flash, &mut store.cam, &c, cam));
-    text(if ok { "ok saved" } else { "error: flash write failed: settings not saved" })
+    let mut r = Reply::new();
+    let _ = match cfg.and_then(|c| persist(&mut store.flash, &mut store.cam, &c, cam)) {
+        Some(stall) => write!(r, "ok saved{}", stall.describe()),
+        None => write!(r, "error: flash write failed: settings not saved"),
+    };
+    r
 }
 
 /// Saves settings and cam, then re-fits the cam from the new slot (the
-/// old slot will be erased by the next save).
+/// old slot will be erased by the next save). The erase stalls the CPU:
+/// the core is told before and asked after what the lathe did meanwhile
+/// (`Controller::begin_stall`). `None` if the flash failed.
 fn persist(
     flash: &mut settings::Sectors,
     fitted: &mut Option<settings::StoredCam>,
     cfg: &polyturn_sync::Config,
     cam: Option<(CamHeader, &[i32])>,
-) -> bool {
-    let Ok(stored) = settings::save(flash, cfg, cam) else { return false };
+) -> Option<polyturn_sync::Stall> {
+    tick::with_core(|c| c.begin_stall());
+    let saved = settings::save(flash, cfg, cam);
+    let stall = tick::with_core(|c| c.end_stall()).unwrap_or_default();
+    let Ok(stored) = saved else { return None };
     *fitted = stored;
-    let Some((h, t)) = stored else { return true };
+    let Some((h, t)) = stored else { return Some(stall) };
     // Never leave the X axis on the old slot's table: the next save erases
     // it. If the table no longer fits (another cpr), the X axis comes off.
     if tick::fit_cam(&h, t).is_some_and(|r| r.is_err()) {
         let _ = tick::with_core(|c| c.set_x_axis(None));
         *fitted = None;
     }
-    true
+    Some(stall)
 }
 
 fn text(s: &str) -> Reply {
@@ -174,10 +186,10 @@ fn cam_line(line: &[u8], store: &mut Store) -> Reply {
             let cfg = tick::with_core(|c| *c.config()).unwrap_or_default();
             match tick::with_core(|c| c.check_cam(&h)) {
                 Some(Err(e)) => write!(r, "error: {e}"),
-                _ if persist(&mut store.flash, &mut store.cam, &cfg, store.upload.table()) => {
-                    write!(r, "ok cam {} points saved and fitted", h.points)
-                }
-                _ => write!(r, "error: flash write failed: cam not saved"),
+                _ => match persist(&mut store.flash, &mut store.cam, &cfg, store.upload.table()) {
+                    Some(stall) => write!(r, "ok cam {} points saved and fitted{}", h.points, stall.describe()),
+                    None => write!(r, "error: flash write failed: cam not saved"),
+                },
             }
         }
     };

@@ -1,5 +1,6 @@
 //! A cycle-level software model of four STM32F411 peripherals — TIM1, TIM2, TIM11 and
-//! DMA2 stream 5 — written from the reference manual RM0383 (cross-checked with
+//! DMA2 stream 5 — and of the flash interface's sector erase ([`flash`], in
+//! nanoseconds, on its own bus), written from the reference manual RM0383 (cross-checked with
 //! RM0090/RM0401, whose TIM1/TIM2/DMA chapters describe the same IP), to serve as a
 //! test oracle for firmware that drives them. It is not derived from the firmware.
 //!
@@ -34,6 +35,7 @@
 pub mod addr;
 pub mod bits;
 mod dma;
+pub mod flash;
 mod mcu;
 mod tim1;
 mod tim11;

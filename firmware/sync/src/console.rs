@@ -3,8 +3,9 @@
 //! `polyturn device` and by tests. Any bytes get an answer; an error never
 //! changes a setting.
 
-use crate::config::{Config, DriveKind, Sense, NAMES};
+use crate::config::{Config, ConfigError, DriveKind, Sense, NAMES};
 use crate::controller::Controller;
+use crate::derived::{Derived, Timing};
 use core::fmt::Write;
 
 /// Longest reply line.
@@ -86,19 +87,59 @@ pub fn parse(line: &[u8]) -> Command<'_> {
     }
 }
 
-/// Applies a command to the controller: short, no formatting.
+/// The settings a `set` or `defaults` would install, derived before the
+/// controller's lock is taken (`Derived::new` is the long part).
+#[derive(Clone, Copy, Debug)]
+pub struct Prepared {
+    /// the settings' generation it was derived from: the lock checks it
+    /// still holds (`Controller::config_generation`)
+    generation: u32,
+    only_phase: bool,
+    next: Result<(Config, Derived), ConfigError>,
+}
+
+/// The long half of `apply`, outside the lock: `current` and `generation`
+/// are short copies taken from the controller.
+pub fn prepare(cmd: &Command<'_>, current: Config, generation: u32, timing: Timing) -> Option<Prepared> {
+    let next = match *cmd {
+        Command::Set(name, value) => current.with(name, value),
+        Command::Defaults => Ok(Config::default()),
+        _ => return None,
+    };
+    let only_phase = |c: &Config| Config { phase_offset_mdeg: current.phase_offset_mdeg, ..*c } == current;
+    Some(Prepared {
+        generation,
+        only_phase: next.as_ref().is_ok_and(only_phase),
+        next: next.map(|c| (c, Derived::new(&c, timing))),
+    })
+}
+
+/// Applies a command to the controller (on the host, in one go).
 pub fn apply(cmd: Command<'_>, ctl: &mut Controller) -> Outcome {
+    let pre = prepare(&cmd, *ctl.config(), ctl.config_generation(), ctl.timing());
+    apply_prepared(cmd, pre, ctl)
+}
+
+/// Applies a command prepared by `prepare`: short, no formatting, no
+/// derivation (the firmware holds the tick's lock for this only).
+pub fn apply_prepared(cmd: Command<'_>, pre: Option<Prepared>, ctl: &mut Controller) -> Outcome {
+    let installed = |ctl: &mut Controller| -> Result<Config, Outcome> {
+        let Some(p) = pre else { return Err(Outcome::Error("internal: command not prepared")) };
+        if p.generation != ctl.config_generation() {
+            return Err(Outcome::Error("the settings changed meanwhile: nothing changed, send it again"));
+        }
+        let (c, d) = p.next.map_err(|e| Outcome::FieldError(e.field, e.allowed))?;
+        ctl.install_config(c, d, p.only_phase).map_err(|r| Outcome::Error(r.describe()))?;
+        Ok(c)
+    };
     match cmd {
         Command::Help => Outcome::Text(HELP),
         Command::Bad(msg) => Outcome::Error(msg),
         Command::GetAll => Outcome::All(*ctl.config()),
         Command::Get(name) => Outcome::Value(*ctl.config(), name),
-        Command::Set(name, value) => match ctl.config().with(name, value) {
-            Err(e) => Outcome::FieldError(e.field, e.allowed),
-            Ok(c) => match ctl.set_config(c) {
-                Ok(()) => Outcome::Value(c, NAMES.iter().find(|n| **n == name).copied().unwrap_or("name")),
-                Err(r) => Outcome::Error(r.describe()),
-            },
+        Command::Set(name, _) => match installed(ctl) {
+            Ok(c) => Outcome::Value(c, NAMES.iter().find(|n| **n == name).copied().unwrap_or("name")),
+            Err(o) => o,
         },
         Command::Engage => match ctl.engage() {
             Ok(()) => Outcome::Text("ok engaging"),
@@ -121,9 +162,9 @@ pub fn apply(cmd: Command<'_>, ctl: &mut Controller) -> Outcome {
             Outcome::Error("stop the lathe first: saving pauses the controller for up to 2 s")
         }
         Command::Save => Outcome::Save,
-        Command::Defaults => match ctl.set_config(Config::default()) {
-            Ok(()) => Outcome::Text("ok defaults loaded (not saved: use save)"),
-            Err(r) => Outcome::Error(r.describe()),
+        Command::Defaults => match installed(ctl) {
+            Ok(_) => Outcome::Text("ok defaults loaded (not saved: use save)"),
+            Err(o) => o,
         },
     }
 }

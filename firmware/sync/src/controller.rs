@@ -111,6 +111,9 @@ pub struct Controller {
     turns: i64,
     x: Option<XAxis>,
     ticks: u64,
+    /// set while a flash write stalls the CPU (`stall`)
+    stall: Option<stall::Watch>,
+    config_generation: u32,
 }
 
 impl Controller {
@@ -136,6 +139,8 @@ impl Controller {
             turns: 0,
             x: None,
             ticks: 0,
+            stall: None,
+            config_generation: 0,
         }
     }
 
@@ -150,11 +155,14 @@ impl Controller {
     pub fn tick(&mut self, io: &TickInput) -> TickOutput {
         self.ticks += 1;
         let delta = self.lathe.update(io.lathe);
-        if delta.abs() > self.d.max_counts_per_tick {
+        // (during a flash stall, `stall` judges jumps and indexes)
+        if !self.stall_jump(delta) && delta.abs() > self.d.max_counts_per_tick {
             self.trip(Fault::EncoderImplausible);
         }
         if let Some(raw) = io.index {
-            self.on_index(raw);
+            if !self.stall_index(raw) {
+                self.on_index(raw);
+            }
         }
         // Bounded once (an implausible jump has tripped above): the gear and
         // the X cam take the bounded count, the estimator the measured one.
@@ -349,7 +357,9 @@ impl Controller {
 }
 
 mod commands;
+mod stall;
 pub use commands::{prepare_cam, Status};
+pub use stall::Stall;
 
 #[cfg(test)]
 mod tests;

@@ -18,7 +18,7 @@ impl Timing {
     pub const FIRMWARE: Timing = Timing { tick_hz: 25_000, step_timer_hz: 100_000_000 };
 }
 
-#[derive(Clone, Copy, Debug)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct Derived {
     pub scale: Scale,
     pub sense_positive: bool,

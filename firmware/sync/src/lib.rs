@@ -34,7 +34,7 @@ pub(crate) fn bound(x: i64, limit: i64) -> i64 {
 }
 
 pub use config::{Config, ConfigError, DriveKind, Sense};
-pub use controller::{Controller, Refusal, Status, TickInput, TickOutput, XAxis};
+pub use controller::{Controller, Refusal, Stall, Status, TickInput, TickOutput, XAxis};
 pub use derived::Timing;
 pub use ratio::{Ratio, RatioError};
 pub use state::{Fault, State};

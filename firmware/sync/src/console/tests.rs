@@ -67,3 +67,26 @@ proptest! {
         prop_assert_eq!(c.config().validate(), Ok(()));
     }
 }
+
+#[test]
+fn a_set_prepared_outside_the_lock_installs_what_apply_would() {
+    let (mut a, mut b) = (ctl(), ctl());
+    let cmd = parse(b"set ratio 5/2");
+    let pre = prepare(&cmd, *b.config(), b.config_generation(), b.timing());
+    apply(cmd, &mut a);
+    apply_prepared(cmd, pre, &mut b);
+    assert_eq!(a.config(), b.config());
+    assert_eq!(a.derived(), b.derived(), "the figures derived outside are the ones installed");
+}
+
+#[test]
+fn a_set_prepared_from_stale_settings_changes_nothing() {
+    let mut c = ctl();
+    let cmd = parse(b"set phase 10");
+    let pre = prepare(&cmd, *c.config(), c.config_generation(), c.timing());
+    assert_eq!(say(&mut c, "set ratio 5/2").0, "ok ratio=5/2"); // another change lands in between
+    let before = *c.config();
+    let (reply, _) = render(&apply_prepared(cmd, pre, &mut c));
+    assert!(reply.starts_with("error: the settings changed meanwhile"), "{reply}");
+    assert_eq!(*c.config(), before);
+}

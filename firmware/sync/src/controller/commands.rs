@@ -3,7 +3,7 @@
 
 use super::{Controller, Refusal};
 use crate::config::Config;
-use crate::derived::Derived;
+use crate::derived::{Derived, Timing};
 use crate::follower::Follower;
 use crate::gear::Gear;
 use crate::state::{Fault, State};
@@ -33,6 +33,15 @@ impl Controller {
     pub fn config(&self) -> &Config {
         &self.config
     }
+    /// Changes with every change of the settings (`install_config`).
+    pub fn config_generation(&self) -> u32 {
+        self.config_generation
+    }
+
+    pub fn timing(&self) -> Timing {
+        self.timing
+    }
+
     pub fn derived(&self) -> &Derived {
         &self.d
     }
@@ -176,7 +185,7 @@ impl Controller {
         self.x.as_ref()
     }
 
-    fn rebase(&mut self) {
+    pub(super) fn rebase(&mut self) {
         let rel = self.lathe.position() - self.origin;
         if let Some(x) = &mut self.x {
             x.cam.seek(rel);
@@ -189,12 +198,20 @@ impl Controller {
     /// Replaces the settings. While running only the phase offset may
     /// change (a nudge, smoothed by the follower's limits).
     pub fn set_config(&mut self, c: Config) -> Result<(), Refusal> {
+        let only_phase = Config { phase_offset_mdeg: self.config.phase_offset_mdeg, ..c } == self.config;
+        self.install_config(c, Derived::new(&c, self.timing), only_phase)
+    }
+
+    /// `set_config` with its figures derived beforehand, outside the tick's
+    /// lock (`Derived::new` costs about 1 400 instructions; the swap here is
+    /// short). `d` must be `Derived::new(&c, self.timing())` and
+    /// `only_phase` whether `c` differs from the settings in force only in
+    /// its phase; the caller checks `config_generation` is the one it
+    /// prepared from.
+    pub fn install_config(&mut self, c: Config, d: Derived, only_phase: bool) -> Result<(), Refusal> {
         let running = !matches!(self.state, State::Idle | State::Fault(_));
-        if running {
-            let only_phase = Config { phase_offset_mdeg: self.config.phase_offset_mdeg, ..c } == self.config;
-            if !only_phase {
-                return Err(Refusal::NotIdle);
-            }
+        if running && !only_phase {
+            return Err(Refusal::NotIdle);
         }
         if matches!(self.state, State::Fault(f) if !f.immediate()) && self.follower.velocity != 0 {
             return Err(Refusal::NotIdle);
@@ -205,7 +222,7 @@ impl Controller {
             self.x = None;
         }
         self.config = c;
-        let d = Derived::new(&c, self.timing);
+        self.config_generation = self.config_generation.wrapping_add(1);
         if running {
             self.d.phase_offset_q16 = d.phase_offset_q16;
             return Ok(());

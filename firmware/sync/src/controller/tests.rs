@@ -51,3 +51,62 @@ fn an_estop_during_a_ramped_fault_still_stops_at_once() {
     c.trip(Fault::Overspeed);
     assert_eq!(c.state(), State::Fault(Fault::EStop));
 }
+
+fn lathe(raw: u16) -> TickInput {
+    TickInput { lathe: raw, ..TickInput::default() }
+}
+
+#[test]
+fn a_lathe_turned_far_during_a_save_stall_is_no_fault_and_the_reply_says_so() {
+    let mut c = ctl();
+    c.begin_stall();
+    c.tick(&lathe(30_000)); // the first tick after a 2 s erase
+    assert_eq!(c.state(), State::Idle, "no encoder-implausible");
+    assert_eq!(c.end_stall(), Stall::Lost { reindexed: false });
+    let d = c.derived().scale;
+    assert_eq!(c.status().target_steps, Scale::round(d, 30_000), "gear re-based on the counter");
+    // after the stall, a jump is a fault again
+    c.tick(&lathe(60_000));
+    assert_eq!(c.state(), State::Fault(Fault::EncoderImplausible));
+}
+
+#[test]
+fn a_small_turn_during_a_stall_is_counted_exactly() {
+    let mut c = ctl();
+    c.begin_stall();
+    c.tick(&lathe(1));
+    assert_eq!(c.end_stall(), Stall::Counted);
+    c.begin_stall();
+    c.tick(&lathe(1));
+    assert_eq!(c.end_stall(), Stall::Still);
+    assert_eq!(c.state(), State::Idle);
+}
+
+#[test]
+fn an_index_latched_during_a_stall_becomes_the_new_phase_reference() {
+    let mut c = ctl();
+    let cpr = c.config().encoder_counts_per_rev as u16;
+    // referenced at count 100 before the save (turned there slowly)
+    for raw in 1..100 {
+        c.tick(&lathe(raw));
+    }
+    c.tick(&TickInput { lathe: 100, index: Some(100), ..TickInput::default() });
+    c.service();
+    assert_eq!(c.gear_origin(), 100);
+    // the lathe turns ten turns and a bit during the stall: the counter
+    // holds its last index crossing (TIM3_CH3 capture), 700 counts back
+    c.begin_stall();
+    let at = 100u16.wrapping_add(10 * cpr + 900);
+    let idx = at.wrapping_sub(700);
+    c.tick(&TickInput { lathe: at, index: Some(idx), ..TickInput::default() });
+    assert_eq!(c.state(), State::Idle, "not a slip: the count in between is unknown");
+    assert_eq!(c.end_stall(), Stall::Lost { reindexed: true });
+    assert_eq!(c.gear_origin(), c.status().lathe_counts - 700, "phase re-referenced to the index");
+    // the indexes of the next turns are consistent with it
+    for raw in 1..2 * cpr {
+        let now = at.wrapping_add(raw);
+        let index = (now.wrapping_sub(idx) % cpr == 0).then_some(now);
+        c.tick(&TickInput { lathe: now, index, ..TickInput::default() });
+        assert_eq!(c.state(), State::Idle, "{raw}");
+    }
+}

@@ -1,0 +1,207 @@
+//! The embedded flash interface's program/erase control (RM0383 §3.5, §3.8),
+//! for sector erase: the unlock sequence, the lock, the parallelism, BSY,
+//! and how long the erase stalls the CPU. Time is in nanoseconds, kept by
+//! the caller's bus (`advance_ns`); a CPU access that must wait (a FLASH_CR
+//! write while BSY, §3.5.1 note) moves time on to the end of the operation.
+//!
+//! Not modelled (a write that asks for it panics): programming (PG), mass
+//! erase, option bytes, the interrupts, read/write protection, ×64 (needs
+//! VPP, §3.5.2 Table 6), and sectors above 7 (the F411's 512 KiB, §3.3 Table 4).
+
+use crate::unmodelled;
+
+/// FLASH interface base (AHB1), RM0383 §2.3 Table 1.
+pub const FLASH_R: u32 = 0x4002_3C00;
+/// Register offsets, RM0383 §3.8.7 register map.
+pub const KEYR: u32 = FLASH_R + 0x04;
+pub const SR: u32 = FLASH_R + 0x0C;
+pub const CR: u32 = FLASH_R + 0x10;
+/// FLASH_KEYR keys, §3.5.1.
+pub const KEY1: u32 = 0x4567_0123;
+pub const KEY2: u32 = 0xCDEF_89AB;
+/// FLASH_SR bits, §3.8.4.
+pub const SR_EOP: u32 = 1 << 0;
+pub const SR_ERRORS: u32 = 0b1_1111_0010; // OPERR, WRPERR, PGAERR, PGPERR, PGSERR, RDERR
+pub const SR_BSY: u32 = 1 << 16;
+/// FLASH_CR bits, §3.8.5.
+pub const CR_PG: u32 = 1 << 0;
+pub const CR_SER: u32 = 1 << 1;
+pub const CR_MER: u32 = 1 << 2;
+pub const CR_SNB_SHIFT: u32 = 3;
+pub const CR_SNB: u32 = 0xF << CR_SNB_SHIFT;
+pub const CR_PSIZE_SHIFT: u32 = 8;
+pub const CR_PSIZE: u32 = 0b11 << CR_PSIZE_SHIFT;
+pub const CR_STRT: u32 = 1 << 16;
+pub const CR_EOPIE: u32 = 1 << 24;
+pub const CR_LOCK: u32 = 1 << 31;
+/// FLASH_CR's reset value: locked (§3.8.5).
+const CR_RESET: u32 = CR_LOCK;
+
+/// Which of the datasheet's two figures an erase takes.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum EraseTime {
+    Typical,
+    Max,
+}
+
+/// Sector erase time in ms, [×8, ×16, ×32] as (typical, max): DS10314
+/// (STM32F411xC/E datasheet) table "Flash memory programming", t_ERASE16KB,
+/// t_ERASE64KB, t_ERASE128KB.
+fn erase_ms(sector_kib: u32, psize: u32) -> (u64, u64) {
+    let t: [(u64, u64); 3] = match sector_kib {
+        16 => [(400, 800), (300, 600), (250, 500)],
+        64 => [(1200, 2400), (700, 1400), (550, 1100)],
+        _ => [(2000, 4000), (1300, 2600), (1000, 2000)],
+    };
+    t[psize as usize]
+}
+
+/// Sector `n`'s size in KiB: 4 × 16, 1 × 64, 3 × 128 (§3.3 Table 4).
+pub fn sector_kib(n: u32) -> u32 {
+    match n {
+        0..=3 => 16,
+        4 => 64,
+        _ => 128,
+    }
+}
+
+/// One erase the interface performed.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Erase {
+    pub sector: u32,
+    /// PSIZE as written: 0 = ×8, 1 = ×16, 2 = ×32 (§3.8.5)
+    pub psize: u32,
+    pub start_ns: u64,
+    pub end_ns: u64,
+}
+
+#[derive(Clone, Debug)]
+pub struct Flash {
+    time: EraseTime,
+    now_ns: u64,
+    cr: u32,
+    sr: u32,
+    busy_until_ns: u64,
+    /// 1 after KEY1 was written to a locked FLASH_CR
+    key_stage: u8,
+    /// a wrong key sequence locks FLASH_CR until reset (§3.5.1)
+    locked_until_reset: bool,
+    pub bus_errors: u32,
+    pub erases: Vec<Erase>,
+}
+
+impl Flash {
+    pub fn new(time: EraseTime) -> Flash {
+        Flash {
+            time,
+            now_ns: 0,
+            cr: CR_RESET,
+            sr: 0,
+            busy_until_ns: 0,
+            key_stage: 0,
+            locked_until_reset: false,
+            bus_errors: 0,
+            erases: Vec::new(),
+        }
+    }
+
+    pub fn now_ns(&self) -> u64 {
+        self.now_ns
+    }
+
+    /// Time passes; an operation that ends clears BSY and STRT (§3.8.5
+    /// STRT: "cleared when the BSY bit is cleared") and sets EOP if EOPIE.
+    pub fn advance_ns(&mut self, ns: u64) {
+        self.now_ns += ns;
+        if self.sr & SR_BSY != 0 && self.now_ns >= self.busy_until_ns {
+            self.sr &= !SR_BSY;
+            self.cr &= !CR_STRT;
+            if self.cr & CR_EOPIE != 0 {
+                self.sr |= SR_EOP; // §3.8.4: set only if EOPIE = 1
+            }
+        }
+    }
+
+    pub fn read(&mut self, addr: u32) -> u32 {
+        match addr {
+            SR => self.sr,
+            CR => self.cr,
+            KEYR => 0,
+            _ => unmodelled(&format!("FLASH read at {addr:#010x}")),
+        }
+    }
+
+    pub fn write(&mut self, addr: u32, value: u32) {
+        match addr {
+            KEYR => self.write_keyr(value),
+            // rc_w1: writing 1 clears (§3.8.4); BSY is read-only
+            SR => self.sr &= !(value & (SR_EOP | SR_ERRORS)),
+            CR => self.write_cr(value),
+            _ => unmodelled(&format!("FLASH write at {addr:#010x}")),
+        }
+    }
+
+    fn locked(&self) -> bool {
+        self.cr & CR_LOCK != 0
+    }
+
+    /// §3.5.1: KEY1 then KEY2 unlocks FLASH_CR; "any wrong sequence will
+    /// return a bus error and lock up the FLASH_CR register until the next
+    /// reset". A key written while already unlocked is taken as a wrong
+    /// sequence (the manual describes keys only for a locked register; the
+    /// stricter reading).
+    fn write_keyr(&mut self, value: u32) {
+        let right = self.locked() && !self.locked_until_reset && (value == [KEY1, KEY2][self.key_stage as usize]);
+        if !right {
+            self.bus_errors += 1;
+            self.locked_until_reset = true;
+            self.cr |= CR_LOCK;
+            self.key_stage = 0;
+            return;
+        }
+        self.key_stage += 1;
+        if self.key_stage == 2 {
+            self.key_stage = 0;
+            self.cr &= !CR_LOCK;
+        }
+    }
+
+    fn write_cr(&mut self, value: u32) {
+        // §3.5.1 note: a FLASH_CR write while BSY stalls the bus until BSY
+        // clears
+        if self.sr & SR_BSY != 0 {
+            let wait = self.busy_until_ns - self.now_ns;
+            self.advance_ns(wait);
+        }
+        if self.locked() {
+            // §3.5.1: FLASH_CR is write-protected while locked. Setting LOCK
+            // is what locks it; any other write is ignored.
+            return;
+        }
+        if value & (CR_PG | CR_MER) != 0 || (value & CR_PSIZE) >> CR_PSIZE_SHIFT == 3 {
+            unmodelled("FLASH_CR: programming, mass erase or ×64");
+        }
+        let start = value & CR_STRT != 0 && self.cr & CR_STRT == 0;
+        self.cr = value & (CR_SER | CR_SNB | CR_PSIZE | CR_STRT | CR_EOPIE | CR_LOCK);
+        if start && value & CR_SER != 0 {
+            self.start_erase();
+        } else if start {
+            self.cr &= !CR_STRT; // nothing selected: nothing starts
+        }
+    }
+
+    /// §3.5.3 sector erase: SER, SNB, then STRT; BSY for the erase time at
+    /// the parallelism PSIZE selects (§3.5.2, "the erase time depends on").
+    fn start_erase(&mut self) {
+        let sector = (self.cr & CR_SNB) >> CR_SNB_SHIFT;
+        if sector > 7 {
+            unmodelled("FLASH_CR.SNB above sector 7");
+        }
+        let psize = (self.cr & CR_PSIZE) >> CR_PSIZE_SHIFT;
+        let (typ, max) = erase_ms(sector_kib(sector), psize);
+        let ms = if self.time == EraseTime::Typical { typ } else { max };
+        self.busy_until_ns = self.now_ns + ms * 1_000_000;
+        self.sr |= SR_BSY;
+        self.erases.push(Erase { sector, psize, start_ns: self.now_ns, end_ns: self.busy_until_ns });
+    }
+}
