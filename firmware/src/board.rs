@@ -4,37 +4,101 @@
 //! lathe side, which is often 5 V logic. PA6/PA7 (TIM3) and PB6/PB7 (TIM4)
 //! are FT on the STM32F411 (datasheet DS10314, table 9).
 
-/// One pin assignment: the signal, the MCU pin, and its role.
+/// One pin assignment: the signal, the MCU pin, its role, and how the
+/// firmware configures it (checked against the registers the real image
+/// writes by `.ci/emu`, through `examples/expected_registers.rs`).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct Pin {
     pub signal: &'static str,
     pub pin: &'static str,
     pub function: &'static str,
     pub five_volt_tolerant: bool,
+    pub mode: Mode,
+    pub pull: Pull,
 }
 
-const fn pin(signal: &'static str, pin: &'static str, function: &'static str, ft: bool) -> Pin {
-    Pin { signal, pin, function, five_volt_tolerant: ft }
+/// GPIOx_MODER's setting of a pin (RM0383 §8.4.1), with the alternate
+/// function number for GPIOx_AFRL/AFRH (§8.4.9, DS10314 table 9).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Mode {
+    Input,
+    Output,
+    Alternate(u8),
+}
+
+/// GPIOx_PUPDR's setting of a pin (RM0383 §8.4.4).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Pull {
+    None,
+    Up,
+    Down,
+}
+
+impl Mode {
+    /// The two MODER bits: 00 input, 01 output, 10 alternate function.
+    pub const fn moder(self) -> u32 {
+        match self {
+            Mode::Input => 0b00,
+            Mode::Output => 0b01,
+            Mode::Alternate(_) => 0b10,
+        }
+    }
+
+    pub const fn af(self) -> Option<u8> {
+        match self {
+            Mode::Alternate(n) => Some(n),
+            _ => None,
+        }
+    }
+}
+
+impl Pull {
+    /// The two PUPDR bits: 00 none, 01 pull-up, 10 pull-down.
+    pub const fn pupdr(self) -> u32 {
+        match self {
+            Pull::None => 0b00,
+            Pull::Up => 0b01,
+            Pull::Down => 0b10,
+        }
+    }
+}
+
+impl Pin {
+    /// Port letter and pin number, from the name ("PB13" -> ('B', 13)).
+    pub fn port_and_index(&self) -> (char, u8) {
+        let b = self.pin.as_bytes();
+        let index = self.pin[2..].parse().unwrap_or(u8::MAX);
+        (b[1] as char, index)
+    }
+}
+
+const AF1: Mode = Mode::Alternate(1); // TIM1, TIM2
+const AF2: Mode = Mode::Alternate(2); // TIM3, TIM4, TIM5
+const AF3: Mode = Mode::Alternate(3); // TIM9, TIM10, TIM11
+const AF10: Mode = Mode::Alternate(10); // OTG_FS
+
+const fn pin(signal: &'static str, pin: &'static str, function: &'static str, ft: bool, mode: Mode, pull: Pull) -> Pin {
+    Pin { signal, pin, function, five_volt_tolerant: ft, mode, pull }
 }
 
 /// The full pin map. `main.rs` takes the same pins by name.
 pub const PINS: &[Pin] = &[
-    pin("LATHE_A", "PA6", "TIM3_CH1, encoder mode, input filter", true),
-    pin("LATHE_B", "PA7", "TIM3_CH2, encoder mode, input filter", true),
-    pin("LATHE_INDEX", "PB0", "TIM3_CH3 input capture (AF2): the count latched in hardware at the rising edge", true),
-    pin("CUTTER_STEP", "PA8", "TIM1_CH1, pulses from DMA-fed segments", true),
-    pin("CUTTER_DIR", "PA9", "TIM1_CH2, changes on a segment boundary, never while STEP is high", true),
-    pin("CUTTER_ENABLE", "PB13", "push-pull output, inactive at reset", true),
-    pin("ESTOP", "PB14", "EXTI14, pull-up, normally closed to GND: open = stop", true),
-    pin("DRIVE_ALARM", "PB15", "EXTI15, pull-up, alarm pulls to GND", true),
-    pin("CUTTER_A", "PB6", "TIM4_CH1, encoder mode (BLDC mode)", true),
-    pin("CUTTER_B", "PB7", "TIM4_CH2, encoder mode (BLDC mode)", true),
-    pin("BLDC_PWM", "PB8", "TIM10_CH1, ESC pulse 1-2 ms at 50 Hz (BLDC mode)", true),
-    pin("X_STEP", "PB4", "push-pull output, one tick-long pulse (X axis cam)", true),
-    pin("X_DIR", "PB5", "push-pull output (X axis cam)", true),
-    pin("USB_DM", "PA11", "USB OTG FS", true),
-    pin("USB_DP", "PA12", "USB OTG FS", true),
-    pin("STATUS_LED", "PC13", "active low, on-board LED", false),
+    pin("LATHE_A", "PA6", "TIM3_CH1, encoder mode, input filter", true, AF2, Pull::None),
+    pin("LATHE_B", "PA7", "TIM3_CH2, encoder mode, input filter", true, AF2, Pull::None),
+    pin("LATHE_INDEX", "PB0", "TIM3_CH3 input capture (AF2): the count latched in hardware at the rising edge", true, AF2, Pull::Down),
+    pin("CUTTER_STEP", "PA8", "TIM1_CH1, pulses from DMA-fed segments", true, AF1, Pull::None),
+    pin("CUTTER_DIR", "PA9", "TIM1_CH2, changes on a segment boundary, never while STEP is high", true, AF1, Pull::None),
+    pin("CUTTER_ENABLE", "PB13", "push-pull output, inactive at reset", true, Mode::Output, Pull::None),
+    pin("ESTOP", "PB14", "EXTI14, pull-up, normally closed to GND: open = stop", true, Mode::Input, Pull::Up),
+    pin("DRIVE_ALARM", "PB15", "EXTI15, pull-up, alarm pulls to GND", true, Mode::Input, Pull::Up),
+    pin("CUTTER_A", "PB6", "TIM4_CH1, encoder mode (BLDC mode)", true, AF2, Pull::None),
+    pin("CUTTER_B", "PB7", "TIM4_CH2, encoder mode (BLDC mode)", true, AF2, Pull::None),
+    pin("BLDC_PWM", "PB8", "TIM10_CH1, ESC pulse 1-2 ms at 50 Hz (BLDC mode)", true, AF3, Pull::None),
+    pin("X_STEP", "PB4", "push-pull output, one tick-long pulse (X axis cam)", true, Mode::Output, Pull::None),
+    pin("X_DIR", "PB5", "push-pull output (X axis cam)", true, Mode::Output, Pull::None),
+    pin("USB_DM", "PA11", "USB OTG FS", true, AF10, Pull::None),
+    pin("USB_DP", "PA12", "USB OTG FS", true, AF10, Pull::None),
+    pin("STATUS_LED", "PC13", "active low, on-board LED", false, Mode::Output, Pull::None),
 ];
 
 /// Control tick rate: 25 kHz (40 µs), above the 20 kHz floor of the design.
@@ -94,6 +158,40 @@ mod tests {
                 assert_ne!(a.pin, b.pin, "{} and {} share a pin", a.signal, b.signal);
             }
         }
+    }
+
+    /// The alternate function numbers of DS10314 table 9 for the
+    /// peripheral each pin's function names.
+    fn af_of(function: &str) -> Option<u8> {
+        [("TIM10_", 3), ("TIM11_", 3), ("TIM9_", 3), ("TIM1_", 1), ("TIM2_", 1), ("TIM3_", 2), ("TIM4_", 2), ("TIM5_", 2), ("USB OTG FS", 10)]
+            .iter()
+            .find(|(p, _)| function.starts_with(p))
+            .map(|&(_, af)| af)
+    }
+
+    #[test]
+    fn each_pin_mode_agrees_with_its_function() {
+        for p in PINS {
+            let (port, index) = p.port_and_index();
+            assert!(('A'..='C').contains(&port) && index < 16, "{}: {}", p.signal, p.pin);
+            match p.mode {
+                Mode::Alternate(af) => assert_eq!(Some(af), af_of(p.function), "{} on {}", p.signal, p.pin),
+                Mode::Output => {
+                    assert!(p.function.contains("output") || p.function.contains("LED"), "{}", p.signal);
+                    assert_eq!(af_of(p.function), None, "{}", p.signal);
+                }
+                Mode::Input => assert!(p.function.starts_with("EXTI"), "{}", p.signal),
+            }
+            assert_eq!(p.pull == Pull::Up, p.function.contains("pull-up"), "{}", p.signal);
+        }
+    }
+
+    #[test]
+    fn register_encodings_are_the_manuals() {
+        assert_eq!((Mode::Input.moder(), Mode::Output.moder(), AF1.moder()), (0, 1, 2));
+        assert_eq!((Pull::None.pupdr(), Pull::Up.pupdr(), Pull::Down.pupdr()), (0, 1, 2));
+        assert_eq!(AF10.af(), Some(10));
+        assert_eq!(Mode::Output.af(), None);
     }
 
     #[test]

@@ -15,6 +15,7 @@ use embassy_usb::Builder;
 use polyturn_firmware::line::{Line, LineBuffer};
 use polyturn_sync::cam_upload::{CamHeader, CamUpload, Progress};
 use polyturn_sync::console::{self, Action, Reply};
+use polyturn_sync::controller::check_table;
 use static_cell::StaticCell;
 
 bind_interrupts!(struct Irqs {
@@ -119,36 +120,55 @@ fn saved(store: &mut Store) -> Reply {
     let cfg = tick::with_core(|c| *c.config());
     let cam = store.cam;
     let mut r = Reply::new();
-    let _ = match cfg.and_then(|c| persist(&mut store.flash, &mut store.cam, &c, cam)) {
-        Some(stall) => write!(r, "ok saved{}", stall.describe()),
-        None => write!(r, "error: flash write failed: settings not saved"),
+    let _ = match cfg.map(|c| persist(&mut store.flash, &mut store.cam, &c, cam)) {
+        Some(Ok((stall, Fit::Fitted | Fit::NoCam))) => write!(r, "ok saved{}", stall.describe()),
+        // saved, but the stored cam no longer fits these settings: say so
+        Some(Ok((stall, Fit::Refused(e)))) => write!(r, "ok saved{}; the cam table is off: {e}", stall.describe()),
+        Some(Err(())) => write!(r, "error: flash write failed: settings not saved"),
+        None => write!(r, "error: the controller is not running yet"),
     };
     r
+}
+
+/// What became of the cam after a save.
+enum Fit {
+    NoCam,
+    Fitted,
+    Refused(&'static str),
 }
 
 /// Saves settings and cam, then re-fits the cam from the new slot (the
 /// old slot will be erased by the next save). The erase stalls the CPU:
 /// the core is told before and asked after what the lathe did meanwhile
-/// (`Controller::begin_stall`). `None` if the flash failed.
+/// (`Controller::begin_stall`). `Err` if the flash failed.
 fn persist(
     flash: &mut settings::Sectors,
     fitted: &mut Option<settings::StoredCam>,
     cfg: &polyturn_sync::Config,
     cam: Option<(CamHeader, &[i32])>,
-) -> Option<polyturn_sync::Stall> {
+) -> Result<(polyturn_sync::Stall, Fit), ()> {
     tick::with_core(|c| c.begin_stall());
     let saved = settings::save(flash, cfg, cam);
     let stall = tick::with_core(|c| c.end_stall()).unwrap_or_default();
-    let Ok(stored) = saved else { return None };
+    let stored = saved?;
     *fitted = stored;
-    let Some((h, t)) = stored else { return Some(stall) };
+    let Some((h, t)) = stored else { return Ok((stall, Fit::NoCam)) };
     // Never leave the X axis on the old slot's table: the next save erases
     // it. If the table no longer fits (another cpr), the X axis comes off.
-    if tick::fit_cam(&h, t).is_some_and(|r| r.is_err()) {
-        let _ = tick::with_core(|c| c.set_x_axis(None));
-        *fitted = None;
+    match tick::fit_cam(&h, t) {
+        Some(Ok(())) => Ok((stall, Fit::Fitted)),
+        other => {
+            let _ = tick::with_core(|c| c.set_x_axis(None));
+            *fitted = None;
+            Ok((
+                stall,
+                Fit::Refused(match other {
+                    Some(Err(e)) => e,
+                    _ => "the controller is not running",
+                }),
+            ))
+        }
     }
-    Some(stall)
 }
 
 fn text(s: &str) -> Reply {
@@ -183,12 +203,22 @@ fn cam_line(line: &[u8], store: &mut Store) -> Reply {
             h.points
         ),
         Ok(Progress::Complete(h)) => {
-            let cfg = tick::with_core(|c| *c.config()).unwrap_or_default();
-            match tick::with_core(|c| c.check_cam(&h)) {
-                Some(Err(e)) => write!(r, "error: {e}"),
-                _ => match persist(&mut store.flash, &mut store.cam, &cfg, store.upload.table()) {
-                    Some(stall) => write!(r, "ok cam {} points saved and fitted{}", h.points, stall.describe()),
-                    None => write!(r, "error: flash write failed: cam not saved"),
+            // Every check the fit applies, before anything is saved or
+            // replaced: the header under the lock, the points outside it.
+            let cfg = tick::with_core(|c| *c.config());
+            let checked = tick::with_core(|c| c.check_cam(&h))
+                .unwrap_or(Err("the controller is not running yet"))
+                .and_then(|()| store.upload.table().map_or(Err("cam table incomplete"), |(h, p)| check_table(&h, p)));
+            match (cfg, checked) {
+                (_, Err(e)) => write!(r, "error: {e}"),
+                (None, _) => write!(r, "error: the controller is not running yet"),
+                (Some(cfg), Ok(())) => match persist(&mut store.flash, &mut store.cam, &cfg, store.upload.table()) {
+                    Ok((stall, Fit::Fitted)) => {
+                        write!(r, "ok cam {} points saved and fitted{}", h.points, stall.describe())
+                    }
+                    Ok((_, Fit::Refused(e))) => write!(r, "error: cam saved but not fitted, X axis off: {e}"),
+                    Ok((_, Fit::NoCam)) => write!(r, "error: cam not saved (the flash kept none)"),
+                    Err(()) => write!(r, "error: flash write failed: cam not saved"),
                 },
             }
         }

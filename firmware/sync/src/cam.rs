@@ -33,9 +33,28 @@ pub struct Cam {
     acc: u32,
 }
 
+const _: () = assert!(CAM_POINTS == 1024, "CamError::describe names 1024 points");
+
+impl CamError {
+    pub fn describe(self) -> &'static str {
+        match self {
+            CamError::Points => "cam table: 2 to 1024 points",
+            CamError::Period => "cam table: the period must be at least one count per point",
+            CamError::Step => "cam table: neighbouring points must be less than 2^23 steps apart",
+        }
+    }
+}
+
 impl Cam {
     /// A cam over `period` lathe counts (revolutions × counts per rev).
     pub fn new(points: &'static [i32], period: u32) -> Result<Cam, CamError> {
+        Cam::check(points, period)?;
+        Ok(Cam { table: points, period, inv: (1u64 << 40) / period as u64, index: 0, acc: 0 })
+    }
+
+    /// Every check `new` applies, on any table (an upload before it is
+    /// stored: nothing is saved or replaced that `new` would refuse).
+    pub fn check(points: &[i32], period: u32) -> Result<(), CamError> {
         if points.len() < 2 || points.len() > CAM_POINTS {
             return Err(CamError::Points);
         }
@@ -47,7 +66,7 @@ impl Cam {
         if wraps.take(points.len()).any(|(a, b)| (*b as i64 - *a as i64).abs() >= 1 << 23) {
             return Err(CamError::Step);
         }
-        Ok(Cam { table: points, period, inv: (1u64 << 40) / period as u64, index: 0, acc: 0 })
+        Ok(())
     }
 
     /// Moves to an absolute lathe count (low priority: divides).

@@ -358,7 +358,7 @@ impl Controller {
 
 mod commands;
 mod stall;
-pub use commands::{prepare_cam, Status};
+pub use commands::{check_table, prepare_cam, Status};
 pub use stall::Stall;
 
 #[cfg(test)]

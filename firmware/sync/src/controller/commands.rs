@@ -246,6 +246,13 @@ impl Controller {
     }
 }
 
+/// The checks `prepare_cam` applies to the points, on a table not yet
+/// stored (the firmware runs them on an upload before saving it, outside
+/// the tick's lock: one pass over the points).
+pub fn check_table(h: &crate::cam_upload::CamHeader, points: &[i32]) -> Result<(), &'static str> {
+    crate::cam::Cam::check(points, h.period_counts).map_err(|e| e.describe())
+}
+
 /// The long half of `Controller::fit_cam`, which needs no controller: the
 /// table's points are checked (`Cam::new`, one pass over them) and the
 /// limits derived. Runs outside the tick's lock (issue 12: at boot it took
@@ -255,7 +262,8 @@ pub fn prepare_cam(
     table: &'static [i32],
     timing: crate::derived::Timing,
 ) -> Result<super::XAxis, &'static str> {
-    let cam = crate::cam::Cam::new(table, h.period_counts).map_err(|_| "cam table: bad points or period")?;
+    check_table(h, table)?;
+    let cam = crate::cam::Cam::new(table, h.period_counts).map_err(|e| e.describe())?;
     let limits = crate::follower::Limits::from_rates(h.max_rate_hz as u64, h.max_accel as u64, timing.tick_hz as u64);
     Ok(super::XAxis::new(cam, limits))
 }

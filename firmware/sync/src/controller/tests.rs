@@ -110,3 +110,18 @@ fn an_index_latched_during_a_stall_becomes_the_new_phase_reference() {
         assert_eq!(c.state(), State::Idle, "{raw}");
     }
 }
+
+#[test]
+fn an_upload_with_points_2_pow_23_apart_is_refused_before_it_is_saved() {
+    use crate::cam_upload::CamHeader;
+    let h = CamHeader { points: 4, period_counts: 2400, counts_per_rev: 2400, max_rate_hz: 10_000, max_accel: 1000 };
+    let c = ctl();
+    assert_eq!(c.check_cam(&h), Ok(()), "the header alone passes");
+    let bad = [0, 1 << 23, 0, 0];
+    let e = super::check_table(&h, &bad).unwrap_err();
+    assert!(e.contains("2^23"), "{e}");
+    // the same table the fit refuses, with the same reason
+    let leaked: &'static [i32] = std::boxed::Box::leak(std::boxed::Box::new(bad));
+    assert_eq!(super::prepare_cam(&h, leaked, Timing::FIRMWARE).err(), Some(e));
+    assert_eq!(super::check_table(&h, &[0, (1 << 23) - 1, 0, 0]), Ok(()));
+}
