@@ -114,7 +114,14 @@ def safety(r, m, name, before, at_return, after, edge_at, handled_at):
 
 
 def primask(r, m):
-    length, pc = m.pm_longest
-    where = m.image.func_at(pc) if pc else "-"
-    return r.line(True, "irq-off", "longest PRIMASK section in thread mode: %d instructions (%.1f us) from %s "
-                  "(0x%08x); %d sections" % (length, length / m.rcc.sysclk() * 1e6, where, pc or 0, m.pm_sections))
+    """Report only: the longest PRIMASK section in thread mode, and the
+    longest begun while the tick's interrupt was enabled (the ones that can
+    delay it; app/cs.rs keeps logging and embassy off PRIMASK)."""
+    mhz = m.rcc.sysclk() / 1e6
+
+    def part(sec):
+        length, pc = sec
+        where = m.image.func_at(pc) if pc else "-"
+        return "%d instructions (%.1f us) from %s (0x%08x)" % (length, length / mhz, where, pc or 0)
+    return r.line(True, "irq-off", "longest PRIMASK section in thread mode: %s; with the tick running: %s; "
+                  "%d sections" % (part(m.pm_longest), part(m.pm_ticking), m.pm_sections))

@@ -160,8 +160,9 @@ class Machine:
 
     # --- PRIMASK (interrupts-off sections) ---
     def primask_hooks(self):
-        self.pm_since = None          # (cycle, pc) where PRIMASK went to 1 in thread mode
+        self.pm_since = None          # (cycle, pc, tick on) where PRIMASK went to 1 in thread mode
         self.pm_longest = (0, None)   # (instructions, pc)
+        self.pm_ticking = (0, None)   # the same, for sections begun with the tick's IRQ enabled
         self.pm_sections = 0
         for a in self.image.insns["cpsid"]:
             self.uc.hook_add(UC_HOOK_CODE, self._pm, 1, a, a)
@@ -178,12 +179,14 @@ class Machine:
         if self.ipsr():
             return                    # only thread-mode sections are measured
         if value and self.pm_since is None and not uc.reg_read(UC_ARM_REG_PRIMASK):
-            self.pm_since = (t, addr)
+            self.pm_since = (t, addr, self.exc.nvic.enabled[self.irqs["TIM1_TRG_COM_TIM11"]])
         elif not value and self.pm_since is not None:
             length = t - self.pm_since[0]
             self.pm_sections += 1
             if length > self.pm_longest[0]:
                 self.pm_longest = (length, self.pm_since[1])
+            if self.pm_since[2] and length > self.pm_ticking[0]:
+                self.pm_ticking = (length, self.pm_since[1])
             self.pm_since = None
             if self.exc.deliverable(primask=0):
                 self.request_stop()   # taken as soon as this block ends

@@ -37,7 +37,9 @@ fn main() {
     out += "\n  ],\n  \"priorities\": [\n";
     let prios: Vec<String> = board::PRIORITIES
         .iter()
-        .map(|(name, level)| format!("    {{\"name\": \"{}\", \"level\": {}, \"ipr\": {}}}", name, level, (*level as u32) << 4))
+        .map(|(name, level)| {
+            format!("    {{\"name\": \"{}\", \"level\": {}, \"ipr\": {}}}", name, level, (*level as u32) << 4)
+        })
         .collect();
     out += &prios.join(",\n");
     out += "\n  ]\n}";

@@ -85,9 +85,23 @@ const fn pin(signal: &'static str, pin: &'static str, function: &'static str, ft
 pub const PINS: &[Pin] = &[
     pin("LATHE_A", "PA6", "TIM3_CH1, encoder mode, input filter", true, AF2, Pull::None),
     pin("LATHE_B", "PA7", "TIM3_CH2, encoder mode, input filter", true, AF2, Pull::None),
-    pin("LATHE_INDEX", "PB0", "TIM3_CH3 input capture (AF2): the count latched in hardware at the rising edge", true, AF2, Pull::Down),
+    pin(
+        "LATHE_INDEX",
+        "PB0",
+        "TIM3_CH3 input capture (AF2): the count latched in hardware at the rising edge",
+        true,
+        AF2,
+        Pull::Down,
+    ),
     pin("CUTTER_STEP", "PA8", "TIM1_CH1, pulses from DMA-fed segments", true, AF1, Pull::None),
-    pin("CUTTER_DIR", "PA9", "TIM1_CH2, changes on a segment boundary, never while STEP is high", true, AF1, Pull::None),
+    pin(
+        "CUTTER_DIR",
+        "PA9",
+        "TIM1_CH2, changes on a segment boundary, never while STEP is high",
+        true,
+        AF1,
+        Pull::None,
+    ),
     pin("CUTTER_ENABLE", "PB13", "push-pull output, inactive at reset", true, Mode::Output, Pull::None),
     pin("ESTOP", "PB14", "EXTI14, pull-up, normally closed to GND: open = stop", true, Mode::Input, Pull::Up),
     pin("DRIVE_ALARM", "PB15", "EXTI15, pull-up, alarm pulls to GND", true, Mode::Input, Pull::Up),
@@ -134,6 +148,8 @@ pub const PRIORITIES: &[(&str, u8)] = &[
 
 /// The interrupt that may share the tick's level.
 pub const SHARES_TICK: &str = "EXTI15_10";
+/// The control tick's interrupt (TIM11's update shares TIM1's vector).
+pub const TICK_IRQ: &str = "TIM1_TRG_COM_TIM11";
 
 #[cfg(test)]
 mod tests {
@@ -141,11 +157,11 @@ mod tests {
 
     #[test]
     fn only_the_estop_shares_the_ticks_priority_and_nothing_outranks_it() {
-        let tick = PRIORITIES.iter().find(|p| p.0 == "TIM1_TRG_COM_TIM11").unwrap().1;
+        let tick = PRIORITIES.iter().find(|p| p.0 == TICK_IRQ).unwrap().1;
         for (name, level) in PRIORITIES {
             assert!(*level < 16, "{name}: the NVIC has 16 levels");
             assert!(*level >= tick, "{name} outranks the tick");
-            if *level == tick && *name != "TIM1_TRG_COM_TIM11" {
+            if *level == tick && *name != TICK_IRQ {
                 assert_eq!(*name, SHARES_TICK);
             }
         }
@@ -163,10 +179,20 @@ mod tests {
     /// The alternate function numbers of DS10314 table 9 for the
     /// peripheral each pin's function names.
     fn af_of(function: &str) -> Option<u8> {
-        [("TIM10_", 3), ("TIM11_", 3), ("TIM9_", 3), ("TIM1_", 1), ("TIM2_", 1), ("TIM3_", 2), ("TIM4_", 2), ("TIM5_", 2), ("USB OTG FS", 10)]
-            .iter()
-            .find(|(p, _)| function.starts_with(p))
-            .map(|&(_, af)| af)
+        [
+            ("TIM10_", 3),
+            ("TIM11_", 3),
+            ("TIM9_", 3),
+            ("TIM1_", 1),
+            ("TIM2_", 1),
+            ("TIM3_", 2),
+            ("TIM4_", 2),
+            ("TIM5_", 2),
+            ("USB OTG FS", 10),
+        ]
+        .iter()
+        .find(|(p, _)| function.starts_with(p))
+        .map(|&(_, af)| af)
     }
 
     #[test]

@@ -5,6 +5,7 @@
 //! USART6's vector) below them; console, flash, logging and the watchdog in
 //! the thread executor.
 
+mod cs;
 mod drivers;
 mod priorities;
 mod report;

@@ -24,6 +24,14 @@ struct Io {
 }
 
 static IO: Mutex<RefCell<Option<Io>>> = Mutex::new(RefCell::new(None));
+
+/// The lock on `IO`: PRIMASK, which also holds off the tick and the E-stop
+/// (`critical_section` does not: `app::cs`). Only short copies inside.
+fn locked<R>(f: impl FnOnce(critical_section::CriticalSection) -> R) -> R {
+    // SAFETY: with PRIMASK set nothing else runs on this single core, so
+    // the token's promise (no concurrent access) holds.
+    cortex_m::interrupt::free(|_| f(unsafe { critical_section::CriticalSection::new() }))
+}
 static TICKS: AtomicU32 = AtomicU32::new(0);
 static LAST_SEEN: AtomicU32 = AtomicU32::new(0);
 /// Tick cost in CPU cycles: running sum and worst, reset by `take_cost`.
@@ -43,7 +51,7 @@ pub fn start(config: Config, mut pins: OutputPins) {
     steps.prepare(core.derived().steps.tick_len, &mut Mmio);
     drivers::set_halt_pulse(core.derived().steps.pulse);
     core.start(LatheCounter.read(), drivers::steps_counted(), CutterCounter.read());
-    critical_section::with(|cs| IO.borrow(cs).replace(Some(Io { core, steps, pins, x: XSteps::default() })));
+    locked(|cs| IO.borrow(cs).replace(Some(Io { core, steps, pins, x: XSteps::default() })));
     // SAFETY: DWT is only used here, for the tick's cycle count.
     let mut cp = unsafe { cortex_m::Peripherals::steal() };
     cp.DCB.enable_trace();
@@ -64,7 +72,7 @@ fn TIM1_TRG_COM_TIM11() {
     // first thing: stepgen's re-arm reads UIF to know the tick has not
     // ended under it (`program::arm`, its `Sync`)
     pac::TIM11.sr().write_value(pac::timer::regs::Sr1ch(0));
-    critical_section::with(|cs| {
+    locked(|cs| {
         // (try_: nothing else can hold it inside the critical section, and
         // the tick keeps no panic path)
         let Ok(mut io) = IO.borrow(cs).try_borrow_mut() else { return };
@@ -105,7 +113,7 @@ fn TIM1_TRG_COM_TIM11() {
 
 /// Runs `f` on the controller (console, planning, reports).
 pub fn with_core<R>(f: impl FnOnce(&mut Controller) -> R) -> Option<R> {
-    critical_section::with(|cs| IO.borrow(cs).borrow_mut().as_mut().map(|io| f(&mut io.core)))
+    locked(|cs| IO.borrow(cs).borrow_mut().as_mut().map(|io| f(&mut io.core)))
 }
 
 /// Fits a cam table: the points are checked outside the lock (a pass over
@@ -121,7 +129,7 @@ pub fn fit_cam(h: &polyturn_sync::cam_upload::CamHeader, table: &'static [i32]) 
 /// Applies the settings the drivers hold themselves (ENABLE polarity, the
 /// pulse width a halt waits out) after a console change, at low priority.
 pub fn apply_driver_settings() {
-    critical_section::with(|cs| {
+    locked(|cs| {
         if let Some(io) = IO.borrow(cs).borrow_mut().as_mut() {
             io.pins.set_polarity(io.core.config().enable_active_high);
             drivers::set_halt_pulse(io.core.derived().steps.pulse);

@@ -1,0 +1,66 @@
+//! The critical section every crate uses (embassy, defmt-rtt, ours): it
+//! raises BASEPRI to mask every interrupt below the tick's level, not
+//! PRIMASK. defmt-rtt holds it while it encodes a whole log line (the
+//! emulator measured 7 657 instructions, 80 µs, two ticks), and embassy
+//! for its queues; neither may delay the tick or the E-stop, which touch
+//! nothing of theirs and never log (`.ci/qemu` checks their call graphs).
+//! The state the tick shares (`tick::IO`) has its own lock, PRIMASK, held
+//! only for short copies (`tick::with_core`).
+//!
+//! BASEPRI (PM0214 §2.1.3): "when set to a nonzero value, it prevents the
+//! activation of all exceptions with the same or lower priority level";
+//! written through BASEPRI_MAX, which only ever raises it, so a section
+//! taken inside a level-1 handler does not unmask anything.
+
+use polyturn_firmware::board::{PRIORITIES, TICK_IRQ};
+
+/// The tick's level, from the priority map.
+const fn tick_level() -> u8 {
+    let mut i = 0;
+    while i < PRIORITIES.len() {
+        if const_eq(PRIORITIES[i].0, TICK_IRQ) {
+            return PRIORITIES[i].1;
+        }
+        i += 1;
+    }
+    panic!("the tick is missing from board::PRIORITIES")
+}
+
+const fn const_eq(a: &str, b: &str) -> bool {
+    let (a, b) = (a.as_bytes(), b.as_bytes());
+    if a.len() != b.len() {
+        return false;
+    }
+    let mut i = 0;
+    while i < a.len() {
+        if a[i] != b[i] {
+            return false;
+        }
+        i += 1;
+    }
+    true
+}
+
+/// Masks levels tick+1 and below in urgency (the top 4 bits, PM0214 §4.3.7).
+const MASK: u8 = (tick_level() + 1) << 4;
+
+struct Basepri;
+critical_section::set_impl!(Basepri);
+
+// SAFETY: single core; BASEPRI masks every interrupt that takes this
+// section (all below the tick's level), and the tick and E-stop handlers
+// never take it (checked on their call graphs in .ci/qemu).
+unsafe impl critical_section::Impl for Basepri {
+    unsafe fn acquire() -> critical_section::RawRestoreState {
+        let old = cortex_m::register::basepri::read() as u32;
+        cortex_m::register::basepri_max::write(MASK);
+        core::sync::atomic::compiler_fence(core::sync::atomic::Ordering::SeqCst);
+        old
+    }
+
+    unsafe fn release(old: critical_section::RawRestoreState) {
+        core::sync::atomic::compiler_fence(core::sync::atomic::Ordering::SeqCst);
+        // SAFETY: restores the level this section found
+        unsafe { cortex_m::register::basepri::write(old as u8) };
+    }
+}
