@@ -3,7 +3,7 @@
 //! DS10314's erase times: the erase runs at ×32, leaves FLASH_CR locked,
 //! and, with the writes after it, fits inside the watchdog's period over
 //! the LSI's whole range.
-use polyturn_firmware::flashprog::{erase_sector, ERASE_MAX_US, WORD_PROGRAM_MAX_US};
+use polyturn_firmware::flashprog::{self as fp, erase_sector, SettingsSector, ERASE_MAX_US, WORD_PROGRAM_MAX_US};
 use polyturn_firmware::iwdg::{period_us, LSI_MAX_HZ, WATCHDOG_US};
 use polyturn_firmware::regs::{apply, Bus};
 use polyturn_firmware::store::SLOT_LEN;
@@ -26,7 +26,7 @@ impl Bus for Cpu {
     }
 }
 
-fn run(mut f: Flash, sector: u8) -> (Flash, Result<(), usize>) {
+fn run(mut f: Flash, sector: SettingsSector) -> (Flash, Result<(), usize>) {
     let mut cpu = Cpu(f);
     let r = apply(&erase_sector(sector), &mut cpu);
     f = cpu.0;
@@ -35,12 +35,12 @@ fn run(mut f: Flash, sector: u8) -> (Flash, Result<(), usize>) {
 
 #[test]
 fn the_settings_erase_runs_at_x32_and_leaves_flash_cr_locked() {
-    for sector in [6u8, 7] {
+    for sector in [SettingsSector::Six, SettingsSector::Seven] {
         let (mut f, r) = run(Flash::new(EraseTime::Typical), sector);
         assert_eq!(r, Ok(()));
         assert_eq!(f.erases.len(), 1);
         let e = f.erases[0];
-        assert_eq!((e.sector, e.psize), (sector as u32, 2), "sector {sector} at ×32");
+        assert_eq!((e.sector, e.psize), (sector as u32, 2), "{sector:?} at ×32");
         assert_eq!(e.end_ns - e.start_ns, 1_000_000_000, "1 s typical");
         assert_eq!(f.read(CR), CR_LOCK);
         assert_eq!(f.bus_errors, 0);
@@ -52,7 +52,7 @@ fn the_erase_works_when_a_failed_save_left_flash_cr_unlocked() {
     let mut f = Flash::new(EraseTime::Typical);
     f.write(KEYR, KEY1);
     f.write(KEYR, KEY2);
-    let (f, r) = run(f, 6);
+    let (f, r) = run(f, SettingsSector::Six);
     assert_eq!(r, Ok(()));
     assert_eq!(f.bus_errors, 0, "no key written to an unlocked register");
     assert_eq!(f.erases.len(), 1);
@@ -60,11 +60,38 @@ fn the_erase_works_when_a_failed_save_left_flash_cr_unlocked() {
 
 #[test]
 fn the_erase_waits_for_an_operation_already_under_way() {
-    let (f, _) = run(Flash::new(EraseTime::Typical), 7);
-    let (f, r) = run(f, 6);
+    // an erase of sector 7 started and left running (no wait)
+    let mut f = Flash::new(EraseTime::Typical);
+    f.write(KEYR, KEY1);
+    f.write(KEYR, KEY2);
+    let cr = CR_SER | (7 << CR_SNB_SHIFT) | (2 << CR_PSIZE_SHIFT);
+    f.write(CR, cr);
+    f.write(CR, cr | CR_STRT);
+    f.advance_ns(1000);
+    let (f, r) = run(f, SettingsSector::Six);
     assert_eq!(r, Ok(()));
-    assert_eq!(f.erases[1].start_ns, f.erases[0].end_ns.max(f.erases[1].start_ns));
+    assert_eq!(f.erases.len(), 2);
     assert!(f.erases[1].start_ns >= f.erases[0].end_ns, "started after the first ended");
+    assert_eq!(f.bus_errors, 0);
+}
+
+#[test]
+fn the_programs_addresses_and_bits_are_the_models() {
+    assert_eq!((fp::KEYR, fp::SR, fp::CR, fp::KEY1, fp::KEY2), (KEYR, SR, CR, KEY1, KEY2));
+    assert_eq!((fp::SR_EOP, fp::SR_ERRORS, fp::SR_BSY), (SR_EOP, SR_ERRORS, SR_BSY));
+    assert_eq!((fp::CR_SER, fp::CR_SNB_SHIFT, fp::CR_STRT, fp::CR_LOCK), (CR_SER, CR_SNB_SHIFT, CR_STRT, CR_LOCK));
+    assert_eq!(fp::CR_PSIZE_X32, 2 << CR_PSIZE_SHIFT);
+}
+
+#[test]
+fn the_lock_program_locks_after_a_program_that_stopped_early() {
+    let mut cpu = Cpu(Flash::new(EraseTime::Typical));
+    let program = erase_sector(SettingsSector::Seven);
+    // stop after STRT, as a failed BSY wait would
+    apply(&program[..7], &mut cpu).unwrap();
+    apply(&fp::LOCK, &mut cpu).unwrap();
+    assert_eq!(cpu.0.read(CR) & CR_LOCK, CR_LOCK);
+    assert_eq!(cpu.0.read(SR) & SR_BSY, 0, "the lock waited for the erase to end");
 }
 
 #[test]
@@ -72,7 +99,7 @@ fn a_save_fits_the_watchdog_period_over_the_whole_lsi_range() {
     // worst case: the erase at its datasheet maximum, then every word of a
     // slot programmed at its maximum, then one 50 ms main-loop period
     // before the next pet; the erase pets the dog first (app/settings.rs)
-    let (f, r) = run(Flash::new(EraseTime::Max), 6);
+    let (f, r) = run(Flash::new(EraseTime::Max), SettingsSector::Six);
     assert_eq!(r, Ok(()));
     let erase_us = (f.now_ns() / 1000) as u32;
     assert!(erase_us <= ERASE_MAX_US + 1000, "{erase_us} µs");

@@ -10,41 +10,55 @@
 use crate::board::SYSCLK_HZ;
 use crate::regs::Op;
 
-/// FLASH interface registers (RM0383 §2.3 Table 1, §3.8.7 register map).
-const FLASH_R: u32 = 0x4002_3C00;
-const KEYR: u32 = FLASH_R + 0x04;
-const SR: u32 = FLASH_R + 0x0C;
-const CR: u32 = FLASH_R + 0x10;
+/// FLASH interface registers (RM0383 §2.3 Table 1, §3.8.7 register map;
+/// tests/flash_erase.rs compares them with the model's).
+pub const FLASH_R: u32 = 0x4002_3C00;
+pub const KEYR: u32 = FLASH_R + 0x04;
+pub const SR: u32 = FLASH_R + 0x0C;
+pub const CR: u32 = FLASH_R + 0x10;
 /// The unlock keys (§3.5.1).
-const KEY1: u32 = 0x4567_0123;
-const KEY2: u32 = 0xCDEF_89AB;
+pub const KEY1: u32 = 0x4567_0123;
+pub const KEY2: u32 = 0xCDEF_89AB;
 /// FLASH_SR (§3.8.4): EOP, the error flags (OPERR, WRPERR, PGAERR, PGPERR,
 /// PGSERR, RDERR), BSY.
-const SR_EOP: u32 = 1 << 0;
-const SR_ERRORS: u32 = 0b1_1111_0010;
-const SR_BSY: u32 = 1 << 16;
+pub const SR_EOP: u32 = 1 << 0;
+pub const SR_ERRORS: u32 = 0b1_1111_0010;
+pub const SR_BSY: u32 = 1 << 16;
 /// FLASH_CR (§3.8.5).
-const CR_SER: u32 = 1 << 1;
-const CR_SNB_SHIFT: u32 = 3;
-const CR_PSIZE_X32: u32 = 0b10 << 8;
-const CR_STRT: u32 = 1 << 16;
-const CR_LOCK: u32 = 1 << 31;
+pub const CR_SER: u32 = 1 << 1;
+pub const CR_SNB_SHIFT: u32 = 3;
+pub const CR_PSIZE_X32: u32 = 0b10 << 8;
+pub const CR_STRT: u32 = 1 << 16;
+pub const CR_LOCK: u32 = 1 << 31;
+
+/// The sectors a program may erase: the settings' two (§3.3 Table 4;
+/// `memory.x` keeps the code in sectors 0 to 5).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum SettingsSector {
+    Six = 6,
+    Seven = 7,
+}
 
 /// The longest a 128 KiB sector erase takes at ×32 (DS10314, max).
 pub const ERASE_MAX_US: u32 = 2_000_000;
 /// The longest one 32-bit word takes to program (DS10314, t_prog max).
 pub const WORD_PROGRAM_MAX_US: u32 = 100;
 
-/// BSY is polled at least this many times, each poll a load, a test and a
-/// branch (≥ 4 cycles), so the wait gives up no sooner than the longest
-/// erase; the watchdog (`iwdg`) ends a flash that never finishes.
-const POLLS: u32 = ERASE_MAX_US / 4 * (SYSCLK_HZ / 1_000_000);
+/// BSY is polled at most this many times. A poll is at least a load, a
+/// test and a branch (≥ 4 cycles; 7 in the built loop), so the wait gives
+/// up no sooner than twice the longest erase; the watchdog (`iwdg`, 5.4 s
+/// at the shortest) may end a flash that never finishes first.
+const POLLS: u32 = 2 * ERASE_MAX_US / 4 * (SYSCLK_HZ / 1_000_000);
 
-/// Erases sector `sector` (0 to 7) at ×32 and locks FLASH_CR again. `Err`
-/// from `regs::apply` names the step that failed: the BSY wait (index 3 or
-/// 7) or the final error check (index 9).
-pub fn erase_sector(sector: u8) -> [Op; 10] {
-    let cr = CR_PSIZE_X32 | CR_SER | (sector as u32 & 0xF) << CR_SNB_SHIFT;
+/// Locks FLASH_CR: after a program that stopped early (a write while BSY
+/// waits for the operation to end, §3.5.1 note, so this aborts nothing).
+pub const LOCK: [Op; 1] = [Op::Write(CR, CR_LOCK)];
+
+/// Erases `sector` at ×32 and locks FLASH_CR again. `Err` from
+/// `regs::apply` names the step that failed: a BSY wait (index 3 or 7) or
+/// the final error check (index 9); then apply `LOCK`.
+pub fn erase_sector(sector: SettingsSector) -> [Op; 10] {
+    let cr = CR_PSIZE_X32 | CR_SER | (sector as u32) << CR_SNB_SHIFT;
     [
         // Locked first: keys written to an unlocked FLASH_CR are a wrong
         // sequence, a bus error that locks it until reset (§3.5.1); setting
@@ -59,7 +73,8 @@ pub fn erase_sector(sector: u8) -> [Op; 10] {
         // steps 2 and 3: SER and SNB, then STRT
         Op::Write(CR, cr),
         Op::Write(CR, cr | CR_STRT),
-        // step 4. The CPU stalls at its first fetch from flash meanwhile.
+        // step 4. Meanwhile any fetch from flash stalls (§3.5); this loop
+        // may well spin from the instruction cache, interrupts cannot.
         Op::WaitClear { addr: SR, mask: SR_BSY, polls: POLLS },
         Op::Write(CR, CR_LOCK),
         Op::WaitClear { addr: SR, mask: SR_ERRORS, polls: 1 },

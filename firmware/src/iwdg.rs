@@ -21,7 +21,7 @@ pub fn embassy_setting(timeout_us: u32) -> (u32, u32) {
     (psc, rl)
 }
 
-/// The period in µs with an LSI of `lsi_hz` (RM0383 §17.3: the counter
+/// The period in µs with an LSI of `lsi_hz` (RM0383 §15.3: the counter
 /// counts down from the reload at LSI / prescaler).
 pub fn period_us(timeout_us: u32, lsi_hz: u32) -> u32 {
     let (psc, rl) = embassy_setting(timeout_us);

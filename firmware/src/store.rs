@@ -92,7 +92,39 @@ pub fn load<F: SlotFlash>(f: &mut F) -> (Config, Loaded) {
 /// Saves `cfg` (and the cam table, if one is fitted) into the slot not
 /// holding the newest record. `cam` may point into the newest slot's flash:
 /// that slot is not touched.
-pub fn save<F: SlotFlash>(f: &mut F, cfg: &Config, cam: Option<(CamHeader, &[i32])>) -> Result<u32, F::Error> {
+/// Why a save failed.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[cfg_attr(target_os = "none", derive(defmt::Format))]
+pub enum SaveError<E> {
+    Flash(E),
+    /// the flash took the writes without an error, but what reads back is
+    /// not what was written: the save did not happen (no `ok`)
+    Verify,
+}
+
+/// Saves, then reads the record (and the cam) back: `Ok` only if they
+/// read back as written.
+pub fn save<F: SlotFlash>(
+    f: &mut F,
+    cfg: &Config,
+    cam: Option<(CamHeader, &[i32])>,
+) -> Result<u32, SaveError<F::Error>> {
+    let seq = write_record(f, cfg, cam).map_err(SaveError::Flash)?;
+    let (config, how) = load(f);
+    let slot_ok = matches!(how, Loaded::Saved { seq: s, .. } if s == seq) && config == *cfg;
+    let cam_ok = match (cam, how) {
+        (None, _) => true,
+        (Some((h, _)), Loaded::Saved { slot, .. }) => load_cam(f, slot) == Some(h),
+        _ => false,
+    };
+    if slot_ok && cam_ok {
+        Ok(seq)
+    } else {
+        Err(SaveError::Verify)
+    }
+}
+
+fn write_record<F: SlotFlash>(f: &mut F, cfg: &Config, cam: Option<(CamHeader, &[i32])>) -> Result<u32, F::Error> {
     let (a, b) = (read_slot(f, 0), read_slot(f, 1));
     let (slot, seq) = match (a, b) {
         (Some(a), Some(b)) if newer(b.0, a.0) => (0, b.0.wrapping_add(1)),

@@ -5,7 +5,7 @@ use super::drivers::Mmio;
 use embassy_stm32::flash::{Blocking, Flash};
 use embassy_stm32::peripherals::FLASH;
 use embassy_stm32::Peri;
-use polyturn_firmware::flashprog;
+use polyturn_firmware::flashprog::{self, SettingsSector};
 use polyturn_firmware::regs::apply;
 use polyturn_firmware::store::{self, Loaded, SlotFlash, CAM_POINTS_AT};
 use polyturn_sync::cam_upload::CamHeader;
@@ -17,15 +17,16 @@ const FLASH_BASE: u32 = 0x0800_0000;
 
 /// Offsets from the start of flash of sectors 6 and 7 (RM0383 §3.3 Table 4).
 const SLOTS: [u32; 2] = [0x4_0000, 0x6_0000];
-const SLOT_SECTORS: [u8; 2] = [6, 7];
+const SLOT_SECTORS: [SettingsSector; 2] = [SettingsSector::Six, SettingsSector::Seven];
 
 /// The settings sectors; owned by the console task, the only writer.
 pub struct Sectors(Flash<'static, Blocking>);
 
 /// Runs a flash erase or write with the data cache off, then resets it
-/// before turning it back on (RM0383 §3.5.2: the cache is not kept
-/// coherent with flash being programmed, and DCRST acts only while it is
-/// off); embassy does this only for dual-bank parts.
+/// before turning it back on (RM0383 §3.4 and FLASH_ACR §3.8.1: the data
+/// cache is not kept coherent with flash being programmed, and DCRST acts
+/// only while it is off); embassy does this only for dual-bank parts. The
+/// instruction cache is left alone: sectors 6 and 7 hold no code.
 fn cache_off<R>(f: impl FnOnce() -> R) -> R {
     use embassy_stm32::pac::FLASH;
     let on = FLASH.acr().read().dcen();
@@ -56,7 +57,10 @@ impl SlotFlash for Sectors {
         // program, not embassy's erase, which runs at ×8 (twice as long).
         embassy_stm32::pac::IWDG.kr().write(|w| w.set_key(embassy_stm32::pac::iwdg::vals::Key::RESET));
         let program = flashprog::erase_sector(SLOT_SECTORS[slot]);
-        cache_off(|| apply(&program, &mut Mmio)).map_err(FlashError::Erase)
+        cache_off(|| apply(&program, &mut Mmio)).map_err(|step| {
+            let _ = apply(&flashprog::LOCK, &mut Mmio);
+            FlashError::Erase(step)
+        })
     }
     fn write(&mut self, slot: usize, offset: u32, data: &[u8]) -> Result<(), FlashError> {
         cache_off(|| self.0.blocking_write(SLOTS[slot] + offset, data)).map_err(FlashError::Write)

@@ -7,6 +7,9 @@ struct MockFlash {
     slots: Vec<Vec<u8>>,
     budget: Option<usize>,
     noise: u8,
+    /// writes report success but program nothing (a worn or protected
+    /// sector)
+    deaf: bool,
 }
 
 #[derive(Debug, PartialEq)]
@@ -14,7 +17,7 @@ struct PowerCut;
 
 impl MockFlash {
     fn new() -> MockFlash {
-        MockFlash { slots: vec![vec![0xFF; SLOT_LEN]; 2], budget: None, noise: 0x5A }
+        MockFlash { slots: vec![vec![0xFF; SLOT_LEN]; 2], budget: None, noise: 0x5A, deaf: false }
     }
     fn spend(&mut self) -> Result<(), PowerCut> {
         match &mut self.budget {
@@ -48,7 +51,9 @@ impl SlotFlash for MockFlash {
                 self.slots[slot][at] &= b | self.noise; // some bits programmed
                 return Err(PowerCut);
             }
-            self.slots[slot][at] &= b;
+            if !self.deaf {
+                self.slots[slot][at] &= b;
+            }
         }
         Ok(())
     }
@@ -127,4 +132,38 @@ fn a_power_cut_at_every_point_leaves_the_old_or_the_new_never_a_mix() {
         }
         assert!(cut_points >= SLOT_LEN + RECORD, "every erase and write byte was a cut point");
     }
+}
+
+#[test]
+fn a_save_the_flash_took_but_did_not_keep_is_an_error_and_the_old_settings_stay() {
+    let mut f = MockFlash::new();
+    save(&mut f, &settings("3"), None).unwrap();
+    f.deaf = true;
+    assert_eq!(save(&mut f, &settings("5"), None), Err(SaveError::Verify));
+    assert_eq!(load(&mut f).0, settings("3"));
+}
+
+#[test]
+fn a_cam_that_does_not_read_back_fails_the_save() {
+    let mut f = MockFlash::new();
+    save(&mut f, &settings("3"), None).unwrap();
+    // the settings record lands, the cam's points do not
+    struct CamDeaf(MockFlash);
+    impl SlotFlash for CamDeaf {
+        type Error = PowerCut;
+        fn erase(&mut self, slot: usize) -> Result<(), PowerCut> {
+            self.0.erase(slot)
+        }
+        fn write(&mut self, slot: usize, offset: u32, data: &[u8]) -> Result<(), PowerCut> {
+            if offset >= CAM_POINTS_AT {
+                return Ok(());
+            }
+            self.0.write(slot, offset, data)
+        }
+        fn read(&mut self, slot: usize, offset: u32, buf: &mut [u8]) -> Result<(), PowerCut> {
+            self.0.read(slot, offset, buf)
+        }
+    }
+    let mut d = CamDeaf(f);
+    assert_eq!(save(&mut d, &settings("5"), Some((HEADER, &CAM_NEW[..]))), Err(SaveError::Verify));
 }
