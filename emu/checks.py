@@ -45,6 +45,14 @@ def registers(r, m, exp):
         got = m.ppb.prio[16 + n]
         if got != q["ipr"] or not m.ppb.enabled[n]:
             bad.append("%s (IRQ %d): IPR 0x%02x enabled=%s, board.rs 0x%02x" % (q["name"], n, got, m.ppb.enabled[n], q["ipr"]))
+    # nothing else enabled at or above the tick's level: it would delay the
+    # tick, or race the state app/cs.rs's BASEPRI section protects
+    tick = m.ppb.prio[16 + m.irqs["TIM1_TRG_COM_TIM11"]]
+    names = {v: k for k, v in m.irqs.items()}
+    allowed = {m.irqs["TIM1_TRG_COM_TIM11"], m.irqs["EXTI15_10"]}
+    crowd = [n for n in range(len(m.ppb.enabled)) if m.ppb.enabled[n] and m.ppb.prio[16 + n] <= tick and n not in allowed]
+    if crowd:
+        bad.append("enabled at the tick's level: %s" % ", ".join(names.get(n, str(n)) for n in crowd))
     sysclk = m.rcc.sysclk()
     if sysclk != exp["sysclk_hz"]:
         bad.append("SYSCLK %d, board.rs %d" % (sysclk, exp["sysclk_hz"]))

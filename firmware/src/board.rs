@@ -168,6 +168,14 @@ mod tests {
     }
 
     #[test]
+    fn the_estop_sits_at_the_ticks_level_above_the_global_critical_section() {
+        // app/cs.rs masks every level below the tick's: an E-stop any lower
+        // would wait for a log line or embassy
+        let level = |n: &str| PRIORITIES.iter().find(|p| p.0 == n).unwrap().1;
+        assert_eq!(level(SHARES_TICK), level(TICK_IRQ));
+    }
+
+    #[test]
     fn every_pin_is_used_once() {
         for (i, a) in PINS.iter().enumerate() {
             for b in &PINS[i + 1..] {

@@ -26,11 +26,41 @@ use polyturn_firmware::board;
 
 /// A panic stops the cutter at once (no steps, ENABLE inactive), logs, and
 /// traps so a probe shows the backtrace; the watchdog then resets the MCU.
+/// Interrupts go off first: the tick (above the logger's critical section,
+/// `cs.rs`) would otherwise turn ENABLE and the ESC back on meanwhile. A
+/// panic inside the log (defmt) only traps.
 #[panic_handler]
 fn panic(_info: &core::panic::PanicInfo) -> ! {
+    use core::sync::atomic::{AtomicBool, Ordering};
+    static PANICKING: AtomicBool = AtomicBool::new(false);
+    cortex_m::interrupt::disable();
     drivers::all_outputs_off();
-    defmt::error!("panic: outputs off, waiting for the watchdog reset");
+    if !PANICKING.swap(true, Ordering::Relaxed) {
+        defmt::error!("panic: outputs off, waiting for the watchdog reset");
+    }
     cortex_m::asm::udf()
+}
+
+/// A fault, or an interrupt nothing handles: every output off, interrupts
+/// off, then wait for the watchdog (cortex-m-rt's defaults only spin,
+/// leaving ENABLE and the ESC as they were, and an unhandled interrupt at
+/// the tick's level would starve it).
+#[cortex_m_rt::exception]
+unsafe fn HardFault(_frame: &cortex_m_rt::ExceptionFrame) -> ! {
+    cortex_m::interrupt::disable();
+    drivers::all_outputs_off();
+    loop {
+        cortex_m::asm::nop();
+    }
+}
+
+#[cortex_m_rt::exception]
+unsafe fn DefaultHandler(_irqn: i16) {
+    cortex_m::interrupt::disable();
+    drivers::all_outputs_off();
+    loop {
+        cortex_m::asm::nop();
+    }
 }
 
 static PLANNER: InterruptExecutor = InterruptExecutor::new();
@@ -78,15 +108,20 @@ fn clocks() -> embassy_stm32::Config {
     c.rcc.apb1_pre = APBPrescaler::DIV2;
     c.rcc.apb2_pre = APBPrescaler::DIV1;
     c.rcc.mux.clk48sel = mux::Clk48sel::PLL1_Q;
+    // embassy enables all 16 DMA streams' interrupts at this level (0 by
+    // default: the tick's); none is used with interrupts, and none may sit
+    // at or above the tick (`priorities::check`)
+    c.dma_interrupt_priority = embassy_stm32::interrupt::Priority::P15;
     c
 }
 
 #[embassy_executor::main]
 async fn main(spawner: Spawner) {
+    // before embassy enables its timer's interrupt, and any of ours (the
+    // NVIC needs no clock)
+    priorities::apply();
     let p = embassy_stm32::init(clocks());
     flash_accelerator_on();
-    // before any of ours is enabled; embassy's timer is already running
-    priorities::apply();
     // The settings first (they say which level of ENABLE is inactive), then
     // the outputs, inactive, before anything else runs. Until then the pins
     // float and the board's pull resistor holds ENABLE inactive.
@@ -109,6 +144,9 @@ async fn main(spawner: Spawner) {
     drivers::step_output(p.TIM1, p.PA8, p.PA9, p.TIM2);
     drivers::esc_pwm(p.TIM10, p.PB8);
     safety::inputs(p.PB14, p.PB15);
+    if !priorities::check() {
+        defmt::error!("an interrupt sits at the tick's level (above): fix board::PRIORITIES");
+    }
     tick::start(config, pins);
     let cam = cam.filter(|(h, t)| match tick::fit_cam(h, t) {
         Some(Ok(())) => true,

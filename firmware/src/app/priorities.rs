@@ -37,11 +37,18 @@ unsafe impl InterruptNumber for Irq {
 }
 
 /// True when every enabled interrupt at the tick's level is the tick or
-/// the one allowed to share it; logs each that is not.
+/// the one allowed to share it, and all 4 priority bits are group priority
+/// (AIRCR.PRIGROUP ≤ 3, PM0214 §4.4.5: `cs.rs`'s BASEPRI mask assumes it);
+/// logs each that is not.
 pub fn check() -> bool {
     let tick = interrupt::TIM1_TRG_COM_TIM11.get_priority();
     let allowed = [interrupt::TIM1_TRG_COM_TIM11.number(), shared()];
-    let mut ok = true;
+    // SAFETY: a read of SCB.AIRCR
+    let prigroup = (unsafe { (*cortex_m::peripheral::SCB::PTR).aircr.read() } >> 8) & 7;
+    let mut ok = prigroup <= 3;
+    if !ok {
+        defmt::error!("AIRCR.PRIGROUP is {}: priority levels split", prigroup);
+    }
     for n in 0..86u16 {
         let irq = Irq(n);
         if NVIC::is_enabled(irq) && NVIC::get_priority(irq) <= u8::from(tick) && !allowed.contains(&n) {

@@ -1,12 +1,13 @@
 //! The control tick: TIM11's update interrupt at 25 kHz, highest priority.
 //! Reads the counters, runs the core's tick, applies its output. The core
-//! is shared with lower priorities through a critical section.
+//! is shared with lower priorities under PRIMASK (`locked`), not the
+//! global critical section (`cs.rs`: BASEPRI, which the tick outranks).
 
 use super::drivers::{self, CutterCounter, LatheCounter, Mmio, OutputPins, TIMER_HZ};
 use super::safety;
 use core::cell::RefCell;
 use core::sync::atomic::{AtomicU32, Ordering};
-use critical_section::Mutex;
+use cortex_m::interrupt::{CriticalSection, Mutex};
 use embassy_stm32::interrupt;
 use embassy_stm32::interrupt::InterruptExt;
 use embassy_stm32::pac;
@@ -23,14 +24,15 @@ struct Io {
     x: XSteps,
 }
 
+/// cortex-m's Mutex: its token comes only from `interrupt::free`
+/// (PRIMASK), so a `critical_section::with` token (BASEPRI, which the tick
+/// outranks) cannot open it.
 static IO: Mutex<RefCell<Option<Io>>> = Mutex::new(RefCell::new(None));
 
-/// The lock on `IO`: PRIMASK, which also holds off the tick and the E-stop
-/// (`critical_section` does not: `app::cs`). Only short copies inside.
-fn locked<R>(f: impl FnOnce(critical_section::CriticalSection) -> R) -> R {
-    // SAFETY: with PRIMASK set nothing else runs on this single core, so
-    // the token's promise (no concurrent access) holds.
-    cortex_m::interrupt::free(|_| f(unsafe { critical_section::CriticalSection::new() }))
+/// The lock on `IO`: PRIMASK, which also holds off the tick and the E-stop.
+/// Only short copies inside.
+fn locked<R>(f: impl FnOnce(&CriticalSection) -> R) -> R {
+    cortex_m::interrupt::free(f)
 }
 static TICKS: AtomicU32 = AtomicU32::new(0);
 static LAST_SEEN: AtomicU32 = AtomicU32::new(0);
