@@ -76,6 +76,13 @@ fn the_erase_waits_for_an_operation_already_under_way() {
 }
 
 #[test]
+fn the_settings_sectors_are_where_the_manual_puts_sectors_6_and_7() {
+    // RM0383 §3.3 Table 4: sector 6 at 0x0804_0000, 7 at 0x0806_0000
+    assert_eq!(SettingsSector::Six.offset(), 0x4_0000);
+    assert_eq!(SettingsSector::Seven.offset(), 0x6_0000);
+}
+
+#[test]
 fn the_programs_addresses_and_bits_are_the_models() {
     assert_eq!((fp::KEYR, fp::SR, fp::CR, fp::KEY1, fp::KEY2), (KEYR, SR, CR, KEY1, KEY2));
     assert_eq!((fp::SR_EOP, fp::SR_ERRORS, fp::SR_BSY), (SR_EOP, SR_ERRORS, SR_BSY));

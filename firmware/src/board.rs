@@ -139,8 +139,8 @@ pub const TIMERS: &[(&str, &str)] = &[
 /// `app` applies this map at boot and checks every enabled interrupt
 /// against it.
 pub const PRIORITIES: &[(&str, u8)] = &[
-    ("TIM1_TRG_COM_TIM11", 0), // control tick
-    ("EXTI15_10", 0),          // E-stop, drive alarm
+    (TICK_IRQ, TICK_LEVEL),    // control tick
+    (SHARES_TICK, TICK_LEVEL), // E-stop, drive alarm
     ("TIM5", 1),               // embassy's time driver
     ("OTG_FS", 2),             // USB console
     ("USART6", 6),             // planning executor (InterruptExecutor)
@@ -150,6 +150,8 @@ pub const PRIORITIES: &[(&str, u8)] = &[
 pub const SHARES_TICK: &str = "EXTI15_10";
 /// The control tick's interrupt (TIM11's update shares TIM1's vector).
 pub const TICK_IRQ: &str = "TIM1_TRG_COM_TIM11";
+/// The tick's level: the most urgent (`app/cs.rs` masks every level below).
+pub const TICK_LEVEL: u8 = 0;
 
 #[cfg(test)]
 mod tests {

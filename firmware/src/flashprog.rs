@@ -39,6 +39,14 @@ pub enum SettingsSector {
     Seven = 7,
 }
 
+impl SettingsSector {
+    /// Offset from the start of flash: sectors 5 to 7 are 128 KiB each
+    /// from 0x0802_0000 (§3.3 Table 4).
+    pub const fn offset(self) -> u32 {
+        0x2_0000 * (self as u32 - 4)
+    }
+}
+
 /// The longest a 128 KiB sector erase takes at ×32 (DS10314, max).
 pub const ERASE_MAX_US: u32 = 2_000_000;
 /// The longest one 32-bit word takes to program (DS10314, t_prog max).

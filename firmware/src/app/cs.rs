@@ -12,37 +12,10 @@
 //! written through BASEPRI_MAX, which only ever raises it, so a section
 //! taken inside a level-1 handler does not unmask anything.
 
-use polyturn_firmware::board::{PRIORITIES, TICK_IRQ};
-
-/// The tick's level, from the priority map.
-const fn tick_level() -> u8 {
-    let mut i = 0;
-    while i < PRIORITIES.len() {
-        if const_eq(PRIORITIES[i].0, TICK_IRQ) {
-            return PRIORITIES[i].1;
-        }
-        i += 1;
-    }
-    panic!("the tick is missing from board::PRIORITIES")
-}
-
-const fn const_eq(a: &str, b: &str) -> bool {
-    let (a, b) = (a.as_bytes(), b.as_bytes());
-    if a.len() != b.len() {
-        return false;
-    }
-    let mut i = 0;
-    while i < a.len() {
-        if a[i] != b[i] {
-            return false;
-        }
-        i += 1;
-    }
-    true
-}
+use polyturn_firmware::board::TICK_LEVEL;
 
 /// Masks levels tick+1 and below in urgency (the top 4 bits, PM0214 §4.3.7).
-const MASK: u8 = (tick_level() + 1) << 4;
+const MASK: u8 = (TICK_LEVEL + 1) << 4;
 
 struct Basepri;
 critical_section::set_impl!(Basepri);

@@ -15,9 +15,8 @@ use polyturn_sync::Config;
 pub type StoredCam = (CamHeader, &'static [i32]);
 const FLASH_BASE: u32 = 0x0800_0000;
 
-/// Offsets from the start of flash of sectors 6 and 7 (RM0383 §3.3 Table 4).
-const SLOTS: [u32; 2] = [0x4_0000, 0x6_0000];
-const SLOT_SECTORS: [SettingsSector; 2] = [SettingsSector::Six, SettingsSector::Seven];
+/// The settings' two slots: sectors 6 and 7 (`SettingsSector::offset`).
+const SLOTS: [SettingsSector; 2] = [SettingsSector::Six, SettingsSector::Seven];
 
 /// The settings sectors; owned by the console task, the only writer.
 pub struct Sectors(Flash<'static, Blocking>);
@@ -56,17 +55,17 @@ impl SlotFlash for Sectors {
         // 5.4 s (`iwdg`, tests/flash_erase.rs checks the margin). Our own
         // program, not embassy's erase, which runs at ×8 (twice as long).
         embassy_stm32::pac::IWDG.kr().write(|w| w.set_key(embassy_stm32::pac::iwdg::vals::Key::RESET));
-        let program = flashprog::erase_sector(SLOT_SECTORS[slot]);
+        let program = flashprog::erase_sector(SLOTS[slot]);
         cache_off(|| apply(&program, &mut Mmio)).map_err(|step| {
             let _ = apply(&flashprog::LOCK, &mut Mmio);
             FlashError::Erase(step)
         })
     }
     fn write(&mut self, slot: usize, offset: u32, data: &[u8]) -> Result<(), FlashError> {
-        cache_off(|| self.0.blocking_write(SLOTS[slot] + offset, data)).map_err(FlashError::Write)
+        cache_off(|| self.0.blocking_write(SLOTS[slot].offset() + offset, data)).map_err(FlashError::Write)
     }
     fn read(&mut self, slot: usize, offset: u32, buf: &mut [u8]) -> Result<(), FlashError> {
-        self.0.blocking_read(SLOTS[slot] + offset, buf).map_err(FlashError::Write)
+        self.0.blocking_read(SLOTS[slot].offset() + offset, buf).map_err(FlashError::Write)
     }
 }
 
@@ -81,7 +80,7 @@ pub fn load(flash: Peri<'static, FLASH>) -> (Config, &'static str, Sectors, Opti
 fn newest_cam(dev: &mut Sectors, how: Loaded) -> Option<StoredCam> {
     let Loaded::Saved { slot, .. } = how else { return None };
     let h = store::load_cam(dev, slot)?;
-    let at = (FLASH_BASE + SLOTS[slot] + CAM_POINTS_AT) as *const i32;
+    let at = (FLASH_BASE + SLOTS[slot].offset() + CAM_POINTS_AT) as *const i32;
     // SAFETY: memory-mapped flash, 4-byte aligned, checked by its CRC just
     // now; this slot is not erased until a later save makes it the older
     // one, and every save re-fits the cam from the new slot first.

@@ -205,9 +205,11 @@ fn cam_line(line: &[u8], store: &mut Store) -> Reply {
         Ok(Progress::Complete(h)) => {
             // Every check the fit applies, before anything is saved or
             // replaced: the header under the lock, the points outside it.
-            let cfg = tick::with_core(|c| *c.config());
-            let checked = tick::with_core(|c| c.check_cam(&h))
-                .unwrap_or(Err("the controller is not running yet"))
+            let (cfg, header) = match tick::with_core(|c| (*c.config(), c.check_cam(&h))) {
+                Some((cfg, header)) => (Some(cfg), header),
+                None => (None, Err("the controller is not running yet")),
+            };
+            let checked = header
                 .and_then(|()| store.upload.table().map_or(Err("cam table incomplete"), |(h, p)| check_table(&h, p)));
             match (cfg, checked) {
                 (_, Err(e)) => write!(r, "error: {e}"),

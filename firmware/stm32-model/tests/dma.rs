@@ -4,6 +4,18 @@ use common::*;
 
 const BUF: u32 = SRAM_BASE + 0x100;
 
+/// A four-transfer burst from ARR ([100, 2, 30, 40] to ARR, RCR, CCR1,
+/// CCR2), its first request raised by UG.
+fn burst_from_arr_started() -> Mcu {
+    let mut m = mcu();
+    sram_u16(&mut m, BUF, &[100, 2, 30, 40]);
+    dma5(&mut m, TIM1_DMAR, BUF, 4, dma_cr::SIZE_HALF, false);
+    m.write(TIM1_DCR, dcr::DBA.val(off::ARR / 4) | dcr::DBL.val(3));
+    m.write(TIM1_DIER, dier::UDE.mask());
+    m.write(TIM1_EGR, egr::UG.mask());
+    m
+}
+
 fn stream_en(m: &mut Mcu) -> bool {
     dma_cr::EN.on(m.read(DMA2_S5CR))
 }
@@ -62,12 +74,7 @@ fn ug_raises_no_dma_request_with_urs_or_udis() {
 // DBA = 11 (ARR), DBL = 3 → ARR, RCR, CCR1, CCR2, one transfer per latency.
 #[test]
 fn dma_burst_from_arr_writes_arr_rcr_ccr1_ccr2_in_order() {
-    let mut m = mcu();
-    sram_u16(&mut m, BUF, &[100, 2, 30, 40]);
-    dma5(&mut m, TIM1_DMAR, BUF, 4, dma_cr::SIZE_HALF, false);
-    m.write(TIM1_DCR, dcr::DBA.val(off::ARR / 4) | dcr::DBL.val(3));
-    m.write(TIM1_DIER, dier::UDE.mask());
-    m.write(TIM1_EGR, egr::UG.mask());
+    let mut m = burst_from_arr_started();
     let regs = [TIM1_ARR, TIM1_RCR, TIM1_CCR1, TIM1_CCR2];
     let mut seen = Vec::new();
     for cycle in 1..=24 {
@@ -173,12 +180,7 @@ fn direct_mode_forces_msize_to_psize_on_enable() {
 // (TCIF ...) is set"; NDTR keeps the remaining count.
 #[test]
 fn clearing_en_stops_the_stream_after_the_transfer_in_flight() {
-    let mut m = mcu();
-    sram_u16(&mut m, BUF, &[100, 2, 30, 40]);
-    dma5(&mut m, TIM1_DMAR, BUF, 4, dma_cr::SIZE_HALF, false);
-    m.write(TIM1_DCR, dcr::DBA.val(off::ARR / 4) | dcr::DBL.val(3));
-    m.write(TIM1_DIER, dier::UDE.mask());
-    m.write(TIM1_EGR, egr::UG.mask());
+    let mut m = burst_from_arr_started();
     m.run_until(2);
     let cr = m.read(DMA2_S5CR);
     m.write(DMA2_S5CR, cr & !dma_cr::EN.mask());

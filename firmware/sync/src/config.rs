@@ -92,6 +92,12 @@ fn within(v: u32, lo: u32, hi: u32, e: ConfigError) -> Result<(), ConfigError> {
 }
 
 impl Config {
+    /// True if `self` and `other` differ at most in the phase offset (the
+    /// only setting that may change while running).
+    pub fn differs_only_in_phase(&self, other: &Config) -> bool {
+        Config { phase_offset_mdeg: other.phase_offset_mdeg, ..*self } == *other
+    }
+
     /// Checks every field and the cross-field limits.
     pub fn validate(&self) -> Result<(), ConfigError> {
         within(self.encoder_counts_per_rev, 4, 1_000_000, range("cpr", "4..=1000000 counts per lathe rev"))?;

@@ -106,10 +106,9 @@ pub fn prepare(cmd: &Command<'_>, current: Config, generation: u32, timing: Timi
         Command::Defaults => Ok(Config::default()),
         _ => return None,
     };
-    let only_phase = |c: &Config| Config { phase_offset_mdeg: current.phase_offset_mdeg, ..*c } == current;
     Some(Prepared {
         generation,
-        only_phase: next.as_ref().is_ok_and(only_phase),
+        only_phase: next.as_ref().is_ok_and(|c| c.differs_only_in_phase(&current)),
         next: next.map(|c| (c, Derived::new(&c, timing))),
     })
 }

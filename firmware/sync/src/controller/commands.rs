@@ -198,7 +198,7 @@ impl Controller {
     /// Replaces the settings. While running only the phase offset may
     /// change (a nudge, smoothed by the follower's limits).
     pub fn set_config(&mut self, c: Config) -> Result<(), Refusal> {
-        let only_phase = Config { phase_offset_mdeg: self.config.phase_offset_mdeg, ..c } == self.config;
+        let only_phase = c.differs_only_in_phase(&self.config);
         self.install_config(c, Derived::new(&c, self.timing), only_phase)
     }
 
