@@ -4,6 +4,14 @@
 
 pub const LINE_MAX: usize = 96;
 
+/// True if `bytes` hold nothing but line ends. `watch` starts only when
+/// the rest of its packet is this (the LF of its CRLF, issue 13 review),
+/// and a packet of only line ends does not end a watch (the LF of a CRLF
+/// split across packets): any other byte is the next input.
+pub fn only_line_ends(bytes: &[u8]) -> bool {
+    bytes.iter().all(|&b| b == b'\r' || b == b'\n')
+}
+
 #[derive(Default)]
 pub struct LineBuffer {
     buf: heapless::Vec<u8, LINE_MAX>,
@@ -59,6 +67,14 @@ mod tests {
             b.clear();
         }
         out
+    }
+
+    #[test]
+    fn a_watch_starts_only_when_nothing_but_its_line_end_follows() {
+        // `#5 watch\r\n` in one packet: the LF after the line's CR
+        assert!(only_line_ends(b"\n") && only_line_ends(b"") && only_line_ends(b"\r\n"));
+        // anything else is the next input: the watch ends before it starts
+        assert!(!only_line_ends(b"\nstatus") && !only_line_ends(b" "));
     }
 
     #[test]

@@ -115,7 +115,9 @@ pub fn plan(setup: &Setup, rpm: f64, v_max: f64, a_max: f64) -> Plan {
     let (lo, hi) = plan.x.iter().fold((f64::MAX, f64::MIN), |(l, u), &v| (l.min(v), u.max(v)));
     plan.x_travel = hi - lo;
     let scale = (v_max / plan.peak_x_speed).min((a_max / plan.peak_x_accel).sqrt());
-    plan.max_rpm = Some(rpm * scale);
+    // An X motion of zero speed and acceleration sets no limit (None),
+    // never an infinite one.
+    plan.max_rpm = Some(rpm * scale).filter(|r| r.is_finite());
     if gouges(setup, &plan) {
         plan.limited_by = Some(Limit::Gouge);
     } else if plan.peak_x_speed > v_max {

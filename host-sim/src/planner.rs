@@ -4,6 +4,7 @@
 use crate::geometry::{Direction, Section, Setup};
 use polyturn_sync::ratio::gcd;
 use polyturn_sync::Ratio;
+use std::collections::HashMap;
 
 #[derive(Clone, Debug, serde::Serialize)]
 pub struct Candidate {
@@ -46,6 +47,12 @@ pub fn default_cutter(stock: f64) -> f64 {
 pub fn plan(req: &Request) -> Vec<Candidate> {
     let r1 = req.cutter_radius.unwrap_or_else(|| default_cutter(req.stock_radius));
     let mut out = Vec::new();
+    // The section depends on the ratio and the sense but not on the edges:
+    // it is one tip's pass and its N rotations, N = `sides` for every
+    // candidate. Candidates whose r·Z is the same product share the ratio
+    // N/(r·Z) (2/3 × 3 edges in 1 turn, 2/3 × 1 edge over 3 turns), so
+    // their figures are computed once.
+    let mut figures: HashMap<(Ratio, bool), Figures> = HashMap::new();
     for edges in 1..=req.max_edges {
         for revs in 1..=req.max_revolutions {
             // GR·Z = N/r  →  GR = N/(r·Z), with gcd(N, r) = 1 so that N flats
@@ -66,7 +73,9 @@ pub fn plan(req: &Request) -> Vec<Candidate> {
                     edges,
                     direction,
                 };
-                out.push(candidate(&setup, req));
+                let f =
+                    *figures.entry((ratio, direction == Direction::Same)).or_insert_with(|| Figures::of(&setup, req));
+                out.push(candidate(&setup, req, f));
             }
         }
     }
@@ -80,8 +89,31 @@ pub fn plan(req: &Request) -> Vec<Candidate> {
     out
 }
 
-fn candidate(setup: &Setup, req: &Request) -> Candidate {
-    let s = Section::ideal(setup, 256).summary();
+/// What a candidate's section tells: flatness, corners, smallest cutter.
+#[derive(Clone, Copy)]
+struct Figures {
+    flat_deviation: f64,
+    corners_sharp: bool,
+    min_cutter_radius: Option<f64>,
+}
+
+impl Figures {
+    fn of(setup: &Setup, req: &Request) -> Figures {
+        let (flat_deviation, corners_sharp) = flatness(setup, 256);
+        let min_cutter_radius = if req.cutter_radius.is_none() { min_cutter(setup, req.tolerance) } else { None };
+        Figures { flat_deviation, corners_sharp, min_cutter_radius }
+    }
+}
+
+/// `Section::ideal(setup, bins).summary()`'s flat deviation and sharp
+/// corners, from one sector solved on the pass ([`Section::ideal_sector`]):
+/// every flat reads the same bins, so flat 0 and corner 0 stand for all.
+fn flatness(setup: &Setup, bins: usize) -> (f64, bool) {
+    let s = Section::ideal_sector(setup, bins);
+    (s.flat_deviation(0), s.corner_radius(0) < s.stock_radius - 1e-9)
+}
+
+fn candidate(setup: &Setup, req: &Request, f: Figures) -> Candidate {
     let rolling = setup.rolling_radii();
     let w = setup.pass_half_window();
     let peak = (0..=64).map(|i| setup.relative_speed_factor(-w + 2.0 * w * i as f64 / 64.0)).fold(0.0, f64::max);
@@ -91,21 +123,24 @@ fn candidate(setup: &Setup, req: &Request) -> Candidate {
         direction: setup.direction.name(),
         revolutions: setup.pattern().1,
         depth: setup.depth_mm,
-        flat_deviation: s.flat_deviation,
-        corners_sharp: s.corners_sharp,
+        flat_deviation: f.flat_deviation,
+        corners_sharp: f.corners_sharp,
         cutter_rpm: req.rpm.map(|r| r * setup.gr()),
         rolling_radius_work: rolling.map(|r| r.0),
         rolling_radius_cutter: rolling.map(|r| r.1),
         // mm per rad × rad/s → mm/s → m/s
         peak_tip_speed: req.rpm.map(|r| peak * r / 60.0 * std::f64::consts::TAU / 1000.0),
-        min_cutter_radius: if req.cutter_radius.is_none() { min_cutter(setup, req.tolerance) } else { None },
+        min_cutter_radius: f.min_cutter_radius,
     }
 }
 
 /// Scans cutter radii from R2/2 to 100·R2 (geometric steps, then bisection).
 fn min_cutter(setup: &Setup, tol: f64) -> Option<f64> {
-    let dev = |r1: f64| Section::ideal(&Setup { cutter_radius_mm: r1, ..*setup }, 128).summary().flat_deviation.abs();
-    let (lo0, hi0) = (setup.stock_radius_mm * 0.5, setup.stock_radius_mm * 100.0);
+    let dev = |r1: f64| flatness(&Setup { cutter_radius_mm: r1, ..*setup }, 128).0.abs();
+    // No smaller than the depth: a cutter whose radius does not exceed it
+    // would have its axis inside the bar (`Setup::validate`).
+    let lo0 = (setup.stock_radius_mm * 0.5).max(setup.depth_mm * 1.01);
+    let hi0 = setup.stock_radius_mm * 100.0;
     let mut prev = lo0;
     if dev(lo0) <= tol {
         return Some(lo0);
@@ -129,6 +164,9 @@ fn min_cutter(setup: &Setup, tol: f64) -> Option<f64> {
     }
     None
 }
+
+#[cfg(test)]
+mod before;
 
 #[cfg(test)]
 mod tests {
@@ -177,6 +215,24 @@ mod tests {
         r.max_edges = 3;
         assert!(plan(&r).iter().any(|c| c.ratio == "11/3" && c.edges == 1 && c.revolutions == 3));
         assert!(plan(&r).iter().any(|c| c.ratio == "11/3" && c.edges == 3 && c.revolutions == 1));
+    }
+
+    #[test]
+    fn the_smallest_cutter_is_a_cutter_that_can_be_set_up() {
+        // a deep cut: every suggested R1 must exceed the depth
+        let setup = Setup {
+            cutter_radius_mm: 50.0,
+            stock_radius_mm: 10.0,
+            depth_mm: 9.6,
+            ratio: Ratio::new(2, 1).unwrap(),
+            edges: 3,
+            direction: Direction::Same,
+        };
+        for tol in [0.001, 0.01, 0.1, 1.0] {
+            if let Some(r) = min_cutter(&setup, tol) {
+                assert!(Setup { cutter_radius_mm: r, ..setup }.validate().is_ok(), "{tol}: R1 {r}");
+            }
+        }
     }
 
     #[test]

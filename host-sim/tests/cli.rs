@@ -14,7 +14,10 @@ const HEX: &str = "--cutter-radius 50 --stock-radius 10 --depth 1.5 --ratio 2 --
 fn help_and_version_work() {
     let (code, out, _) = polyturn("--help");
     assert_eq!(code, 0);
-    assert!(out.contains("polyturn demo") && out.contains("polyturn geometry"));
+    for command in ["demo", "geometry", "setups", "simulate", "device", "sequence", "compensate", "cam", "completions"]
+    {
+        assert!(out.contains(&format!("\n  {command} ")), "{command} missing from --help:\n{out}");
+    }
     let (code, out, _) = polyturn("--version");
     assert_eq!((code, out.trim()), (0, format!("polyturn {}", env!("CARGO_PKG_VERSION")).as_str()));
 }

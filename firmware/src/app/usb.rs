@@ -12,9 +12,9 @@ use embassy_time::Timer;
 use embassy_usb::class::cdc_acm::{CdcAcmClass, State};
 use embassy_usb::driver::EndpointError;
 use embassy_usb::Builder;
-use polyturn_firmware::line::{Line, LineBuffer};
+use polyturn_firmware::line::{only_line_ends, Line, LineBuffer};
 use polyturn_sync::cam_upload::{CamHeader, CamUpload, Progress};
-use polyturn_sync::console::{self, Action, Reply};
+use polyturn_sync::console::{self, tag, Action, Reply};
 use polyturn_sync::controller::check_table;
 use static_cell::StaticCell;
 
@@ -70,47 +70,68 @@ struct Store {
 async fn session(class: &mut Class, store: &mut Store) -> Result<(), EndpointError> {
     let mut lines = LineBuffer::default();
     let mut packet = [0u8; 64];
+    let mut n = class.read_packet(&mut packet).await?;
     loop {
-        let n = class.read_packet(&mut packet).await?;
-        for &b in &packet[..n] {
-            let (reply, action) = match lines.push(b) {
+        let mut watching = false;
+        for (i, &byte) in packet[..n].iter().enumerate() {
+            let (tag, reply, action) = match lines.push(byte) {
                 None => continue,
-                Some(Line::TooLong) => (too_long(), Action::None),
-                Some(Line::Text(text)) if text.starts_with(b"cam") => (cam_line(text, store), Action::None),
-                Some(Line::Text(text)) => {
-                    // Parse, derive new settings and render outside the
-                    // lock the tick shares; inside it only a copy of the
-                    // settings and `apply_prepared` (short, copies out).
-                    let cmd = console::parse(text);
-                    let pre = tick::with_core(|c| (*c.config(), c.config_generation()))
-                        .and_then(|(cfg, generation)| console::prepare(&cmd, cfg, generation, tick::TIMING));
-                    let outcome = tick::with_core(|c| console::apply_prepared(cmd, pre, c));
-                    tick::apply_driver_settings();
-                    match outcome {
-                        Some(outcome) => console::render(&outcome),
-                        None => (not_ready(), Action::None),
-                    }
-                }
+                Some(Line::TooLong) => (Tag::new(), too_long(), Action::None),
+                Some(Line::Text(text)) => answer(text, store),
             };
             lines.clear();
             let reply = match action {
                 Action::Save => saved(store),
                 _ => reply,
             };
-            send(class, &reply).await?;
-            if action == Action::Watch {
-                watch(class).await?;
-            }
+            send(class, &tag, &reply).await?;
+            // `watch` streams until the next input; bytes already received
+            // after it are that input (the watch ends before it starts).
+            watching = action == Action::Watch && only_line_ends(&packet[i + 1..n]);
         }
+        // The packet that ends a watch is the next command: handled, not
+        // dropped (issue 13: the reply to it was lost).
+        n = if watching { watch(class, &mut packet).await? } else { class.read_packet(&mut packet).await? };
     }
 }
 
+/// A reply tag's digits (`console::tag`), copied out of the line buffer.
+type Tag = heapless::Vec<u8, { tag::TAG_DIGITS }>;
+
+/// One line's reply (and what to do besides), with its tag.
+fn answer(line: &[u8], store: &mut Store) -> (Tag, Reply, Action) {
+    let (tag, body) = match tag::split(line) {
+        Ok((t, body)) => (Tag::from_slice(t.unwrap_or_default()).unwrap_or_default(), body),
+        Err(e) => {
+            let mut r = Reply::new();
+            let _ = write!(r, "error: {e}");
+            return (Tag::new(), r, Action::None);
+        }
+    };
+    if body.starts_with(b"cam") {
+        return (tag, cam_line(body, store), Action::None);
+    }
+    // Parse, derive new settings and render outside the lock the tick
+    // shares; inside it only a copy of the settings and `apply_prepared`
+    // (short, copies out).
+    let cmd = console::parse(body);
+    let pre = tick::with_core(|c| (*c.config(), c.config_generation()))
+        .and_then(|(cfg, generation)| console::prepare(&cmd, cfg, generation, tick::TIMING));
+    let outcome = tick::with_core(|c| console::apply_prepared(cmd, pre, c));
+    tick::apply_driver_settings();
+    let (reply, action) = match outcome {
+        Some(outcome) => console::render(&outcome),
+        None => (not_ready(), Action::None),
+    };
+    (tag, reply, action)
+}
+
 fn not_ready() -> Reply {
-    text("error: the controller is not running yet")
+    text_reply("error: the controller is not running yet")
 }
 
 fn too_long() -> Reply {
-    text("error: line too long (96 characters at most)")
+    text_reply("error: line too long (96 characters at most)")
 }
 
 /// Writes the settings. Not under the tick's lock: the erase stalls the
@@ -171,7 +192,7 @@ fn persist(
     }
 }
 
-fn text(s: &str) -> Reply {
+fn text_reply(s: &str) -> Reply {
     let mut r = Reply::new();
     let _ = r.push_str(s);
     r
@@ -187,13 +208,15 @@ fn cam_line(line: &[u8], store: &mut Store) -> Reply {
         return match tick::with_core(|c| c.set_x_axis(None)) {
             Some(Ok(())) => {
                 store.cam = None;
-                text("ok cam off (save to forget it)")
+                text_reply("ok cam off (save to forget it)")
             }
-            _ => text("error: stop first: the cam changes only while idle"),
+            _ => text_reply("error: stop first: the cam changes only while idle"),
         };
     }
     let mut r = Reply::new();
+    let was_uploading = store.upload.in_progress();
     let _ = match store.upload.line(args) {
+        Err(e) if was_uploading => write!(r, "error: {e}; the upload is abandoned (start again with cam begin)"),
         Err(e) => write!(r, "error: {e}"),
         Ok(Progress::Begun) => write!(r, "ok cam begin"),
         Ok(Progress::Received(n)) => write!(r, "ok cam {n}"),
@@ -228,29 +251,36 @@ fn cam_line(line: &[u8], store: &mut Store) -> Reply {
     r
 }
 
-async fn send(class: &mut Class, reply: &Reply) -> Result<(), EndpointError> {
-    for chunk in reply.as_bytes().chunks(62) {
+/// Sends `#tag reply` (or `reply` untagged) and CRLF.
+async fn send(class: &mut Class, tag: &[u8], reply: &Reply) -> Result<(), EndpointError> {
+    let mut line: heapless::Vec<u8, { console::REPLY_LEN + tag::TAG_DIGITS + 4 }> = heapless::Vec::new();
+    if !tag.is_empty() {
+        let _ = line.push(b'#');
+        let _ = line.extend_from_slice(tag);
+        let _ = line.push(b' ');
+    }
+    let _ = line.extend_from_slice(reply.as_bytes());
+    let _ = line.extend_from_slice(b"\r\n");
+    for chunk in line.chunks(62) {
         class.write_packet(chunk).await?;
     }
-    class.write_packet(b"\r\n").await
+    Ok(())
 }
 
-/// Streams status five times a second until any input arrives.
-async fn watch(class: &mut Class) -> Result<(), EndpointError> {
-    let mut buf = [0u8; 64];
+/// Streams status five times a second until any input arrives; returns
+/// that input's length (in `buf`) for the session to handle.
+async fn watch(class: &mut Class, buf: &mut [u8; 64]) -> Result<usize, EndpointError> {
     loop {
-        match select(Timer::after_millis(200), class.read_packet(&mut buf)).await {
+        match select(Timer::after_millis(200), class.read_packet(buf)).await {
             Either::First(()) => {
                 if let Some(snap) = tick::with_core(|c| console::Snapshot::of(c)) {
                     let mut line = Reply::new();
                     snap.write(&mut line);
-                    send(class, &line).await?;
+                    send(class, &[], &line).await?;
                 }
             }
-            Either::Second(r) => {
-                r?;
-                return Ok(());
-            }
+            Either::Second(Ok(n)) if only_line_ends(&buf[..n]) => {}
+            Either::Second(r) => return r,
         }
     }
 }

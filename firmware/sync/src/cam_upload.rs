@@ -63,6 +63,11 @@ fn num<T: core::str::FromStr>(w: Option<&str>) -> Result<T, &'static str> {
 
 impl CamUpload {
     /// One `cam ...` line, without the leading `cam`.
+    /// An upload begun and not yet complete (an error now abandons it).
+    pub fn in_progress(&self) -> bool {
+        self.header.is_some() && !self.complete
+    }
+
     pub fn line(&mut self, args: &str) -> Result<Progress, &'static str> {
         let r = self.step(args);
         if r.is_err() {

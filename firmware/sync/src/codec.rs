@@ -1,9 +1,12 @@
 //! Settings as bytes for flash: magic, version, fields little-endian,
 //! CRC-32. Anything that is not exactly a valid, current record decodes to
 //! an error (never a panic), and the caller falls back to the defaults.
+//! Decoding is one-to-one: a record decodes only if `encode` would write
+//! exactly its bytes for what it decodes to (so a record is never silently
+//! "repaired", e.g. an unreduced ratio 4/2 read as 2/1).
 
 use crate::config::{Config, DriveKind, Sense};
-use crate::ratio::Ratio;
+use crate::ratio::{gcd, Ratio};
 
 pub const MAGIC: [u8; 2] = *b"PT";
 pub const VERSION: u8 = 1;
@@ -20,6 +23,10 @@ pub enum DecodeError {
     Checksum,
     /// intact but out of range (written by a buggy or foreign tool)
     Invalid(&'static str),
+    /// intact and in range, but not the bytes `encode` writes for the
+    /// settings it holds (an unreduced ratio such as 4/2): refused, so what
+    /// decodes re-encodes to the same bytes
+    NonCanonical(&'static str),
 }
 
 /// CRC-32 (IEEE, reflected), bitwise: small and only used off the tick.
@@ -85,6 +92,10 @@ pub fn decode(bytes: &[u8]) -> Result<Config, DecodeError> {
     let mut r = Reader { buf: bytes, at: 3 };
     let (cpr, steps, p, q) = (r.u32(), r.u32(), r.u16(), r.u16());
     let ratio = Ratio::new(p as u64, q as u64).map_err(|_| DecodeError::Invalid("ratio"))?;
+    // `Ratio::new` reduces: 4/2 would come back as 2/1, other bytes
+    if gcd(p as u64, q as u64) != 1 {
+        return Err(DecodeError::NonCanonical("ratio"));
+    }
     let c = Config {
         encoder_counts_per_rev: cpr,
         motor_steps_per_rev: steps,
@@ -108,6 +119,11 @@ pub fn decode(bytes: &[u8]) -> Result<Config, DecodeError> {
         max_lathe_rpm: r.u16() as u32,
     };
     c.validate().map_err(|e| DecodeError::Invalid(e.field))?;
+    // Every field above is checked to be in its encoded form; this keeps the
+    // promise for any field added later without such a check.
+    if encode(&c) != *bytes {
+        return Err(DecodeError::NonCanonical("record"));
+    }
     Ok(c)
 }
 
@@ -186,6 +202,43 @@ mod tests {
         }
     }
 
+    /// `bytes` with its CRC made valid again: what a buggy or foreign
+    /// tool would write.
+    fn sealed(mut bytes: [u8; LEN]) -> [u8; LEN] {
+        let crc = crc32(&bytes[..LEN - 4]);
+        bytes[LEN - 4..].copy_from_slice(&crc.to_le_bytes());
+        bytes
+    }
+
+    /// The record of `Config::default()` (ratio 2/1) with the ratio's
+    /// terms replaced by `p`/`q` as written, CRC valid.
+    fn with_ratio_terms(p: u16, q: u16) -> [u8; LEN] {
+        let mut b = encode(&Config::default());
+        b[11..13].copy_from_slice(&p.to_le_bytes());
+        b[13..15].copy_from_slice(&q.to_le_bytes());
+        sealed(b)
+    }
+
+    #[test]
+    fn an_unreduced_ratio_with_a_valid_crc_is_refused() {
+        // the layout: the default's ratio 2/1 sits at bytes 11..15
+        assert_eq!(with_ratio_terms(2, 1), encode(&Config::default()));
+        assert_eq!(decode(&with_ratio_terms(2, 1)), Ok(Config::default()));
+        // 4/2, 2/2 and 2000/2 (1000/1 after reduction: in range) would
+        // decode to 2/1, 1/1 and 1000/1 and re-encode to other bytes
+        for (p, q) in [(4, 2), (2, 2), (6, 4), (2000, 2), (1000, 1000)] {
+            assert_eq!(decode(&with_ratio_terms(p, q)), Err(DecodeError::NonCanonical("ratio")), "{p}/{q}");
+        }
+        // reduced ones still decode (a valid 3/2, and 1/1)
+        for (p, q) in [(3, 2), (1, 1), (1, 3)] {
+            let c = decode(&with_ratio_terms(p, q)).unwrap();
+            assert_eq!((c.ratio.num(), c.ratio.den()), (p as u32, q as u32));
+        }
+        // out of range stays Invalid (not merely non-canonical)
+        assert_eq!(decode(&with_ratio_terms(0, 1)), Err(DecodeError::Invalid("ratio")));
+        assert_eq!(decode(&with_ratio_terms(1001, 1)), Err(DecodeError::Invalid("ratio")));
+    }
+
     #[test]
     fn crc_matches_the_standard_check_value() {
         assert_eq!(crc32(b"123456789"), 0xCBF4_3926);
@@ -208,6 +261,54 @@ mod tests {
             let crc = crc32(&b[..LEN - 4]);
             b[LEN - 4..].copy_from_slice(&crc.to_le_bytes());
             prop_assert!(matches!(decode(&b), Err(DecodeError::Invalid(_))));
+        }
+
+        /// Whatever decodes re-encodes to exactly the same bytes, for
+        /// records with a valid CRC, any ratio terms as written (reduced or
+        /// not) and a few bytes of the body overwritten anywhere.
+        #[test]
+        fn whatever_decodes_re_encodes_to_the_same_bytes(
+            p in 0u16..=40,
+            q in 0u16..=40,
+            pokes in proptest::collection::vec((3usize..LEN - 4, any::<u8>()), 0..4),
+        ) {
+            let mut b = with_ratio_terms(p, q);
+            for (at, v) in pokes {
+                b[at] = v;
+            }
+            let b = sealed(b);
+            if let Ok(c) = decode(&b) {
+                prop_assert_eq!(encode(&c), b);
+            }
+        }
+
+        /// Every valid config survives the trip through its record.
+        #[test]
+        fn every_valid_config_round_trips(
+            p in 1u64..=1000,
+            q in 1u64..=1000,
+            edges in 1u8..=12,
+            phase in -360_000i32..=360_000,
+            drive in 0u8..3,
+            flags in 0u8..4,
+            rpm in 1u32..=10_000,
+        ) {
+            let c = Config {
+                ratio: Ratio::new(p, q).unwrap_or(Ratio::TWO),
+                edges,
+                phase_offset_mdeg: phase,
+                drive: [DriveKind::Stepper, DriveKind::Bldc, DriveKind::None][drive as usize],
+                sense: if flags & 1 == 0 { Sense::Same } else { Sense::Opposite },
+                enable_active_high: flags & 2 != 0,
+                max_lathe_rpm: rpm,
+                max_step_rate_hz: 250_000,
+                step_pulse_ns: 100,
+                motor_steps_per_rev: 1,
+                ..Config::default()
+            };
+            if c.validate().is_ok() {
+                prop_assert_eq!(decode(&encode(&c)), Ok(c));
+            }
         }
     }
 }

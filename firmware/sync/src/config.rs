@@ -100,6 +100,12 @@ impl Config {
 
     /// Checks every field and the cross-field limits.
     pub fn validate(&self) -> Result<(), ConfigError> {
+        self.validate_fields()?;
+        self.validate_together()
+    }
+
+    /// Each field in its own range.
+    fn validate_fields(&self) -> Result<(), ConfigError> {
         within(self.encoder_counts_per_rev, 4, 1_000_000, range("cpr", "4..=1000000 counts per lathe rev"))?;
         within(self.motor_steps_per_rev, 1, 1_000_000, range("steps", "1..=1000000 steps per cutter rev"))?;
         within(self.edges as u32, 1, 12, range("edges", "1..=12"))?;
@@ -111,15 +117,20 @@ impl Config {
         }
         within(self.dir_setup_ns, 0, 100_000, range("dir-setup", "0..=100000 ns"))?;
         within(self.step_pulse_ns, 100, 100_000, range("pulse", "100..=100000 ns"))?;
-        within(self.max_lathe_rpm, 1, 10_000, range("max-rpm", "1..=10000 rpm"))?;
+        within(self.max_lathe_rpm, 1, 10_000, range("max-rpm", "1..=10000 rpm"))
+    }
+
+    /// The limits that join several settings. The error names one of them
+    /// (`with` names the one being set) and says which others take part.
+    fn validate_together(&self) -> Result<(), ConfigError> {
         // A step period is one pulse high plus as long low.
         if self.max_step_rate_hz as u64 * 2 * self.step_pulse_ns as u64 > 1_000_000_000 {
-            return Err(range("max-rate", "at most 1/(2 x pulse) so pulses fit"));
+            return Err(range("max-rate", "does not fit with the others: max-rate x 2 x pulse must not exceed 1 s (a step is a pulse high and as long low)"));
         }
         // The motor must keep up with the lathe at its declared top speed.
         let need = self.max_lathe_rpm as u64 * self.ratio.num() as u64 * self.motor_steps_per_rev as u64;
         if need > 60 * self.ratio.den() as u64 * self.max_step_rate_hz as u64 {
-            return Err(range("ratio", "too fast: max-rpm x ratio x steps/60 must not exceed max-rate"));
+            return Err(range("ratio", "does not fit with the others: max-rpm x ratio x steps/60 must not exceed max-rate (the motor must keep up at the lathe's top speed)"));
         }
         Ok(())
     }
@@ -151,7 +162,14 @@ impl Config {
             "max-rpm" => c.max_lathe_rpm = num("max-rpm", "1..=10000 rpm")?,
             _ => return Err(range("name", "one of: cpr steps ratio dir edges max-rate max-accel ferror phase drive dir-setup pulse enable max-rpm")),
         }
-        c.validate()?;
+        c.validate_fields()?;
+        // Valid alone but not with the others: name the setting being set,
+        // not the one the check happens to be written for (`set steps
+        // 8000` is too fast because of the steps, as the machinist sees it).
+        if let Err(e) = c.validate_together() {
+            let field = NAMES.iter().find(|n| **n == name).copied().unwrap_or(e.field);
+            return Err(ConfigError { field, ..e });
+        }
         Ok(c)
     }
 }

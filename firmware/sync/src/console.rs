@@ -262,5 +262,7 @@ fn write_mdeg(out: &mut Reply, mdeg: i32) -> core::fmt::Result {
     write!(out, "phase={sign}{}.{:03}", m / 1000, m % 1000)
 }
 
+pub mod tag;
+
 #[cfg(test)]
 mod tests;

@@ -156,7 +156,8 @@ impl Controller {
         self.ticks += 1;
         let delta = self.lathe.update(io.lathe);
         // (during a flash stall, `stall` judges jumps and indexes)
-        if !self.stall_jump(delta) && delta.abs() > self.d.max_counts_per_tick {
+        let implausible = delta.abs() > self.d.max_counts_per_tick;
+        if !self.stall_jump(delta) && implausible {
             self.trip(Fault::EncoderImplausible);
         }
         if let Some(raw) = io.index {
@@ -165,11 +166,14 @@ impl Controller {
             }
         }
         // Bounded once (an implausible jump has tripped above): the gear and
-        // the X cam take the bounded count, the estimator the measured one.
+        // the X cam take the bounded count. The estimator takes no count
+        // from a jump no lathe can make (a stall's, or a fault's): it is
+        // not speed, and a stopped lathe would read thousands of rpm after
+        // it (found by fuzzing, issue 13).
         let clamped = crate::bound(delta as i64, self.d.max_counts_per_tick as i64) as i32;
         let sign = |v: i32| if self.d.sense_positive { v } else { -v };
         self.gear.advance(sign(clamped));
-        self.est.update(sign(delta));
+        self.est.update(sign(if implausible { 0 } else { delta }));
         if io.estop_open {
             self.trip(Fault::EStop);
         }

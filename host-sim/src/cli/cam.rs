@@ -1,31 +1,64 @@
 //! `polyturn cam`: smooth single-point tool paths for a sharp-cornered
 //! polygon (seed 004), checked against the X axis, and the cam table.
 
-use super::args::{Args, CliError, CliResult};
+use super::errors::{CliError, CliResult};
+use super::output::Outputs;
+use super::values::{above, out_file, rpm, whole32};
 use crate::geometry::svg::Drawing;
 use crate::noncircular::path::{Polygon, ToolPath};
 use crate::noncircular::plan::{plan, Axis, Evaluation, Limit, Outcome, TOLERANCE_MM};
 use crate::noncircular::rounded::Rounded;
 use crate::noncircular::table::{build, CamFile};
 use crate::noncircular::{check, order, smallest_m};
+use polyturn_sync::cam::{Cam, CamError};
 use serde_json::json;
 use std::f64::consts::TAU;
+use std::path::PathBuf;
 
-pub const USAGE: &str = "polyturn cam --sides N --inscribed-radius R --rpm RPM --x-max-speed V(mm/s) --x-max-accel A(mm/s^2) [--m M] [--steps-per-mm S] [--encoder-counts C] [--table FILE] [--svg FILE] [--json]";
-const VALUED: &[&str] = &[
-    "sides",
-    "inscribed-radius",
-    "rpm",
-    "x-max-speed",
-    "x-max-accel",
-    "m",
-    "steps-per-mm",
-    "encoder-counts",
-    "table",
-    "svg",
-];
 /// The firmware emits at most one X step per two control ticks (25 kHz).
 pub const X_MAX_RATE_HZ: f64 = 12_500.0;
+/// A table further than this from its own tool path cuts another part:
+/// refused (more steps per mm or encoder counts fix it).
+pub const TABLE_REFUSED_MM: f64 = 0.1;
+/// Past this the report calls the table coarse.
+pub const TABLE_COARSE_MM: f64 = 0.01;
+
+#[derive(clap::Args, Debug)]
+pub struct CamArgs {
+    /// Sides N of the sharp polygon (3..=360)
+    #[arg(long, value_name = "N", value_parser = whole32(3, 360))]
+    pub sides: u32,
+    /// Inscribed radius (half the across-flats), mm (> 0, <= 500)
+    #[arg(long, value_name = "MM", value_parser = above(0.0, 500.0, "mm"))]
+    pub inscribed_radius: f64,
+    /// Lathe speed while cutting, rpm (1..=3000)
+    #[arg(long, value_name = "RPM", value_parser = rpm(3000.0))]
+    pub rpm: f64,
+    /// The X axis's top speed, mm/s (> 0, <= 10000; at most 12500 steps/s with --steps-per-mm)
+    #[arg(long, value_name = "MM/S", value_parser = above(0.0, 1e4, "mm/s"))]
+    pub x_max_speed: f64,
+    /// The X axis's top acceleration, mm/s^2 (> 0, <= 1000000)
+    #[arg(long, value_name = "MM/S^2", value_parser = above(0.0, 1e6, "mm/s^2"))]
+    pub x_max_accel: f64,
+    /// Lathe turns per pattern m (seed 004, Theorem 2) [default: the smallest valid]
+    #[arg(long, value_name = "M", value_parser = whole32(0, 1000))]
+    pub m: Option<u32>,
+    /// X axis steps per mm of tool radius (> 0, <= 100000)
+    #[arg(long, value_name = "STEPS/MM", default_value = "800", value_parser = above(0.0, 1e5, "steps/mm"))]
+    pub steps_per_mm: f64,
+    /// Lathe encoder counts per turn, after x4 quadrature (4..=1048576)
+    #[arg(long, value_name = "COUNTS", default_value = "2400", value_parser = whole32(4, 1 << 20))]
+    pub encoder_counts: u32,
+    /// Write the cam table (JSON, for `polyturn device upload-cam`) to this file
+    #[arg(long, value_name = "FILE", value_parser = out_file)]
+    pub table: Option<PathBuf>,
+    /// Also draw the tool path and the section to this SVG file
+    #[arg(long, value_name = "FILE", value_parser = out_file)]
+    pub svg: Option<PathBuf>,
+    /// Print the report as one JSON object
+    #[arg(long)]
+    pub json: bool,
+}
 
 struct Request {
     polygon: Polygon,
@@ -35,33 +68,44 @@ struct Request {
     counts_per_rev: u32,
 }
 
-fn request(a: &Args) -> CliResult<Request> {
-    a.required("sides")?;
-    let sides = a.whole("sides", 3, 360)?.unwrap_or(3) as u32;
-    let m = match a.whole("m", 0, 1_000)? {
-        Some(m) => check(sides, m as u32).map(|_| m as u32).map_err(|e| CliError::flag("m", e.describe()))?,
+fn request(a: &CamArgs) -> CliResult<Request> {
+    let sides = a.sides;
+    let m = match a.m {
+        Some(m) => check(sides, m).map(|_| m).map_err(|e| CliError::flag("m", e.describe()))?,
         None => smallest_m(sides).map_err(|e| CliError::flag("sides", e.describe()))?,
     };
-    let need = |f: &str, hi: f64, unit: &str| -> CliResult<f64> {
-        a.number(f, 0.0, hi, true, unit)?.ok_or_else(|| CliError::flag(f, "is required"))
-    };
-    let apothem_mm = need("inscribed-radius", 1000.0, "mm")?;
-    let axis = Axis {
-        rpm: need("rpm", 3000.0, "rpm")?,
-        max_speed: need("x-max-speed", 1e4, "mm/s")?,
-        max_accel: need("x-max-accel", 1e6, "mm/s^2")?,
-    };
-    let steps_per_mm = a.number("steps-per-mm", 0.0, 1e5, true, "steps/mm")?.unwrap_or(800.0);
-    let counts_per_rev = a.whole("encoder-counts", 4, 1 << 20)?.unwrap_or(2400) as u32;
-    if axis.max_speed * steps_per_mm > X_MAX_RATE_HZ {
-        let top = X_MAX_RATE_HZ / steps_per_mm;
-        return Err(CliError::flag("x-max-speed", format!("must be <= {top:.1} mm/s: the firmware emits at most {X_MAX_RATE_HZ} X steps/s ({steps_per_mm} steps/mm)")));
+    let axis = Axis { rpm: a.rpm, max_speed: a.x_max_speed, max_accel: a.x_max_accel };
+    let spm = a.steps_per_mm;
+    if axis.max_speed * spm > X_MAX_RATE_HZ {
+        let top = X_MAX_RATE_HZ / spm;
+        return Err(CliError::flag(
+            "x-max-speed",
+            format!("must be <= {top:.1} mm/s: the firmware emits at most {X_MAX_RATE_HZ} X steps/s ({spm} steps/mm)"),
+        ));
     }
-    Ok(Request { polygon: Polygon { sides, apothem_mm }, m, axis, steps_per_mm, counts_per_rev })
+    // The firmware takes the limits in whole steps/s and steps/s^2, > 0.
+    if axis.max_speed * spm < 1.0 {
+        return Err(CliError::flag(
+            "x-max-speed",
+            format!("must be >= {} mm/s: at least one X step per second ({spm} steps/mm)", 1.0 / spm),
+        ));
+    }
+    if axis.max_accel * spm < 1.0 {
+        return Err(CliError::flag(
+            "x-max-accel",
+            format!("must be >= {} mm/s^2: at least one X step per second squared ({spm} steps/mm)", 1.0 / spm),
+        ));
+    }
+    Ok(Request {
+        polygon: Polygon { sides, apothem_mm: a.inscribed_radius },
+        m,
+        axis,
+        steps_per_mm: spm,
+        counts_per_rev: a.encoder_counts,
+    })
 }
 
-pub fn run(argv: &[String]) -> CliResult<String> {
-    let a = Args::parse(argv, VALUED, &["json"])?;
+pub fn run(a: CamArgs) -> CliResult<String> {
     let r = request(&a)?;
     let (path, e, corners, sharp_rpm): (Box<dyn ToolPath>, Evaluation, Corners, f64) =
         match plan(r.polygon, r.m, r.axis) {
@@ -75,19 +119,39 @@ pub fn run(argv: &[String]) -> CliResult<String> {
     let rates = ((r.axis.max_speed * r.steps_per_mm) as u32, (r.axis.max_accel * r.steps_per_mm) as u32);
     let table = build(path.as_ref(), r.counts_per_rev, r.steps_per_mm, rates);
     let table_dev = table.deviation(path.as_ref(), 8192);
-    if let Some(file) = a.raw("table") {
-        let text = serde_json::to_string(&table).map_err(|e| CliError(e.to_string()))?;
-        std::fs::write(file, text).map_err(|e| CliError::flag("table", format!("could not write '{file}': {e}")))?;
+    faithful(&table, table_dev, &r)?;
+    let mut files = Outputs::default();
+    if let Some(file) = &a.table {
+        files.add("table", file, serde_json::to_string(&table).map_err(|e| CliError(e.to_string()))?)?;
     }
-    if let Some(file) = a.raw("svg") {
-        std::fs::write(file, drawing(path.as_ref(), &e, &table))
-            .map_err(|e| CliError::flag("svg", format!("could not write '{file}': {e}")))?;
+    if let Some(file) = &a.svg {
+        files.add("svg", file, drawing(path.as_ref(), &e, &table))?;
     }
+    files.write()?;
     let report = report(&e, &r, corners, &table, table_dev, sharp_rpm);
-    if a.has("json") {
+    if a.json {
         return Ok(report.to_string());
     }
     Ok(text(&report))
+}
+
+/// The table must be one the firmware takes (the sync core's own checks,
+/// `check_table`) and must cut the path it was made from: refused, naming
+/// the flag that would fix it, when it is further off than TABLE_REFUSED_MM.
+fn faithful(table: &CamFile, dev_mm: f64, r: &Request) -> CliResult<()> {
+    Cam::check(&table.points, table.period_counts).map_err(|e| match e {
+        CamError::Step => CliError::flag("steps-per-mm", format!("is too fine for this path: {}", e.describe())),
+        CamError::Points | CamError::Period => CliError::flag("encoder-counts", e.describe()),
+    })?;
+    if dev_mm <= TABLE_REFUSED_MM {
+        return Ok(());
+    }
+    // Whole X steps put up to half a step of error in every point.
+    let half_step = 0.5 / r.steps_per_mm;
+    if half_step * 2.0 > TABLE_REFUSED_MM {
+        return Err(CliError::flag("steps-per-mm", format!("must be >= {:.0} steps/mm: the table would cut {dev_mm:.3} mm off its tool path (at most {TABLE_REFUSED_MM} mm)", 1.0 / TABLE_REFUSED_MM)));
+    }
+    Err(CliError::flag("encoder-counts", format!("too coarse: the table, {} points over {} counts, would cut {dev_mm:.3} mm off its tool path (at most {TABLE_REFUSED_MM} mm)", table.points.len(), table.period_counts)))
 }
 
 /// What the corners will be.
@@ -113,7 +177,24 @@ fn report(
         Corners::Rounded(f) => ("rounded", 1, Some(f.radius_mm), f.shortfall()),
     };
     let path_dev = e.excess.max(e.overcut);
+    // A valid but poor result is said plainly, in both outputs.
+    let mut warnings: Vec<String> = Vec::new();
+    if let Some(f) = fillet.filter(|f| *f > 0.1 * r.polygon.apothem_mm) {
+        let cure = if sharp_rpm >= 1.0 {
+            format!("lower --rpm to {sharp_rpm:.1} or give the X axis more speed and acceleration")
+        } else {
+            "give the X axis more speed and acceleration (even 1 rpm is too fast for them)".into()
+        };
+        warnings.push(format!("the corner fillets ({f:.3} mm) exceed a tenth of the inscribed radius: this is a rounded polygon; for sharp corners {cure}"));
+    }
+    if table_dev > TABLE_COARSE_MM {
+        warnings.push(format!(
+            "the table cuts {:.1} um off its tool path: raise --steps-per-mm or --encoder-counts for a finer one",
+            table_dev * 1e3
+        ));
+    }
     json!({
+        "warnings": warnings,
         "sides": n,
         "m": m,
         "order": if m > 1 { order(n, m) } else { (0..n).collect() },
@@ -138,6 +219,17 @@ fn report(
 }
 
 fn text(j: &serde_json::Value) -> String {
+    let warnings: String = j["warnings"]
+        .as_array()
+        .into_iter()
+        .flatten()
+        .filter_map(|w| w.as_str())
+        .map(|w| format!("\nwarning: {w}"))
+        .collect();
+    body(j) + &warnings
+}
+
+fn body(j: &serde_json::Value) -> String {
     let f = |k: &str| j[k].as_f64().unwrap_or(0.0);
     let order: Vec<String> = j["order"].as_array().into_iter().flatten().map(|v| v.to_string()).collect();
     let corners = match j["corners"].as_str() {
@@ -158,10 +250,19 @@ fn text(j: &serde_json::Value) -> String {
 }
 
 fn refusal(e: &Evaluation, r: &Request) -> CliError {
-    let which = match e.limit {
-        Limit::Speed => format!("X speed {:.1} mm/s > {} mm/s", e.peak_speed, r.axis.max_speed),
-        Limit::Accel => format!("X acceleration {:.0} mm/s^2 > {} mm/s^2", e.peak_accel, r.axis.max_accel),
+    let (flag, which) = match e.limit {
+        Limit::Speed => ("x-max-speed", format!("X speed {:.1} mm/s > {} mm/s", e.peak_speed, r.axis.max_speed)),
+        Limit::Accel => {
+            ("x-max-accel", format!("X acceleration {:.0} mm/s^2 > {} mm/s^2", e.peak_accel, r.axis.max_accel))
+        }
     };
+    // Too slow even for the slowest lathe speed taken: the axis is at fault.
+    if e.max_rpm < 1.0 {
+        return CliError::flag(
+            flag,
+            format!("is too low: even a nearly round section at 1 rpm needs {which} (at {} rpm)", r.axis.rpm),
+        );
+    }
     CliError::flag(
         "rpm",
         format!("must be <= {:.1} rpm for this X axis: even a nearly round section needs {which}", e.max_rpm),

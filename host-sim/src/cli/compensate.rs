@@ -1,22 +1,33 @@
 //! `polyturn compensate`: plan the X axis that makes the flats straight.
 
-use super::args::{Args, CliError, CliResult};
-use super::geometry::setup_from;
+use super::errors::{CliError, CliResult};
+use super::geometry::SetupArgs;
+use super::values::{above, rpm};
 use crate::compensate::{plan, section, Limit};
 use crate::geometry::Section;
 use serde_json::json;
 
-pub const USAGE: &str = "polyturn compensate --cutter-radius R1 --stock-radius R2 --depth DOC --ratio GR --edges Z --direction same|opposite --rpm RPM --x-max-speed V(mm/s) --x-max-accel A(mm/s^2) [--json]";
-const VALUED: &[&str] =
-    &["cutter-radius", "stock-radius", "depth", "ratio", "edges", "direction", "rpm", "x-max-speed", "x-max-accel"];
+#[derive(clap::Args, Debug)]
+pub struct CompensateArgs {
+    #[command(flatten)]
+    pub setup: SetupArgs,
+    /// Lathe speed while cutting, rpm (1..=6000)
+    #[arg(long, value_name = "RPM", value_parser = rpm(6000.0))]
+    pub rpm: f64,
+    /// The X axis's top speed, mm/s (> 0, <= 10000)
+    #[arg(long, value_name = "MM/S", value_parser = above(0.0, 1e4, "mm/s"))]
+    pub x_max_speed: f64,
+    /// The X axis's top acceleration, mm/s^2 (> 0, <= 1000000)
+    #[arg(long, value_name = "MM/S^2", value_parser = above(0.0, 1e6, "mm/s^2"))]
+    pub x_max_accel: f64,
+    /// Print the report as one JSON object
+    #[arg(long)]
+    pub json: bool,
+}
 
-pub fn run(argv: &[String]) -> CliResult<String> {
-    let a = Args::parse(argv, VALUED, &["json"])?;
-    let setup = setup_from(&a)?;
-    let need = |f: &str, unit: &str| -> CliResult<f64> {
-        a.number(f, 0.0, 1e9, true, unit)?.ok_or_else(|| CliError::flag(f, "is required"))
-    };
-    let (rpm, v, acc) = (need("rpm", "rpm")?, need("x-max-speed", "mm/s")?, need("x-max-accel", "mm/s^2")?);
+pub fn run(a: CompensateArgs) -> CliResult<String> {
+    let setup = a.setup.setup()?;
+    let (rpm, v, acc) = (a.rpm, a.x_max_speed, a.x_max_accel);
     let p = plan(&setup, rpm, v, acc);
     let before = Section::ideal(&setup, 1024).summary().flat_deviation;
     let after = match p.limited_by {
@@ -26,12 +37,25 @@ pub fn run(argv: &[String]) -> CliResult<String> {
     let why = |l: Limit| {
         match l {
         Limit::Overlap => "two edges cut at the same time, and one X axis cannot serve both: fewer edges, a larger cutter or the other direction".to_string(),
-        Limit::Gouge => "the link between passes would cut into the flats".to_string(),
-        Limit::Speed => format!("X speed {:.1} mm/s exceeds {v} mm/s: at most {:.0} rpm", p.peak_x_speed, p.max_rpm.unwrap_or(0.0)),
-        Limit::Accel => format!("X acceleration {:.0} mm/s^2 exceeds {acc} mm/s^2: at most {:.0} rpm", p.peak_x_accel, p.max_rpm.unwrap_or(0.0)),
+        Limit::Gouge => "the link between passes would cut into the flats: fewer edges or another ratio".to_string(),
+        Limit::Speed => format!("X speed {:.1} mm/s exceeds {v} mm/s: at most {}", p.peak_x_speed, up_to(p.max_rpm)),
+        Limit::Accel => format!("X acceleration {:.0} mm/s^2 exceeds {acc} mm/s^2: at most {}", p.peak_x_accel, up_to(p.max_rpm)),
     }
     };
-    if a.has("json") {
+    // A plan the axis cannot follow is refused, naming what limits it
+    // (the X axis's speed or acceleration, or the setup's edges).
+    if let Some(l) = p.limited_by {
+        let flag = match l {
+            Limit::Overlap | Limit::Gouge => "edges",
+            Limit::Speed => "x-max-speed",
+            Limit::Accel => "x-max-accel",
+        };
+        return Err(CliError::flag(
+            flag,
+            format!("cannot straighten these flats (deviation stays {before:+.4} mm): {}", why(l)),
+        ));
+    }
+    if a.json {
         return Ok(json!({
             "flat_deviation_before": before,
             "flat_deviation_after": after,
@@ -44,12 +68,16 @@ pub fn run(argv: &[String]) -> CliResult<String> {
         })
         .to_string());
     }
-    Ok(match (p.limited_by, after) {
-        (None, Some(d)) => format!(
-            "flats straightened: deviation {before:+.4} mm -> {d:+.4} mm\nX travel {:.3} mm, peak X speed {:.1} mm/s, peak X acceleration {:.0} mm/s^2 (allows up to {:.0} rpm)",
-            p.x_travel, p.peak_x_speed, p.peak_x_accel, p.max_rpm.unwrap_or(0.0)
-        ),
-        (Some(l), _) => format!("flat deviation stays {before:+.4} mm: {}", why(l)),
-        (None, None) => format!("flat deviation stays {before:+.4} mm"),
-    })
+    Ok(format!(
+        "flats straightened: deviation {before:+.4} mm -> {:+.4} mm\nX travel {:.3} mm, peak X speed {:.1} mm/s, peak X acceleration {:.0} mm/s^2 (allows {})",
+        after.unwrap_or(before), p.x_travel, p.peak_x_speed, p.peak_x_accel, up_to(p.max_rpm)
+    ))
+}
+
+/// The lathe speed the X axis allows, or that it sets no limit.
+fn up_to(max_rpm: Option<f64>) -> String {
+    match max_rpm {
+        Some(r) => format!("up to {r:.0} rpm"),
+        None => "any lathe speed: the X axis does not move".into(),
+    }
 }

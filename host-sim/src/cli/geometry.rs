@@ -1,30 +1,65 @@
 //! `polyturn geometry`: what polygon a setup cuts.
 
-use super::args::{Args, CliError, CliResult};
-use crate::geometry::{svg, Section, Setup};
+use super::errors::{CliError, CliResult};
+use super::output::Outputs;
+use super::values::{direction, length_mm, ratio, whole32};
+use crate::geometry::{svg, Direction, Section, Setup};
+use polyturn_sync::Ratio;
 use serde_json::json;
+use std::path::PathBuf;
 
-pub const USAGE: &str = "polyturn geometry --cutter-radius R1 --stock-radius R2 --depth DOC --ratio GR --edges Z --direction same|opposite [--json] [--svg FILE]";
-const VALUED: &[&str] = &["cutter-radius", "stock-radius", "depth", "ratio", "edges", "direction", "svg"];
+/// The six variables of a setup (Foale's R1, R2, DOC, GR, Z and sense),
+/// shared by geometry, simulate and compensate.
+#[derive(clap::Args, Debug)]
+pub struct SetupArgs {
+    /// Cutter radius R1: the cutting edge's distance from the cutter's axis, mm (> --depth)
+    #[arg(long, value_name = "MM", value_parser = length_mm())]
+    pub cutter_radius: f64,
+    /// Stock radius R2 before the cut, mm (<= 10000)
+    #[arg(long, value_name = "MM", value_parser = length_mm())]
+    pub stock_radius: f64,
+    /// Depth of cut DOC at the flats' middle, mm (> 0, < --stock-radius)
+    #[arg(long, value_name = "MM", value_parser = length_mm())]
+    pub depth: f64,
+    /// Gear ratio GR, cutter turns per lathe turn: 2, 5/2 or 2.5 (numerator and denominator 1..=1000)
+    #[arg(long, value_name = "GR", value_parser = ratio)]
+    pub ratio: Ratio,
+    /// Cutting edges Z on the cutter (1..=12)
+    #[arg(long, value_name = "Z", value_parser = whole32(1, 12))]
+    pub edges: u32,
+    /// The cutter's sense against the lathe's: same or opposite
+    #[arg(long, value_name = "same|opposite", value_parser = direction)]
+    pub direction: Direction,
+}
 
-/// Reads and validates the five variables shared by geometry and simulate.
-pub fn setup_from(args: &Args) -> CliResult<Setup> {
-    let setup = Setup {
-        cutter_radius_mm: args.required_length_mm("cutter-radius")?,
-        stock_radius_mm: args.required_length_mm("stock-radius")?,
-        depth_mm: {
-            args.required("depth")?;
-            args.number("depth", 0.0, 10_000.0, true, "mm")?.unwrap_or_default()
-        },
-        ratio: args.ratio("ratio")?,
-        edges: {
-            args.required("edges")?;
-            args.whole("edges", 1, 12)?.unwrap_or_default() as u32
-        },
-        direction: args.direction("direction")?,
-    };
-    setup.validate().map_err(|e| CliError::flag(e.field, e.allowed))?;
-    Ok(setup)
+impl SetupArgs {
+    /// The setup, checked as a whole (the depth against the stock, the
+    /// cutter against the depth, and that it cuts a polygon, not a circle).
+    pub fn setup(&self) -> CliResult<Setup> {
+        let setup = Setup {
+            cutter_radius_mm: self.cutter_radius,
+            stock_radius_mm: self.stock_radius,
+            depth_mm: self.depth,
+            ratio: self.ratio,
+            edges: self.edges,
+            direction: self.direction,
+        };
+        setup.validate().map_err(|e| CliError::flag(e.field, e.allowed))?;
+        not_round(&Section::ideal(&setup, Section::default_bins(setup.sides())).summary())?;
+        Ok(setup)
+    }
+}
+
+#[derive(clap::Args, Debug)]
+pub struct GeometryArgs {
+    #[command(flatten)]
+    pub setup: SetupArgs,
+    /// Print the report as one JSON object
+    #[arg(long)]
+    pub json: bool,
+    /// Also draw the section and the cutter's tip traces to this SVG file
+    #[arg(long, value_name = "FILE", value_parser = super::values::out_file)]
+    pub svg: Option<PathBuf>,
 }
 
 /// The contract's JSON object for a setup and its section.
@@ -49,16 +84,34 @@ pub fn report(setup: &Setup, section: &Section) -> serde_json::Value {
     })
 }
 
-pub fn run(argv: &[String]) -> CliResult<String> {
-    let args = Args::parse(argv, VALUED, &["json"])?;
-    let setup = setup_from(&args)?;
+pub fn run(a: GeometryArgs) -> CliResult<String> {
+    let setup = a.setup.setup()?;
     let section = Section::ideal(&setup, Section::default_bins(setup.sides()));
-    if let Some(path) = args.raw("svg") {
-        std::fs::write(path, draw(&setup, &section))
-            .map_err(|e| CliError::flag("svg", format!("could not write '{path}': {e}")))?;
+    let mut files = Outputs::default();
+    if let Some(path) = &a.svg {
+        files.add("svg", path, draw(&setup, &section))?;
     }
+    files.write()?;
     let r = report(&setup, &section);
-    Ok(if args.has("json") { r.to_string() } else { human(&r) })
+    Ok(if a.json { r.to_string() } else { human(&r) })
+}
+
+/// A circle has N "flats" too, each bulging R(1 - cos(pi/N)) from its
+/// chord. A section whose flats bulge more than half that is round to the
+/// eye and the finger: not reported as a polygon (issue 13: a 0.002 mm
+/// cutter's shaved circle came out as 6 sharp sides).
+pub const ROUND_FRACTION: f64 = 0.5;
+
+fn not_round(s: &crate::geometry::SectionSummary) -> CliResult<()> {
+    let circle = s.circumscribed_radius * (1.0 - (std::f64::consts::PI / s.sides as f64).cos());
+    let fraction = s.flat_deviation.abs() / circle;
+    if fraction > ROUND_FRACTION {
+        return Err(CliError::flag(
+            "cutter-radius",
+            format!("is too small for this depth: the section is nearly round (its flats bulge {:.0} % as much as a circle's); a larger cutter gives flatter sides", fraction * 100.0),
+        ));
+    }
+    Ok(())
 }
 
 fn human(r: &serde_json::Value) -> String {

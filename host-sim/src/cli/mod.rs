@@ -1,70 +1,97 @@
-//! The `polyturn` command line: one module per subcommand.
+//! The `polyturn` command line (clap, derive): one module per subcommand,
+//! each with its flags, their units, defaults and ranges in `--help`.
+//! Errors keep the one-line contract of `errors.rs` and exit status 2.
 
-pub mod args;
 pub mod cam;
 pub mod compensate;
 pub mod device;
+pub mod errors;
 pub mod geometry;
+pub mod output;
 pub mod sequence;
 pub mod setups;
 pub mod simulate;
+pub mod values;
 
-use args::CliError;
+use clap::{CommandFactory, FromArgMatches, Parser, Subcommand};
+pub use errors::{CliError, CliResult};
 
 pub const VERSION: &str = env!("CARGO_PKG_VERSION");
 
-pub fn help() -> String {
-    format!(
-        "polyturn {VERSION}: plan, draw and simulate polygon turning with a live rotating cutter\n\n\
-         usage:\n  polyturn demo                 simulate a hexagon end to end, write hexagon.svg\n  \
-         {}\n  {}\n  {}\n  {}\n  {}\n  {}\n  {}\n  \
-         polyturn --help | --version\n\n\
-         Lengths are in mm. `polyturn <command> --help` shows a command's flags.",
-        geometry::USAGE,
-        setups::USAGE,
-        simulate::USAGE,
-        device::USAGE,
-        sequence::USAGE,
-        compensate::USAGE,
-        cam::USAGE
-    )
+/// Plan, draw and simulate polygon turning with a live rotating cutter.
+/// Lengths are in mm, speeds in rpm (lathe) and mm/s (X axis).
+#[derive(Parser, Debug)]
+#[command(name = "polyturn", version = VERSION, propagate_version = true)]
+#[command(disable_help_subcommand = true, arg_required_else_help = true)]
+pub struct Cli {
+    #[command(subcommand)]
+    pub command: Command,
 }
 
-/// Runs one command line; Ok(text) to print, or Err for exit status 2.
-pub fn dispatch(argv: &[String]) -> Result<String, CliError> {
-    let (cmd, rest) = match argv.split_first() {
-        Some((c, r)) => (c.as_str(), r),
-        None => return Ok(help()),
+#[derive(Subcommand, Debug)]
+pub enum Command {
+    /// Simulate a hexagon end to end (2:1 x 3 edges at 600 rpm) and draw it
+    Demo(simulate::DemoArgs),
+    /// What polygon a setup cuts: sides, across flats, flat deviation, corners
+    Geometry(geometry::GeometryArgs),
+    /// Which setups cut the polygon you want, flattest first
+    Setups(setups::SetupsArgs),
+    /// Run a setup through the real sync core and a model of the machine
+    Simulate(simulate::SimulateArgs),
+    /// Talk to the board's console over USB (status, settings, cam upload)
+    Device(device::DeviceArgs),
+    /// The order in which a single-point tool cuts a sharp polygon's sides
+    Sequence(sequence::SequenceArgs),
+    /// Plan the X axis that makes the flats straight
+    Compensate(compensate::CompensateArgs),
+    /// Smooth single-point tool paths for a sharp polygon, and the cam table
+    Cam(cam::CamArgs),
+    /// Print a shell completion script (e.g. `polyturn completions bash > /etc/bash_completion.d/polyturn`)
+    Completions {
+        /// The shell: bash, zsh, fish, elvish or powershell
+        shell: clap_complete::Shell,
+    },
+}
+
+/// Runs one command line (without the program name); Ok(text) to print,
+/// or Err for exit status 2.
+pub fn dispatch(argv: &[String]) -> CliResult<String> {
+    let parsed = command()
+        .try_get_matches_from(std::iter::once("polyturn".to_string()).chain(argv.iter().cloned()))
+        .and_then(|m| Cli::from_arg_matches(&m));
+    let cli = match errors::adapt(parsed)? {
+        errors::Parsed::Run(cli) => cli,
+        errors::Parsed::Print(text) => return Ok(text),
     };
-    if rest.iter().any(|a| a == "--help" || a == "-h") {
-        return Ok(usage_of(cmd).unwrap_or_else(help));
-    }
-    match cmd {
-        "--help" | "-h" | "help" => Ok(help()),
-        "--version" | "-V" => Ok(format!("polyturn {VERSION}")),
-        "geometry" => geometry::run(rest),
-        "simulate" => simulate::run_cli(rest),
-        "setups" => setups::run(rest),
-        "device" => device::run(rest),
-        "sequence" => sequence::run(rest),
-        "compensate" => compensate::run(rest),
-        "cam" => cam::run(rest),
-        "demo" => simulate::demo(rest),
-        other => Err(CliError(format!("unknown command '{other}' (try polyturn --help)"))),
+    match cli.command {
+        Command::Demo(a) => simulate::demo(a),
+        Command::Geometry(a) => geometry::run(a),
+        Command::Setups(a) => setups::run(a),
+        Command::Simulate(a) => simulate::run_cli(a),
+        Command::Device(a) => device::run(a),
+        Command::Sequence(a) => sequence::run(a),
+        Command::Compensate(a) => compensate::run(a),
+        Command::Cam(a) => cam::run(a),
+        Command::Completions { shell } => Ok(completions(shell)),
     }
 }
 
-fn usage_of(cmd: &str) -> Option<String> {
-    let u = match cmd {
-        "geometry" => geometry::USAGE,
-        "simulate" => simulate::USAGE,
-        "setups" => setups::USAGE,
-        "device" => device::USAGE,
-        "sequence" => sequence::USAGE,
-        "compensate" => compensate::USAGE,
-        "cam" => cam::USAGE,
-        "demo" => "polyturn demo [--svg FILE] [--json]",
-        _ => return None,
-    };
-    Some(format!("usage: {u}"))
+/// The command line, with negative numbers taken as values (so that
+/// `--ratio -2` is refused as a ratio, naming --ratio, not as a flag).
+fn command() -> clap::Command {
+    Cli::command().mut_subcommands(|s| s.allow_negative_numbers(true))
+}
+
+fn completions(shell: clap_complete::Shell) -> String {
+    let mut out = Vec::new();
+    clap_complete::generate(shell, &mut command(), "polyturn", &mut out);
+    String::from_utf8_lossy(&out).trim_end().to_string()
+}
+
+#[cfg(test)]
+mod tests {
+    #[test]
+    fn the_command_line_definition_is_consistent() {
+        super::command().debug_assert();
+    }
 }

@@ -1,26 +1,35 @@
 //! `polyturn sequence`: the order in which a single-point tool cuts the
 //! sides of a sharp-cornered polygon (seed 004, Theorem 2).
 
-use super::args::{Args, CliError, CliResult};
+use super::errors::{CliError, CliResult};
+use super::values::whole32;
 use crate::noncircular::{check, order, smallest_m};
 use serde_json::json;
 
-pub const USAGE: &str = "polyturn sequence --sides N [--m M] [--json]";
+#[derive(clap::Args, Debug)]
+pub struct SequenceArgs {
+    /// Sides N of the polygon (3..=10000)
+    #[arg(long, value_name = "N", value_parser = whole32(3, 10_000))]
+    pub sides: u32,
+    /// Lathe turns per pattern m: >= 2, coprime with --sides, not 1 more than a multiple of it (seed 004, Theorem 2) [default: the smallest]
+    #[arg(long, value_name = "M", value_parser = whole32(0, 1_000_000))]
+    pub m: Option<u32>,
+    /// Print the order as JSON
+    #[arg(long)]
+    pub json: bool,
+}
 
-pub fn run(argv: &[String]) -> CliResult<String> {
-    let a = Args::parse(argv, &["sides", "m"], &["json"])?;
-    a.required("sides")?;
-    let n = a.whole("sides", 3, 10_000)?.unwrap_or(0) as u32;
-    let m = match a.whole("m", 0, 1_000_000)? {
+pub fn run(a: SequenceArgs) -> CliResult<String> {
+    let n = a.sides;
+    let m = match a.m {
         Some(m) => {
-            let m = m as u32;
             check(n, m).map_err(|e| CliError::flag("m", e.describe()))?;
             m
         }
         None => smallest_m(n).map_err(|e| CliError::flag("sides", e.describe()))?,
     };
     let o = order(n, m);
-    if a.has("json") {
+    if a.json {
         return Ok(json!({"m": m, "order": o, "revolutions": m}).to_string());
     }
     let seq: Vec<String> = o.iter().map(u32::to_string).collect();

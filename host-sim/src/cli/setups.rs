@@ -1,28 +1,49 @@
 //! `polyturn setups`: which setups cut the polygon you want.
 
-use super::args::{Args, CliError, CliResult};
+use super::errors::{CliError, CliResult};
+use super::values::{above, length_mm, rpm, whole32};
 use crate::planner::{default_cutter, plan, Request};
 
-pub const USAGE: &str = "polyturn setups --sides N --stock-radius R2 (--across-flats AF | --depth DOC) [--cutter-radius R1] [--max-edges 6] [--max-ratio 8] [--max-revolutions 1] [--rpm RPM] [--tolerance 0.01] [--json]";
-const VALUED: &[&str] = &[
-    "sides",
-    "stock-radius",
-    "across-flats",
-    "depth",
-    "cutter-radius",
-    "max-edges",
-    "max-ratio",
-    "max-revolutions",
-    "rpm",
-    "tolerance",
-];
+#[derive(clap::Args, Debug)]
+pub struct SetupsArgs {
+    /// Sides N of the polygon wanted (2..=1000)
+    #[arg(long, value_name = "N", value_parser = whole32(2, 1000))]
+    pub sides: u32,
+    /// Stock radius R2 before the cut, mm
+    #[arg(long, value_name = "MM", value_parser = length_mm())]
+    pub stock_radius: f64,
+    /// Across flats wanted, mm (< the stock diameter); or give --depth
+    #[arg(long, value_name = "MM", value_parser = length_mm(), conflicts_with = "depth", required_unless_present = "depth")]
+    pub across_flats: Option<f64>,
+    /// Depth of cut at the flats' middle, mm (< --stock-radius); or give --across-flats
+    #[arg(long, value_name = "MM", value_parser = length_mm())]
+    pub depth: Option<f64>,
+    /// Cutter radius R1, mm [default: a cutter suited to the stock]
+    #[arg(long, value_name = "MM", value_parser = length_mm())]
+    pub cutter_radius: Option<f64>,
+    /// Most cutting edges Z to consider (1..=12)
+    #[arg(long, value_name = "Z", default_value = "6", value_parser = whole32(1, 12))]
+    pub max_edges: u32,
+    /// Largest gear ratio to consider (> 0, <= 1000)
+    #[arg(long, value_name = "GR", default_value = "8", value_parser = above(0.0, 1000.0, ""))]
+    pub max_ratio: f64,
+    /// Most lathe turns per pattern to consider (1..=12)
+    #[arg(long, value_name = "TURNS", default_value = "1", value_parser = whole32(1, 12))]
+    pub max_revolutions: u32,
+    /// Lathe speed, rpm (1..=10000): adds the cutter's speed and tip speed
+    #[arg(long, value_name = "RPM", value_parser = rpm(10_000.0))]
+    pub rpm: Option<f64>,
+    /// Flat deviation to size the smallest cutter for, mm (> 0, <= 10)
+    #[arg(long, value_name = "MM", default_value = "0.01", value_parser = above(0.0, 10.0, "mm"))]
+    pub tolerance: f64,
+    /// Print the setups as JSON
+    #[arg(long)]
+    pub json: bool,
+}
 
-pub fn run(argv: &[String]) -> CliResult<String> {
-    let a = Args::parse(argv, VALUED, &["json"])?;
-    a.required("sides")?;
-    let sides = a.whole("sides", 2, 1000)?.unwrap_or(6) as u32;
-    let r2 = a.required_length_mm("stock-radius")?;
-    let depth = match (a.length_mm("across-flats")?, a.length_mm("depth")?) {
+pub fn run(a: SetupsArgs) -> CliResult<String> {
+    let (sides, r2) = (a.sides, a.stock_radius);
+    let depth = match (a.across_flats, a.depth) {
         (Some(af), None) if af < 2.0 * r2 => r2 - af / 2.0,
         (Some(_), None) => {
             return Err(CliError::flag("across-flats", format!("must be < the stock diameter ({} mm)", 2.0 * r2)))
@@ -33,19 +54,25 @@ pub fn run(argv: &[String]) -> CliResult<String> {
         }
         _ => return Err(CliError("give exactly one of --across-flats AF or --depth DOC".into())),
     };
+    if let Some(r1) = a.cutter_radius.filter(|&r1| r1 <= depth) {
+        return Err(CliError::flag(
+            "cutter-radius",
+            format!("must be > the depth ({depth} mm): {r1} mm puts the cutter's axis inside the bar"),
+        ));
+    }
     let req = Request {
         sides,
         stock_radius: r2,
         depth,
-        cutter_radius: a.length_mm("cutter-radius")?,
-        max_edges: a.whole("max-edges", 1, 12)?.unwrap_or(6) as u32,
-        max_ratio: a.number("max-ratio", 0.0, 1000.0, true, "")?.unwrap_or(8.0),
-        max_revolutions: a.whole("max-revolutions", 1, 12)?.unwrap_or(1) as u32,
-        rpm: a.number("rpm", 0.0, 10_000.0, true, "rpm")?,
-        tolerance: a.number("tolerance", 0.0, 10.0, true, "mm")?.unwrap_or(0.01),
+        cutter_radius: a.cutter_radius,
+        max_edges: a.max_edges,
+        max_ratio: a.max_ratio,
+        max_revolutions: a.max_revolutions,
+        rpm: a.rpm,
+        tolerance: a.tolerance,
     };
     let found = plan(&req);
-    if a.has("json") {
+    if a.json {
         return Ok(serde_json::json!({"sides": sides, "depth": depth, "setups": found}).to_string());
     }
     if found.is_empty() {

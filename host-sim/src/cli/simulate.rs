@@ -1,81 +1,109 @@
 //! `polyturn simulate` and `polyturn demo`.
 
-use super::args::{Args, CliError, CliResult};
-use super::geometry::setup_from;
+use super::errors::{CliError, CliResult};
+use super::geometry::SetupArgs;
+use super::output::Outputs;
+use super::values::{above, drive, out_file, rpm, whole, whole32, within};
 use crate::geometry::{Direction, Setup};
 use crate::sim::{report, run, Scenario, Start};
 use polyturn_sync::{DriveKind, Ratio};
+use std::path::PathBuf;
 
-pub const USAGE: &str = "polyturn simulate --ratio GR --edges Z --direction same|opposite --cutter-radius R1 --stock-radius R2 --depth DOC --rpm RPM --revolutions N [--ripple F] [--start rest|spinning] [--encoder-cpr E] [--motor-steps M] [--drive stepper|bldc] [--seed S] [--json] [--svg FILE]";
-const VALUED: &[&str] = &[
-    "cutter-radius",
-    "stock-radius",
-    "depth",
-    "ratio",
-    "edges",
-    "direction",
-    "svg",
-    "rpm",
-    "revolutions",
-    "ripple",
-    "start",
-    "encoder-cpr",
-    "motor-steps",
-    "drive",
-    "seed",
-];
+/// The lathe time one run may simulate (bounds the work of any input).
+const MAX_CUT_S: f64 = 600.0;
 
-pub fn scenario_from(args: &Args) -> CliResult<Scenario> {
-    let setup = setup_from(args)?;
-    let rpm = args.number("rpm", 0.0, 6000.0, true, "rpm")?.ok_or_else(|| CliError::flag("rpm", "is required"))?;
-    let revs = args
-        .number("revolutions", 0.0, 10_000.0, true, "revolutions")?
-        .ok_or_else(|| CliError::flag("revolutions", "is required"))?;
-    // Bound the work: at most 10 minutes of lathe time at the set speed.
-    if revs * 60.0 / rpm > 600.0 {
+#[derive(clap::Args, Debug)]
+pub struct SimulateArgs {
+    #[command(flatten)]
+    pub setup: SetupArgs,
+    /// Lathe speed while cutting, rpm (1..=6000)
+    #[arg(long, value_name = "RPM", value_parser = rpm(6000.0))]
+    pub rpm: f64,
+    /// Lathe turns to cut (> 0, <= 10000; at most 600 s of cutting)
+    #[arg(long, value_name = "TURNS", value_parser = above(0.0, 10_000.0, "turns"))]
+    pub revolutions: f64,
+    /// Lathe speed ripple, a fraction of the speed (0..=0.5)
+    #[arg(long, value_name = "FRACTION", default_value = "0", value_parser = within(0.0, 0.5, ""))]
+    pub ripple: f64,
+    /// Engage with the lathe at rest or already spinning: rest or spinning
+    #[arg(long, value_name = "rest|spinning", default_value = "rest", value_parser = start)]
+    pub start: Start,
+    /// Lathe encoder counts per turn, after x4 quadrature (4..=1000000)
+    #[arg(long, value_name = "COUNTS", default_value = "2400", value_parser = whole32(4, 1_000_000))]
+    pub encoder_cpr: u32,
+    /// Cutter motor steps per cutter turn, microsteps included (1..=1000000)
+    #[arg(long, value_name = "STEPS", default_value = "3200", value_parser = whole32(1, 1_000_000))]
+    pub motor_steps: u32,
+    /// The cutter's drive: stepper or bldc
+    #[arg(long, value_name = "stepper|bldc", default_value = "stepper", value_parser = drive)]
+    pub drive: DriveKind,
+    /// Seed of the simulated encoder noise and speed ripple (0..=2^64-1)
+    #[arg(long, value_name = "S", default_value = "1", value_parser = whole(0, u64::MAX))]
+    pub seed: u64,
+    /// Print the report as one JSON object
+    #[arg(long)]
+    pub json: bool,
+    /// Also draw the simulated section against the ideal to this SVG file
+    #[arg(long, value_name = "FILE", value_parser = out_file)]
+    pub svg: Option<PathBuf>,
+}
+
+fn start(s: &str) -> Result<Start, String> {
+    match s.trim() {
+        "rest" => Ok(Start::Rest),
+        "spinning" => Ok(Start::Spinning),
+        _ => Err("must be 'rest' or 'spinning'".into()),
+    }
+}
+
+pub fn scenario_from(a: &SimulateArgs) -> CliResult<Scenario> {
+    let setup = a.setup.setup()?;
+    let (rpm, revs) = (a.rpm, a.revolutions);
+    let seconds = revs * 60.0 / rpm;
+    if seconds > MAX_CUT_S {
         return Err(CliError::flag(
             "revolutions",
-            format!(
-                "would simulate {:.0} s of cutting at {rpm} rpm: at most 600 s (lower it, or raise --rpm)",
-                revs * 60.0 / rpm
-            ),
+            format!("would simulate {seconds:.0} s of cutting at {rpm} rpm: at most {MAX_CUT_S} s (lower it, or raise --rpm)"),
         ));
     }
-    let ripple = args.number("ripple", 0.0, 0.5, false, "(fraction of speed)")?.unwrap_or(0.0);
-    let start = match args.choice("start", &["rest", "spinning"], "rest")? {
-        "spinning" => Start::Spinning,
-        _ => Start::Rest,
-    };
-    let cpr = args.whole("encoder-cpr", 4, 1_000_000)?.unwrap_or(2400) as u32;
-    let steps = args.whole("motor-steps", 1, 1_000_000)?.unwrap_or(3200) as u32;
-    let drive = match args.choice("drive", &["stepper", "bldc"], "stepper")? {
-        "bldc" => DriveKind::Bldc,
-        _ => DriveKind::Stepper,
-    };
-    let seed = args.whole("seed", 0, u64::MAX)?.unwrap_or(1);
-    let sc = Scenario::standard(setup, rpm, revs, ripple, start, cpr, steps, drive, seed);
-    // Refuse, with the reason, a run whose motor would overspeed.
+    let sc = Scenario::standard(setup, rpm, revs, a.ripple, a.start, a.encoder_cpr, a.motor_steps, a.drive, a.seed);
+    // Refuse, with the reason, a run whose motor would overspeed. The
+    // simulated controller is set up for 30 % above --rpm (`max-rpm`: the
+    // ripple and the lathe's overshoot), and the check is made there.
     sc.core.validate().map_err(|e| match e.field {
-        "ratio" => CliError::flag("rpm", format!("too fast for this ratio and motor: needs {:.0} steps/s, the motor's limit is {} (lower --rpm or --motor-steps)", sc.core.motor_rate_at(rpm), sc.core.max_step_rate_hz)),
+        "ratio" => CliError::flag("rpm", format!(
+            "too fast for this ratio and motor: the simulated controller allows {} rpm (--rpm + 30 % headroom), which needs {:.0} steps/s; the motor's limit is {} (lower --rpm or --motor-steps)",
+            sc.core.max_lathe_rpm, sc.core.motor_rate_at(sc.core.max_lathe_rpm as f64), sc.core.max_step_rate_hz)),
+        "cpr" => CliError::flag("encoder-cpr", e.allowed),
+        "steps" => CliError::flag("motor-steps", e.allowed),
         f => CliError::flag(f, e.allowed),
     })?;
     Ok(sc)
 }
 
-pub fn run_cli(argv: &[String]) -> CliResult<String> {
-    let args = Args::parse(argv, VALUED, &["json"])?;
-    let sc = scenario_from(&args)?;
+pub fn run_cli(a: SimulateArgs) -> CliResult<String> {
+    let sc = scenario_from(&a)?;
     let r = run(&sc).map_err(CliError)?;
-    if let Some(path) = args.raw("svg") {
-        std::fs::write(path, report::svg(&sc, &r))
-            .map_err(|e| CliError::flag("svg", format!("could not write '{path}': {e}")))?;
+    let mut files = Outputs::default();
+    if let Some(path) = &a.svg {
+        files.add("svg", path, report::svg(&sc, &r))?;
     }
-    Ok(if args.has("json") { report::json(&sc, &r).to_string() } else { report::human(&sc, &r) })
+    files.write()?;
+    Ok(if a.json { report::json(&sc, &r).to_string() } else { report::human(&sc, &r) })
+}
+
+#[derive(clap::Args, Debug)]
+pub struct DemoArgs {
+    /// Where to draw the hexagon
+    #[arg(long, value_name = "FILE", default_value = "hexagon.svg", value_parser = out_file)]
+    pub svg: PathBuf,
+    /// Print the report as one JSON object
+    #[arg(long)]
+    pub json: bool,
 }
 
 /// The README's first command: the hexagon, end to end, writes hexagon.svg.
-pub fn demo(argv: &[String]) -> CliResult<String> {
-    let args = Args::parse(argv, &["svg"], &["json"])?;
+pub fn demo(a: DemoArgs) -> CliResult<String> {
     let setup = Setup {
         cutter_radius_mm: 50.0,
         stock_radius_mm: 10.0,
@@ -86,10 +114,11 @@ pub fn demo(argv: &[String]) -> CliResult<String> {
     };
     let sc = Scenario::standard(setup, 600.0, 20.0, 0.02, Start::Rest, 2400, 3200, DriveKind::Stepper, 1);
     let r = run(&sc).map_err(CliError)?;
-    let path = args.raw("svg").unwrap_or("hexagon.svg");
-    std::fs::write(path, report::svg(&sc, &r))
-        .map_err(|e| CliError::flag("svg", format!("could not write '{path}': {e}")))?;
-    if args.has("json") {
+    let mut files = Outputs::default();
+    files.add("svg", &a.svg, report::svg(&sc, &r))?;
+    files.write()?;
+    let path = a.svg.display();
+    if a.json {
         return Ok(report::json(&sc, &r).to_string());
     }
     Ok(format!(

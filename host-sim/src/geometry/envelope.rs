@@ -74,9 +74,14 @@ impl Envelope {
     /// Radius at any angle, linear between bins, using the periodicity.
     pub fn at(&self, angle: f64) -> f64 {
         let rel = (angle - self.start).rem_euclid(self.period);
-        let x = rel / self.step();
-        let i = x.floor() as usize;
+        let mut x = rel / self.step();
         let n = self.bins();
+        if x >= n as f64 && (self.span - self.period).abs() < 1e-12 {
+            // a hair short of a whole period, rounded onto it: that is bin 0
+            // (not the last bin, which the clamping below would read)
+            x -= n as f64;
+        }
+        let i = x.floor() as usize;
         let (r0, r1) = (self.radius[i.min(n - 1)], self.radius[(i + 1).min(n - 1)]);
         if i + 1 >= n && (self.span - self.period).abs() < 1e-12 {
             // whole-period envelope: the bin after the last is bin 0
@@ -84,5 +89,24 @@ impl Envelope {
             return r0 + (self.radius[0] - r0) * f;
         }
         r0 + (r1 - r0) * (x - i as f64).min(1.0)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// An angle a hair short of a whole turn past the start, which rounds onto
+    /// the period, is bin 0, not the last bin: the corner after the last flat
+    /// (flat 2 of 3, 256 bins per flat) read the wrong bin.
+    #[test]
+    fn the_envelope_wraps_a_hair_short_of_a_turn_to_bin_0() {
+        let sector = TAU / 3.0;
+        let mut env = Envelope::new(-sector / 2.0, TAU, TAU, 768, 10.0);
+        env.radius[0] = 9.0;
+        env.radius[767] = 8.0;
+        let corner = TAU * 2.0 / 3.0 + env.step() * 128.0;
+        assert_eq!(((corner - env.start).rem_euclid(TAU) / env.step()), 768.0, "the rounding this test is about");
+        assert!((env.at(corner) - 9.0).abs() < 1e-9, "{}", env.at(corner));
     }
 }

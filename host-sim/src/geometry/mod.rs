@@ -28,6 +28,7 @@
 
 mod envelope;
 pub mod section;
+mod sector;
 pub mod svg;
 
 pub use envelope::Envelope;
@@ -98,6 +99,17 @@ impl Setup {
             return Err(SetupError {
                 field: "depth",
                 allowed: format!("must be > 0 and < the stock radius ({} mm)", self.stock_radius_mm),
+            });
+        }
+        // X0 = R1 + R2 - DOC < R2 would put the cutter's axis inside the
+        // bar: no real setup, and the model's section is meaningless.
+        if self.cutter_radius_mm <= self.depth_mm {
+            return Err(SetupError {
+                field: "cutter-radius",
+                allowed: format!(
+                    "must be > the depth ({} mm): a smaller cutter's axis would be inside the bar",
+                    self.depth_mm
+                ),
             });
         }
         if self.edges == 0 || self.edges > MAX_EDGES {

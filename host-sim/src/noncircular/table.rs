@@ -8,7 +8,7 @@ use polyturn_sync::cam_upload::{checksum, CamHeader};
 use serde::{Deserialize, Serialize};
 use std::f64::consts::TAU;
 
-/// A cam table file (JSON): what `polyturn device --upload-cam` sends.
+/// A cam table file (JSON): what `polyturn device upload-cam FILE` sends.
 /// X steps are measured from the inscribed radius, outward positive.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct CamFile {

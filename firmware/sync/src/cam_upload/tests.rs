@@ -64,3 +64,20 @@ fn a_corrupted_chunk_or_checksum_discards_the_table() {
     assert!(u.line("data 0 1 2").unwrap_err().contains("cam begin first"), "an error ends the upload");
     assert!(u.line("begin 5000 9000 2400 1 1").unwrap_err().contains("2..=1024"));
 }
+
+#[test]
+fn a_refused_line_abandons_the_upload_whole_and_says_so() {
+    let points = [0, 1, 2, 3];
+    let all = lines(&points, 0);
+    let mut u = CamUpload::default();
+    assert!(!u.in_progress());
+    u.line(&all[0]).unwrap();
+    assert!(u.in_progress());
+    // two good values, then one that is not a number: the upload is gone
+    // (the firmware's reply says so, from `in_progress` before the line)
+    assert!(u.line("data 0 0 1 x").is_err());
+    assert!(!u.in_progress() && u.table().is_none());
+    assert!(upload(&mut u, &all[1..]).is_err(), "data without a begin is refused");
+    assert!(matches!(upload(&mut u, &all), Ok(Progress::Complete(_))));
+    assert!(!u.in_progress(), "complete is not in progress");
+}

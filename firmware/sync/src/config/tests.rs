@@ -43,3 +43,19 @@ fn phase_accepts_decimal_degrees() {
     assert_eq!(c.phase_offset_mdeg, -12_500);
     assert_eq!(Config::default().with("phase", ".25").unwrap().phase_offset_mdeg, 250);
 }
+
+#[test]
+fn a_limit_joining_settings_blames_the_one_being_set() {
+    // 1500 rpm x 2 x 8000 / 60 = 400 kHz > 200 kHz: the steps did it.
+    let e = Config::default().with("steps", "8000").unwrap_err();
+    assert_eq!(e.field, "steps");
+    assert!(e.allowed.contains("max-rate"), "{}", e.allowed);
+    for (name, value) in [("max-rpm", "10000"), ("max-rate", "1000"), ("pulse", "10000")] {
+        assert_eq!(Config::default().with(name, value).unwrap_err().field, name);
+    }
+    // ...while a field out of its own range still names itself
+    assert_eq!(Config::default().with("steps", "0").unwrap_err().field, "steps");
+    // and `validate` on a whole record names the check's own field
+    let c = Config { motor_steps_per_rev: 8000, ..Config::default() };
+    assert_eq!(c.validate().unwrap_err().field, "ratio");
+}

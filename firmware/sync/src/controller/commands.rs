@@ -224,6 +224,14 @@ impl Controller {
         self.config = c;
         self.config_generation = self.config_generation.wrapping_add(1);
         if running {
+            // A phase nudge is a move the follower makes within its limits,
+            // not lag: back to Engaging (no following-error check) until the
+            // cutter is on the new phase, then Synced again. Checked as lag,
+            // 10 degrees of a 3200-step cutter (89 steps) tripped the 64-step
+            // limit on the next tick after `ok phase=10` (found by fuzzing).
+            if d.phase_offset_q16 != self.d.phase_offset_q16 && self.state == State::Synced {
+                self.state = State::Engaging;
+            }
             self.d.phase_offset_q16 = d.phase_offset_q16;
             return Ok(());
         }

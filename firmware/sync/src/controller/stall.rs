@@ -59,6 +59,8 @@ impl Controller {
                 self.origin = self.index.reference().unwrap_or(self.origin);
             }
             self.rebase_pending = false;
+            // the speed over the stall is not known: start measuring afresh
+            self.est = crate::estimator::Estimator::new(self.d.still_ticks);
             self.rebase();
         }
         w.outcome

@@ -125,3 +125,44 @@ fn an_upload_with_points_2_pow_23_apart_is_refused_before_it_is_saved() {
     assert_eq!(super::prepare_cam(&h, leaked, Timing::FIRMWARE).err(), Some(e));
     assert_eq!(super::check_table(&h, &[0, (1 << 23) - 1, 0, 0]), Ok(()));
 }
+
+#[test]
+fn a_phase_nudge_while_synced_is_a_move_not_a_following_error() {
+    // found by fuzzing (fuzz/fuzz_targets/tick.rs): `ok phase=10.000`, then
+    // a following-error fault on the next tick with the lathe at rest
+    let mut c = ctl();
+    c.engage().unwrap();
+    for _ in 0..3 {
+        c.tick(&TickInput::default());
+    }
+    assert_eq!(c.state(), State::Synced);
+    let nudged = c.config().with("phase", "10").unwrap(); // 89 steps > ferror 64
+    c.set_config(nudged).unwrap();
+    assert_eq!(c.state(), State::Engaging, "the cutter is moving to the new phase");
+    // the step output: each tick's plan goes out two ticks later (`steps::pipe`)
+    let (mut emitted, mut pipe) = (0u16, [0u16; 2]);
+    for t in 0..5000 {
+        let out = c.tick(&TickInput { emitted, ..TickInput::default() });
+        emitted = emitted.wrapping_add(pipe[t % 2]);
+        pipe[t % 2] = out.plan.count;
+        assert!(c.fault().is_none(), "{:?}", c.state());
+    }
+    assert_eq!(c.state(), State::Synced, "on the new phase");
+}
+
+#[test]
+fn a_jump_no_lathe_can_make_is_not_taken_as_speed() {
+    // during a save's stall, and as a fault: a stopped lathe reads 0 rpm after
+    let mut c = ctl();
+    c.begin_stall();
+    c.tick(&lathe(30_000));
+    c.end_stall();
+    c.tick(&lathe(30_000));
+    assert_eq!(c.status().lathe_velocity_q32, 0);
+    assert_eq!(c.engage(), Ok(()), "not refused as too fast");
+    let mut c = ctl();
+    c.tick(&lathe(1000));
+    c.clear();
+    c.tick(&lathe(1000));
+    assert_eq!(c.status().lathe_velocity_q32, 0);
+}

@@ -1,0 +1,227 @@
+//! `polyturn device ...`: the firmware's console protocol over a serial port
+//! (the Black Pill's USB CDC-ACM console), one tagged line out, the line
+//! with the same tag back (`session.rs`).
+
+pub mod session;
+#[cfg(test)]
+mod tests;
+
+use super::errors::{escaped, CliError, CliResult};
+use super::values::above;
+use session::{Session, Wait};
+use std::io::{Read, Write};
+use std::path::PathBuf;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::time::{Duration, Instant};
+
+/// A cam table file is a few tens of kB; more is not one (`/dev/zero`).
+pub const CAM_FILE_MAX: u64 = 1 << 20;
+/// An erase of the settings sector takes up to 2 s at x32 (DS10314
+/// Table 27 t_ERASE128KB max): `save` and a table's last line wait longer.
+const FLASH_WAIT: Duration = Duration::from_secs(10);
+
+#[derive(clap::Args, Debug)]
+#[command(disable_help_subcommand = true)]
+pub struct DeviceArgs {
+    /// The board's serial port [default: the first /dev/ttyACM* or /dev/cu.usbmodem*]
+    #[arg(long, global = true, value_name = "PATH")]
+    pub port: Option<String>,
+    /// How long to wait for each reply, seconds (> 0, <= 60)
+    #[arg(long, global = true, value_name = "S", default_value = "3", value_parser = above(0.0, 60.0, "s"))]
+    pub timeout: f64,
+    #[command(subcommand)]
+    pub command: DeviceCommand,
+}
+
+#[derive(clap::Subcommand, Debug)]
+pub enum DeviceCommand {
+    /// State, lathe rpm, phase error and fault, once
+    Status,
+    /// Status five times a second until Ctrl-C
+    Watch,
+    /// One setting, or all of them
+    Get {
+        /// cpr, steps, ratio, dir, edges, max-rate, max-accel, ferror, phase, drive, dir-setup, pulse, enable or max-rpm
+        name: Option<String>,
+    },
+    /// Change a setting (checked by the board; `save` keeps it)
+    Set {
+        /// the setting (see `get`)
+        name: String,
+        /// its new value (negative numbers are taken as values)
+        #[arg(allow_hyphen_values = true)]
+        value: String,
+    },
+    /// Start the cutter in sync with the lathe
+    Engage,
+    /// Ramp the cutter down and stop
+    Stop,
+    /// Clear a fault
+    Clear,
+    /// Write the settings to flash (idle, lathe at rest)
+    Save,
+    /// Restore the default settings (not saved)
+    Defaults,
+    /// The board's own command list
+    #[command(name = "help")]
+    ConsoleHelp,
+    /// Send a cam table made by `polyturn cam --table FILE`
+    UploadCam {
+        /// the table file (JSON)
+        file: PathBuf,
+    },
+}
+
+impl DeviceCommand {
+    /// The console line, or None for the upload.
+    fn line(&self) -> Option<String> {
+        Some(match self {
+            DeviceCommand::Status => "status".into(),
+            DeviceCommand::Watch => "watch".into(),
+            DeviceCommand::Get { name: None } => "get".into(),
+            DeviceCommand::Get { name: Some(n) } => format!("get {n}"),
+            DeviceCommand::Set { name, value } => format!("set {name} {value}"),
+            DeviceCommand::Engage => "engage".into(),
+            DeviceCommand::Stop => "stop".into(),
+            DeviceCommand::Clear => "clear".into(),
+            DeviceCommand::Save => "save".into(),
+            DeviceCommand::Defaults => "defaults".into(),
+            DeviceCommand::ConsoleHelp => "help".into(),
+            DeviceCommand::UploadCam { .. } => return None,
+        })
+    }
+}
+
+pub fn run(a: DeviceArgs) -> CliResult<String> {
+    // Everything that can be refused without the board is refused first.
+    let line = a.command.line();
+    if let Some(l) = &line {
+        session::check_command(l)?;
+    }
+    let table = match &a.command {
+        DeviceCommand::UploadCam { file } => Some(read_table(file)?),
+        _ => None,
+    };
+    let path = a.port.clone().or_else(find_port).ok_or_else(|| {
+        CliError::flag("port", "not given and no polyturn console found (looked for /dev/ttyACM*): connect the board by USB, or give --port PATH")
+    })?;
+    let serial = serialport::new(&path, 115_200)
+        .timeout(Duration::from_millis(50))
+        .open()
+        .map_err(|e| CliError::flag("port", format!("cannot open {}: {e}", escaped(&path))))?;
+    let mut s = Session::new(serial, &path, Duration::from_secs_f64(a.timeout));
+    match (&a.command, line) {
+        (DeviceCommand::Watch, _) => watch(&mut s, &mut std::io::stdout().lock()),
+        (DeviceCommand::Save, Some(l)) => ok_or_device_error(s.ask_within(&l, FLASH_WAIT.max(s.timeout))?),
+        (_, Some(l)) => s.ask(&l),
+        (_, None) => upload(&mut s, table.as_ref().expect("read above")),
+    }
+}
+
+fn ok_or_device_error(reply: String) -> CliResult<String> {
+    if reply.starts_with("error") {
+        return Err(CliError(format!("device: {}", escaped(&reply))));
+    }
+    Ok(reply)
+}
+
+/// Set by Ctrl-C during a watch.
+static INTERRUPTED: AtomicBool = AtomicBool::new(false);
+
+/// Prints status lines until Ctrl-C (or the reader goes away), then ends
+/// the watch on the board with a tagged `status` and waits for its reply,
+/// so the board is back to one reply per command when we return.
+pub fn watch<P: Read + Write>(s: &mut Session<P>, out: &mut impl Write) -> CliResult<String> {
+    let _ = ctrlc::set_handler(|| INTERRUPTED.store(true, Ordering::SeqCst));
+    let first = s.ask("watch")?;
+    let mut line = first;
+    loop {
+        if writeln!(out, "{}", escaped(&line)).and_then(|_| out.flush()).is_err() {
+            break; // the reader went away (a closed pipe)
+        }
+        // wait for the next status line in short slices, to see Ctrl-C
+        let deadline = Instant::now() + s.timeout;
+        line = loop {
+            if INTERRUPTED.load(Ordering::SeqCst) {
+                break String::new();
+            }
+            match s.read_line(Instant::now() + Duration::from_millis(100)) {
+                Ok(l) if l.starts_with("ok state=") => break l,
+                Ok(_) if Instant::now() < deadline => continue,
+                Err(Wait::Timeout) if Instant::now() < deadline => continue,
+                Ok(_) | Err(Wait::Timeout) => {
+                    return Err(s_port(
+                        s,
+                        format!("the watch stopped: no status within {:.1} s", s.timeout.as_secs_f64()),
+                    ))
+                }
+                Err(Wait::Failed(e)) => return Err(e),
+            }
+        };
+        if line.is_empty() {
+            break;
+        }
+    }
+    s.ask("status")?;
+    Ok(String::new())
+}
+
+fn s_port<P: Read + Write>(s: &Session<P>, what: String) -> CliError {
+    CliError::flag("port", format!("{}: {what}", escaped(&s.port)))
+}
+
+/// Reads and checks a `polyturn cam --table` file (bounded in size),
+/// before the port is opened.
+fn read_table(file: &std::path::Path) -> CliResult<crate::noncircular::table::CamFile> {
+    let name = escaped(&file.display().to_string());
+    let f = std::fs::File::open(file).map_err(|e| CliError(format!("upload-cam: cannot read '{name}': {e}")))?;
+    let mut text = String::new();
+    f.take(CAM_FILE_MAX + 1)
+        .read_to_string(&mut text)
+        .map_err(|e| CliError(format!("upload-cam: cannot read '{name}' as text: {e}")))?;
+    if text.len() as u64 > CAM_FILE_MAX {
+        return Err(CliError(format!(
+            "upload-cam: '{name}' is larger than {CAM_FILE_MAX} bytes: not a polyturn cam table"
+        )));
+    }
+    let table: crate::noncircular::table::CamFile = serde_json::from_str(&text).map_err(|e| {
+        CliError(format!("upload-cam: '{name}' is not a polyturn cam table: {}", escaped(&e.to_string())))
+    })?;
+    if table.format != crate::noncircular::table::FORMAT {
+        return Err(CliError(format!(
+            "upload-cam: '{name}' is format '{}', this polyturn sends '{}'",
+            escaped(&table.format),
+            crate::noncircular::table::FORMAT
+        )));
+    }
+    // every line must go as one console line: checked before the port opens
+    for line in table.upload_lines() {
+        session::check_command(&line).map_err(|e| CliError(format!("upload-cam: '{name}' cannot be sent: {}", e.0)))?;
+    }
+    Ok(table)
+}
+
+/// Sends a table line by line; stops at the first error (the device then
+/// discards the partial table). The last line saves to flash: it waits
+/// as long as a save.
+pub fn upload<P: Read + Write>(s: &mut Session<P>, table: &crate::noncircular::table::CamFile) -> CliResult<String> {
+    let lines = table.upload_lines();
+    let mut last = String::new();
+    for (i, line) in lines.iter().enumerate() {
+        let wait = if i + 1 == lines.len() { FLASH_WAIT.max(s.timeout) } else { s.timeout };
+        last = ok_or_device_error(s.ask_within(line, wait)?)?;
+    }
+    Ok(last)
+}
+
+/// The first USB CDC-ACM port, as Linux and macOS name them.
+fn find_port() -> Option<String> {
+    let mut found: Vec<String> = std::fs::read_dir("/dev")
+        .ok()?
+        .filter_map(|e| e.ok()?.file_name().into_string().ok())
+        .filter(|n| n.starts_with("ttyACM") || n.starts_with("cu.usbmodem"))
+        .map(|n| format!("/dev/{n}"))
+        .collect();
+    found.sort();
+    found.into_iter().next()
+}

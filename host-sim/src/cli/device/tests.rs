@@ -1,0 +1,194 @@
+//! The host's side of the console protocol against the real sync-core
+//! console (a fake device that frames and tags lines as the firmware's
+//! `usb.rs` does) and against devices that misbehave.
+
+use super::session::{check_command, Session, COMMAND_MAX};
+use super::{upload, watch};
+use polyturn_sync::console::{self, tag, Action};
+use polyturn_sync::{Config, Controller, Timing};
+use std::collections::VecDeque;
+use std::io::{ErrorKind, Read, Write};
+use std::time::Duration;
+
+/// The real console behind the firmware's framing: tags split off and put
+/// back, `watch` streaming until the next line.
+struct FakeDevice {
+    ctl: Controller,
+    pending: Vec<u8>,
+    out: VecDeque<u8>,
+    watching: bool,
+}
+
+impl FakeDevice {
+    fn new() -> FakeDevice {
+        FakeDevice {
+            ctl: Controller::new(Config::default(), Timing::FIRMWARE),
+            pending: vec![],
+            out: VecDeque::new(),
+            watching: false,
+        }
+    }
+    fn line(&mut self) {
+        self.watching = false;
+        let line = std::mem::take(&mut self.pending);
+        let (t, reply, action) = match tag::split(&line) {
+            Ok((t, body)) => {
+                let (r, a) = console::handle(body, &mut self.ctl);
+                (t.map(|t| t.to_vec()), r.to_string(), a)
+            }
+            Err(e) => (None, format!("error: {e}"), Action::None),
+        };
+        if let Some(t) = t {
+            self.out.extend(b"#");
+            self.out.extend(t);
+            self.out.extend(b" ");
+        }
+        self.out.extend(reply.as_bytes());
+        self.out.extend(b"\r\n");
+        self.watching = action == Action::Watch;
+    }
+}
+
+impl Read for FakeDevice {
+    fn read(&mut self, buf: &mut [u8]) -> std::io::Result<usize> {
+        if self.out.is_empty() && self.watching {
+            self.out.extend(b"ok state=idle rpm=0.0 (a status line)\r\n");
+        }
+        if self.out.is_empty() {
+            return Err(ErrorKind::TimedOut.into());
+        }
+        let n = buf.len().min(self.out.len());
+        for (b, o) in buf.iter_mut().zip(self.out.drain(..n)) {
+            *b = o;
+        }
+        Ok(n)
+    }
+}
+
+impl Write for FakeDevice {
+    fn write(&mut self, data: &[u8]) -> std::io::Result<usize> {
+        for &b in data {
+            match b {
+                b'\n' | b'\r' if self.pending.is_empty() => {}
+                b'\n' | b'\r' => self.line(),
+                _ => self.pending.push(b),
+            }
+        }
+        Ok(data.len())
+    }
+    fn flush(&mut self) -> std::io::Result<()> {
+        Ok(())
+    }
+}
+
+fn session<T: Read + Write>(io: T) -> Session<T> {
+    Session::new(io, "/dev/fake", Duration::from_millis(300))
+}
+
+#[test]
+fn the_host_speaks_the_firmware_console_protocol() {
+    let mut s = session(FakeDevice::new());
+    assert_eq!(s.ask("set max-rpm 600").unwrap(), "ok max-rpm=600");
+    assert_eq!(s.ask("set ratio 11/3").unwrap(), "ok ratio=11/3");
+    assert!(s.ask("status").unwrap().starts_with("ok state=idle"));
+    assert!(s.ask("set ratio 0").unwrap_err().0.starts_with("device: error: ratio"));
+}
+
+#[test]
+fn a_command_after_a_watch_gets_its_own_reply_not_a_status_line() {
+    let mut s = session(FakeDevice::new());
+    s.ask("watch").unwrap();
+    // the device streams status lines; the next command's reply is the
+    // line with its tag, and the command is applied
+    assert_eq!(s.ask("set edges 4").unwrap(), "ok edges=4");
+    assert_eq!(s.ask("get edges").unwrap(), "ok edges=4");
+}
+
+#[test]
+fn a_watch_ends_on_the_board_before_it_returns() {
+    super::INTERRUPTED.store(true, std::sync::atomic::Ordering::SeqCst); // Ctrl-C at once
+    let mut s = session(FakeDevice::new());
+    let mut out = Vec::new();
+    watch(&mut s, &mut out).unwrap();
+    super::INTERRUPTED.store(false, std::sync::atomic::Ordering::SeqCst);
+    assert!(String::from_utf8(out).unwrap().starts_with("ok state=idle"));
+    // the board was sent a tagged status, which ends its watch
+    assert!(s.ask("get ratio").unwrap().starts_with("ok ratio="));
+}
+
+#[test]
+fn a_cam_table_uploads_through_the_real_console() {
+    use crate::noncircular::path::Polygon;
+    use crate::noncircular::plan::{plan, Axis, Outcome};
+    let axis = Axis { rpm: 12.0, max_speed: 15.0, max_accel: 2000.0 };
+    let Outcome::Sharp(path, _) = plan(Polygon { sides: 8, apothem_mm: 20.0 }, 3, axis) else { panic!("sharp") };
+    let table = crate::noncircular::table::build(&path, 2400, 800.0, (12000, 1_600_000));
+    for line in table.upload_lines() {
+        assert!(line.len() <= COMMAND_MAX, "{} > {COMMAND_MAX}: {line}", line.len());
+    }
+    let mut s = session(FakeDevice::new());
+    // the fake device's console has no flash: it takes every line until
+    // the end, which it answers with what the console says
+    let r = upload(&mut s, &table);
+    assert!(r.is_ok() || r.as_ref().unwrap_err().0.starts_with("device: error"), "{r:?}");
+}
+
+#[test]
+fn control_characters_and_long_commands_never_reach_the_board() {
+    assert!(check_command("set phase 1\r\nset cpr 4000").unwrap_err().0.contains("control character (\\r)"));
+    assert!(check_command("set phase 1\x1b[2J").is_err());
+    assert!(check_command("set phase é").is_err());
+    assert!(check_command(&"x".repeat(COMMAND_MAX + 1)).unwrap_err().0.contains("at most"));
+    assert!(check_command("set phase -1.5").is_ok());
+}
+
+/// A device that answers every line with `answer` (bytes, as they come).
+struct Misbehaving {
+    answer: &'static [u8],
+    endless: bool,
+    sent: usize,
+}
+
+impl Read for Misbehaving {
+    fn read(&mut self, buf: &mut [u8]) -> std::io::Result<usize> {
+        if self.answer.is_empty() || (!self.endless && self.sent >= self.answer.len()) {
+            return Err(ErrorKind::TimedOut.into());
+        }
+        let n = buf.len().min(self.answer.len());
+        buf[..n].copy_from_slice(&self.answer[..n]);
+        self.sent += n;
+        Ok(n)
+    }
+}
+
+impl Write for Misbehaving {
+    fn write(&mut self, data: &[u8]) -> std::io::Result<usize> {
+        Ok(data.len())
+    }
+    fn flush(&mut self) -> std::io::Result<()> {
+        Ok(())
+    }
+}
+
+fn against(answer: &'static [u8], endless: bool) -> String {
+    let mut s = session(Misbehaving { answer, endless, sent: 0 });
+    s.ask("status").unwrap_err().0
+}
+
+#[test]
+fn a_port_that_misbehaves_gets_a_timeout_naming_it_never_a_hang_or_a_false_reply() {
+    // silence
+    assert_eq!(against(b"", false), "--port /dev/fake: no reply to 'status' within 0.3 s");
+    // endless blank lines
+    assert!(against(b"\r\n\r\n\r\n\r\n", true).starts_with("--port /dev/fake: no reply to 'status' within"));
+    // a line that is not the protocol: never printed as the reply
+    let e = against(b"hello from a modem\r\n", false);
+    assert!(e.contains("it sent 'hello from a modem': is this a polyturn board?"), "{e}");
+    // endless bytes with no newline: bounded, refused
+    assert!(against(b"xxxxxxxxxxxxxxxx", true).contains("longer than 512 bytes"));
+    // an untagged `ok` (another program's, or noise) is not our reply
+    assert!(against(b"ok ratio=3\r\n", false).contains("no reply"));
+    // a firmware without tags answers a tagged command with this
+    assert!(against(b"error: unknown command or wrong arguments (try help)\r\n", false)
+        .contains("does not tag its replies"));
+}

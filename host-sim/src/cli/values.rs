@@ -1,0 +1,112 @@
+//! The value parsers of every flag: each names what is allowed, with the
+//! unit, so the one-line error (`error: --FLAG must be ... (got '...')`)
+//! tells the machinist what to type. Surrounding spaces are trimmed for
+//! every kind of value alike (numbers, ratios and choices).
+
+use crate::geometry::Direction;
+use polyturn_sync::{DriveKind, Ratio};
+
+/// A value parser as clap takes it: text in, value or what is allowed.
+pub trait Parser<T>: Fn(&str) -> Result<T, String> + Clone + Send + Sync + 'static {}
+impl<T, F: Fn(&str) -> Result<T, String> + Clone + Send + Sync + 'static> Parser<T> for F {}
+
+/// A finite number in (lo, hi] with its unit.
+pub fn above(lo: f64, hi: f64, unit: &'static str) -> impl Parser<f64> {
+    move |s: &str| match s.trim().parse::<f64>() {
+        Ok(v) if v.is_finite() && v > lo && v <= hi => Ok(v),
+        _ => Err(format!("must be a finite number > {lo} and <= {hi}{}", spaced(unit))),
+    }
+}
+
+/// A finite number in [lo, hi] with its unit.
+pub fn within(lo: f64, hi: f64, unit: &'static str) -> impl Parser<f64> {
+    move |s: &str| match s.trim().parse::<f64>() {
+        Ok(v) if v.is_finite() && (lo..=hi).contains(&v) => Ok(v),
+        _ => Err(format!("must be a finite number >= {lo} and <= {hi}{}", spaced(unit))),
+    }
+}
+
+/// A length in mm, > 0 and at most 10 m (a lathe, not a bridge).
+pub fn length_mm() -> impl Parser<f64> {
+    above(0.0, 10_000.0, "mm")
+}
+
+/// A lathe speed: at least 1 rpm (slower is no cut), at most `hi`.
+pub fn rpm(hi: f64) -> impl Parser<f64> {
+    move |s: &str| match s.trim().parse::<f64>() {
+        Ok(v) if v.is_finite() && (1.0..=hi).contains(&v) => Ok(v),
+        _ => Err(format!("must be a lathe speed >= 1 and <= {hi} rpm")),
+    }
+}
+
+/// A whole number in lo..=hi.
+pub fn whole(lo: u64, hi: u64) -> impl Parser<u64> {
+    move |s: &str| match s.trim().parse::<u64>() {
+        Ok(v) if (lo..=hi).contains(&v) => Ok(v),
+        _ => Err(format!("must be a whole number in {lo}..={hi}")),
+    }
+}
+
+/// The same as `whole`, as u32.
+pub fn whole32(lo: u32, hi: u32) -> impl Parser<u32> {
+    let w = whole(lo.into(), hi.into());
+    move |s: &str| w(s).map(|v| v as u32)
+}
+
+/// A gear ratio as the console takes it (the core's own parser).
+pub fn ratio(s: &str) -> Result<Ratio, String> {
+    Ratio::parse(s).map_err(|e| e.describe().to_string())
+}
+
+/// `same` or `opposite`: the cutter's sense against the lathe's.
+pub fn direction(s: &str) -> Result<Direction, String> {
+    match s.trim() {
+        "same" => Ok(Direction::Same),
+        "opposite" => Ok(Direction::Opposite),
+        _ => Err("must be 'same' or 'opposite'".into()),
+    }
+}
+
+/// `stepper` or `bldc`.
+pub fn drive(s: &str) -> Result<DriveKind, String> {
+    match s.trim() {
+        "stepper" => Ok(DriveKind::Stepper),
+        "bldc" => Ok(DriveKind::Bldc),
+        _ => Err("must be 'stepper' or 'bldc'".into()),
+    }
+}
+
+/// A file to write: not empty.
+pub fn out_file(s: &str) -> Result<std::path::PathBuf, String> {
+    if s.trim().is_empty() {
+        return Err("must be a file name".into());
+    }
+    Ok(s.into())
+}
+
+fn spaced(unit: &str) -> String {
+    if unit.is_empty() {
+        String::new()
+    } else {
+        format!(" {unit}")
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn every_parser_says_what_is_allowed_and_trims_alike() {
+        assert_eq!(length_mm()(" 2.5 "), Ok(2.5));
+        assert_eq!(direction(" same "), Ok(Direction::Same));
+        assert_eq!(whole(1, 12)(" 12"), Ok(12));
+        assert_eq!(length_mm()("nan").unwrap_err(), "must be a finite number > 0 and <= 10000 mm");
+        assert!(length_mm()("0").is_err() && length_mm()("10000.1").is_err() && length_mm()("inf").is_err());
+        assert!(rpm(6000.0)("1e-308").unwrap_err().contains(">= 1"));
+        assert_eq!(whole(1, 12)("13").unwrap_err(), "must be a whole number in 1..=12");
+        assert!(within(0.0, 0.5, "")("0").is_ok() && within(0.0, 0.5, "")("-0.1").is_err());
+        assert_eq!(ratio("1/0").unwrap_err(), "has a zero denominator");
+        assert!(drive("servo").is_err() && out_file(" ").is_err());
+    }
+}

@@ -1,0 +1,174 @@
+//! The planner's figures against the ones it printed before the sector
+//! solver and the per-ratio cache (commit e7b03fd, `Section::ideal` with a
+//! 0.5 µm polyline per evaluation, which took 173 s for
+//! `--sides 2 --max-edges 12 --max-ratio 1000 --max-revolutions 12`):
+//! smaller requests of the same shape, captured from that build's `--json`.
+//!
+//! Unchanged up to the old polyline's own interpolation: flat deviations
+//! within 1e-7 mm (seen: ≤ 1.2e-8), the same corners, the same rows in the
+//! same order, and the smallest cutter within 1e-4 of itself (seen: 1.2e-5,
+//! where the deviation changes by only 1e-5 mm per mm of cutter, so its
+//! 1e-8 mm shift moves the crossing by 1 µm; the contract is 3 %).
+
+use super::{default_cutter, plan, Request};
+use crate::geometry::{Direction, Section, Setup};
+use polyturn_sync::Ratio;
+
+/// ratio, edges, direction, turns, flat deviation, sharp, min cutter radius
+type Row = (&'static str, u32, &'static str, u32, f64, bool, Option<f64>);
+
+fn req(sides: u32, stock_radius: f64, depth: f64, max_edges: u32, max_ratio: f64, max_revolutions: u32) -> Request {
+    Request {
+        sides,
+        stock_radius,
+        depth,
+        cutter_radius: None,
+        max_edges,
+        max_ratio,
+        max_revolutions,
+        rpm: None,
+        tolerance: 0.01,
+    }
+}
+
+fn check(req: &Request, before: &[Row]) {
+    let now = plan(req);
+    assert_eq!(now.len(), before.len(), "{} sides", req.sides);
+    for (c, &(ratio, edges, direction, turns, flat, sharp, min_r1)) in now.iter().zip(before) {
+        let row = format!("{} sides: {ratio} x {edges} {direction}", req.sides);
+        assert_eq!((c.ratio.as_str(), c.edges, c.direction, c.revolutions), (ratio, edges, direction, turns), "{row}");
+        assert!((c.flat_deviation - flat).abs() <= 1e-7, "{row}: {} vs {flat}", c.flat_deviation);
+        assert_eq!(c.corners_sharp, sharp, "{row}");
+        match (c.min_cutter_radius, min_r1) {
+            (Some(a), Some(b)) => assert!((a - b).abs() <= 1e-4 * b, "{row}: {a} vs {b}"),
+            (a, b) => assert_eq!(a, b, "{row}"),
+        }
+    }
+}
+
+#[test]
+fn the_worst_requests_shape_plans_as_before_on_smaller_requests() {
+    check(&req(2, 10.0, 1.5, 3, 1000.0, 3), TWO_SIDES);
+    check(&Request { rpm: Some(300.0), ..req(3, 10.0, 1.5, 3, 1000.0, 4) }, THREE_SIDES);
+    check(&Request { rpm: Some(1000.0), ..req(1000, 10.0, 1.5, 4, 1000.0, 3) }, THOUSAND_SIDES);
+    check(&Request { tolerance: 0.001, ..req(5, 1.0, 0.2, 4, 20.0, 2) }, FIVE_SIDES_SMALL);
+}
+
+/// The worst request itself (173 s before): its rows, shared figures and
+/// order, and some rows' figures recomputed the old way, on the 0.5 µm
+/// polyline over the whole circle (every flat, not flat 0 alone).
+#[test]
+fn the_worst_request_agrees_with_the_sampled_section() {
+    let req = req(2, 10.0, 1.5, 12, 1000.0, 12);
+    let rows = plan(&req);
+    assert_eq!(rows.len(), 12 * 6 * 2, "every edge count, the odd turn counts, both senses");
+    let bin = |d: f64| (d.abs() * 1e4).round();
+    assert!(rows.windows(2).all(|w| bin(w[0].flat_deviation) <= bin(w[1].flat_deviation)));
+    for a in &rows {
+        for b in rows.iter().filter(|b| b.ratio == a.ratio && b.direction == a.direction) {
+            assert_eq!(
+                (a.flat_deviation, a.corners_sharp, a.min_cutter_radius),
+                (b.flat_deviation, b.corners_sharp, b.min_cutter_radius)
+            );
+        }
+    }
+    let with_cutter: Vec<_> = rows.iter().filter(|c| c.min_cutter_radius.is_some()).collect();
+    assert!(with_cutter.len() >= 2);
+    for c in [&rows[0], &rows[71], &rows[143], with_cutter[0], with_cutter[with_cutter.len() - 1]] {
+        let setup = Setup {
+            cutter_radius_mm: default_cutter(10.0),
+            stock_radius_mm: 10.0,
+            depth_mm: 1.5,
+            ratio: Ratio::parse(&c.ratio).unwrap(),
+            edges: c.edges,
+            direction: if c.direction == "same" { Direction::Same } else { Direction::Opposite },
+        };
+        let old = Section::ideal(&setup, 256).summary();
+        assert!((c.flat_deviation - old.flat_deviation).abs() <= 1e-7, "{c:?}: {}", old.flat_deviation);
+        assert_eq!(c.corners_sharp, old.corners_sharp, "{c:?}");
+        if let Some(r) = c.min_cutter_radius {
+            // the contract (`min_cutter_radius_meets_the_tolerance_just_barely`)
+            // on the old deviation, which may differ by its 1e-8 mm
+            let dev = |r1| Section::ideal(&Setup { cutter_radius_mm: r1, ..setup }, 128).summary().flat_deviation.abs();
+            assert!(dev(r) <= req.tolerance + 1e-7 && (r == 5.0 || dev(r * 0.97) > req.tolerance), "{c:?}");
+        }
+    }
+}
+
+/// `polyturn setups --sides 2 --stock-radius 10 --depth 1.5 --max-edges 3 --max-ratio 1000 --max-revolutions 3`
+const TWO_SIDES: &[Row] = &[
+    ("2", 1, "same", 1, 0.009886143081528687, false, Some(48.21866239623773)),
+    ("1", 2, "same", 1, 0.27293787587355034, false, None),
+    ("2", 1, "opposite", 1, -0.4501417453246957, false, Some(5.0)),
+    ("2/9", 3, "opposite", 3, -0.45582271787535594, false, Some(39.386325312307235)),
+    ("2/3", 3, "same", 1, 0.5567271793020354, false, None),
+    ("2/3", 1, "same", 3, 0.5567271793020354, false, None),
+    ("1", 2, "opposite", 1, -0.6447997817990593, false, Some(8.907429873943329)),
+    ("2/3", 3, "opposite", 1, -0.8137199182822367, false, Some(13.249833136796951)),
+    ("2/3", 1, "opposite", 3, -0.8137199182822367, false, Some(13.249833136796951)),
+    ("1/3", 2, "opposite", 3, -1.1216178218764856, false, Some(26.310925704819965)),
+    ("1/3", 2, "same", 3, 1.5236404438629716, false, None),
+    ("2/9", 3, "same", 3, 2.6450256157710483, false, None),
+];
+
+/// `polyturn setups --sides 3 --stock-radius 10 --depth 1.5 --max-edges 3 --max-ratio 1000 --max-revolutions 4 --rpm 300`
+const THREE_SIDES: &[Row] = &[
+    ("3", 1, "same", 1, -0.07442505057066917, false, Some(425.0465923242508)),
+    ("3/2", 2, "same", 1, 0.09690052315018159, false, Some(464.4746318504431)),
+    ("3/2", 1, "same", 2, 0.09690052315018159, false, Some(464.4746318504431)),
+    ("1", 3, "same", 1, 0.2774643570570028, false, None),
+    ("3", 1, "opposite", 1, -0.38840143089498547, false, None),
+    ("3/4", 2, "same", 2, 0.4528130003358264, false, None),
+    ("3/4", 1, "same", 4, 0.4528130003358264, false, None),
+    ("3/2", 2, "opposite", 1, -0.5305426546109144, false, None),
+    ("3/2", 1, "opposite", 2, -0.5305426546109144, false, None),
+    ("1", 3, "opposite", 1, -0.6624040120534902, false, Some(9.250130504369736)),
+    ("3/4", 2, "opposite", 2, -0.783636703185401, false, None),
+    ("3/4", 1, "opposite", 4, -0.783636703185401, false, None),
+    ("1/2", 3, "same", 2, 0.8486033392501015, false, None),
+    ("1/2", 3, "opposite", 2, -0.9922535511839286, false, Some(18.194823496742174)),
+    ("1/4", 3, "opposite", 4, -1.0834554526199858, false, Some(36.11330612329766)),
+    ("3/8", 2, "opposite", 4, -1.149483768166414, false, None),
+    ("3/8", 2, "same", 4, 1.2786596879575076, false, None),
+    ("1/4", 3, "same", 4, 2.232712855845229, false, None),
+];
+
+/// `polyturn setups --sides 1000 --stock-radius 10 --depth 1.5 --max-edges 4 --max-ratio 1000 --max-revolutions 3 --rpm 1000`
+const THOUSAND_SIDES: &[Row] = &[
+    ("250/3", 4, "same", 3, -6.930976352848007e-06, true, Some(5.0)),
+    ("250/3", 4, "opposite", 3, -7.334120498470043e-06, true, Some(5.0)),
+    ("1000/9", 3, "same", 3, -6.980767338404804e-06, true, Some(5.0)),
+    ("1000/9", 3, "opposite", 3, -7.285491772535124e-06, true, Some(5.0)),
+    ("500/3", 2, "same", 3, -7.035029264912397e-06, true, Some(5.0)),
+    ("500/3", 2, "opposite", 3, -7.233273969120547e-06, true, Some(5.0)),
+    ("250", 4, "same", 1, -7.063896349635002e-06, true, Some(5.0)),
+    ("250", 4, "opposite", 1, -7.200074605862029e-06, true, Some(5.0)),
+    ("1000/3", 3, "same", 1, -7.084976925142428e-06, true, Some(5.0)),
+    ("1000/3", 3, "opposite", 1, -7.18270145050326e-06, true, Some(5.0)),
+    ("1000/3", 1, "same", 3, -7.084976925142428e-06, true, Some(5.0)),
+    ("1000/3", 1, "opposite", 3, -7.18270145050326e-06, true, Some(5.0)),
+    ("500", 2, "same", 1, -7.101637516271354e-06, true, Some(5.0)),
+    ("500", 2, "opposite", 1, -7.168090983000752e-06, true, Some(5.0)),
+    ("1000", 1, "same", 1, -7.113890651666566e-06, true, Some(5.0)),
+    ("1000", 1, "opposite", 1, -7.1518055122510304e-06, true, Some(5.0)),
+];
+
+/// `polyturn setups --sides 5 --stock-radius 1 --depth 0.2 --max-edges 4 --max-ratio 20 --max-revolutions 2 --tolerance 0.001`
+const FIVE_SIDES_SMALL: &[Row] = &[
+    ("5/2", 2, "same", 1, -0.005275972231826631, true, Some(0.6216665506362915)),
+    ("5/2", 1, "same", 2, -0.005275972231826631, true, Some(0.6216665506362915)),
+    ("5/3", 3, "same", 1, 0.007120765380370986, true, Some(34.15307649989774)),
+    ("5/4", 4, "same", 1, 0.017848725563718082, true, Some(100.66872873094876)),
+    ("5/4", 2, "same", 2, 0.017848725563718082, true, Some(100.66872873094876)),
+    ("5", 1, "same", 1, -0.018147020596544938, false, Some(101.23129636580933)),
+    ("5/6", 3, "same", 2, 0.0355330639980852, true, None),
+    ("5", 1, "opposite", 1, -0.04258387404852254, false, None),
+    ("5/8", 4, "same", 2, 0.049540914107630285, true, None),
+    ("5/2", 2, "opposite", 1, -0.05489526544821727, false, None),
+    ("5/2", 1, "opposite", 2, -0.05489526544821727, false, None),
+    ("5/3", 3, "opposite", 1, -0.06539257785760899, false, None),
+    ("5/4", 4, "opposite", 1, -0.07507627871124889, false, None),
+    ("5/4", 2, "opposite", 2, -0.07507627871124889, false, None),
+    ("5/6", 3, "opposite", 2, -0.09487752577697951, false, None),
+    ("5/8", 4, "opposite", 2, -0.11283362063170436, false, None),
+];

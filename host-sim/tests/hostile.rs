@@ -1,0 +1,164 @@
+//! Hostile and careless input, table-driven, through the real binary:
+//! each line is an argument list, the exit status it must get, the flag
+//! its one-line error must name, and (for commands that write) that no
+//! file is written on error.
+
+use std::process::Command;
+
+fn polyturn(args: &[String]) -> (i32, String, String) {
+    let out = Command::new(env!("CARGO_BIN_EXE_polyturn")).args(args).output().expect("runs");
+    let text = |b: Vec<u8>| String::from_utf8_lossy(&b).into_owned();
+    (out.status.code().unwrap_or(-1), text(out.stdout), text(out.stderr))
+}
+
+/// Splits on spaces; `\n` and `\r` in a word stand for those characters.
+fn words(s: &str) -> Vec<String> {
+    s.split(' ').filter(|w| !w.is_empty()).map(|w| w.replace("\\n", "\n").replace("\\r", "\r")).collect()
+}
+
+const HEX: &str = "--cutter-radius 50 --stock-radius 10 --depth 1.5 --ratio 2 --edges 3 --direction same";
+const NO_DIR: &str = "--cutter-radius 50 --stock-radius 10 --depth 1.5 --ratio 2 --edges 3";
+const OCT: &str = "--sides 8 --inscribed-radius 20 --x-max-speed 15 --x-max-accel 2000";
+
+/// (command line, the flag the error must name: `None` for a clean exit 0)
+fn cases() -> Vec<(String, Option<&'static str>)> {
+    let c = |s: String, f: Option<&'static str>| (s, f);
+    vec![
+        // argument handling
+        c(format!("geometry {HEX} --depth 2"), Some("--depth")),
+        c(format!("geometry {HEX} --json=yes"), Some("--json")),
+        c(format!("geometry {HEX} --bogus 1"), Some("--bogus")),
+        c(format!("geometry {HEX} --ratio 2\\n--edges"), Some("--ratio")),
+        c(format!("geometry {NO_DIR} --direction \\nsame"), None), // trimmed, as numbers are
+        c(format!("geometry {NO_DIR} --direction sideways"), Some("--direction")),
+        c(format!("geometry {HEX} --json --json"), Some("--json")),
+        // geometry nonsense
+        c(
+            "geometry --cutter-radius 1 --stock-radius 10 --depth 1.5 --ratio 2 --edges 3 --direction same".into(),
+            Some("--cutter-radius"),
+        ),
+        c(
+            "geometry --cutter-radius 0.002 --stock-radius 10 --depth 0.001 --ratio 2 --edges 3 --direction same"
+                .into(),
+            Some("--cutter-radius"),
+        ),
+        c(format!("geometry {HEX} --ratio -2"), Some("--ratio")),
+        // compensate and simulate speeds
+        c(format!("compensate {HEX} --rpm 1e-308 --x-max-speed 50 --x-max-accel 5000"), Some("--rpm")),
+        c(format!("compensate {HEX} --rpm 600 --x-max-speed 0 --x-max-accel 5000"), Some("--x-max-speed")),
+        c(format!("compensate {HEX} --rpm 600 --x-max-speed 0.001 --x-max-accel 5000"), Some("--x-max-speed")),
+        c("simulate --cutter-radius 0.002 --stock-radius 10 --depth 0.001 --ratio 2 --edges 3 --direction same --rpm 600 --revolutions 1".into(), Some("--cutter-radius")),
+        c(format!("geometry {HEX} --svg /tmp"), Some("--svg")),
+        c(format!("simulate {HEX} --rpm 1e-308 --revolutions 1"), Some("--rpm")),
+        c(format!("simulate {HEX} --rpm 1 --revolutions 100"), Some("--revolutions")),
+        c(format!("simulate {HEX} --rpm 5000 --revolutions 3"), Some("--rpm")),
+        c(format!("simulate {HEX} --rpm 600 --revolutions 1 --start spinning --drive servo"), Some("--drive")),
+        c(format!("simulate {HEX} --rpm 600 --revolutions 1 --encoder-cpr 3"), Some("--encoder-cpr")),
+        // setups
+        c("setups --sides 6 --stock-radius 10".into(), Some("--across-flats")),
+        c("setups --sides 6 --stock-radius 10 --depth 1 --across-flats 18".into(), Some("--depth")),
+        c("setups --sides 6 --stock-radius 10 --depth 11".into(), Some("--depth")),
+        c("setups --sides 6 --stock-radius 10 --depth 2 --cutter-radius 1".into(), Some("--cutter-radius")),
+        c("setups --sides 6 --stock-radius 10 --depth 1 --max-edges 13".into(), Some("--max-edges")),
+        c("setups --sides 6 --stock-radius 10 --depth 1 --rpm 0".into(), Some("--rpm")),
+        // sequence
+        c("sequence --sides 8 --m 2".into(), Some("--m")),
+        c("sequence --sides 2".into(), Some("--sides")),
+        // cam: the axis and the table
+        c(format!("cam {OCT} --rpm 12 --x-max-speed 1e-6"), Some("--x-max-speed")),
+        c(format!("cam {OCT} --rpm 12 --x-max-accel 1e-9"), Some("--x-max-accel")),
+        c(format!("cam {OCT} --rpm 12 --steps-per-mm 0.01"), Some("--x-max-speed")),
+        c(format!("cam {OCT} --rpm 12 --steps-per-mm 0.5"), Some("--steps-per-mm")),
+        c(format!("cam {OCT} --rpm 12 --encoder-counts 4"), Some("--encoder-counts")),
+        c(format!("cam {OCT} --rpm 12 --m 2"), Some("--m")),
+        c(format!("cam {OCT} --rpm 0"), Some("--rpm")),
+        c(format!("cam {OCT} --rpm 12 --inscribed-radius 1500"), Some("--inscribed-radius")),
+        // device: refused before any port is opened
+        c("device upload-cam".into(), Some("FILE")),
+        c("device set phase 1\\r\\nset cpr 4000 --port /nonexistent".into(), None),
+        c("device launch".into(), Some("launch")),
+        c("device status --timeout 0".into(), Some("--timeout")),
+        c("device status --port /nonexistent/tty".into(), Some("--port")),
+        c("device --port /nonexistent/tty status".into(), Some("--port")),
+        c("device upload-cam /dev/zero --port /nonexistent".into(), None),
+        // anything else
+        c("frobnicate".into(), None),
+        c("completions tcsh".into(), Some("tcsh")),
+    ]
+}
+
+#[test]
+fn every_hostile_input_gets_one_true_line_and_exit_2() {
+    for (line, flag) in cases() {
+        let (code, out, err) = polyturn(&words(&line));
+        if flag.is_none() && line.contains("--direction") {
+            assert_eq!(code, 0, "{line}: {err}");
+            continue;
+        }
+        assert_eq!(code, 2, "{line:?}: exit {code}\n{out}{err}");
+        assert!(out.is_empty(), "{line:?}: printed {out}");
+        assert_eq!(err.lines().count(), 1, "{line:?}: not one line: {err}");
+        assert!(err.starts_with("error: "), "{line:?}: {err}");
+        assert!(!err.contains("panicked"), "{line:?}: {err}");
+        if let Some(flag) = flag {
+            assert!(err.contains(flag), "{line:?}: does not name {flag}: {err}");
+            // the named flag comes first (one flag is blamed, the right one)
+            if flag.starts_with("--") {
+                assert!(err.starts_with(&format!("error: {flag} ")), "{line:?}: {err}");
+            }
+        }
+    }
+}
+
+#[test]
+fn a_refused_command_writes_no_file() {
+    let dir = std::env::temp_dir().join(format!("polyturn-hostile-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let t = dir.join("t.json");
+    let svg = dir.join("x.svg");
+    let d = |p: &std::path::Path| p.display().to_string();
+    for line in [
+        // the second file cannot be written: neither is
+        format!("cam {OCT} --rpm 12 --table {} --svg /nonexistent-dir/x.svg", d(&t)),
+        // both flags name one file
+        format!("cam {OCT} --rpm 12 --table {} --svg {}/./t.json", d(&t), dir.display()),
+        // refused values, files named
+        format!("cam {OCT} --rpm 12 --encoder-counts 4 --table {} --svg {}", d(&t), d(&svg)),
+        format!("geometry {HEX} --edges 13 --svg {}", d(&svg)),
+        format!("simulate {HEX} --rpm 5000 --revolutions 3 --svg {}", d(&svg)),
+        "demo --svg /nonexistent-dir/hexagon.svg".to_string(),
+    ] {
+        let (code, _, err) = polyturn(&words(&line));
+        assert_eq!(code, 2, "{line}: {err}");
+        let left: Vec<_> = std::fs::read_dir(&dir).unwrap().map(|e| e.unwrap().file_name()).collect();
+        assert!(left.is_empty(), "{line}: wrote {left:?}");
+    }
+    // and a good one writes both
+    let (code, _, err) = polyturn(&words(&format!("cam {OCT} --rpm 12 --table {} --svg {}", d(&t), d(&svg))));
+    assert_eq!(code, 0, "{err}");
+    assert!(t.exists() && svg.exists());
+}
+
+#[test]
+fn every_command_documents_every_flag() {
+    for cmd in ["demo", "geometry", "setups", "simulate", "sequence", "compensate", "cam", "device", "device set"] {
+        let (code, out, _) = polyturn(&words(&format!("{cmd} --help")));
+        assert_eq!(code, 0, "{cmd}");
+        for line in out.lines().filter(|l| l.trim_start().starts_with("--")) {
+            let help = line.trim_start().split_once("  ").map(|(_, h)| h.trim()).unwrap_or("");
+            assert!(
+                !help.is_empty() || line.contains("--help") || line.contains("--version"),
+                "{cmd}: undocumented {line}"
+            );
+        }
+    }
+    let (_, out, _) = polyturn(&words("setups --help"));
+    assert!(out.contains("[default: 6]") && out.contains("(1..=12)"), "{out}");
+}
+
+#[test]
+fn completions_are_printed_for_bash() {
+    let (code, out, _) = polyturn(&words("completions bash"));
+    assert_eq!(code, 0);
+    assert!(out.contains("_polyturn()") && out.contains("--inscribed-radius") && out.contains("upload-cam"));
+}
