@@ -36,6 +36,11 @@ impl SetupArgs {
     /// The setup, checked as a whole (the depth against the stock, the
     /// cutter against the depth, and that it cuts a polygon, not a circle).
     pub fn setup(&self) -> CliResult<Setup> {
+        self.setup_and_section().map(|(setup, _)| setup)
+    }
+
+    /// `setup`, and the ideal section its roundness check computed.
+    pub fn setup_and_section(&self) -> CliResult<(Setup, Section)> {
         let setup = Setup {
             cutter_radius_mm: self.cutter_radius,
             stock_radius_mm: self.stock_radius,
@@ -45,8 +50,9 @@ impl SetupArgs {
             direction: self.direction,
         };
         setup.validate().map_err(|e| CliError::flag(e.field, e.allowed))?;
-        not_round(&Section::ideal(&setup, Section::default_bins(setup.sides())).summary())?;
-        Ok(setup)
+        let section = Section::ideal(&setup, Section::default_bins(setup.sides()));
+        not_round(&section.summary())?;
+        Ok((setup, section))
     }
 }
 
@@ -85,8 +91,7 @@ pub fn report(setup: &Setup, section: &Section) -> serde_json::Value {
 }
 
 pub fn run(a: GeometryArgs) -> CliResult<String> {
-    let setup = a.setup.setup()?;
-    let section = Section::ideal(&setup, Section::default_bins(setup.sides()));
+    let (setup, section) = a.setup.setup_and_section()?;
     let mut files = Outputs::default();
     if let Some(path) = &a.svg {
         files.add("svg", path, draw(&setup, &section))?;

@@ -8,7 +8,7 @@ mod tests;
 
 use super::errors::{escaped, CliError, CliResult};
 use super::values::above;
-use session::{Session, Wait};
+use session::{ok_or_device_error, Session, Wait};
 use std::io::{Read, Write};
 use std::path::PathBuf;
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -118,13 +118,6 @@ pub fn run(a: DeviceArgs) -> CliResult<String> {
     }
 }
 
-fn ok_or_device_error(reply: String) -> CliResult<String> {
-    if reply.starts_with("error") {
-        return Err(CliError(format!("device: {}", escaped(&reply))));
-    }
-    Ok(reply)
-}
-
 /// Set by Ctrl-C during a watch.
 static INTERRUPTED: AtomicBool = AtomicBool::new(false);
 
@@ -150,10 +143,9 @@ pub fn watch<P: Read + Write>(s: &mut Session<P>, out: &mut impl Write) -> CliRe
                 Ok(_) if Instant::now() < deadline => continue,
                 Err(Wait::Timeout) if Instant::now() < deadline => continue,
                 Ok(_) | Err(Wait::Timeout) => {
-                    return Err(s_port(
-                        s,
-                        format!("the watch stopped: no status within {:.1} s", s.timeout.as_secs_f64()),
-                    ))
+                    return Err(
+                        s.port_error(format!("the watch stopped: no status within {:.1} s", s.timeout.as_secs_f64()))
+                    )
                 }
                 Err(Wait::Failed(e)) => return Err(e),
             }
@@ -164,10 +156,6 @@ pub fn watch<P: Read + Write>(s: &mut Session<P>, out: &mut impl Write) -> CliRe
     }
     s.ask("status")?;
     Ok(String::new())
-}
-
-fn s_port<P: Read + Write>(s: &Session<P>, what: String) -> CliError {
-    CliError::flag("port", format!("{}: {what}", escaped(&s.port)))
 }
 
 /// Reads and checks a `polyturn cam --table` file (bounded in size),

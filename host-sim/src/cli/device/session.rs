@@ -42,11 +42,7 @@ impl<T: Read + Write> Session<T> {
     /// Sends one command; returns the device's reply (`ok ...`), or the
     /// device's `error: ...` as an Err.
     pub fn ask(&mut self, command: &str) -> CliResult<String> {
-        let reply = self.ask_within(command, self.timeout)?;
-        if reply.starts_with("error") {
-            return Err(CliError(format!("device: {}", escaped(&reply))));
-        }
-        Ok(reply)
+        ok_or_device_error(self.ask_within(command, self.timeout)?)
     }
 
     /// `ask` with its own deadline, the reply as it came (ok or error).
@@ -106,7 +102,8 @@ impl<T: Read + Write> Session<T> {
         }
     }
 
-    fn port_error(&self, what: impl std::fmt::Display) -> CliError {
+    /// An error naming the port (`--port PATH: what`).
+    pub fn port_error(&self, what: impl std::fmt::Display) -> CliError {
         CliError::flag("port", format!("{}: {what}", escaped(&self.port)))
     }
 
@@ -120,6 +117,14 @@ impl<T: Read + Write> Session<T> {
         };
         self.port_error(format!("no reply to '{word}' within {:.1} s{seen}", timeout.as_secs_f64()))
     }
+}
+
+/// The device's `error: ...` reply as an Err, any other reply as it is.
+pub fn ok_or_device_error(reply: String) -> CliResult<String> {
+    if reply.starts_with("error") {
+        return Err(CliError(format!("device: {}", escaped(&reply))));
+    }
+    Ok(reply)
 }
 
 /// Why `read_line` returned no line.
