@@ -113,6 +113,19 @@ pub const PINS: &[Pin] = &[
     pin("USB_DM", "PA11", "USB OTG FS", true, AF10, Pull::None),
     pin("USB_DP", "PA12", "USB OTG FS", true, AF10, Pull::None),
     pin("STATUS_LED", "PC13", "active low, on-board LED", false, Mode::Output, Pull::None),
+    pin(
+        "EXT_LED",
+        "PA10",
+        "push-pull output, active high: an optional panel LED (with a resistor)",
+        true,
+        Mode::Output,
+        Pull::None,
+    ),
+    // the keys at the lathe: switches to GND, read every ms at low priority (keys.rs)
+    pin("KEY_ENGAGE", "PB12", "key input, pull-up, to GND when pressed", true, Mode::Input, Pull::Up),
+    pin("KEY_STOP", "PB10", "key input, pull-up, to GND when pressed", true, Mode::Input, Pull::Up),
+    pin("KEY_PHASE_PLUS", "PB9", "key input, pull-up, to GND when pressed", true, Mode::Input, Pull::Up),
+    pin("KEY_PHASE_MINUS", "PA15", "key input, pull-up, to GND when pressed", true, Mode::Input, Pull::Up),
 ];
 
 /// Control tick rate: 25 kHz (40 µs), above the 20 kHz floor of the design.
@@ -216,7 +229,9 @@ mod tests {
                     assert!(p.function.contains("output") || p.function.contains("LED"), "{}", p.signal);
                     assert_eq!(af_of(p.function), None, "{}", p.signal);
                 }
-                Mode::Input => assert!(p.function.starts_with("EXTI"), "{}", p.signal),
+                Mode::Input => {
+                    assert!(p.function.starts_with("EXTI") || p.function.starts_with("key input"), "{}", p.signal)
+                }
             }
             assert_eq!(p.pull == Pull::Up, p.function.contains("pull-up"), "{}", p.signal);
         }

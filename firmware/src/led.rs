@@ -6,8 +6,10 @@
 //! | off | the control tick is not running |
 //! | slow blink, 1 Hz | idle |
 //! | fast blink, 5 Hz | engaging (catching up with the lathe) |
+//! | blink, 2 Hz | jogging (`jog`) |
 //! | steady on | synchronised |
 //! | N short flashes, then a pause (every 3 s) | fault N (`fault_code`) |
+//! | flicker, 10 Hz, for 1.5 s | a key press was refused (ENGAGE while faulted or too fast); then the state's own light |
 
 use polyturn_sync::{Fault, State};
 
@@ -24,14 +26,22 @@ pub fn fault_code(f: Fault) -> u32 {
     }
 }
 
-/// Whether the LED is lit at `ms` (milliseconds since boot).
-pub fn lit(state: State, tick_running: bool, ms: u32) -> bool {
+/// How long a refusal flickers, ms.
+pub const REFUSED_MS: u32 = 1_500;
+
+/// Whether the LED is lit at `ms` (milliseconds since boot), with the time
+/// of the last refused key press, if any.
+pub fn lit(state: State, tick_running: bool, ms: u32, refused_at: Option<u32>) -> bool {
     if !tick_running {
         return false;
+    }
+    if refused_at.is_some_and(|t| ms.wrapping_sub(t) < REFUSED_MS) {
+        return ms % 100 < 50;
     }
     match state {
         State::Idle | State::Disengaging => ms % 1000 < 500,
         State::Engaging => ms % 200 < 100,
+        State::Jogging => ms % 500 < 250,
         State::Synced => true,
         State::Fault(f) => {
             // flashes of 150 ms on, 150 ms off, in a 3 s frame: seven
@@ -47,7 +57,7 @@ mod tests {
     use super::*;
 
     fn pattern(state: State, step: u32, span: u32) -> Vec<bool> {
-        (0..span / step).map(|i| lit(state, true, i * step)).collect()
+        (0..span / step).map(|i| lit(state, true, i * step, None)).collect()
     }
 
     /// Counts the rising edges of the light over one 3 s frame.
@@ -71,7 +81,7 @@ mod tests {
             assert_eq!(flashes(State::Fault(f)), fault_code(f) as usize, "{}", f.name());
         }
         // the longest code still ends with a pause of at least 0.9 s
-        assert!((2100..3000).all(|ms| !lit(State::Fault(Fault::StepOutput), true, ms)));
+        assert!((2100..3000).all(|ms| !lit(State::Fault(Fault::StepOutput), true, ms, None)));
     }
 
     #[test]
@@ -79,6 +89,19 @@ mod tests {
         assert_eq!(flashes(State::Idle), 3);
         assert_eq!(flashes(State::Engaging), 15);
         assert!(pattern(State::Synced, 10, 3000).iter().all(|&l| l));
-        assert!((0..2000).all(|ms| !lit(State::Synced, false, ms)));
+        assert!((0..2000).all(|ms| !lit(State::Synced, false, ms, None)));
+        assert_eq!(flashes(State::Jogging), 6);
+    }
+
+    #[test]
+    fn a_refused_press_flickers_for_a_second_and_a_half_then_the_state_shows() {
+        let at = 10_000;
+        let seen = |from: u32, to: u32| (from..to).filter(|&ms| lit(State::Synced, true, ms, Some(at))).count();
+        // flicker: half the time lit, distinct from every state's light
+        assert_eq!(seen(at, at + REFUSED_MS), REFUSED_MS as usize / 2);
+        // then synced's steady light again
+        assert_eq!(seen(at + REFUSED_MS, at + 3_000), 1_500);
+        // a refusal long ago (the clock wrapped since) shows nothing
+        assert!(lit(State::Synced, true, 5, Some(u32::MAX - 10_000)));
     }
 }

@@ -5,11 +5,14 @@
 #![cfg_attr(not(test), no_std)]
 
 pub mod board;
+pub mod dfu;
 pub mod esc;
 pub mod flashprog;
 pub mod iwdg;
+pub mod keys;
 pub mod led;
 pub mod line;
+pub mod quadgen;
 pub mod regs;
 pub mod stepgen;
 pub mod store;

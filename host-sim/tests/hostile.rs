@@ -81,6 +81,21 @@ fn cases() -> Vec<(String, Option<&'static str>)> {
         c("device status --port /nonexistent/tty".into(), Some("--port")),
         c("device --port /nonexistent/tty status".into(), Some("--port")),
         c("device upload-cam /dev/zero --port /nonexistent".into(), None),
+        // flash and image: files refused before any USB request
+        c("flash /dev/zero".into(), Some("FILE")),
+        c("flash /dev/null --dry-run".into(), Some("FILE")),
+        c("flash /nonexistent/fw.hex --dry-run".into(), Some("FILE")),
+        c("flash Cargo.toml --dry-run --any-image".into(), Some("FILE")),
+        c("flash src --dry-run".into(), Some("FILE")),
+        c("flash Cargo.toml --wait -1".into(), Some("--wait")),
+        c("flash Cargo.toml --wait 1e9".into(), Some("--wait")),
+        c("flash Cargo.toml --wait nan".into(), Some("--wait")),
+        c("flash Cargo.toml --dry-run=yes".into(), Some("--dry-run")),
+        c("flash a.bin b.bin".into(), Some("b.bin")),
+        c("image /dev/zero --bin /nonexistent/a.bin --hex /nonexistent/a.hex".into(), Some("ELF")),
+        c("image Cargo.toml --bin /nonexistent/a.bin --hex /nonexistent/a.hex".into(), Some("ELF")),
+        c("image Cargo.toml --bin \\n --hex a.hex".into(), Some("--bin")),
+        c("image Cargo.toml --bin a.bin".into(), Some("--hex")),
         // anything else
         c("frobnicate".into(), None),
         c("completions tcsh".into(), Some("tcsh")),
@@ -127,6 +142,9 @@ fn a_refused_command_writes_no_file() {
         format!("geometry {HEX} --edges 13 --svg {}", d(&svg)),
         format!("simulate {HEX} --rpm 5000 --revolutions 3 --svg {}", d(&svg)),
         "demo --svg /nonexistent-dir/hexagon.svg".to_string(),
+        // a file that is no firmware image: neither release file
+        format!("image Cargo.toml --bin {}/fw.bin --hex {}/fw.hex", dir.display(), dir.display()),
+        format!("image src/main.rs --bin {}/fw.bin --hex {}/fw.hex --any-image", dir.display(), dir.display()),
     ] {
         let (code, _, err) = polyturn(&words(&line));
         assert_eq!(code, 2, "{line}: {err}");
@@ -141,7 +159,8 @@ fn a_refused_command_writes_no_file() {
 
 #[test]
 fn every_command_documents_every_flag() {
-    for cmd in ["demo", "geometry", "setups", "simulate", "sequence", "compensate", "cam", "device", "device set"] {
+    let commands = ["demo", "geometry", "setups", "simulate", "sequence", "compensate", "cam", "device", "device set"];
+    for cmd in commands.into_iter().chain(["flash", "image"]) {
         let (code, out, _) = polyturn(&words(&format!("{cmd} --help")));
         assert_eq!(code, 0, "{cmd}");
         for line in out.lines().filter(|l| l.trim_start().starts_with("--")) {

@@ -6,7 +6,9 @@
 //! the thread executor.
 
 mod cs;
+mod dfu;
 mod drivers;
+mod keys;
 mod priorities;
 mod report;
 mod safety;
@@ -65,6 +67,11 @@ unsafe fn DefaultHandler(_irqn: i16) {
 
 static PLANNER: InterruptExecutor = InterruptExecutor::new();
 
+/// The image's marker (`polyturn_firmware::dfu::IMAGE_ID`), kept in the
+/// image for `polyturn flash` to find.
+#[used]
+static IMAGE_ID: &str = polyturn_firmware::dfu::IMAGE_ID;
+
 /// The watchdog: `iwdg::WATCHDOG_US` as embassy computes it for a 32 kHz
 /// LSI, really 5.4 to 15 s over the F411's LSI range (`iwdg`), longer than
 /// a settings save (`flashprog`: the erase pets it first). A hung tick
@@ -117,6 +124,8 @@ fn clocks() -> embassy_stm32::Config {
 
 #[embassy_executor::main]
 async fn main(spawner: Spawner) {
+    // to the ROM bootloader if `dfu` asked, before anything is set up
+    dfu::boot_check();
     // before embassy enables its timer's interrupt, and any of ours (the
     // NVIC needs no clock)
     priorities::apply();
@@ -160,6 +169,10 @@ async fn main(spawner: Spawner) {
     if let Ok(t) = tick::service() {
         low.spawn(t);
     }
+    let key_pins = keys::KeyPins { engage: p.PB12, stop: p.PB10, plus: p.PB9, minus: p.PA15 };
+    if let Ok(t) = keys::read(key_pins) {
+        low.spawn(t);
+    }
 
     let mut dog = IndependentWatchdog::new(p.IWDG, WATCHDOG_US);
     dog.unleash();
@@ -169,9 +182,12 @@ async fn main(spawner: Spawner) {
     if let Ok(t) = report::every_second() {
         spawner.spawn(t);
     }
-    // PC13's LED is active low; `led::lit` says what it shows
+    // PC13's LED is active low, an external one on PA10 active high;
+    // `led::lit` says what they show
     let mut led =
         embassy_stm32::gpio::Output::new(p.PC13, embassy_stm32::gpio::Level::High, embassy_stm32::gpio::Speed::Low);
+    let mut ext_led =
+        embassy_stm32::gpio::Output::new(p.PA10, embassy_stm32::gpio::Level::Low, embassy_stm32::gpio::Speed::Low);
     let mut loops = 0u32;
     loop {
         // The watchdog is fed only while the tick runs: a hung tick resets
@@ -182,14 +198,16 @@ async fn main(spawner: Spawner) {
         }
         let state = tick::with_core(|c| c.state()).unwrap_or(polyturn_sync::State::Idle);
         let ms = embassy_time::Instant::now().as_millis() as u32;
-        led.set_level(if polyturn_firmware::led::lit(state, alive, ms) { Level::Low } else { Level::High });
-        if loops == 2 {
+        let lit = polyturn_firmware::led::lit(state, alive, ms, keys::refused_at());
+        led.set_level(if lit { Level::Low } else { Level::High });
+        ext_led.set_level(if lit { Level::High } else { Level::Low });
+        if loops == 4 {
             // 100 ms in: every driver has enabled its interrupts
             if priorities::check() {
                 info!("interrupt priorities as in board::PRIORITIES");
             }
         }
         loops = loops.saturating_add(1);
-        Timer::after_millis(50).await;
+        Timer::after_millis(25).await;
     }
 }

@@ -85,6 +85,9 @@ async fn session(class: &mut Class, store: &mut Store) -> Result<(), EndpointErr
                 _ => reply,
             };
             send(class, &tag, &reply).await?;
+            if action == Action::Dfu {
+                super::dfu::restart().await;
+            }
             // `watch` streams until the next input; bytes already received
             // after it are that input (the watch ends before it starts).
             watching = action == Action::Watch && only_line_ends(&packet[i + 1..n]);

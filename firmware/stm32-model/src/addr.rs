@@ -2,8 +2,9 @@
 //!
 //! Peripheral base addresses: RM0383 §2.3 "Memory map" (Table 1, register boundary
 //! addresses). Register offsets: the register map at the end of each register chapter
-//! (RM0383 §12.4.21 TIM1, §13.4.21 TIM2..5, §14.5.12 TIM10/11, §9.5.11 DMA). All of
-//! them are checked against `stm32-metapac` in `tests/metapac.rs`.
+//! (RM0383 §12.4.21 TIM1, §13.4.21 TIM2..5, §14.4.13 TIM9, §14.5.12 TIM10/11, §9.5.11
+//! DMA). All of them are checked against `stm32-metapac` in `tests/metapac.rs` (TIM9's in
+//! `tests/tim9_quadrature.rs`).
 
 /// SRAM1: 128 KiB at 0x2000_0000 (RM0383 §2.3, §2.3.1 "Embedded SRAM").
 pub const SRAM_BASE: u32 = 0x2000_0000;
@@ -14,6 +15,8 @@ pub const SRAM_SIZE: u32 = 128 * 1024;
 pub const TIM2: u32 = 0x4000_0000;
 /// TIM1 base (APB2), RM0383 §2.3 Table 1.
 pub const TIM1: u32 = 0x4001_0000;
+/// TIM9 base (APB2), RM0383 §2.3 Table 1.
+pub const TIM9: u32 = 0x4001_4000;
 /// TIM11 base (APB2), RM0383 §2.3 Table 1.
 pub const TIM11: u32 = 0x4001_4800;
 /// DMA2 base (AHB1), RM0383 §2.3 Table 1.
@@ -79,6 +82,20 @@ pub const TIM2_EGR: u32 = TIM2 + off::EGR;
 pub const TIM2_CNT: u32 = TIM2 + off::CNT;
 pub const TIM2_PSC: u32 = TIM2 + off::PSC;
 pub const TIM2_ARR: u32 = TIM2 + off::ARR;
+
+// TIM9 (RM0383 §14.4.13 register map: the TIM1 offsets, no CR2, RCR, CCR3/4, BDTR, DCR).
+pub const TIM9_CR1: u32 = TIM9 + off::CR1;
+pub const TIM9_SMCR: u32 = TIM9 + off::SMCR;
+pub const TIM9_DIER: u32 = TIM9 + off::DIER;
+pub const TIM9_SR: u32 = TIM9 + off::SR;
+pub const TIM9_EGR: u32 = TIM9 + off::EGR;
+pub const TIM9_CCMR1: u32 = TIM9 + off::CCMR1;
+pub const TIM9_CCER: u32 = TIM9 + off::CCER;
+pub const TIM9_CNT: u32 = TIM9 + off::CNT;
+pub const TIM9_PSC: u32 = TIM9 + off::PSC;
+pub const TIM9_ARR: u32 = TIM9 + off::ARR;
+pub const TIM9_CCR1: u32 = TIM9 + off::CCR1;
+pub const TIM9_CCR2: u32 = TIM9 + off::CCR2;
 
 pub const TIM11_CR1: u32 = TIM11 + off::CR1;
 pub const TIM11_DIER: u32 = TIM11 + off::DIER;

@@ -1,6 +1,7 @@
-//! A cycle-level software model of four STM32F411 peripherals — TIM1, TIM2, TIM11 and
-//! DMA2 stream 5 — and of the flash interface's sector erase ([`flash`], in
-//! nanoseconds, on its own bus), written from the reference manual RM0383 (cross-checked with
+//! A cycle-level software model of five STM32F411 peripherals — TIM1, TIM2, TIM9, TIM11
+//! and DMA2 stream 5 — of the flash interface's sector erase ([`flash`], in
+//! nanoseconds, on its own bus) and of TIM3's encoder interface ([`encoder`], fed with
+//! pin levels), written from the reference manual RM0383 (cross-checked with
 //! RM0090/RM0401, whose TIM1/TIM2/DMA chapters describe the same IP), to serve as a
 //! test oracle for firmware that drives them. It is not derived from the firmware.
 //!
@@ -10,7 +11,7 @@
 //!
 //! # Assumptions
 //! * GPIO/AF are not modelled: PA8/PA9 are taken to be in alternate function TIM1
-//!   (CH1/CH2). A pin the timer does not drive (CCxE = 0 or MOE = 0, RM0383 §12.4.9)
+//!   (CH1/CH2), PA2/PA3 in TIM9's (CH1/CH2). A pin the timer does not drive (CCxE = 0 or MOE = 0, RM0383 §12.4.9)
 //!   reads `false`, as the board's pull-downs hold it low.
 //! * OCxREF follows the counter in the same cycle (no extra output synchronisation
 //!   stage: the manual's waveforms show none).
@@ -20,13 +21,15 @@
 //! * Where the manual gives no figure it is a [`Params`] field with a documented default.
 //! * Order within a cycle: TIM1 counts, TIM2 samples TIM1's TRGO of the same cycle
 //!   (then delays it by its resynchronisation), TIM11 counts, then DMA transfers due in
-//!   that cycle land. A CPU write happens between two cycles and acts at once.
+//!   that cycle land; TIM9 counts after TIM11 (it has no link to the others). A CPU
+//!   write happens between two cycles and acts at once.
 //! * Output-compare match modes act only on counter ticks (a CCRx or CNT write that
 //!   makes CNT = CCRx is not a match); the manual does not say either way.
 //!
 //! # Not modelled (writing such a configuration panics)
 //! Down/center-aligned counting, slave modes other than TIM2's external clock mode 1 on
-//! ITR0, input capture, channels 3/4 of TIM1 and TIM11's channel, complementary outputs,
+//! ITR0, input capture, channels 3/4 of TIM1 and TIM11's channel, PWM modes on TIM9,
+//! TIM9's slave modes, complementary outputs,
 //! dead time, break, LOCK, OSSI, OCxCE/ETR, TRGO of TIM2/TIM11, CCxDE/COMDE/TDE DMA
 //! requests, DMA streams other than DMA2 stream 5, FIFO mode, bursts, double buffer,
 //! peripheral flow control, PINC, peripheral addresses outside TIM1, the NVIC (flags and
@@ -35,11 +38,13 @@
 pub mod addr;
 pub mod bits;
 mod dma;
+pub mod encoder;
 pub mod flash;
 mod mcu;
 mod tim1;
 mod tim11;
 mod tim2;
+mod tim9;
 mod timebase;
 
 pub use mcu::{Edge, Mcu, Params, PinId};

@@ -1,12 +1,14 @@
 //! The MCU: bus decoding, SRAM, the per-cycle schedule and the fast path.
 
 mod bus;
+mod tim9;
 
 use crate::addr;
 use crate::dma::Dma;
 use crate::tim1::Tim1;
 use crate::tim11::Tim11;
 use crate::tim2::Tim2;
+use crate::tim9::Tim9;
 use crate::PwmModeSwitch;
 
 /// Figures the manual does not give.
@@ -34,12 +36,18 @@ impl Default for Params {
     }
 }
 
-/// PA8 carries TIM1_CH1 (OC1), PA9 TIM1_CH2 (OC2).
+/// PA8 carries TIM1_CH1 (OC1), PA9 TIM1_CH2 (OC2); PA2 TIM9_CH1, PA3 TIM9_CH2 (AF3,
+/// STM32F411xC/E datasheet, alternate function mapping).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum PinId {
     Pa8,
     Pa9,
+    Pa2,
+    Pa3,
 }
+
+/// The pins in the order of `Mcu::pins` (and of edges made in the same cycle).
+const PIN_ORDER: [PinId; 4] = [PinId::Pa8, PinId::Pa9, PinId::Pa2, PinId::Pa3];
 
 /// A change of a pin's level: made by step number `cycle` (so `Mcu::cycle() == cycle`
 /// right after it), or by a register write made while `Mcu::cycle() == cycle`.
@@ -59,10 +67,11 @@ pub struct Mcu {
     tim1: Tim1,
     tim2: Tim2,
     tim11: Tim11,
+    tim9: Tim9,
     dma: Dma,
     sram: Vec<u8>,
     edges: Vec<Edge>,
-    pins: [bool; 2],
+    pins: [bool; 4],
     dma_lost: u64,
     /// Nothing counts, nothing is pending: a step only advances the cycle count.
     quiescent: bool,
@@ -80,6 +89,7 @@ impl PartialEq for Mcu {
             == (o.params, o.cycle, &o.tim1, &o.tim2, &o.tim11, &o.dma)
             && (&self.sram, &self.edges, self.pins, self.dma_lost) == (&o.sram, &o.edges, o.pins, o.dma_lost)
             && self.prefetched == o.prefetched
+            && self.tim9 == o.tim9
     }
 }
 
@@ -94,10 +104,11 @@ impl Mcu {
             tim1: Tim1::new(params.pwm_mode_switch),
             tim2: Tim2::new(params.tim2_resync_cycles),
             tim11: Tim11::new(),
+            tim9: Tim9::new(),
             dma: Dma::new(),
             sram: vec![0; addr::SRAM_SIZE as usize],
             edges: Vec::new(),
-            pins: [false; 2],
+            pins: [false; 4],
             dma_lost: 0,
             quiescent: false,
             prefetched: None,
@@ -132,7 +143,7 @@ impl Mcu {
     }
 
     /// Advance one CK_INT cycle: TIM1, then TIM2 sampling TIM1's TRGO of this cycle,
-    /// then TIM11, then any DMA transfer that lands in this cycle.
+    /// then TIM11, TIM9, then any DMA transfer that lands in this cycle.
     #[inline]
     pub fn step(&mut self) {
         self.cycle += 1;
@@ -142,13 +153,17 @@ impl Mcu {
         self.tim1.step();
         self.tim2.step(self.tim1.trgo);
         self.tim11.step();
+        self.tim9.step();
         self.sync_dma();
         while self.dma.next_due <= self.cycle {
             self.dma_transfer();
         }
         self.record_edges();
-        self.quiescent =
-            self.tim1.idle() && self.tim11.idle() && self.dma.idle() && self.tim2.idle(self.tim1.quiet_trgo());
+        self.quiescent = self.tim1.idle()
+            && self.tim11.idle()
+            && self.tim9.idle()
+            && self.dma.idle()
+            && self.tim2.idle(self.tim1.quiet_trgo());
     }
 
     /// Step to `cycle`, skipping stretches where only counters advance.
@@ -159,6 +174,7 @@ impl Mcu {
                 .quiet_cycles()
                 .min(self.tim2.quiet_cycles(self.tim1.quiet_trgo()))
                 .min(self.tim11.quiet_cycles())
+                .min(self.tim9.quiet_cycles())
                 .min(self.dma.quiet_cycles(self.cycle))
                 .min(cycle - self.cycle);
             if quiet == 0 {
@@ -168,6 +184,7 @@ impl Mcu {
                 self.tim1.skip(quiet);
                 self.tim2.skip(quiet, self.tim1.trgo);
                 self.tim11.skip(quiet);
+                self.tim9.skip(quiet);
             }
         }
     }
@@ -211,7 +228,7 @@ impl Mcu {
 
     #[inline]
     fn record_edges(&mut self) {
-        if self.tim1.pins_dirty {
+        if self.tim1.pins_dirty || self.tim9.pins_dirty {
             self.push_edges();
         }
     }
@@ -219,8 +236,10 @@ impl Mcu {
     #[cold]
     fn push_edges(&mut self) {
         self.tim1.pins_dirty = false;
-        for (i, pin) in [PinId::Pa8, PinId::Pa9].into_iter().enumerate() {
-            let high = self.tim1.pins[i];
+        self.tim9.pins_dirty = false;
+        let levels = [self.tim1.pins[0], self.tim1.pins[1], self.tim9.pins[0], self.tim9.pins[1]];
+        for (i, pin) in PIN_ORDER.into_iter().enumerate() {
+            let high = levels[i];
             if high != self.pins[i] {
                 self.pins[i] = high;
                 self.edges.push(Edge { cycle: self.cycle, pin, high });

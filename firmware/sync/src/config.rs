@@ -223,7 +223,12 @@ fn parse_polarity(v: &str) -> Result<bool, ConfigError> {
 
 /// Degrees with up to three decimals, e.g. `-12.5`, as millidegrees.
 fn parse_mdeg(v: &str) -> Result<i32, ConfigError> {
-    let e = range("phase", "-360..=360 degrees of the cutter");
+    degrees_mdeg(v, 360_000).ok_or(range("phase", "-360..=360 degrees of the cutter"))
+}
+
+/// Degrees with up to three decimals as millidegrees, at most `max_mdeg`
+/// either way (`phase`, and the console's `jog`).
+pub fn degrees_mdeg(v: &str, max_mdeg: i32) -> Option<i32> {
     let v = v.trim();
     let (neg, body) = match v.strip_prefix('-') {
         Some(b) => (true, b),
@@ -232,18 +237,18 @@ fn parse_mdeg(v: &str) -> Result<i32, ConfigError> {
     let (whole, frac) = body.split_once('.').unwrap_or((body, ""));
     let ok = |s: &str| s.len() <= 6 && s.bytes().all(|b| b.is_ascii_digit());
     if whole.is_empty() && frac.is_empty() || !ok(whole) || !ok(frac) || frac.len() > 3 {
-        return Err(e);
+        return None;
     }
-    let w: i32 = if whole.is_empty() { 0 } else { whole.parse().map_err(|_| e)? };
-    let mut f: i32 = if frac.is_empty() { 0 } else { frac.parse().map_err(|_| e)? };
+    let w: i32 = if whole.is_empty() { 0 } else { whole.parse().ok()? };
+    let mut f: i32 = if frac.is_empty() { 0 } else { frac.parse().ok()? };
     for _ in frac.len()..3 {
         f *= 10;
     }
-    let mdeg = w.checked_mul(1000).and_then(|x| x.checked_add(f)).ok_or(e)?;
-    if mdeg > 360_000 {
-        return Err(e);
+    let mdeg = w.checked_mul(1000).and_then(|x| x.checked_add(f))?;
+    if mdeg > max_mdeg {
+        return None;
     }
-    Ok(if neg { -mdeg } else { mdeg })
+    Some(if neg { -mdeg } else { mdeg })
 }
 
 #[cfg(test)]

@@ -8,6 +8,8 @@ use crate::controller::Controller;
 use crate::derived::{Derived, Timing};
 use core::fmt::Write;
 
+mod checks;
+
 /// Longest reply line.
 pub const REPLY_LEN: usize = 320;
 pub type Reply = heapless::String<REPLY_LEN>;
@@ -21,11 +23,14 @@ pub enum Action {
     Save,
     /// stream `status` lines until the next input
     Watch,
+    /// restart into the ROM's USB DFU bootloader once the reply is out
+    /// (only ever returned while idle)
+    Dfu,
 }
 
 pub use crate::console_status::{write_status as status_line, Snapshot};
 
-pub const HELP: &str = "ok commands: get [name] | set <name> <value> | engage | stop | status | watch | save | defaults | clear | cam begin|data|end|off | help; names: cpr steps ratio dir edges max-rate max-accel ferror phase drive dir-setup pulse enable max-rpm";
+pub const HELP: &str = "ok commands: get [name] | set <name> <value> | engage | stop | status | watch | save | defaults | clear | cam begin|data|end|off | check-encoder [start|stop] | jog <deg> | dfu | help; names: cpr steps ratio dir edges max-rate max-accel ferror phase drive dir-setup pulse enable max-rpm";
 
 /// A parsed command line (no controller needed: parse outside any lock).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -41,6 +46,11 @@ pub enum Command<'a> {
     Watch,
     Save,
     Defaults,
+    /// `check-encoder start|stop`, or the figures so far
+    CheckEncoder(checks::EncoderOp),
+    /// cutter millidegrees
+    Jog(i32),
+    Dfu,
     Bad(&'static str),
 }
 
@@ -57,6 +67,9 @@ pub enum Outcome {
     Status(Snapshot),
     Watch(Snapshot),
     Save,
+    Encoder(crate::check::EncoderReport, checks::EncoderOp),
+    Jog(crate::controller::JogPlan, i32),
+    Dfu,
 }
 
 pub fn parse(line: &[u8]) -> Command<'_> {
@@ -82,6 +95,10 @@ pub fn parse(line: &[u8]) -> Command<'_> {
         ("watch", None, ..) => Command::Watch,
         ("save", None, ..) => Command::Save,
         ("defaults", None, ..) => Command::Defaults,
+        ("check-encoder", op, None, _) => checks::parse_encoder(op),
+        ("jog", Some(deg), None, _) => checks::parse_jog(deg),
+        ("jog", ..) => Command::Bad(checks::JOG_USAGE),
+        ("dfu", None, ..) => Command::Dfu,
         ("", ..) => Command::Bad("empty line (try help)"),
         _ => Command::Bad("unknown command or wrong arguments (try help)"),
     }
@@ -165,6 +182,15 @@ pub fn apply_prepared(cmd: Command<'_>, pre: Option<Prepared>, ctl: &mut Control
             Ok(_) => Outcome::Text("ok defaults loaded (not saved: use save)"),
             Err(o) => o,
         },
+        Command::CheckEncoder(op) => checks::encoder(op, ctl),
+        Command::Jog(mdeg) => match ctl.jog(mdeg) {
+            Ok(plan) => Outcome::Jog(plan, mdeg),
+            Err(r) => Outcome::Error(r.describe()),
+        },
+        Command::Dfu if ctl.state() != crate::state::State::Idle => {
+            Outcome::Error("stop first (and clear any fault): dfu restarts the board into its ROM bootloader")
+        }
+        Command::Dfu => Outcome::Dfu,
     }
 }
 
@@ -208,6 +234,18 @@ pub fn render(outcome: &Outcome) -> (Reply, Action) {
         Outcome::Save => {
             let _ = out.push_str("ok saving");
             Action::Save
+        }
+        Outcome::Encoder(r, op) => {
+            checks::write_encoder(r, *op, &mut out);
+            Action::None
+        }
+        Outcome::Jog(plan, mdeg) => {
+            checks::write_jog(plan, *mdeg, &mut out);
+            Action::None
+        }
+        Outcome::Dfu => {
+            let _ = out.push_str(checks::DFU_REPLY);
+            Action::Dfu
         }
     };
     (out, action)

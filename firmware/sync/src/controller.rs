@@ -76,6 +76,14 @@ pub enum Refusal {
     NotIdle,
     Overspeed,
     Busy,
+    /// a jog is running
+    Moving,
+    /// jog refused: the lathe turns
+    LatheTurning,
+    /// jog refused: drive=none
+    NoCutter,
+    /// jog refused: under one step, or over ten turns
+    JogRange,
 }
 
 impl Refusal {
@@ -85,6 +93,10 @@ impl Refusal {
             Refusal::NotIdle => "stop first: settings change only while idle",
             Refusal::Overspeed => "lathe too fast for this ratio: the motor would exceed max-rate",
             Refusal::Busy => "already engaged",
+            Refusal::Moving => "a jog is running: wait for it to end, or stop",
+            Refusal::LatheTurning => "stop the lathe first: jog only with the lathe at rest",
+            Refusal::NoCutter => "drive=none: there is no cutter to jog",
+            Refusal::JogRange => "jog -3600..=3600 degrees of the cutter, at least one step",
         }
     }
 }
@@ -114,6 +126,12 @@ pub struct Controller {
     /// set while a flash write stalls the CPU (`stall`)
     stall: Option<stall::Watch>,
     config_generation: u32,
+    /// index edges seen (wraps) and the count latched at the last one,
+    /// for the encoder check (kept by the tick: one add, one copy)
+    index_seen: u32,
+    last_index: i64,
+    check: Option<crate::check::EncoderCheck>,
+    jog: Option<jog::Jog>,
 }
 
 impl Controller {
@@ -141,6 +159,10 @@ impl Controller {
             ticks: 0,
             stall: None,
             config_generation: 0,
+            index_seen: 0,
+            last_index: 0,
+            check: None,
+            jog: None,
         }
     }
 
@@ -226,6 +248,8 @@ impl Controller {
 
     fn on_index(&mut self, raw: u16) {
         let pos = self.lathe.position_of(raw);
+        self.index_seen = self.index_seen.wrapping_add(1);
+        self.last_index = pos;
         match self.index.on_index(pos, self.config.encoder_counts_per_rev as i64, 2) {
             IndexEvent::Referenced(_) => self.rebase_pending = !self.ever_engaged,
             IndexEvent::Consistent => {}
@@ -289,6 +313,7 @@ impl Controller {
                     self.state = State::Idle;
                 }
             }
+            State::Jogging => self.step_jog(cutter),
             State::Fault(f) if f.immediate() => self.follower = Follower { position: cutter, velocity: 0 },
             State::Fault(_) => self.follower.ramp_down(&lim),
         }
@@ -320,7 +345,7 @@ impl Controller {
 
     fn output(&mut self, cutter: i64) -> TickOutput {
         let (enable, halt) = match self.state {
-            State::Engaging | State::Synced | State::Disengaging => (true, false),
+            State::Engaging | State::Synced | State::Disengaging | State::Jogging => (true, false),
             State::Fault(f) if f.immediate() => (false, true),
             State::Fault(_) => (self.follower.velocity != 0, false),
             State::Idle => (false, false),
@@ -360,9 +385,14 @@ impl Controller {
     }
 }
 
+mod checks;
 mod commands;
+pub mod jog;
+#[cfg(test)]
+mod setup_tests;
 mod stall;
 pub use commands::{check_table, prepare_cam, Status};
+pub use jog::JogPlan;
 pub use stall::Stall;
 
 #[cfg(test)]

@@ -11,6 +11,7 @@ mod fmt;
 
 pub mod cam;
 pub mod cam_upload;
+pub mod check;
 pub mod codec;
 pub mod config;
 pub mod console;

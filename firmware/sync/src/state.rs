@@ -60,6 +60,9 @@ pub enum State {
     Engaging,
     Synced,
     Disengaging,
+    /// turning the cutter by a set angle, slowly (`jog`): the machinist
+    /// checks its direction and that one commanded turn is one real turn
+    Jogging,
     Fault(Fault),
 }
 
@@ -70,6 +73,7 @@ impl State {
             State::Engaging => "engaging",
             State::Synced => "synced",
             State::Disengaging => "disengaging",
+            State::Jogging => "jogging",
             State::Fault(_) => "fault",
         }
     }

@@ -6,7 +6,9 @@ pub mod cam;
 pub mod compensate;
 pub mod device;
 pub mod errors;
+pub mod flash;
 pub mod geometry;
+pub mod image;
 pub mod output;
 pub mod sequence;
 pub mod setups;
@@ -46,6 +48,10 @@ pub enum Command {
     Compensate(compensate::CompensateArgs),
     /// Smooth single-point tool paths for a sharp polygon, and the cam table
     Cam(cam::CamArgs),
+    /// Write firmware to the board over USB through its ROM bootloader (BOOT0), no probe
+    Flash(flash::FlashArgs),
+    /// Make the release .bin and .hex from the firmware ELF
+    Image(image::ImageArgs),
     /// Print a shell completion script (e.g. `polyturn completions bash > /etc/bash_completion.d/polyturn`)
     Completions {
         /// The shell: bash, zsh, fish, elvish or powershell
@@ -72,6 +78,8 @@ pub fn dispatch(argv: &[String]) -> CliResult<String> {
         Command::Sequence(a) => sequence::run(a),
         Command::Compensate(a) => compensate::run(a),
         Command::Cam(a) => cam::run(a),
+        Command::Flash(a) => flash::run(a),
+        Command::Image(a) => image::run(a),
         Command::Completions { shell } => Ok(completions(shell)),
     }
 }

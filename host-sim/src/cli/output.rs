@@ -1,7 +1,8 @@
 //! Files a command writes: all of them or none. Every output is rendered
 //! first; then each is written to a temporary file beside its target and,
 //! only when all were written, renamed into place. A refused command, a
-//! missing directory or a full disk leaves every target as it was.
+//! missing directory or a full disk leaves every target as it was. Text
+//! and binary files (a firmware .bin) alike.
 
 use super::errors::{escaped, CliError, CliResult};
 use std::path::{Path, PathBuf};
@@ -9,13 +10,18 @@ use std::path::{Path, PathBuf};
 /// The files of one command, by the flag that named each.
 #[derive(Default)]
 pub struct Outputs {
-    files: Vec<(&'static str, PathBuf, String)>,
+    files: Vec<(&'static str, PathBuf, Vec<u8>)>,
 }
 
 impl Outputs {
     /// Adds `text` for the file given by `--flag`; a second flag naming
     /// the same file is refused (it would silently replace the first).
     pub fn add(&mut self, flag: &'static str, path: &Path, text: String) -> CliResult<()> {
+        self.add_bytes(flag, path, text.into_bytes())
+    }
+
+    /// The same for a binary file.
+    pub fn add_bytes(&mut self, flag: &'static str, path: &Path, bytes: Vec<u8>) -> CliResult<()> {
         // a directory (or `..`) cannot be replaced by a rename: refused
         // here, before any file is written
         if path.is_dir() || path.file_name().is_none() {
@@ -24,7 +30,7 @@ impl Outputs {
         if let Some((other, _, _)) = self.files.iter().find(|(_, p, _)| same_file(p, path)) {
             return Err(CliError::flag(flag, format!("names the same file as --{other} ('{}')", shown(path))));
         }
-        self.files.push((flag, path.to_path_buf(), text));
+        self.files.push((flag, path.to_path_buf(), bytes));
         Ok(())
     }
 
@@ -118,7 +124,7 @@ mod tests {
         o.add("table", &d.join("t.json"), "{}".into()).unwrap();
         assert!(o.add("svg", &d, "<svg/>".into()).unwrap_err().0.starts_with("--svg must name a file"));
         assert!(o.add("svg", Path::new(".."), "<svg/>".into()).is_err());
-        let e = Outputs { files: vec![("svg", PathBuf::from("/nonexistent-dir/a\nb"), String::new())] }.write();
+        let e = Outputs { files: vec![("svg", PathBuf::from("/nonexistent-dir/a\nb"), Vec::new())] }.write();
         assert_eq!(e.unwrap_err().0.lines().count(), 1, "the path's newline is escaped");
     }
 

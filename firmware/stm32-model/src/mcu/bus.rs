@@ -25,6 +25,7 @@ impl Mcu {
             Some((addr::TIM1, o)) => self.tim1.write(o, value),
             Some((addr::TIM2, o)) => self.tim2.write(o, value),
             Some((addr::TIM11, o)) => self.tim11.write(o, value),
+            Some((addr::TIM9, o)) => self.tim9.write(o, value),
             Some((_, o)) => {
                 self.dma.write(o, value);
                 self.prefetch();
@@ -45,6 +46,7 @@ impl Mcu {
             Some((addr::TIM1, o)) => self.tim1.read(o),
             Some((addr::TIM2, o)) => self.tim2.read(o),
             Some((addr::TIM11, o)) => self.tim11.read(o),
+            Some((addr::TIM9, o)) => self.tim9.read(o),
             Some((_, o)) => self.dma.read(o),
             None => self.sram_read(a, 4),
         }
@@ -57,7 +59,7 @@ fn peripheral(a: u32) -> Option<(u32, u32)> {
     if a & 3 != 0 {
         unmodelled(&format!("unaligned 32-bit access at {a:#010x}"));
     }
-    for base in [addr::TIM1, addr::TIM2, addr::TIM11, addr::DMA2] {
+    for base in [addr::TIM1, addr::TIM2, addr::TIM11, addr::TIM9, addr::DMA2] {
         if (base..base + PERIPH_WINDOW).contains(&a) {
             return Some((base, a - base));
         }

@@ -1,4 +1,5 @@
 use super::*;
+use crate::controller::TickInput;
 use crate::derived::Timing;
 use proptest::prelude::*;
 
@@ -89,4 +90,51 @@ fn a_set_prepared_from_stale_settings_changes_nothing() {
     let (reply, _) = render(&apply_prepared(cmd, pre, &mut c));
     assert!(reply.starts_with("error: the settings changed meanwhile"), "{reply}");
     assert_eq!(*c.config(), before);
+}
+
+#[test]
+fn check_encoder_starts_reports_and_ends() {
+    let mut c = ctl();
+    c.start(0, 0, 0);
+    assert_eq!(say(&mut c, "check-encoder").0, "error: no encoder check running: send check-encoder start");
+    assert!(say(&mut c, "check-encoder start").0.starts_with("ok encoder check started: hands off"));
+    for t in 1..=4u16 {
+        c.tick(&TickInput { lathe: t, ..TickInput::default() });
+        c.service();
+    }
+    assert_eq!(
+        say(&mut c, "check-encoder").0,
+        "ok encoder moved=0 backward=0 jumps=0 chatter=4 still=measuring indexes=0 skipped=0 gaps=0 gap=none cpr=none"
+    );
+    assert!(say(&mut c, "check-encoder stop").0.starts_with("ok encoder ended moved=0 "));
+    assert!(say(&mut c, "check-encoder stop").0.starts_with("error: no encoder check running"));
+    assert!(say(&mut c, "check-encoder now").0.starts_with("error: usage: check-encoder [start|stop]"));
+}
+
+#[test]
+fn jog_replies_with_its_steps_and_refuses_bad_angles() {
+    let mut c = ctl();
+    c.start(0, 0, 0);
+    assert_eq!(say(&mut c, "jog -90.5").0, "ok jogging steps=-804 deg=-90.500 rate_hz=1600");
+    assert_eq!(c.state(), crate::state::State::Jogging);
+    assert_eq!(say(&mut c, "status").0.split(' ').nth(1), Some("state=jogging"));
+    assert!(say(&mut c, "jog 10").0.starts_with("error: a jog is running"));
+    let mut c = ctl();
+    for bad in ["jog", "jog 1 2", "jog 3600.001", "jog ten", "jog 1.2345"] {
+        assert!(say(&mut c, bad).0.starts_with("error: usage: jog <degrees"), "{bad}");
+    }
+    assert!(say(&mut c, "jog 0.01").0.starts_with("error: jog -3600..=3600 degrees"));
+}
+
+#[test]
+fn dfu_only_while_idle_and_the_reply_comes_first() {
+    let mut c = ctl();
+    c.start(0, 0, 0);
+    let (reply, action) = say(&mut c, "dfu");
+    assert!(reply.starts_with("ok restarting into the ROM DFU bootloader"), "{reply}");
+    assert_eq!(action, Action::Dfu);
+    c.engage().unwrap();
+    let (reply, action) = say(&mut c, "dfu");
+    assert!(reply.starts_with("error: stop first"), "{reply}");
+    assert_eq!(action, Action::None);
 }

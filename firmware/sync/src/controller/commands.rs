@@ -76,6 +76,7 @@ impl Controller {
         match self.state {
             State::Fault(_) => return Err(Refusal::Faulted),
             State::Engaging | State::Synced => return Err(Refusal::Busy),
+            State::Jogging => return Err(Refusal::Moving),
             State::Idle | State::Disengaging => {}
         }
         let margin = self.d.limits.max_velocity - self.d.limits.max_velocity / 16;
@@ -92,7 +93,8 @@ impl Controller {
 
     /// Ramps the cutter down and goes idle.
     pub fn disengage(&mut self) {
-        if matches!(self.state, State::Engaging | State::Synced) {
+        if matches!(self.state, State::Engaging | State::Synced | State::Jogging) {
+            self.jog = None;
             self.state = State::Disengaging;
             info!("disengaging");
         }
@@ -112,6 +114,7 @@ impl Controller {
     /// (only before the first engagement, so later passes keep the phase of
     /// the first).
     pub fn service(&mut self) {
+        self.sample_check();
         if self.rebase_pending && self.state == State::Idle {
             self.rebase_pending = false;
             self.origin = self.index.reference().unwrap_or(self.origin);

@@ -2,7 +2,13 @@
 //! (the Black Pill's USB CDC-ACM console), one tagged line out, the line
 //! with the same tag back (`session.rs`).
 
+pub mod checks;
+#[cfg(test)]
+mod fake_machine;
+pub mod figures;
+pub mod prompt;
 pub mod session;
+pub mod setup;
 #[cfg(test)]
 mod tests;
 
@@ -18,7 +24,7 @@ use std::time::{Duration, Instant};
 pub const CAM_FILE_MAX: u64 = 1 << 20;
 /// An erase of the settings sector takes up to 2 s at x32 (DS10314
 /// Table 27 t_ERASE128KB max): `save` and a table's last line wait longer.
-const FLASH_WAIT: Duration = Duration::from_secs(10);
+pub(crate) const FLASH_WAIT: Duration = Duration::from_secs(10);
 
 #[derive(clap::Args, Debug)]
 #[command(disable_help_subcommand = true)]
@@ -70,6 +76,27 @@ pub enum DeviceCommand {
         /// the table file (JSON)
         file: PathBuf,
     },
+    /// Measure the lathe encoder while you turn the chuck: real counts per
+    /// turn, direction, lost counts, chatter; proposes `set cpr`
+    CheckEncoder {
+        /// No index pulse: count over this many chuck turns (from a mark)
+        #[arg(long, value_name = "N", value_parser = crate::cli::values::whole32(1, 100))]
+        turns: Option<u32>,
+        /// Measure for this long instead of until Enter, s (lathe running slowly)
+        #[arg(long, value_name = "S", value_parser = above(0.0, 600.0, "s"))]
+        seconds: Option<f64>,
+    },
+    /// Turn the cutter by an angle, slowly (30 rpm), lathe at rest: check
+    /// its direction and that one commanded turn is one real turn
+    Jog {
+        /// degrees of the cutter, -3600..=3600 (360 = one turn)
+        #[arg(allow_hyphen_values = true)]
+        degrees: String,
+    },
+    /// Restart the board into its ROM USB bootloader, for `polyturn flash`
+    Dfu,
+    /// The guided setup: encoder, motor, driver, lathe; checks; save
+    Setup(setup::SetupArgs),
 }
 
 impl DeviceCommand {
@@ -87,7 +114,11 @@ impl DeviceCommand {
             DeviceCommand::Save => "save".into(),
             DeviceCommand::Defaults => "defaults".into(),
             DeviceCommand::ConsoleHelp => "help".into(),
-            DeviceCommand::UploadCam { .. } => return None,
+            DeviceCommand::Dfu => "dfu".into(),
+            DeviceCommand::Jog { degrees } => format!("jog {degrees}"),
+            DeviceCommand::UploadCam { .. } | DeviceCommand::CheckEncoder { .. } | DeviceCommand::Setup(_) => {
+                return None
+            }
         })
     }
 }
@@ -110,11 +141,26 @@ pub fn run(a: DeviceArgs) -> CliResult<String> {
         .open()
         .map_err(|e| CliError::flag("port", format!("cannot open {}: {e}", escaped(&path))))?;
     let mut s = Session::new(serial, &path, Duration::from_secs_f64(a.timeout));
+    let mut terminal = prompt::Terminal;
     match (&a.command, line) {
         (DeviceCommand::Watch, _) => watch(&mut s, &mut std::io::stdout().lock()),
         (DeviceCommand::Save, Some(l)) => ok_or_device_error(s.ask_within(&l, FLASH_WAIT.max(s.timeout))?),
+        (DeviceCommand::Jog { degrees }, _) => checks::jog(&mut s, degrees),
+        (DeviceCommand::Dfu, Some(l)) => Ok(format!(
+            "{}
+now: polyturn flash FILE",
+            s.ask(&l)?
+        )),
+        (DeviceCommand::CheckEncoder { turns, seconds }, _) => {
+            let turning =
+                seconds.map_or(checks::Turning::UntilEnter, |t| checks::Turning::For(Duration::from_secs_f64(t)));
+            let (f, proposal) = checks::check_encoder(&mut s, &mut terminal, turning, *turns)?;
+            Ok(checks::explain(&f, &proposal))
+        }
+        (DeviceCommand::Setup(args), _) => setup::run(&mut s, args, &mut terminal),
+        (DeviceCommand::UploadCam { .. }, _) => upload(&mut s, table.as_ref().expect("read above")),
         (_, Some(l)) => s.ask(&l),
-        (_, None) => upload(&mut s, table.as_ref().expect("read above")),
+        (_, None) => Err(CliError("internal: a device command without a line".into())),
     }
 }
 

@@ -22,7 +22,7 @@ const OTHER_LINES_MAX: usize = 10_000;
 const OLD_FIRMWARE: &str = "error: unknown command or wrong arguments (try help)";
 
 pub struct Session<T: Read + Write> {
-    io: T,
+    pub(crate) io: T,
     pending: Vec<u8>,
     tag: u32,
     /// how long to wait for one reply

@@ -12,24 +12,30 @@ use std::time::Duration;
 
 /// The real console behind the firmware's framing: tags split off and put
 /// back, `watch` streaming until the next line.
-struct FakeDevice {
-    ctl: Controller,
+pub(super) struct FakeDevice {
+    pub ctl: Controller,
     pending: Vec<u8>,
     out: VecDeque<u8>,
     watching: bool,
+    /// time passing between commands, if the test wants it
+    pub machine: Option<super::fake_machine::Machine>,
+    /// every command line received, in order
+    pub received: Vec<String>,
 }
 
 impl FakeDevice {
-    fn new() -> FakeDevice {
-        FakeDevice {
-            ctl: Controller::new(Config::default(), Timing::FIRMWARE),
-            pending: vec![],
-            out: VecDeque::new(),
-            watching: false,
-        }
+    pub fn new() -> FakeDevice {
+        let mut ctl = Controller::new(Config::default(), Timing::FIRMWARE);
+        ctl.start(0, 0, 0);
+        FakeDevice { ctl, pending: vec![], out: VecDeque::new(), watching: false, machine: None, received: vec![] }
     }
     fn line(&mut self) {
         self.watching = false;
+        let text = String::from_utf8_lossy(&self.pending).to_string();
+        if let Some(m) = &mut self.machine {
+            m.run(&mut self.ctl, &text);
+        }
+        self.received.push(text);
         let line = std::mem::take(&mut self.pending);
         let (t, reply, action) = match tag::split(&line) {
             Ok((t, body)) => {
@@ -81,7 +87,7 @@ impl Write for FakeDevice {
     }
 }
 
-fn session<T: Read + Write>(io: T) -> Session<T> {
+pub(super) fn session<T: Read + Write>(io: T) -> Session<T> {
     Session::new(io, "/dev/fake", Duration::from_millis(300))
 }
 

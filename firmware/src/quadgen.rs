@@ -1,0 +1,182 @@
+//! The bench self-test's signal generator: a lathe encoder made by TIM9, to
+//! be jumpered to the lathe-encoder inputs (A: PA2 → PA6, B: PA3 → PA7,
+//! index: PA4 → PB0), so the real gearbox runs against a known lathe.
+//!
+//! **A and B** are TIM9's channels 1 and 2 (PA2/PA3, AF3) in output compare
+//! toggle mode (RM0383 §14.4.6 OCxM = 011), with CCR, ARR and PSC buffered
+//! (§14.4.6 OCxPE, §14.4.1 ARPE, §14.3.1). Each update period toggles each
+//! output once, `LEAD` ticks and `LEAD + half` ticks after its update event
+//! (`Period`): two quadrature counts, evenly spaced, hardware-timed. Which
+//! output goes first is the direction; new values take effect at an update
+//! event, so a speed change or a reversal happens exactly on a period
+//! boundary and no count is lost or doubled (`Edges`).
+//!
+//! **The index** is PA4, a push-pull GPIO written by the update interrupt
+//! (TIM1_BRK_TIM9, UIE) as the first thing it does, high for the period
+//! that crosses [n·cpr, n·cpr + 2] (`Edges::index_in`). Its edge is
+//! software-timed and must fall between the period's two edges, so TIM3
+//! latches n·cpr + 1 whichever way the lathe turns:
+//!
+//! * after the first edge, at (PSC + 1) × `LEAD` cycles: the interrupt
+//!   needs at least `ENTRY_MIN` cycles to enter (Cortex-M4, 12 cycles with
+//!   no wait state), so PSC + 1 + `MARGIN` ≤ `ENTRY_MIN`, i.e. PSC ≤
+//!   `PSC_MAX`;
+//! * before the second, at (PSC + 1)(`LEAD` + half) cycles: with the
+//!   interrupt's worst latency `LATENCY_MAX` (update event to the index
+//!   write), (PSC + 1) × half ≥ `LATENCY_MAX` + `MARGIN` =
+//!   `HALF_MIN_CLOCKS`. Half a period is one count, so the count rate is at
+//!   most TIMER_HZ / `HALF_MIN_CLOCKS` = `MAX_COUNT_RATE` (31 914 counts/s:
+//!   797 rpm at 2400 counts per revolution; `profile::max_rpm`).
+//!
+//! `LATENCY_MAX` = 3 000 cycles is an estimate, not a measurement: the
+//! interrupt must sit below the tick (level 0); at level 1 it waits for the
+//! tick (790 instructions worst in QEMU, 900-1 400 cycles estimated on
+//! silicon, README), the longest section under the tick's lock (582
+//! instructions), embassy's TIM5 handler at the same level, and its own
+//! entry (12) and prologue. `MARGIN` (8 cycles) covers TIM3's input path:
+//! A, B and the index go through the same 8-sample filter (`app::drivers`).
+//! Measure the latency on the bench (DWT) and set it here.
+//!
+//! The slowest moving period is `period::MAX_CLOCKS` (PSC_MAX with a full
+//! count): 732 counts/s; slower parts of a profile are idle periods.
+//!
+//! Wiring in the app: RCC_APB2ENR.TIM9EN and RCC_AHB1ENR.GPIOAEN; PA4
+//! output push-pull, low; TIM1_BRK_TIM9 enabled at level 1; the generator
+//! put where the handler finds it *before* `Generator::start`'s program is
+//! applied (its last write starts the counter one tick before update event
+//! 0, which interrupts at once); then PA2/PA3 in AF3 (the timer drives them
+//! low from then on). The handler applies `Generator::on_update`'s program
+//! and does nothing before it.
+
+pub mod edges;
+pub mod period;
+pub mod profile;
+pub mod program;
+
+pub use edges::Edges;
+pub use period::{Motion, Period};
+pub use profile::{max_rpm, Error, Periods, Profile, Segment};
+
+use program::Op;
+
+/// TIM9's kernel clock CK_INT (APB2 timers at 96 MHz).
+pub const TIMER_HZ: u32 = 96_000_000;
+/// The update interrupt's vector (TIM9 shares TIM1's break vector).
+pub const IRQ: &str = "TIM1_BRK_TIM9";
+/// Pins: A, B (alternate function `AF`), index (GPIO output).
+pub const PIN_A: &str = "PA2";
+pub const PIN_B: &str = "PA3";
+pub const PIN_INDEX: &str = "PA4";
+pub const AF: u8 = 3;
+
+/// Counter ticks from a period's update event to its first edge.
+pub const LEAD: u16 = 1;
+/// Fewest cycles from an update event to the interrupt's first store.
+pub const ENTRY_MIN: u32 = 12;
+/// Most cycles from an update event to the interrupt's index write.
+pub const LATENCY_MAX: u32 = 3_000;
+/// Slack each side of the index edge.
+pub const MARGIN: u32 = 8;
+/// Largest prescaler: the first edge precedes the index write.
+pub const PSC_MAX: u16 = (ENTRY_MIN - MARGIN) as u16 / LEAD - 1;
+/// Shortest half period, cycles: the index write precedes the second edge.
+pub const HALF_MIN_CLOCKS: u32 = LATENCY_MAX + MARGIN;
+/// Fastest count rate, counts per second.
+pub const MAX_COUNT_RATE: u32 = TIMER_HZ / HALF_MIN_CLOCKS;
+
+/// Where the generator is.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum State {
+    Running,
+    /// OPM set: the counter stops at the next update event.
+    Finishing,
+    Done,
+}
+
+/// The interrupt's side: which period runs, what comes next, the books.
+#[derive(Clone, Debug)]
+pub struct Generator<I> {
+    periods: core::iter::Fuse<I>,
+    current: Period,
+    last_moving: Option<Period>,
+    edges: Edges,
+    state: State,
+}
+
+/// What the interrupt applies at one update event.
+pub type UpdateOps = heapless::Vec<Op, 6>;
+
+impl<I: Iterator<Item = Period>> Generator<I> {
+    /// The generator and the program that starts TIM9 on the first period
+    /// (from TIM9 stopped, outputs low); `None` for an empty profile.
+    pub fn start(profile: &Profile<'_>, periods: I) -> Option<(Generator<I>, [Op; 15])> {
+        let mut periods = periods.fuse();
+        let first = periods.next()?;
+        let edges = Edges::new(profile.cpr());
+        let gen = Generator { periods, current: first, last_moving: None, edges, state: State::Running };
+        Some((gen, program::init(&first)))
+    }
+
+    /// The update interrupt's work, to apply at once: the index level for
+    /// the period that just started (first), the flags cleared, then the
+    /// next period's values; after the last period the counter is told to
+    /// stop at the next update event. If the count would end on A = B = 1
+    /// one more period in the last direction brings both low, so a later
+    /// start (which forces them low) moves nothing.
+    pub fn on_update(&mut self) -> UpdateOps {
+        let mut ops = UpdateOps::new();
+        match self.state {
+            State::Running => {
+                let p = self.current;
+                let _ = ops.push(program::index(self.edges.index_in(&p)));
+                let _ = ops.push(program::CLEAR_FLAGS);
+                self.edges.book(&p);
+                if p.motion != Motion::Idle {
+                    self.last_moving = Some(p);
+                }
+                match self.periods.next().or_else(|| self.parking()) {
+                    Some(n) => {
+                        self.current = n;
+                        let _ = ops.extend_from_slice(&program::next(&n));
+                    }
+                    None => {
+                        self.state = State::Finishing;
+                        let _ = ops.push(program::FINISH);
+                    }
+                }
+            }
+            State::Finishing => {
+                self.state = State::Done;
+                let _ = ops.extend_from_slice(&program::DONE);
+            }
+            State::Done => {
+                let _ = ops.push(program::CLEAR_FLAGS);
+            }
+        }
+        ops
+    }
+
+    /// The extra period that leaves A and B low, if the count ends with
+    /// both high.
+    fn parking(&self) -> Option<Period> {
+        (self.edges.levels() == (true, true)).then_some(self.last_moving).flatten()
+    }
+
+    pub fn edges(&self) -> &Edges {
+        &self.edges
+    }
+
+    /// The period running since the last update event, until `on_update`
+    /// books it (after the last one: the last period, now stopped).
+    pub fn current(&self) -> Period {
+        self.current
+    }
+
+    /// False once the counter has stopped after the last period.
+    pub fn running(&self) -> bool {
+        self.state != State::Done
+    }
+}
+
+#[cfg(test)]
+mod tests;

@@ -1,0 +1,43 @@
+//! The encoder check's hooks in the controller: the tick keeps the index
+//! count and latch (`on_index`), `service` samples them at low priority.
+
+use super::Controller;
+use crate::check::{EncoderCheck, EncoderReport, Sample};
+
+/// The check's hands-off window: the first second.
+pub const STILL_SECONDS: u64 = 1;
+
+impl Controller {
+    fn check_sample(&self) -> Sample {
+        Sample {
+            ticks: self.ticks,
+            counts: self.lathe.position(),
+            indexes: self.index_seen,
+            last_index: self.last_index,
+        }
+    }
+
+    /// Starts (or restarts) the encoder check.
+    pub fn start_encoder_check(&mut self) {
+        let still = STILL_SECONDS * self.timing.tick_hz as u64;
+        self.check = Some(EncoderCheck::new(self.check_sample(), still, self.d.max_counts_per_tick as i64));
+    }
+
+    /// The figures so far, if a check runs.
+    pub fn encoder_check(&self) -> Option<EncoderReport> {
+        self.check.as_ref().map(EncoderCheck::report)
+    }
+
+    /// Ends the check, with its last figures.
+    pub fn stop_encoder_check(&mut self) -> Option<EncoderReport> {
+        self.check.take().map(|c| c.report())
+    }
+
+    /// Feeds the check (from `service`).
+    pub(super) fn sample_check(&mut self) {
+        let s = self.check_sample();
+        if let Some(c) = &mut self.check {
+            c.sample(s);
+        }
+    }
+}

@@ -1,0 +1,139 @@
+//! The setup checks through the controller (issue 14): `jog`, and the
+//! index pulses the encoder check counts.
+
+use super::*;
+use crate::config::{Config, Sense};
+use crate::controller::jog::JOG_SECONDS_PER_TURN;
+use crate::steps::Dir;
+
+fn ctl(c: Config) -> Controller {
+    let mut c = Controller::new(c, Timing::FIRMWARE);
+    c.start(0, 0, 0);
+    c
+}
+
+/// Ticks with the lathe at rest and the step output doing what it is told
+/// (each plan's pulses counted two ticks later, `steps::pipe`), until the
+/// controller is idle again or `limit` ticks; returns (ticks, net steps,
+/// the highest step count in a tick).
+fn run_jog(c: &mut Controller, limit: usize) -> (usize, i64, u16) {
+    run_on(c, &mut Output::default(), limit)
+}
+
+/// The step output: pulses counted so far, and the two plans in flight.
+#[derive(Default)]
+struct Output {
+    emitted: u16,
+    pipe: [(u16, Option<Dir>); 2],
+    t: usize,
+}
+
+fn run_on(c: &mut Controller, o: &mut Output, limit: usize) -> (usize, i64, u16) {
+    let (mut net, mut most) = (0i64, 0u16);
+    for t in 0..limit {
+        let out = c.tick(&TickInput { emitted: o.emitted, ..TickInput::default() });
+        let (n, dir) = o.pipe[o.t % 2];
+        o.emitted = o.emitted.wrapping_add(n);
+        net += if dir == Some(Dir::Forward) { n as i64 } else { -(n as i64) };
+        o.pipe[o.t % 2] = (out.plan.count, Some(out.plan.dir));
+        o.t += 1;
+        most = most.max(out.plan.count);
+        assert!(c.fault().is_none(), "{:?}", c.state());
+        if c.state() == State::Idle {
+            return (t, net, most);
+        }
+    }
+    (limit, net, most)
+}
+
+#[test]
+fn a_jog_of_one_turn_emits_exactly_one_turn_slowly_then_goes_idle() {
+    let mut c = ctl(Config::default());
+    let plan = c.jog(360_000).unwrap();
+    assert_eq!(plan.steps, 3200);
+    assert_eq!(plan.rate_hz, 3200 / JOG_SECONDS_PER_TURN);
+    assert_eq!(c.state(), State::Jogging);
+    let (ticks, net, most) = run_jog(&mut c, 200_000);
+    assert_eq!(c.state(), State::Idle, "the jog ended");
+    assert_eq!(net, 3200, "one commanded turn is 3200 steps");
+    // at most the jog's rate: 1600 steps/s is 0.064 a tick, so one a tick
+    assert_eq!(most, 1);
+    // a turn at 1600 steps/s takes 2 s (50 000 ticks), plus the ramps
+    assert!((50_000..60_000).contains(&ticks), "{ticks} ticks");
+    assert!(!c.tick(&TickInput::default()).enable, "idle again: ENABLE off");
+}
+
+#[test]
+fn a_jog_turns_the_way_the_gear_would_for_the_lathe_counting_up() {
+    for (sense, deg, want) in
+        [(Sense::Same, 90_000, 800), (Sense::Opposite, 90_000, -800), (Sense::Same, -45_000, -400)]
+    {
+        let mut c = ctl(Config { sense, ..Config::default() });
+        assert_eq!(c.jog(deg).unwrap().steps, want);
+        assert_eq!(run_jog(&mut c, 100_000).1, want, "{sense:?} {deg}");
+    }
+}
+
+#[test]
+fn jog_is_refused_while_engaged_faulted_moving_or_with_the_lathe_turning() {
+    let mut c = ctl(Config::default());
+    c.engage().unwrap();
+    assert_eq!(c.jog(90_000), Err(Refusal::NotIdle));
+    let mut c = ctl(Config::default());
+    c.trip(Fault::EStop);
+    assert_eq!(c.jog(90_000), Err(Refusal::Faulted));
+    let mut c = ctl(Config::default());
+    c.jog(90_000).unwrap();
+    assert_eq!(c.jog(90_000), Err(Refusal::Moving));
+    assert_eq!(c.engage(), Err(Refusal::Moving));
+    let mut c = ctl(Config { drive: DriveKind::None, ..Config::default() });
+    assert_eq!(c.jog(90_000), Err(Refusal::NoCutter));
+    let mut c = ctl(Config::default());
+    assert_eq!(c.jog(10), Err(Refusal::JogRange), "0.01 degree is under a step");
+    assert_eq!(c.jog(3_600_001), Err(Refusal::JogRange));
+    // the lathe turning: 2 counts a tick
+    let mut c = ctl(Config::default());
+    for t in 1..100u16 {
+        c.tick(&TickInput { lathe: t * 2, ..TickInput::default() });
+    }
+    assert_eq!(c.fault(), None);
+    assert_eq!(c.jog(90_000), Err(Refusal::LatheTurning));
+}
+
+#[test]
+fn stop_ends_a_jog_with_a_ramp_and_an_estop_at_once() {
+    let mut c = ctl(Config::default());
+    c.jog(360_000).unwrap();
+    let mut o = Output::default();
+    let (_, before, _) = run_on(&mut c, &mut o, 10_000);
+    c.disengage();
+    assert_eq!(c.state(), State::Disengaging);
+    let (_, after, _) = run_on(&mut c, &mut o, 50_000);
+    assert_eq!(c.state(), State::Idle);
+    assert!(after > 0 && before + after < 3200, "{before} + {after}");
+    let mut c = ctl(Config::default());
+    c.jog(360_000).unwrap();
+    let _ = run_jog(&mut c, 10_000);
+    let out = c.tick(&TickInput { estop_open: true, ..TickInput::default() });
+    assert!(out.halt && !out.enable);
+}
+
+#[test]
+fn the_tick_counts_index_edges_for_the_encoder_check() {
+    let mut c = ctl(Config::default());
+    c.start_encoder_check();
+    // a second hands off, then three turns at 1 count a tick with an index
+    // latched every 2400 counts
+    for _ in 0..25_000 {
+        c.tick(&TickInput::default());
+        c.service();
+    }
+    for t in 1..=7_300u32 {
+        let index = (t % 2400 == 100).then_some(t as u16);
+        c.tick(&TickInput { lathe: t as u16, index, ..TickInput::default() });
+        c.service();
+    }
+    let r = c.stop_encoder_check().unwrap();
+    assert_eq!((r.moved, r.indexes, r.gap, r.cpr), (7_300, 4, Some((3, 2400, 2400)), Some(2400)));
+    assert_eq!(c.encoder_check(), None, "stopped");
+}

@@ -1,0 +1,93 @@
+//! The guided setup against the real console (a fake board whose machine
+//! turns and steps): the non-interactive form from flags, and the
+//! interview with scripted answers.
+
+use super::*;
+use crate::cli::device::fake_machine::Machine;
+use crate::cli::device::prompt::Scripted;
+use crate::cli::device::tests::{session, FakeDevice};
+use clap::Parser;
+use polyturn_sync::Config;
+
+#[derive(Parser)]
+struct Line {
+    #[command(flatten)]
+    a: SetupArgs,
+}
+
+fn args(flags: &str) -> SetupArgs {
+    Line::try_parse_from(std::iter::once("setup").chain(flags.split_whitespace())).unwrap().a
+}
+
+/// The commands the board received, tags removed.
+fn sent(s: &Session<FakeDevice>) -> Vec<String> {
+    s.io.received.iter().map(|l| l.split_once(' ').map_or(l.clone(), |(_, c)| c.to_string())).collect()
+}
+
+#[test]
+fn the_non_interactive_setup_derives_sends_and_saves_the_settings() {
+    let mut s = session(FakeDevice::new());
+    let a = args("--non-interactive --encoder-lines 1000 --microsteps 8 --reduction 40/20 --max-lathe-rpm 600 --pulse-us 2.5 --encoder-reversed");
+    let out = run(&mut s, &a, &mut Scripted::new(&[])).unwrap();
+    let c = *s.io.ctl.config();
+    assert_eq!((c.encoder_counts_per_rev, c.motor_steps_per_rev, c.max_lathe_rpm), (4_000, 3_200, 600));
+    assert_eq!((c.sense, c.step_pulse_ns), (polyturn_sync::Sense::Opposite, 2_500), "a reversed encoder flips dir");
+    assert_eq!(sent(&s).last().map(String::as_str), Some("save"));
+    assert!(out.contains("at ratio 2: 8/5 motor steps per encoder count"), "{out}");
+    assert!(out.contains("ratio    4:   600 rpm"), "{out}");
+}
+
+#[test]
+fn settings_that_only_fit_in_one_order_are_sent_in_it() {
+    // 8000 steps at the default 1500 rpm would need 400 kHz: max-rpm first
+    let mut s = session(FakeDevice::new());
+    let a = args("--non-interactive --encoder-lines 600 --microsteps 40 --max-lathe-rpm 600 --no-save");
+    let out = run(&mut s, &a, &mut Scripted::new(&[])).unwrap();
+    let order: Vec<String> = sent(&s).into_iter().filter(|l| l.starts_with("set ")).collect();
+    let at = |cmd: &str| order.iter().position(|l| l.starts_with(cmd)).unwrap();
+    assert!(at("set max-rpm") < at("set steps"), "{order:?}");
+    assert_eq!(s.io.ctl.config().motor_steps_per_rev, 8_000);
+    assert!(!sent(&s).contains(&"save".to_string()) && out.contains("not saved"));
+}
+
+#[test]
+fn missing_or_impossible_facts_change_nothing_on_the_board() {
+    let mut s = session(FakeDevice::new());
+    let e = run(&mut s, &args("--non-interactive --encoder-lines 600"), &mut Scripted::new(&[])).unwrap_err();
+    assert!(e.0.starts_with("--max-lathe-rpm is needed"), "{}", e.0);
+    let e = run(
+        &mut s,
+        &args("--non-interactive --encoder-lines 600 --microsteps 400 --max-lathe-rpm 3000"),
+        &mut Scripted::new(&[]),
+    )
+    .unwrap_err();
+    assert!(e.0.contains("do not fit together"), "{}", e.0);
+    let e = run(&mut s, &args("--non-interactive --encoder-lines 600 --motor-steps 200 --microsteps 1 --reduction 37/21 --max-lathe-rpm 600"), &mut Scripted::new(&[])).unwrap_err();
+    assert!(e.0.starts_with("--reduction"), "{}", e.0);
+    assert!(sent(&s).iter().all(|l| !l.starts_with("set ")), "{:?}", sent(&s));
+    assert_eq!(*s.io.ctl.config(), Config::default());
+}
+
+#[test]
+fn the_interview_measures_the_encoder_jogs_the_cutter_and_saves() {
+    let mut dev = FakeDevice::new();
+    let mut m = Machine::new(110_000);
+    (m.counts_per_tick_x1000, m.cpr, m.turn_for_check) = (100, 2_000, true);
+    dev.machine = Some(m);
+    let mut s = session(dev);
+    s.timeout = std::time::Duration::from_secs(30);
+    let mut ask = Scripted::new(&[
+        "y", "", "y", // index; turn the chuck; use the measured cpr
+        "200", "16", "direct", "same", "1000", "2500", "5000", // motor, sense, lathe, driver
+        "", "one turn", "n", // the jog: one turn, but the wrong way
+    ]);
+    let out = run(&mut s, &args(""), &mut ask).unwrap_or_else(|e| panic!("{e:?} after {:?}", sent(&s)));
+    let c = *s.io.ctl.config();
+    assert_eq!(c.encoder_counts_per_rev, 2_000, "measured by the check, not the default 2400");
+    assert_eq!((c.motor_steps_per_rev, c.max_lathe_rpm), (3_200, 1_000));
+    assert_eq!(c.sense, polyturn_sync::Sense::Opposite, "the jog turned the wrong way: dir flipped");
+    let cmds = sent(&s);
+    assert!(cmds.contains(&"jog 360".to_string()) && cmds.last().unwrap() == "save", "{cmds:?}");
+    assert!(ask.said.iter().any(|l| l.contains("proposed: set cpr 2000")), "{:?}", ask.said);
+    assert!(out.contains("ok saving") || out.contains("saving"), "{out}");
+}

@@ -1,0 +1,89 @@
+//! What an image must be before it is flashed: a Cortex-M vector table
+//! that can start (PM0214 §2.3.4: word 0 the initial SP, word 1 the reset
+//! handler with bit 0 set for Thumb), and a polyturn marker naming this
+//! chip, so that a file for another board, or no firmware at all, is
+//! refused before the bootloader erases anything.
+
+use super::image::Refusal;
+use super::{CHIP, MARKER, RAM_END, RAM_START};
+
+/// A marker's chip and version are short: a longer one is no marker.
+const MARKER_TEXT_MAX: usize = 80;
+
+/// Checks an image placed at `base`; the version its marker gives (`None`
+/// when `any_image` lets an image without a marker through).
+pub fn image(base: u32, bytes: &[u8], any_image: bool) -> Result<Option<String>, Refusal> {
+    vectors(base, bytes)?;
+    match markers(bytes)? {
+        Some((chip, _)) if chip != CHIP => {
+            Err(Refusal::new(format!("must be a polyturn image for the {CHIP}"), format!("made for the {chip}")))
+        }
+        Some((_, version)) => Ok(Some(version)),
+        None if any_image => Ok(None),
+        None => Err(Refusal::new(
+            format!("must be a polyturn image for the {CHIP}, marked 'polyturn-image:{CHIP}:VERSION' (--any-image writes another program)"),
+            "no polyturn-image marker",
+        )),
+    }
+}
+
+/// The initial stack pointer in RAM and word-aligned; the reset handler
+/// Thumb (odd) and inside the image.
+fn vectors(base: u32, bytes: &[u8]) -> Result<(), Refusal> {
+    let word = |i: usize| bytes.get(i..i + 4).map(|w| u32::from_le_bytes([w[0], w[1], w[2], w[3]]));
+    let (Some(sp), Some(reset)) = (word(0), word(4)) else {
+        let rule = "must begin with a vector table: initial stack pointer and reset address (8 bytes)";
+        return Err(Refusal::new(rule, format!("{} bytes", bytes.len())));
+    };
+    if !(sp > RAM_START && sp <= RAM_END && sp % 4 == 0) {
+        let rule = format!(
+            "must begin with a vector table whose initial stack pointer is word-aligned RAM, 0x{:08x}..=0x{RAM_END:08x}",
+            RAM_START + 4
+        );
+        return Err(Refusal::new(rule, format!("stack pointer 0x{sp:08x}")));
+    }
+    let end = u64::from(base) + bytes.len() as u64;
+    let rule =
+        format!("must have a reset address that is Thumb code (odd) inside the image, 0x{base:08x}..0x{end:08x}");
+    if reset & 1 == 0 {
+        return Err(Refusal::new(rule, format!("reset address 0x{reset:08x}, even")));
+    }
+    let entry = u64::from(reset & !1);
+    if entry < u64::from(base) + 8 || entry >= end {
+        return Err(Refusal::new(rule, format!("reset address 0x{reset:08x}")));
+    }
+    Ok(())
+}
+
+/// Every marker in the image: (chip, version) when there is one, or all
+/// agree; refused when one is malformed or two disagree.
+fn markers(bytes: &[u8]) -> Result<Option<(String, String)>, Refusal> {
+    let mut found: Option<(String, String)> = None;
+    let starts = bytes.windows(MARKER.len()).enumerate().filter(|(_, w)| *w == MARKER).map(|(i, _)| i);
+    for at in starts {
+        let rest = &bytes[at + MARKER.len()..];
+        let text = rest.iter().take(MARKER_TEXT_MAX).position(|&b| b == 0).map(|n| &rest[..n]);
+        let parsed = text.and_then(|t| std::str::from_utf8(t).ok()).and_then(|t| t.split_once(':')).filter(|(c, v)| {
+            let ok = |s: &str, extra: &str| {
+                !s.is_empty() && s.chars().all(|ch| ch.is_ascii_alphanumeric() || extra.contains(ch))
+            };
+            ok(c, "") && ok(v, ".-+")
+        });
+        let Some((chip, version)) = parsed else {
+            let rule = format!("must carry a well-formed marker, 'polyturn-image:{CHIP}:VERSION' and a NUL");
+            return Err(Refusal::new(rule, format!("a malformed marker at offset 0x{at:x}")));
+        };
+        let this = (chip.to_ascii_lowercase(), version.to_string());
+        match &found {
+            Some(first) if *first != this => {
+                let rule = "must carry one polyturn marker";
+                return Err(Refusal::new(
+                    rule,
+                    format!("markers for {}:{} and {}:{}", first.0, first.1, this.0, this.1),
+                ));
+            }
+            _ => found = Some(this),
+        }
+    }
+    Ok(found)
+}

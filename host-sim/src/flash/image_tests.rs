@@ -1,0 +1,198 @@
+//! The image checks: what is flashed, and every way a file is refused.
+
+use super::image::{format_of, from_bytes, load, read_bounded, Format, Refusal, FILE_MAX_BYTES};
+use super::testkit::{elf, elf_for, good, image_with, record, RESET, SP};
+use super::{hex, FLASH_BASE};
+use std::path::Path;
+
+fn refused(bytes: &[u8], format: Format, any_image: bool) -> Refusal {
+    from_bytes(bytes, format, any_image).expect_err("refused")
+}
+
+/// A .hex of `pieces` (address, bytes), records of 16 bytes.
+fn hex_of(pieces: &[(u32, &[u8])]) -> String {
+    let mut lines = Vec::new();
+    for (address, bytes) in pieces {
+        lines.push(record(4, 0, &((address >> 16) as u16).to_be_bytes()));
+        for (i, chunk) in bytes.chunks(16).enumerate() {
+            lines.push(record(0, (*address as u16).wrapping_add(16 * i as u16), chunk));
+        }
+    }
+    lines.push(":00000001FF".into());
+    lines.join("\n")
+}
+
+#[test]
+fn a_good_image_loads_from_bin_hex_and_elf_alike() {
+    let bytes = good(3000);
+    let from_bin = from_bytes(&bytes, Format::Bin, false).unwrap();
+    assert_eq!((from_bin.base, from_bin.version.as_deref()), (FLASH_BASE, Some("0.1.0")));
+    assert_eq!(from_bin.bytes, bytes);
+    assert_eq!(from_bin.sha256.len(), 64);
+    let from_hex = from_bytes(hex_of(&[(FLASH_BASE, &bytes)]).as_bytes(), Format::Hex, false).unwrap();
+    // .data: run address in RAM, stored in flash after the rest (LMA)
+    let file =
+        elf(&[(FLASH_BASE, FLASH_BASE, &bytes[..1000], 0), (FLASH_BASE + 1000, 0x2000_0000, &bytes[1000..], 64)]);
+    let from_elf = from_bytes(&file, Format::Elf, false).unwrap();
+    assert_eq!((&from_hex, &from_elf), (&from_bin, &from_bin));
+    let mut other = bytes.clone();
+    other[2999] ^= 1;
+    assert_ne!(from_bytes(&other, Format::Bin, false).unwrap().sha256, from_bin.sha256);
+}
+
+#[test]
+fn gaps_are_erased_flash_and_bss_is_not_flashed() {
+    let bytes = good(1024);
+    let file =
+        elf(&[(FLASH_BASE, FLASH_BASE, &bytes[..768], 0), (FLASH_BASE + 900, FLASH_BASE + 900, &bytes[900..], 0)]);
+    let image = from_bytes(&file, Format::Elf, false).unwrap();
+    assert_eq!((&image.bytes[..768], &image.bytes[900..]), (&bytes[..768], &bytes[900..]));
+    assert!(image.bytes[768..900].iter().all(|&b| b == 0xFF));
+    assert_eq!(image.bytes.len(), 1024);
+}
+
+#[test]
+fn the_hex_written_loads_back_to_the_same_bytes() {
+    for len in [8 + 0x200 + 40, 65_536 + 17, 256 * 1024] {
+        let image = from_bytes(&good(len), Format::Bin, false).unwrap();
+        let text = hex::write(&image).unwrap();
+        assert!(text.ends_with(":00000001FF\n") && text.starts_with(":020000040800F2\n"), "{len}");
+        assert_eq!(from_bytes(text.as_bytes(), Format::Hex, false).unwrap(), image, "{len}");
+    }
+}
+
+#[test]
+fn sizes_and_addresses_outside_sectors_0_to_5_are_refused_with_the_range() {
+    let r = refused(&[], Format::Bin, true);
+    assert!(r.rule.contains("must not be empty (1..=262144 bytes)"), "{r:?}");
+    let r = refused(&good(256 * 1024 + 4), Format::Bin, false);
+    assert!(r.rule.contains("1..=262144 bytes") && r.rule.contains("sectors 6-7"), "{r:?}");
+    assert_eq!(r.found, "the data reaches 0x08040004, 262148 bytes");
+    let bytes = good(1024);
+    let r = refused(hex_of(&[(FLASH_BASE, &bytes), (0x0804_0000, &[1, 2])]).as_bytes(), Format::Hex, false);
+    assert!(r.found.starts_with("line ") && r.found.contains("reaches 0x08040002"), "{r:?}");
+    let r = refused(hex_of(&[(FLASH_BASE + 0x4000, &bytes)]).as_bytes(), Format::Hex, false);
+    assert_eq!((r.rule.contains("must start at 0x08000000"), r.found.as_str()), (true, "starts at 0x08004000"));
+    let r = refused(
+        &elf(&[(FLASH_BASE, FLASH_BASE, &bytes, 0), (0x2000_0000, 0x2000_0000, &[1; 4], 0)]),
+        Format::Elf,
+        false,
+    );
+    assert!(r.rule.contains("must lie in flash") && r.found == "segment 1 at 0x20000000", "{r:?}");
+    let r = refused(&elf(&[(0xFFFF_FFF0, 0, &[0; 64], 0)]), Format::Elf, true);
+    assert_eq!(r.found, "segment 0 at 0xfffffff0");
+    let r = refused(&elf(&[(FLASH_BASE, FLASH_BASE, &bytes, 0), (0x0807_FFF0, 0, &[0; 64], 0)]), Format::Elf, true);
+    assert_eq!(r.found, "segment 1 reaches 0x08080030, 524336 bytes");
+}
+
+#[test]
+fn a_vector_table_that_cannot_start_is_refused() {
+    let cases: [(Vec<u8>, &str); 7] = [
+        (good(6), "6 bytes"),
+        (image_with(4096, 0x2003_0000, RESET, b""), "stack pointer 0x20030000"),
+        (image_with(4096, 0x2000_0000, RESET, b""), "stack pointer 0x20000000"),
+        (image_with(4096, 0x2001_fffe, RESET, b""), "stack pointer 0x2001fffe"),
+        (image_with(4096, 0x0800_1000, RESET, b""), "stack pointer 0x08001000"),
+        (image_with(4096, SP, RESET - 1, b""), "reset address 0x08000198, even"),
+        (image_with(4096, SP, 0x0810_0001, b""), "reset address 0x08100001"),
+    ];
+    for (bytes, found) in cases {
+        let r = refused(&bytes, Format::Bin, true);
+        assert_eq!(r.found, found, "{r:?}");
+    }
+    assert!(from_bytes(&image_with(4096, SP, FLASH_BASE + 4095, b""), Format::Bin, true).is_ok());
+    assert!(refused(&image_with(4096, SP, FLASH_BASE + 4097, b""), Format::Bin, true).rule.contains("0x08001000"));
+}
+
+#[test]
+fn the_marker_names_the_chip_and_only_any_image_lets_none_through() {
+    let other = image_with(4096, SP, RESET, b"polyturn-image:stm32f103c8:0.1.0\0");
+    for any in [false, true] {
+        let r = refused(&other, Format::Bin, any);
+        assert_eq!(
+            (r.rule.as_str(), r.found.as_str()),
+            ("must be a polyturn image for the stm32f411ce", "made for the stm32f103c8")
+        );
+    }
+    let none = image_with(4096, SP, RESET, b"");
+    let r = refused(&none, Format::Bin, false);
+    assert!(r.rule.contains("--any-image") && r.found == "no polyturn-image marker", "{r:?}");
+    assert_eq!(from_bytes(&none, Format::Bin, true).unwrap().version, None);
+    let unended = image_with(4096, SP, RESET, &[b"polyturn-image:stm32f411ce:".as_slice(), &[b'1'; 100]].concat());
+    assert!(refused(&unended, Format::Bin, true).found.starts_with("a malformed marker at offset 0x200"));
+    let mut two = good(4096);
+    two[0x400..0x400 + 33].copy_from_slice(b"polyturn-image:stm32f411ce:0.2.0\0");
+    assert_eq!(refused(&two, Format::Bin, false).found, "markers for stm32f411ce:0.1.0 and stm32f411ce:0.2.0");
+}
+
+#[test]
+fn malformed_or_overlapping_hex_is_refused_naming_the_line() {
+    let bytes = good(64);
+    let ok = hex_of(&[(FLASH_BASE, &bytes)]);
+    let bad_sum = ok.replacen(":10000000", ":10000001", 1);
+    let cases = [
+        (bad_sum, "line 2: invalid checksum"),
+        (ok.replace(":00000001FF", ""), "no end-of-file record (cut short?)"),
+        (format!("{ok}\n{}", record(0, 0x40, &[0])), "line 7 comes after the end-of-file record"),
+        (ok.replacen(":020000040800F2", ":020000020000FC", 1), "line 1 is an 8086 segment record"),
+        (ok.replacen(":10", ":1G", 1), "line 2: invalid characters"),
+        (
+            ok.replacen(":020000040800F2", &format!("{}\n{}", record(4, 0, &[8, 0]), record(0, 0xFFF8, &[0; 16])), 1),
+            "crosses a 64 KiB boundary",
+        ),
+        ("\u{feff}garbage".to_string(), "line 1: missing start code"),
+    ];
+    for (text, found) in cases {
+        let r = refused(text.as_bytes(), Format::Hex, false);
+        assert!(r.found.contains(found), "{found}: {r:?}");
+    }
+    assert!(refused(&[0xC3, 0x28], Format::Hex, false).found == "not text");
+    let twice = hex_of(&[(FLASH_BASE, &bytes), (FLASH_BASE + 0x10, &[1, 2, 3])]);
+    let r = refused(twice.as_bytes(), Format::Hex, false);
+    assert_eq!((r.rule.as_str(), r.found.as_str()), ("must give each byte once", "line 7 writes 0x08000010 again"));
+}
+
+#[test]
+fn elf_files_for_other_machines_or_broken_are_refused() {
+    let bytes = good(256);
+    let mut sixty_four = elf(&[(FLASH_BASE, FLASH_BASE, &bytes, 0)]);
+    sixty_four[4] = 2;
+    let mut big = elf(&[(FLASH_BASE, FLASH_BASE, &bytes, 0)]);
+    big[5] = 2;
+    let mut cut = elf(&[(FLASH_BASE, FLASH_BASE, &bytes, 0)]);
+    cut.truncate(200);
+    let cases = [
+        (sixty_four, "a 64-bit ELF"),
+        (big, "a big-endian ELF"),
+        (elf_for(62, &[(FLASH_BASE, FLASH_BASE, &bytes, 0)]), "an ELF for machine 62"),
+        (cut, "segment 0 lies outside the file"),
+        (b"\x7fELF".to_vec(), ""),
+    ];
+    for (file, found) in cases {
+        let r = refused(&file, Format::Elf, true);
+        assert!(r.rule.contains("32-bit little-endian ARM ELF") && r.found.contains(found), "{r:?}");
+    }
+}
+
+#[test]
+fn files_are_read_bounded_and_recognised() {
+    let r = read_bounded(Path::new("/dev/zero")).unwrap_err();
+    assert_eq!(r.found, "not a regular file");
+    assert!(read_bounded(Path::new("/nonexistent/x.bin")).is_err() && read_bounded(Path::new("/tmp")).is_err());
+    let dir = std::env::temp_dir().join(format!("polyturn-flash-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let huge = dir.join("huge.bin");
+    std::fs::File::create(&huge).unwrap().set_len(FILE_MAX_BYTES + 1).unwrap();
+    assert!(read_bounded(&huge).unwrap_err().rule.contains("at most 16777216 bytes"));
+    assert!(load(&huge, true).is_err());
+    let p = |n: &str| dir.join(n);
+    assert_eq!(format_of(&p("a.HEX"), b"\x00"), Ok(Format::Hex));
+    assert_eq!(format_of(&p("a.bin"), b":1000"), Ok(Format::Bin));
+    assert_eq!(format_of(&p("a"), b"\r\n:1000"), Ok(Format::Hex));
+    assert_eq!(format_of(&p("a.hex"), b"\x7fELF"), Ok(Format::Elf));
+    assert_eq!(format_of(&p("firmware"), &good(64)), Ok(Format::Bin));
+    assert!(format_of(&p("a.elf"), b":10").is_err());
+    std::fs::write(p("fw.bin"), good(4096)).unwrap();
+    assert_eq!(load(&p("fw.bin"), false).unwrap().bytes, good(4096));
+    std::fs::remove_dir_all(&dir).unwrap();
+}
