@@ -27,11 +27,39 @@ pub const CSR_RMVF: u32 = 1 << 24;
 pub const MEMRMP_SYSTEM_FLASH: u32 = 0b01;
 pub const APB2ENR_SYSCFGEN: u32 = 1 << 14;
 
+/// Every reset flag of RCC_CSR (§6.3.21, bits 25 to 31: BOR, pin, POR,
+/// software, IWDG, WWDG, low-power). Every reset sets one (an STM32 drives
+/// NRST low on any reset, so at least PINRSTF); `boot_check` clears them.
+pub const CSR_RESET_FLAGS: u32 = 0xFE00_0000;
+
 /// Whether this boot goes to the bootloader: the request word is set and
 /// the reset was the software reset that `dfu` made (a power-on leaves
 /// RAM random; it may hold the word by chance, but never with SFTRSTF).
 pub fn wanted(word: u32, rcc_csr: u32) -> bool {
     word == MAGIC && rcc_csr & CSR_SFTRSTF != 0
+}
+
+/// How this start came about, and what to do.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Entry {
+    /// `dfu` asked: to the ROM bootloader
+    Bootloader,
+    /// no reset flag: a jump, the ROM's DFU "leave" after `polyturn flash`
+    /// (AN2662 §Leave DFU: it "jumps to the destination given by the
+    /// Address Pointer", with its own USB interrupt and SysTick possibly
+    /// still live): reset first, so the application starts from a reset
+    ResetFirst,
+    Application,
+}
+
+pub fn entry(word: u32, rcc_csr: u32) -> Entry {
+    if rcc_csr & CSR_RESET_FLAGS == 0 {
+        Entry::ResetFirst
+    } else if wanted(word, rcc_csr) {
+        Entry::Bootloader
+    } else {
+        Entry::Application
+    }
 }
 
 /// The words at the start of the bootloader's vector table: (initial stack
@@ -57,9 +85,20 @@ mod tests {
         // power-on (PORRSTF) or pin reset with the same word by chance
         assert!(!wanted(MAGIC, 1 << 27));
         assert!(!wanted(MAGIC, 1 << 26));
-        // a software reset without the request (a panic's watchdog, say)
+        // a software reset without the request
         assert!(!wanted(0, CSR_SFTRSTF));
         assert!(!wanted(!MAGIC, CSR_SFTRSTF));
+    }
+
+    #[test]
+    fn a_start_with_no_reset_flag_is_a_jump_and_resets_first() {
+        const PIN: u32 = 1 << 26;
+        assert_eq!(entry(0, 0), Entry::ResetFirst, "the ROM's leave after a flash");
+        assert_eq!(entry(MAGIC, 0), Entry::ResetFirst);
+        assert_eq!(entry(MAGIC, CSR_SFTRSTF | PIN), Entry::Bootloader);
+        assert_eq!(entry(0, CSR_SFTRSTF | PIN), Entry::Application);
+        assert_eq!(entry(MAGIC, PIN), Entry::Application, "NRST pressed");
+        assert_eq!(entry(MAGIC, 1 << 29), Entry::Application, "the watchdog");
     }
 
     #[test]

@@ -9,8 +9,10 @@
 //!   that chatters faster never counts;
 //! * ENGAGE acts once per press, however long it is held;
 //! * STOP acts on its press and again every `STOP_EVERY_MS` while held, and
-//!   while it is held ENGAGE does nothing (a held STOP keeps the cutter
-//!   stopped, whatever the console asks);
+//!   while it is held ENGAGE does nothing (a console `engage` meanwhile is
+//!   stopped again within `STOP_EVERY_MS`);
+//! * a key already down at power-up (held, or shorted) does nothing until
+//!   it has been released: a reset mid-job never engages by itself;
 //! * PHASE+ and PHASE− nudge once per press, then repeat after
 //!   `REPEAT_AFTER_MS` every `REPEAT_EVERY_MS` while held (each nudge is a
 //!   phase change the follower makes within its limits); both at once do
@@ -52,6 +54,8 @@ struct Debounced {
     /// when the debounced press began, and the next repeat is due
     pressed_at: u32,
     next_repeat: u32,
+    /// released at least once since power-up: only then does it act
+    armed: bool,
 }
 
 impl Debounced {
@@ -88,21 +92,33 @@ impl Debounced {
 #[derive(Clone, Copy, Debug, Default)]
 pub struct Keys {
     keys: [Debounced; 4],
+    /// a key down at the first sample counts only once released
+    seeded: bool,
 }
 
 impl Keys {
     /// Takes the raw levels (true = pressed, index = `Key as usize`) at
     /// `now_ms`, and says what to do.
     pub fn sample(&mut self, now_ms: u32, pressed: [bool; 4]) -> Events {
+        if !self.seeded {
+            self.seeded = true;
+            for (k, &p) in self.keys.iter_mut().zip(&pressed) {
+                // down already: its press happened before we looked
+                *k = Debounced { pressed: p, raw: p, raw_since: now_ms, pressed_at: now_ms, next_repeat: 0, armed: !p };
+            }
+        }
         let mut edge = [false; 4];
         for (i, k) in self.keys.iter_mut().enumerate() {
-            edge[i] = k.sample(now_ms, pressed[i]);
+            edge[i] = k.sample(now_ms, pressed[i]) && k.armed;
+            k.armed |= !k.pressed;
         }
         let [_, stop, plus, minus] = &mut self.keys;
+        // (a STOP down since power-up still holds ENGAGE off)
         let stop_held = stop.pressed;
-        let stop_again = stop.repeat(now_ms, STOP_EVERY_MS, STOP_EVERY_MS);
-        let up = edge[Key::PhasePlus as usize] || plus.repeat(now_ms, REPEAT_AFTER_MS, REPEAT_EVERY_MS);
-        let down = edge[Key::PhaseMinus as usize] || minus.repeat(now_ms, REPEAT_AFTER_MS, REPEAT_EVERY_MS);
+        let stop_again = stop.repeat(now_ms, STOP_EVERY_MS, STOP_EVERY_MS) && stop.armed;
+        let up = edge[Key::PhasePlus as usize] || plus.repeat(now_ms, REPEAT_AFTER_MS, REPEAT_EVERY_MS) && plus.armed;
+        let down =
+            edge[Key::PhaseMinus as usize] || minus.repeat(now_ms, REPEAT_AFTER_MS, REPEAT_EVERY_MS) && minus.armed;
         let both = plus.pressed && minus.pressed;
         Events {
             stop: edge[Key::Stop as usize] || stop_again,
@@ -112,17 +128,13 @@ impl Keys {
     }
 }
 
-/// The phase after a nudge of `dir` (+1/−1), kept within ±360 degrees:
-/// a whole cutter turn later is the same phase.
-pub fn nudged_phase(mdeg: i32, dir: i8) -> i32 {
+/// The phase after a nudge of `dir` (+1/−1), or None past ±360 degrees
+/// (the press is refused). Not wrapped: the phase offset is linear in
+/// degrees, so 359.5 → 0.5 would swing the cutter a whole turn back while
+/// it cuts (found by review).
+pub fn nudged_phase(mdeg: i32, dir: i8) -> Option<i32> {
     let next = mdeg + dir as i32 * PHASE_STEP_MDEG;
-    if next > 360_000 {
-        next - 360_000
-    } else if next < -360_000 {
-        next + 360_000
-    } else {
-        next
-    }
+    (next.abs() <= 360_000).then_some(next)
 }
 
 #[cfg(test)]

@@ -68,7 +68,8 @@ fn act(e: Events, ms: u32) {
 /// it if nothing changed them meanwhile.
 fn nudge(dir: i8) -> bool {
     let Some((c, generation)) = tick::with_core(|c| (*c.config(), c.config_generation())) else { return false };
-    let next = polyturn_sync::Config { phase_offset_mdeg: nudged_phase(c.phase_offset_mdeg, dir), ..c };
+    let Some(phase) = nudged_phase(c.phase_offset_mdeg, dir) else { return false };
+    let next = polyturn_sync::Config { phase_offset_mdeg: phase, ..c };
     let d = Derived::new(&next, tick::TIMING);
     let done = tick::with_core(|c| c.config_generation() == generation && c.install_config(next, d, true).is_ok());
     done == Some(true)

@@ -88,18 +88,36 @@ fn both_phase_keys_or_stop_held_nudge_nothing() {
 #[test]
 fn the_millisecond_clock_may_wrap_under_a_press() {
     let mut keys = Keys::default();
-    let start = u32::MAX - 10;
+    let start = u32::MAX - 100;
     let mut engaged = 0;
-    for i in 0..200u32 {
-        engaged += keys.sample(start.wrapping_add(i), only(Key::Engage)).engage as u32;
+    for i in 0..300u32 {
+        let level = if i < 90 { NONE } else { only(Key::Engage) };
+        engaged += keys.sample(start.wrapping_add(i), level).engage as u32;
     }
     assert_eq!(engaged, 1);
 }
 
 #[test]
-fn a_nudge_past_a_whole_turn_wraps() {
-    assert_eq!(nudged_phase(0, 1), 1_000);
-    assert_eq!(nudged_phase(359_500, 1), 500);
-    assert_eq!(nudged_phase(-359_500, -1), -500);
-    assert_eq!(nudged_phase(-500, 1), 500);
+fn a_nudge_past_a_whole_turn_is_refused_not_wrapped() {
+    assert_eq!(nudged_phase(0, 1), Some(1_000));
+    assert_eq!(nudged_phase(359_000, 1), Some(360_000));
+    // wrapping to 0.5 would swing the cutter 359 degrees back mid-cut
+    assert_eq!(nudged_phase(359_500, 1), None);
+    assert_eq!(nudged_phase(-359_500, -1), None);
+    assert_eq!(nudged_phase(-500, 1), Some(500));
+}
+
+#[test]
+fn a_key_down_at_power_up_does_nothing_until_released() {
+    // ENGAGE held (or shorted) through a reset
+    let held = run(5_000, |_| only(Key::Engage));
+    assert!(held.is_empty(), "{held:?}");
+    let stop_held = run(5_000, |_| only(Key::Stop));
+    assert!(stop_held.is_empty(), "{stop_held:?}");
+    // a STOP down since power-up still holds ENGAGE off
+    let both = run(2_000, |ms| if ms < 500 { only(Key::Stop) } else { [true, true, false, false] });
+    assert!(both.iter().all(|(_, e)| !e.engage), "{both:?}");
+    // released, then pressed: counts
+    let again = run(2_000, |ms| if !(100..1_000).contains(&ms) { only(Key::Engage) } else { NONE });
+    assert_eq!(again.iter().filter(|(_, e)| e.engage).count(), 1);
 }

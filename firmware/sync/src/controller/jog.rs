@@ -16,10 +16,18 @@ pub const JOG_MAX_MDEG: i32 = 3_600_000;
 
 #[derive(Clone, Copy, Debug)]
 pub(super) struct Jog {
-    /// where the cutter ends, Q16 steps
+    /// where the cutter ends, Q16 steps (whole steps)
     target: i64,
     limits: Limits,
+    /// the tick by which it must have ended (twice the plan, plus 1 s)
+    deadline: u64,
+    /// the lathe's count at the start: a jog ends if the lathe turns
+    lathe: i64,
 }
+
+/// Counts the lathe may move during a jog (a knock on the chuck) before
+/// the jog stops: a jog is only for a lathe at rest.
+pub const JOG_LATHE_SLACK: i64 = 4;
 
 /// What a jog will do, for the reply.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -58,9 +66,15 @@ impl Controller {
         let rate_hz = slow.min(self.config.max_step_rate_hz);
         let tick_hz = self.timing.tick_hz as u64;
         let limits = Limits::from_rates(rate_hz as u64, self.config.max_accel_steps_per_s2 as u64, tick_hz);
-        // idle: the follower sits on the measured cutter (`step_state`)
-        self.follower.velocity = 0;
-        self.jog = Some(Jog { target: self.follower.position + (steps << 16), limits });
+        // From whole steps: idle re-seats the follower on the measured
+        // cutter each tick, but the tick that ended a ramp leaves it where
+        // the ramp did (found by review: a fractional target never matches
+        // the steps counted, and the jog would never end).
+        let start = self.follower.whole_steps() << 16;
+        self.follower = Follower { position: start, velocity: 0 };
+        let ticks = steps.unsigned_abs() * tick_hz / rate_hz as u64;
+        let deadline = self.ticks + 2 * ticks + tick_hz;
+        self.jog = Some(Jog { target: start + (steps << 16), limits, deadline, lathe: self.lathe.position() });
         self.state = State::Jogging;
         Ok(JogPlan { steps, rate_hz })
     }
@@ -73,6 +87,13 @@ impl Controller {
             self.state = State::Idle;
             return;
         };
+        // the lathe started, or the jog overran its time: stop (ramped)
+        let knocked = (self.lathe.position() - j.lathe).abs() > JOG_LATHE_SLACK;
+        if knocked || self.ticks > j.deadline {
+            self.jog = None;
+            self.state = State::Disengaging;
+            return self.follower.ramp_down(&self.d.limits);
+        }
         self.follower.track(j.target, 0, &j.limits);
         let close = (j.target - self.follower.position).abs() < 1 << 15;
         if close && self.follower.velocity.abs() <= j.limits.max_accel {

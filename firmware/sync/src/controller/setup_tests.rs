@@ -119,6 +119,40 @@ fn stop_ends_a_jog_with_a_ramp_and_an_estop_at_once() {
 }
 
 #[test]
+fn a_jog_stops_if_the_lathe_starts_turning() {
+    let mut c = ctl(Config::default());
+    c.jog(360_000).unwrap();
+    let mut o = Output::default();
+    let _ = run_on(&mut c, &mut o, 1_000);
+    // the lathe moves 5 counts (more than the slack)
+    c.tick(&TickInput { lathe: 5, emitted: o.emitted, ..TickInput::default() });
+    assert_eq!(c.state(), State::Disengaging);
+}
+
+#[test]
+fn a_jog_started_right_after_a_ramp_still_ends() {
+    // the tick that ends a ramp-down leaves the follower between steps
+    let mut c = ctl(Config::default());
+    let mut o = Output::default();
+    c.jog(360_000).unwrap();
+    let _ = run_on(&mut c, &mut o, 5_000);
+    c.disengage();
+    for _ in 0..100_000 {
+        let _ = run_on(&mut c, &mut o, 1);
+        if c.state() == State::Idle {
+            break;
+        }
+    }
+    assert_eq!(c.state(), State::Idle);
+    c.jog(90_000).unwrap();
+    let (ticks, net, _) = run_on(&mut c, &mut o, 100_000);
+    assert_eq!((c.state(), net), (State::Idle, 800));
+    // ended on arrival (a quarter turn at 1600 steps/s: 12 500 ticks and
+    // the ramps), not by the deadline's stop
+    assert!(ticks < 15_000, "{ticks} ticks");
+}
+
+#[test]
 fn the_tick_counts_index_edges_for_the_encoder_check() {
     let mut c = ctl(Config::default());
     c.start_encoder_check();
