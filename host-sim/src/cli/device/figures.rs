@@ -124,7 +124,9 @@ pub fn parse_settings(reply: &str) -> Option<Config> {
 /// The order to send `changes` in so that each `set` is valid on the
 /// board when it arrives (the board checks each against the others): each
 /// step takes the first change the core's own `Config::with` accepts.
-pub fn send_order(from: &Config, changes: &[(String, String)]) -> Result<Vec<(String, String)>, String> {
+/// Returns the order and the settings it ends with.
+pub type Order = (Vec<(String, String)>, Config);
+pub fn send_order(from: &Config, changes: &[(String, String)]) -> Result<Order, String> {
     let (mut at, mut left, mut order) = (*from, changes.to_vec(), vec![]);
     while !left.is_empty() {
         let Some(i) = left.iter().position(|(n, v)| at.with(n, v).is_ok()) else {
@@ -136,7 +138,7 @@ pub fn send_order(from: &Config, changes: &[(String, String)]) -> Result<Vec<(St
         at = at.with(&n, &v).map_err(|e| format!("{} {}", e.field, e.allowed))?;
         order.push((n, v));
     }
-    Ok(order)
+    Ok((order, at))
 }
 
 #[cfg(test)]

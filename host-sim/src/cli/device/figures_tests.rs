@@ -72,7 +72,8 @@ fn settings_are_read_back_and_sent_in_an_order_the_board_accepts() {
     // more steps at the same max-rpm would overspeed until max-rpm drops:
     // 1500 rpm x 2 x 8000 / 60 = 400 kHz > 200 kHz
     let changes = vec![("steps".to_string(), "8000".to_string()), ("max-rpm".to_string(), "600".to_string())];
-    let order = send_order(&c, &changes).unwrap();
+    let (order, end) = send_order(&c, &changes).unwrap();
+    assert_eq!((end.motor_steps_per_rev, end.max_lathe_rpm), (8_000, 600));
     assert_eq!(order[0].0, "max-rpm", "{order:?}");
     let impossible = vec![("steps".to_string(), "80000".to_string())];
     assert!(send_order(&c, &impossible).unwrap_err().contains("do not fit together"));

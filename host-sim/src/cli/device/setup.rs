@@ -75,11 +75,9 @@ pub fn run<P: Read + Write>(s: &mut Session<P>, a: &SetupArgs, ask: &mut dyn Ask
     let facts = if a.non_interactive { from_flags(a)? } else { interview(s, a, ask)? };
     let current = figures::parse_settings(&s.ask("get")?)
         .ok_or_else(|| s.port_error("its settings could not be read (get): flash this version"))?;
-    let order = figures::send_order(&current, &changes(&facts)).map_err(CliError)?;
-    let mut now = current;
+    let (order, now) = figures::send_order(&current, &changes(&facts)).map_err(CliError)?;
     for (name, value) in &order {
         s.ask(&format!("set {name} {value}"))?;
-        now = now.with(name, value).map_err(|e| CliError(format!("{} {}", e.field, e.allowed)))?;
     }
     if !a.non_interactive {
         clear_check_fault(s, ask)?;
