@@ -121,6 +121,19 @@ pub const PINS: &[Pin] = &[
         Mode::Output,
         Pull::None,
     ),
+    // the bench self-test's lathe (quadgen): jumpered to PA6, PA7 and PB0;
+    // A and B are inputs with pull-downs but while a test plays (TIM9, AF3);
+    // taken as 3.3 V only (they connect to nothing but the board's inputs)
+    pin("SELFTEST_A", "PA2", "input, pull-down; TIM9_CH1 (AF3) while selftest plays", false, Mode::Input, Pull::Down),
+    pin("SELFTEST_B", "PA3", "input, pull-down; TIM9_CH2 (AF3) while selftest plays", false, Mode::Input, Pull::Down),
+    pin(
+        "SELFTEST_INDEX",
+        "PA4",
+        "push-pull output, low; written by TIM9's update interrupt",
+        false,
+        Mode::Output,
+        Pull::None,
+    ),
     // the keys at the lathe: switches to GND, read every ms at low priority (keys.rs)
     pin("KEY_ENGAGE", "PB12", "key input, pull-up, to GND when pressed", true, Mode::Input, Pull::Up),
     pin("KEY_STOP", "PB10", "key input, pull-up, to GND when pressed", true, Mode::Input, Pull::Up),
@@ -141,6 +154,7 @@ pub const TIMERS: &[(&str, &str)] = &[
     ("TIM3", "lathe encoder (encoder mode, input filter)"),
     ("TIM4", "cutter encoder (BLDC mode)"),
     ("TIM5", "embassy time driver"),
+    ("TIM9", "the bench self-test's quadrature generator (CH1 PA2, CH2 PA3)"),
     ("TIM10", "ESC PWM (BLDC mode)"),
     ("TIM11", "control tick, 25 kHz update interrupt at the highest priority"),
 ];
@@ -155,6 +169,7 @@ pub const PRIORITIES: &[(&str, u8)] = &[
     (TICK_IRQ, TICK_LEVEL),    // control tick
     (SHARES_TICK, TICK_LEVEL), // E-stop, drive alarm
     ("TIM5", 1),               // embassy's time driver
+    ("TIM1_BRK_TIM9", 1),      // the self-test's generator (quadgen)
     ("OTG_FS", 2),             // USB console
     ("USART6", 6),             // planning executor (InterruptExecutor)
 ];
@@ -230,7 +245,12 @@ mod tests {
                     assert_eq!(af_of(p.function), None, "{}", p.signal);
                 }
                 Mode::Input => {
-                    assert!(p.function.starts_with("EXTI") || p.function.starts_with("key input"), "{}", p.signal)
+                    let f = p.function;
+                    assert!(
+                        f.starts_with("EXTI") || f.starts_with("key input") || f.starts_with("input"),
+                        "{}",
+                        p.signal
+                    )
                 }
             }
             assert_eq!(p.pull == Pull::Up, p.function.contains("pull-up"), "{}", p.signal);

@@ -48,6 +48,7 @@
 //! low from then on). The handler applies `Generator::on_update`'s program
 //! and does nothing before it.
 
+pub mod bench;
 pub mod edges;
 pub mod period;
 pub mod profile;
@@ -160,6 +161,16 @@ impl<I: Iterator<Item = Period>> Generator<I> {
     /// both high.
     fn parking(&self) -> Option<Period> {
         (self.edges.levels() == (true, true)).then_some(self.last_moving).flatten()
+    }
+
+    /// The first op `on_update` returns, without the work of finding the
+    /// next period (a 64-bit division): the handler applies it first, so
+    /// the index edge comes as early as it can.
+    pub fn index_op(&self) -> Op {
+        match self.state {
+            State::Running => program::index(self.edges.index_in(&self.current)),
+            State::Finishing | State::Done => program::index(false),
+        }
     }
 
     pub fn edges(&self) -> &Edges {

@@ -157,9 +157,10 @@ pub struct Mmio;
 
 impl Bus for Mmio {
     fn write(&mut self, addr: u32, value: u32) {
-        // SAFETY: the register programs (`stepgen::program`, `flashprog`)
-        // name only TIM1, TIM2, TIM11, DMA2 and FLASH registers (RM0383
-        // §2.3) and the RING below, all word-aligned.
+        // SAFETY: the register programs (`stepgen::program`, `flashprog`,
+        // `quadgen::program`) name only TIM1, TIM2, TIM9, TIM11, DMA2,
+        // FLASH and GPIOA_BSRR registers (RM0383 §2.3) and the RING below,
+        // all word-aligned.
         unsafe { (addr as *mut u32).write_volatile(value) }
     }
     fn read(&mut self, addr: u32) -> u32 {

@@ -12,6 +12,7 @@ mod keys;
 mod priorities;
 mod report;
 mod safety;
+mod selftest;
 mod settings;
 mod tick;
 mod usb;
@@ -165,8 +166,9 @@ async fn main(spawner: Spawner) {
         }
     });
 
+    let bench = selftest::init(p.PA2, p.PA3, p.PA4);
     let low = PLANNER.start(interrupt::USART6);
-    if let Ok(t) = tick::service() {
+    if let Ok(t) = tick::service(bench) {
         low.spawn(t);
     }
     let key_pins = keys::KeyPins { engage: p.PB12, stop: p.PB10, plus: p.PB9, minus: p.PA15 };

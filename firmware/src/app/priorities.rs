@@ -20,6 +20,7 @@ pub fn apply() {
             "TIM1_TRG_COM_TIM11" => interrupt::TIM1_TRG_COM_TIM11.set_priority(p),
             "EXTI15_10" => interrupt::EXTI15_10.set_priority(p),
             "TIM5" => interrupt::TIM5.set_priority(p),
+            "TIM1_BRK_TIM9" => interrupt::TIM1_BRK_TIM9.set_priority(p),
             "OTG_FS" => interrupt::OTG_FS.set_priority(p),
             "USART6" => interrupt::USART6.set_priority(p),
             _ => defmt::error!("priority map: unknown interrupt {}", name),

@@ -162,14 +162,16 @@ pub fn take_cost() -> (u32, u32, u32) {
 /// Low-priority planning: work the tick must not do (re-basing the gear),
 /// and the log of every change of state (the tick does not log).
 #[embassy_executor::task]
-pub async fn service() {
+pub async fn service(mut bench: super::selftest::Bench) {
     let mut last = polyturn_sync::State::Idle;
     loop {
+        bench.service();
         if let Some(state) = with_core(|c| {
             c.service();
             c.state()
         }) {
-            if state != last {
+            // (no log while the self-test plays: `report`)
+            if state != last && !super::selftest::playing() {
                 match state {
                     polyturn_sync::State::Fault(f) => defmt::warn!("fault: {}: {}", f.name(), f.reason()),
                     s => defmt::info!("{}", s.name()),

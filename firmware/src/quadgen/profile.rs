@@ -79,32 +79,41 @@ impl<'a> Profile<'a> {
     }
 
     /// The update periods that play the profile, in order.
-    pub fn periods(&self) -> Periods<'a> {
-        Periods { cpr: self.cpr, segments: self.segments, seg: 0, t: 0 }
+    pub fn periods(&self) -> Periods<&'a [Segment]> {
+        Periods::owning(self.cpr, self.segments)
     }
 }
 
 /// Iterator over a profile's periods. A period is timed from the speed at
 /// its start; one that runs past its segment's end makes the next segment
-/// start that much into it, so the timeline never drifts.
+/// start that much into it, so the timeline never drifts. `S` is a slice
+/// or an array: the firmware's generator owns its segments.
 #[derive(Clone, Debug)]
-pub struct Periods<'a> {
+pub struct Periods<S> {
     cpr: u32,
-    segments: &'a [Segment],
+    segments: S,
     seg: usize,
     /// CK_INT cycles since the current segment began
     t: u64,
 }
 
-impl Iterator for Periods<'_> {
+impl<S: AsRef<[Segment]>> Periods<S> {
+    /// The periods of `segments`, checked by `Profile::new` first.
+    pub fn owning(cpr: u32, segments: S) -> Periods<S> {
+        Periods { cpr, segments, seg: 0, t: 0 }
+    }
+}
+
+impl<S: AsRef<[Segment]>> Iterator for Periods<S> {
     type Item = Period;
 
     fn next(&mut self) -> Option<Period> {
-        while self.t >= self.segments.get(self.seg)?.clocks() {
-            self.t -= self.segments[self.seg].clocks();
+        let segments = self.segments.as_ref();
+        while self.t >= segments.get(self.seg)?.clocks() {
+            self.t -= segments[self.seg].clocks();
             self.seg += 1;
         }
-        let p = period_at(self.segments[self.seg].mrpm_at(self.t), self.cpr);
+        let p = period_at(segments[self.seg].mrpm_at(self.t), self.cpr);
         self.t += p.clocks() as u64;
         Some(p)
     }

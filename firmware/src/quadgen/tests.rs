@@ -136,7 +136,7 @@ fn the_index_marks_the_same_two_counts_both_ways() {
     assert!(!e.index_in(&IDLE));
 }
 
-fn generator(segs: &[Segment]) -> (Generator<Periods<'_>>, [Op; 15]) {
+fn generator(segs: &[Segment]) -> (Generator<Periods<&[Segment]>>, [Op; 15]) {
     let profile = Profile::new(2400, segs).unwrap();
     Generator::start(&profile, profile.periods()).unwrap()
 }

@@ -9,6 +9,9 @@ use crate::derived::{Derived, Timing};
 use core::fmt::Write;
 
 mod checks;
+mod selftest;
+
+pub use selftest::SelfTestOp;
 
 /// Longest reply line.
 pub const REPLY_LEN: usize = 320;
@@ -30,7 +33,7 @@ pub enum Action {
 
 pub use crate::console_status::{write_status as status_line, Snapshot};
 
-pub const HELP: &str = "ok commands: get [name] | set <name> <value> | engage | stop | status | watch | save | defaults | clear | cam begin|data|end|off | check-encoder [start|stop] | jog <deg> | dfu | help; names: cpr steps ratio dir edges max-rate max-accel ferror phase drive dir-setup pulse enable max-rpm";
+pub const HELP: &str = "ok commands: get [name] | set <name> <value> | engage | stop | status | watch | save | defaults | clear | cam begin|data|end|off | check-encoder [start|stop] | jog <deg> | selftest [start [rpm]|stop] | dfu | help; names: cpr steps ratio dir edges max-rate max-accel ferror phase drive dir-setup pulse enable max-rpm";
 
 /// A parsed command line (no controller needed: parse outside any lock).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -50,6 +53,8 @@ pub enum Command<'a> {
     CheckEncoder(checks::EncoderOp),
     /// cutter millidegrees
     Jog(i32),
+    /// `selftest start [rpm]|stop`, or the figures so far
+    SelfTest(SelfTestOp),
     Dfu,
     Bad(&'static str),
 }
@@ -69,6 +74,10 @@ pub enum Outcome {
     Save,
     Encoder(crate::check::EncoderReport, checks::EncoderOp),
     Jog(crate::controller::JogPlan, i32),
+    /// rpm, cpr and length (ms) of the test started
+    SelfTestStarted(u32, u32, u32),
+    SelfTestRefused(crate::controller::selftest::SelfTestRefusal),
+    SelfTest(crate::selftest::Report),
     Dfu,
 }
 
@@ -98,6 +107,8 @@ pub fn parse(line: &[u8]) -> Command<'_> {
         ("check-encoder", op, None, _) => checks::parse_encoder(op),
         ("jog", Some(deg), None, _) => checks::parse_jog(deg),
         ("jog", ..) => Command::Bad(checks::JOG_USAGE),
+        ("selftest", op, rpm, None) => selftest::parse(op, rpm),
+        ("selftest", ..) => Command::Bad(selftest::USAGE),
         ("dfu", None, ..) => Command::Dfu,
         ("", ..) => Command::Bad("empty line (try help)"),
         _ => Command::Bad("unknown command or wrong arguments (try help)"),
@@ -187,6 +198,7 @@ pub fn apply_prepared(cmd: Command<'_>, pre: Option<Prepared>, ctl: &mut Control
             Ok(plan) => Outcome::Jog(plan, mdeg),
             Err(r) => Outcome::Error(r.describe()),
         },
+        Command::SelfTest(op) => selftest::apply(op, ctl),
         Command::Dfu if ctl.state() != crate::state::State::Idle => {
             Outcome::Error("stop first (and clear any fault): dfu restarts the board into its ROM bootloader")
         }
@@ -241,6 +253,18 @@ pub fn render(outcome: &Outcome) -> (Reply, Action) {
         }
         Outcome::Jog(plan, mdeg) => {
             checks::write_jog(plan, *mdeg, &mut out);
+            Action::None
+        }
+        Outcome::SelfTestStarted(rpm, cpr, ms) => {
+            selftest::write_started(*rpm, *cpr, *ms, &mut out);
+            Action::None
+        }
+        Outcome::SelfTestRefused(r) => {
+            selftest::write_refused(*r, &mut out);
+            Action::None
+        }
+        Outcome::SelfTest(r) => {
+            selftest::write_report(r, &mut out);
             Action::None
         }
         Outcome::Dfu => {

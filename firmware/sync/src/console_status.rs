@@ -56,7 +56,7 @@ pub fn write_status(ctl: &Controller, out: &mut Reply) {
     Snapshot::of(ctl).write(out);
 }
 
-struct Tenths(i64);
+pub(crate) struct Tenths(pub(crate) i64);
 impl core::fmt::Display for Tenths {
     fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
         let sign = if self.0 < 0 { "-" } else { "" };
@@ -64,7 +64,7 @@ impl core::fmt::Display for Tenths {
     }
 }
 
-struct Milli(i64);
+pub(crate) struct Milli(pub(crate) i64);
 impl core::fmt::Display for Milli {
     fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
         let sign = if self.0 < 0 { "-" } else { "" };

@@ -132,6 +132,7 @@ pub struct Controller {
     last_index: i64,
     check: Option<crate::check::EncoderCheck>,
     jog: Option<jog::Jog>,
+    selftest: Option<selftest::Run>,
 }
 
 impl Controller {
@@ -163,6 +164,7 @@ impl Controller {
             last_index: 0,
             check: None,
             jog: None,
+            selftest: None,
         }
     }
 
@@ -388,6 +390,7 @@ impl Controller {
 mod checks;
 mod commands;
 pub mod jog;
+pub mod selftest;
 #[cfg(test)]
 mod setup_tests;
 mod stall;

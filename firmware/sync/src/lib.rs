@@ -24,6 +24,7 @@ pub mod estimator;
 pub mod follower;
 pub mod gear;
 pub mod ratio;
+pub mod selftest;
 pub mod state;
 pub mod steps;
 

@@ -74,6 +74,41 @@ pub fn explain(f: &EncoderFigures, proposal: &Result<u32, String>) -> String {
 }
 
 /// Sends `jog DEG` and waits (bounded) until the board is idle again.
+/// Runs the bench self-test: starts it with `start` (`selftest start
+/// [rpm]`), asks for its figures every 250 ms until it ends, at most its
+/// length and 5 s; `Ok` only for a pass, a fail is an error with the board's
+/// reason and figures.
+pub fn selftest<P: Read + Write>(s: &mut Session<P>, start: &str) -> CliResult<String> {
+    let started = super::session::ok_or_device_error(s.ask(start)?)?;
+    let seconds = started
+        .split_whitespace()
+        .find_map(|w| w.strip_prefix("seconds="))
+        .and_then(|v| v.trim_end_matches(':').parse::<f64>().ok())
+        .unwrap_or(60.0);
+    let limit = Duration::from_secs_f64(seconds + 5.0);
+    let begun = Instant::now();
+    loop {
+        std::thread::sleep(Duration::from_millis(250));
+        let r = s.ask("selftest")?;
+        if r.starts_with("ok selftest pass") {
+            return Ok(format!("{started}\n{r}"));
+        }
+        if r.starts_with("ok selftest fail") {
+            return Err(CliError(format!(
+                "device: the self-test failed: {}",
+                r.trim_start_matches("ok selftest fail: ")
+            )));
+        }
+        if !r.starts_with("ok selftest running") {
+            return Err(CliError(format!("device: unexpected reply during the self-test: {r}")));
+        }
+        if begun.elapsed() > limit {
+            let _ = s.ask("selftest stop");
+            return Err(s.port_error(format!("the self-test did not end within {:.0} s: stopped", limit.as_secs_f64())));
+        }
+    }
+}
+
 pub fn jog<P: Read + Write>(s: &mut Session<P>, mdeg_text: &str) -> CliResult<String> {
     let reply = s.ask(&format!("jog {mdeg_text}"))?;
     let deg: f64 = mdeg_text.parse().unwrap_or(3600.0);

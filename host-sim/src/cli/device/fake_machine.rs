@@ -3,7 +3,20 @@
 //! `cpr` counts, and the step output emits what each tick planned two
 //! ticks later (`steps::pipe`), so jogs and the encoder check really run.
 
+use polyturn_firmware::quadgen::bench::playback::{Event, Playback};
+use polyturn_firmware::quadgen::{bench, TIMER_HZ};
 use polyturn_sync::{Controller, TickInput};
+
+/// TIM9 cycles per control tick (25 kHz).
+const CYCLES_PER_TICK: u64 = TIMER_HZ as u64 / 25_000;
+
+/// The self-test's generator, jumpered to the lathe input: the
+/// controller's run it plays, the player, and TIM9's cycles so far.
+struct Jumpered {
+    run: u32,
+    player: Playback,
+    cycles: u64,
+}
 
 pub struct Machine {
     /// control ticks that pass before each command line is handled
@@ -17,6 +30,10 @@ pub struct Machine {
     /// `counts_per_tick_x1000`; at any other time it rests
     pub turn_for_check: bool,
     lathe_milli: i64,
+    /// counts the self-test's generator made, and the index it latched
+    played: i64,
+    played_index: Option<u16>,
+    jumpered: Option<Jumpered>,
     emitted: u16,
     pipe: [u16; 2],
     t: usize,
@@ -30,6 +47,9 @@ impl Machine {
             cpr: 2400,
             turn_for_check: false,
             lathe_milli: 0,
+            played: 0,
+            played_index: None,
+            jumpered: None,
             emitted: 0,
             pipe: [0; 2],
             t: 0,
@@ -47,13 +67,43 @@ impl Machine {
             let now = self.lathe_milli / 1000;
             // the index at count 5 of every turn, latched as it passes
             let index = (before.min(now) + 1..=before.max(now)).find(|c| c.rem_euclid(self.cpr) == 5).map(|c| c as u16);
-            let out = ctl.tick(&TickInput { lathe: now as u16, index, emitted: self.emitted, ..TickInput::default() });
+            self.play();
+            let lathe = (now + self.played) as u16;
+            let index = index.or(self.played_index.take());
+            let out = ctl.tick(&TickInput { lathe, index, emitted: self.emitted, ..TickInput::default() });
             self.emitted = self.emitted.wrapping_add(self.pipe[self.t % 2]);
             self.pipe[self.t % 2] = out.plan.count;
             self.t += 1;
             if self.t.is_multiple_of(25) {
+                self.feed_books(ctl);
                 ctl.service();
             }
+        }
+    }
+
+    /// One tick of the self-test's generator, as the app's sampler starts it.
+    fn play(&mut self) {
+        let Some(j) = &mut self.jumpered else { return };
+        j.cycles += CYCLES_PER_TICK;
+        let (played, latched) = (&mut self.played, &mut self.played_index);
+        let base = self.lathe_milli / 1000;
+        j.player.play(j.cycles, |_, e| match e {
+            Event::Count(d) => *played += d as i64,
+            Event::Index => *latched = Some((base + *played) as u16),
+        });
+    }
+
+    /// The app's millisecond: start, stop and feed the generator (`app::selftest`).
+    fn feed_books(&mut self, ctl: &mut Controller) {
+        match (ctl.selftest_plan(), &self.jumpered) {
+            (Some((run, _)), Some(j)) if j.run == run => {}
+            (Some((run, plan)), _) => {
+                self.jumpered = bench::start(&plan).map(|(g, _)| Jumpered { run, player: Playback::new(g), cycles: 0 });
+            }
+            (None, _) => self.jumpered = None,
+        }
+        if let Some(j) = &self.jumpered {
+            ctl.selftest_books(&bench::books(j.player.generator()));
         }
     }
 }

@@ -7,6 +7,8 @@ pub mod checks;
 mod fake_machine;
 pub mod figures;
 pub mod prompt;
+#[cfg(test)]
+mod selftest_tests;
 pub mod session;
 pub mod setup;
 #[cfg(test)]
@@ -93,6 +95,14 @@ pub enum DeviceCommand {
         #[arg(allow_hyphen_values = true)]
         degrees: String,
     },
+    /// The bench self-test (lathe encoder unplugged; jumpers PA2-PA6,
+    /// PA3-PA7, PA4-PB0, PB14 to GND): the board plays a lathe into its own
+    /// inputs and checks its gearbox against it; pass or fail with figures
+    Selftest {
+        /// speed of the holds, lathe rpm (default 300, capped by the board)
+        #[arg(long, value_name = "RPM", value_parser = crate::cli::values::whole32(1, 100_000))]
+        rpm: Option<u32>,
+    },
     /// Restart the board into its ROM USB bootloader, for `polyturn flash`
     Dfu,
     /// The guided setup: encoder, motor, driver, lathe; checks; save
@@ -116,6 +126,8 @@ impl DeviceCommand {
             DeviceCommand::ConsoleHelp => "help".into(),
             DeviceCommand::Dfu => "dfu".into(),
             DeviceCommand::Jog { degrees } => format!("jog {degrees}"),
+            DeviceCommand::Selftest { rpm: None } => "selftest start".into(),
+            DeviceCommand::Selftest { rpm: Some(r) } => format!("selftest start {r}"),
             DeviceCommand::UploadCam { .. } | DeviceCommand::CheckEncoder { .. } | DeviceCommand::Setup(_) => {
                 return None
             }
@@ -146,6 +158,7 @@ pub fn run(a: DeviceArgs) -> CliResult<String> {
         (DeviceCommand::Watch, _) => watch(&mut s, &mut std::io::stdout().lock()),
         (DeviceCommand::Save, Some(l)) => ok_or_device_error(s.ask_within(&l, FLASH_WAIT.max(s.timeout))?),
         (DeviceCommand::Jog { degrees }, _) => checks::jog(&mut s, degrees),
+        (DeviceCommand::Selftest { .. }, Some(l)) => checks::selftest(&mut s, &l),
         (DeviceCommand::Dfu, Some(l)) => Ok(format!(
             "{}
 now: polyturn flash FILE",

@@ -1,0 +1,154 @@
+//! `selftest [start [rpm]|stop]`: the bench self-test (issue 14, part 6).
+//! One reply line of `name=value` figures; a failed test is reported as
+//! such (`ok selftest fail ...`: the command worked, the board did not).
+
+use super::{Command, Outcome, Reply};
+use crate::console_status::Milli;
+use crate::controller::selftest::SelfTestRefusal;
+use crate::controller::Controller;
+use crate::selftest::{Failure, Kind, Report, Verdict};
+use core::fmt::Write;
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum SelfTestOp {
+    Start(Option<u32>),
+    Report,
+    Stop,
+}
+
+pub const USAGE: &str = "usage: selftest [start [rpm]|stop]";
+const NONE_RUN: &str = "no self-test has run: send selftest start";
+
+pub(super) fn parse(op: Option<&str>, rpm: Option<&str>) -> Command<'static> {
+    match (op, rpm) {
+        (None, None) => Command::SelfTest(SelfTestOp::Report),
+        (Some("stop"), None) => Command::SelfTest(SelfTestOp::Stop),
+        (Some("start"), None) => Command::SelfTest(SelfTestOp::Start(None)),
+        (Some("start"), Some(r)) => match r.parse::<u32>() {
+            Ok(n) if r.len() <= 6 => Command::SelfTest(SelfTestOp::Start(Some(n))),
+            _ => Command::Bad("selftest start rpm: a whole number of lathe rpm (see selftest start's limits)"),
+        },
+        _ => Command::Bad(USAGE),
+    }
+}
+
+pub(super) fn apply(op: SelfTestOp, ctl: &mut Controller) -> Outcome {
+    let report = match op {
+        SelfTestOp::Start(rpm) => {
+            return match ctl.start_selftest(rpm) {
+                Ok(p) => Outcome::SelfTestStarted(p.rpm, p.cpr, p.total_ms()),
+                Err(r) => Outcome::SelfTestRefused(r),
+            }
+        }
+        SelfTestOp::Report => ctl.selftest_report(),
+        SelfTestOp::Stop => ctl.stop_selftest(),
+    };
+    match report {
+        Some(r) => Outcome::SelfTest(r),
+        None => Outcome::Error(NONE_RUN),
+    }
+}
+
+pub(super) fn write_started(rpm: u32, cpr: u32, ms: u32, out: &mut Reply) {
+    let _ = write!(
+        out,
+        "ok selftest started rpm={} cpr={} seconds={}.{}: jumpers PA2-PA6, PA3-PA7, PA4-PB0 and PB14 to GND; the cutter turns; selftest shows the figures",
+        rpm,
+        cpr,
+        ms / 1000,
+        ms % 1000 / 100
+    );
+}
+
+pub(super) fn write_refused(r: SelfTestRefusal, out: &mut Reply) {
+    let _ = match r {
+        SelfTestRefusal::NotIdle => {
+            write!(out, "error: stop first (and clear any fault): the self-test engages the gearbox")
+        }
+        SelfTestRefusal::LatheTurning => {
+            write!(out, "error: the lathe input is moving: unplug the lathe encoder, then wire the self-test's jumpers")
+        }
+        SelfTestRefusal::NoCutter => write!(out, "error: drive=none: there is no cutter to test"),
+        SelfTestRefusal::Cpr(c) => write!(out, "error: cpr {c}: the self-test needs an even cpr, 4 or more"),
+        SelfTestRefusal::Rpm { max: 0 } => write!(out, "error: selftest start rpm: no speed fits max-rpm and max-rate"),
+        SelfTestRefusal::Rpm { max } => {
+            write!(out, "error: selftest start rpm: 1..={max} (the generator, max-rpm and max-rate allow)")
+        }
+    };
+}
+
+/// `ok selftest running|pass|fail ...`
+pub(super) fn write_report(r: &Report, out: &mut Reply) {
+    let _ = match r.verdict {
+        Verdict::Running => write!(
+            out,
+            "ok selftest running t={}.{}/{}.{} leg={} rests={}/3",
+            r.at_ms / 1000,
+            r.at_ms % 1000 / 100,
+            r.total_ms / 1000,
+            r.total_ms % 1000 / 100,
+            leg_name(r.leg),
+            r.rests
+        ),
+        Verdict::Pass => write!(out, "ok selftest pass"),
+        Verdict::Fail(f) => {
+            let _ = write!(out, "ok selftest fail: ");
+            write_failure(f, out)
+        }
+    };
+    let [(s1, t1), (s2, t2)] = r.holds;
+    let _ = write!(
+        out,
+        " rpm={} forward={} backward={} indexes={} lag_steps={},{} hold_steps={s1}/{t1},{s2}/{t2}",
+        r.rpm,
+        r.forward,
+        r.backward,
+        r.indexes,
+        Milli((r.hold_lag_q16.min(1 << 46) * 1000) >> 16),
+        Milli((r.ramp_lag_q16.min(1 << 46) * 1000) >> 16),
+    );
+}
+
+fn leg_name(k: Kind) -> &'static str {
+    match k {
+        Kind::Rest => "rest",
+        Kind::Ramp => "ramp",
+        Kind::Hold => "hold",
+    }
+}
+
+fn write_failure(f: Failure, out: &mut Reply) -> core::fmt::Result {
+    match f {
+        Failure::Fault(x) => write!(out, "fault {}: {};", x.name(), x.reason()),
+        Failure::Stopped => write!(out, "stopped before the end;"),
+        Failure::Generator => write!(out, "the generator stopped early (TIM9): a firmware fault, please report it;"),
+        Failure::NotSynced { rest } => {
+            write!(out, "rest {rest}: the cutter did not reach the target at rest: check max-rate and max-accel;")
+        }
+        Failure::Counts { rest, seen, made } => {
+            write!(out, "rest {rest}: counted {seen}, generated {made}: ")?;
+            let hint = if seen == 0 {
+                "no counts: jumper PA2 to PA6 and PA3 to PA7"
+            } else if seen == -made {
+                "counting backward: PA2 and PA3 swapped"
+            } else {
+                "counts lost or doubled: shorter jumpers, and see the README's self-test timing"
+            };
+            write!(out, "{hint};")
+        }
+        Failure::Indexes { rest, seen, made } => {
+            write!(out, "rest {rest}: index pulses seen {seen}, made {made}: jumper PA4 to PB0;")
+        }
+        Failure::Gear { rest, target, exact } => {
+            write!(out, "rest {rest}: gear target {target}, exact {exact}: a firmware fault, please report it;")
+        }
+        Failure::Cutter { rest, off_q16 } => write!(
+            out,
+            "rest {rest}: the cutter stands {} steps from the exact target: steps lost, please report it;",
+            Milli((off_q16.clamp(-(1 << 46), 1 << 46) * 1000) >> 16)
+        ),
+    }
+}
+
+#[cfg(test)]
+mod tests;

@@ -1,0 +1,88 @@
+//! `selftest` through the console: its refusals name the reason and the
+//! range, and change nothing.
+
+use crate::console::handle;
+use crate::controller::Controller;
+use crate::{Config, State, TickInput, Timing};
+
+fn ctl(c: Config) -> Controller {
+    let mut c = Controller::new(c, Timing::FIRMWARE);
+    c.start(0, 0, 0);
+    c
+}
+
+fn reply(c: &mut Controller, line: &str) -> std::string::String {
+    std::string::String::from(handle(line.as_bytes(), c).0.as_str())
+}
+
+#[test]
+fn start_engages_and_says_what_to_wire_and_how_long() {
+    let mut c = ctl(Config::default());
+    let r = reply(&mut c, "selftest start 500");
+    assert_eq!(
+        r,
+        "ok selftest started rpm=500 cpr=2400 seconds=11.2: jumpers PA2-PA6, PA3-PA7, PA4-PB0 and PB14 to GND; the cutter turns; selftest shows the figures"
+    );
+    assert_eq!(c.state(), State::Engaging);
+    assert_eq!(c.selftest_plan().map(|(_, p)| p.rpm), Some(500));
+    let r = reply(&mut c, "selftest");
+    assert!(r.starts_with("ok selftest running t=0.0/11.2 leg=rest rests=0/3 rpm=500"), "{r}");
+    let r = reply(&mut c, "selftest start");
+    assert_eq!(r, "error: stop first (and clear any fault): the self-test engages the gearbox");
+}
+
+#[test]
+fn stop_ends_it_as_stopped_and_ramps_the_cutter_down() {
+    let mut c = ctl(Config::default());
+    reply(&mut c, "selftest start");
+    let r = reply(&mut c, "selftest stop");
+    assert!(r.starts_with("ok selftest fail: stopped before the end; rpm=300"), "{r}");
+    assert!(!c.selftest_running());
+    assert_eq!(c.selftest_plan(), None);
+    assert!(matches!(c.state(), State::Disengaging | State::Idle));
+}
+
+#[test]
+fn the_rpm_is_refused_outside_what_the_generator_and_settings_allow() {
+    let mut c = ctl(Config::default());
+    // 31 914 counts/s at 2400 counts a turn: 797 rpm
+    assert_eq!(
+        reply(&mut c, "selftest start 798"),
+        "error: selftest start rpm: 1..=797 (the generator, max-rpm and max-rate allow)"
+    );
+    assert_eq!(
+        reply(&mut c, "selftest start 0"),
+        "error: selftest start rpm: 1..=797 (the generator, max-rpm and max-rate allow)"
+    );
+    let slow = Config::default().with("max-rpm", "200").unwrap();
+    let mut c = ctl(slow);
+    assert!(reply(&mut c, "selftest start 201").contains("1..=200"));
+    // 2 × 3200 steps a lathe turn: 7/8 of 20 000 steps/s is 164 rpm
+    let weak = Config::default().with("max-rpm", "187").unwrap().with("max-rate", "20000").unwrap();
+    let mut c = ctl(weak);
+    assert!(reply(&mut c, "selftest start 165").contains("1..=164"));
+    assert!(reply(&mut c, "selftest start").contains("rpm=164"), "the default is capped too");
+    for bad in ["selftest start -5", "selftest start 1.5", "selftest start 9999999"] {
+        let mut c = ctl(Config::default());
+        assert!(reply(&mut c, bad).starts_with("error: selftest start rpm: a whole number"), "{bad}");
+        assert_eq!(c.state(), State::Idle);
+    }
+    let mut c = ctl(Config::default());
+    assert_eq!(reply(&mut c, "selftest go"), "error: usage: selftest [start [rpm]|stop]");
+    assert_eq!(reply(&mut c, "selftest start 5 6"), "error: usage: selftest [start [rpm]|stop]");
+    assert_eq!(reply(&mut c, "selftest"), "error: no self-test has run: send selftest start");
+}
+
+#[test]
+fn it_is_refused_without_a_cutter_with_an_odd_cpr_or_a_turning_lathe() {
+    let mut c = ctl(Config::default().with("drive", "none").unwrap());
+    assert_eq!(reply(&mut c, "selftest start"), "error: drive=none: there is no cutter to test");
+    let mut c = ctl(Config::default().with("cpr", "1001").unwrap());
+    assert_eq!(reply(&mut c, "selftest start"), "error: cpr 1001: the self-test needs an even cpr, 4 or more");
+    let mut c = ctl(Config::default());
+    for t in 0..200u16 {
+        c.tick(&TickInput { lathe: t, ..TickInput::default() });
+    }
+    assert!(reply(&mut c, "selftest start").starts_with("error: the lathe input is moving"));
+    assert_eq!(c.state(), State::Idle);
+}

@@ -1,0 +1,48 @@
+//! `polyturn device selftest` against the real console, on a fake board
+//! whose machine plays the firmware's own generator into the lathe input
+//! as the app does (`fake_machine`).
+
+use super::checks::selftest;
+use super::fake_machine::Machine;
+use super::tests::{session, FakeDevice};
+
+fn board(counts_per_tick_x1000: i64) -> super::session::Session<FakeDevice> {
+    let mut dev = FakeDevice::new();
+    let mut m = Machine::new(25_000); // 1 s of the board between lines
+    m.counts_per_tick_x1000 = counts_per_tick_x1000;
+    dev.machine = Some(m);
+    session(dev)
+}
+
+#[test]
+fn a_good_board_passes_and_the_host_shows_the_figures() {
+    let mut s = board(0);
+    let out = selftest(&mut s, "selftest start 400").unwrap();
+    let mut lines = out.lines();
+    assert!(lines.next().unwrap().starts_with("ok selftest started rpm=400 cpr=2400 seconds=11.2"), "{out}");
+    let pass = lines.next().unwrap();
+    assert!(pass.starts_with("ok selftest pass rpm=400 forward="), "{pass}");
+    // 2 s at 400 rpm: 32 000 counts, 85 333 steps (8/3 a count)
+    assert!(pass.contains("hold_steps=8533"), "{pass}");
+    // it asked for the figures until the end, not once
+    let polls = s.io.received.iter().filter(|l| l.ends_with(" selftest")).count();
+    assert!((11..=14).contains(&polls), "{polls} polls");
+}
+
+#[test]
+fn a_refusal_or_a_failure_is_an_error_with_the_boards_reason() {
+    let mut s = board(0);
+    let e = selftest(&mut s, "selftest start 900").unwrap_err();
+    assert!(e.0.contains("selftest start rpm: 1..=797"), "{}", e.0);
+    // a lathe turning under the test: refused before it starts
+    let mut s = board(500);
+    let e = selftest(&mut s, "selftest start").unwrap_err();
+    assert!(e.0.contains("the lathe input is moving"), "{}", e.0);
+    // an E-stop midway: a failure naming it (here the first line only
+    // reads the figures: the test was started and tripped before)
+    let mut s = board(0);
+    s.ask("selftest start").unwrap();
+    s.io.ctl.trip(polyturn_sync::Fault::EStop);
+    let e = selftest(&mut s, "selftest").unwrap_err();
+    assert!(e.0.starts_with("device: the self-test failed: fault estop: e-stop open"), "{}", e.0);
+}
