@@ -91,6 +91,8 @@ fn run(cpr: u32, segs: &[Segment], latency: impl Fn(u64) -> u64, patch: impl Fn(
         let mut ops = gen.on_update().to_vec();
         patch(&mut ops);
         apply(&ops, &mut IsrBus { mcu: &mut mcu, index: &mut index }).unwrap();
+        // the handler's last work, for the next update event
+        gen.prepare();
     }
     mcu.run_until(mcu.cycle() + 1_000_000);
     Run { books: gen.edges().position(), mcu, updates, index }

@@ -26,6 +26,9 @@ struct Bench {
     swapped: bool,
     /// PA4 not wired to PB0
     no_index: bool,
+    /// the index written after the period's second edge (an interrupt
+    /// later than `quadgen::LATENCY_MAX`)
+    late_index: bool,
     /// the tick at which one step pulse goes missing
     lose_step: Option<u64>,
     /// the tick at which the generator's interrupt dies
@@ -41,6 +44,7 @@ struct Tim3 {
     count: u16,
     latched: Option<u16>,
     seen: usize,
+    index_due: bool,
 }
 
 impl Tim3 {
@@ -52,7 +56,11 @@ impl Tim3 {
                 if bench.lose_count != Some(self.seen) {
                     self.count = self.count.wrapping_add(d as i16 as u16);
                 }
+                if std::mem::take(&mut self.index_due) {
+                    self.latched = Some(self.count);
+                }
             }
+            Event::Index if bench.late_index => self.index_due = true,
             Event::Index if !bench.no_index => self.latched = Some(self.count),
             Event::Index => {}
         }
@@ -166,6 +174,19 @@ fn a_missing_index_jumper_fails_on_the_index_count() {
     assert!(matches!(r.verdict, Verdict::Fail(Failure::Indexes { rest: 2, seen: 0, made }) if made >= 14), "{r:?}");
     let (reply, _) = handle(b"selftest", &mut c);
     assert!(reply.contains("jumper PA4 to PB0"), "{reply}");
+}
+
+#[test]
+fn an_index_written_late_fails_on_the_count_it_latched() {
+    // one count late: within the index check's slack, so no fault; the
+    // judge compares the latch with the generator's count exactly
+    let (r, mut c) = run(Config::default(), Bench { late_index: true, ..Bench::default() });
+    match r.verdict {
+        Verdict::Fail(Failure::IndexLate { rest: 2, seen, made }) => assert_eq!(seen, made + 1),
+        v => panic!("{v:?}"),
+    }
+    let (reply, _) = handle(b"selftest", &mut c);
+    assert!(reply.contains("the generator's interrupt was late"), "{reply}");
 }
 
 #[test]

@@ -28,25 +28,42 @@
 //!   most TIMER_HZ / `HALF_MIN_CLOCKS` = `MAX_COUNT_RATE` (31 914 counts/s:
 //!   797 rpm at 2400 counts per revolution; `profile::max_rpm`).
 //!
+//! `ENTRY_MIN` is the exception entry (12 cycles; 6 when tail-chained)
+//! plus the handler's code before its write (the critical section and the
+//! generator's borrow, tens of instructions): 12 is a floor. An index
+//! written too early or too late latches another count than n·cpr + 1,
+//! which the self-test's judge rejects (`Failure::IndexLate`); the handler
+//! also reads TIM9_CNT after the write and the books keep the worst
+//! (`Generator::worst_latency`, the reply's `index_latency_cycles`).
+//!
 //! `LATENCY_MAX` = 3 000 cycles is an estimate, not a measurement: the
 //! interrupt must sit below the tick (level 0); at level 1 it waits for the
 //! tick (790 instructions worst in QEMU, 900-1 400 cycles estimated on
-//! silicon, README), the longest section under the tick's lock (582
+//! silicon, README), the longest section under the tick's lock (755
 //! instructions), embassy's TIM5 handler at the same level, and its own
 //! entry (12) and prologue. `MARGIN` (8 cycles) covers TIM3's input path:
 //! A, B and the index go through the same 8-sample filter (`app::drivers`).
-//! Measure the latency on the bench (DWT) and set it here.
+//! Not bounded here: every global critical section (BASEPRI, `app/cs.rs`)
+//! also masks this level, and embassy's time driver holds one for its
+//! whole TIM5 handler and for each timer it schedules; defmt's log lines
+//! (80 µs) are kept out while the generator plays. Moving TIM9 alone above
+//! the critical section's mask would bound it; until then the self-test
+//! measures it (`index_latency_cycles`) and fails, rather than passes, if
+//! an index or a period was late. Measure it on the bench and set it here.
 //!
 //! The slowest moving period is `period::MAX_CLOCKS` (PSC_MAX with a full
 //! count): 732 counts/s; slower parts of a profile are idle periods.
 //!
-//! Wiring in the app: RCC_APB2ENR.TIM9EN and RCC_AHB1ENR.GPIOAEN; PA4
-//! output push-pull, low; TIM1_BRK_TIM9 enabled at level 1; the generator
-//! put where the handler finds it *before* `Generator::start`'s program is
-//! applied (its last write starts the counter one tick before update event
-//! 0, which interrupts at once); then PA2/PA3 in AF3 (the timer drives them
-//! low from then on). The handler applies `Generator::on_update`'s program
-//! and does nothing before it.
+//! Wiring in the app (`app/selftest.rs`): RCC_APB2ENR.TIM9EN; PA4 output
+//! push-pull, low; TIM1_BRK_TIM9 enabled at level 1 (`board::PRIORITIES`);
+//! the generator put where the handler finds it and `Generator::start`'s
+//! program applied inside the critical section, which masks the interrupt
+//! (its last write starts the counter one tick before update event 0,
+//! which interrupts as soon as the section ends); then PA2/PA3 from inputs
+//! with pull-downs to AF3 (the timer drives them low already). The handler
+//! applies `Generator::index_op` first, then `on_update`'s program (whose
+//! first write repeats the index level): finding the next period divides,
+//! and the index must not wait for it.
 
 pub mod bench;
 pub mod edges;
@@ -102,6 +119,13 @@ pub struct Generator<I> {
     last_moving: Option<Period>,
     edges: Edges,
     state: State,
+    /// found ahead by `prepare` (it divides): the index level for
+    /// `current` and the period after it (`None`: the profile ends)
+    prepared: bool,
+    index: bool,
+    next: Option<Period>,
+    /// the worst update-to-index-write time seen, CK_INT cycles
+    worst_latency: u32,
 }
 
 /// What the interrupt applies at one update event.
@@ -114,8 +138,50 @@ impl<I: Iterator<Item = Period>> Generator<I> {
         let mut periods = periods.fuse();
         let first = periods.next()?;
         let edges = Edges::new(profile.cpr());
-        let gen = Generator { periods, current: first, last_moving: None, edges, state: State::Running };
+        let mut gen = Generator {
+            periods,
+            current: first,
+            last_moving: None,
+            edges,
+            state: State::Running,
+            prepared: false,
+            index: false,
+            next: None,
+            worst_latency: 0,
+        };
+        gen.prepare();
         Some((gen, program::init(&first)))
+    }
+
+    /// The work for the next update event, done after this one's writes
+    /// (the handler calls it last): the next period (64- and 128-bit
+    /// divisions, hundreds of cycles) and the index level, so that at the
+    /// update event the writes come first and nothing divides before them.
+    pub fn prepare(&mut self) {
+        if self.state != State::Running || self.prepared {
+            return;
+        }
+        self.index = self.edges.index_in(&self.current);
+        self.next = self.periods.next();
+        self.prepared = true;
+    }
+
+    /// The prepared period after `current` (prepared now if the handler
+    /// did not: the slow path, correct but late).
+    fn take_next(&mut self) -> Option<Period> {
+        self.prepare();
+        self.prepared = false;
+        self.next.take()
+    }
+
+    /// Notes the time from an update event to the index write (the handler
+    /// reads TIM9_CNT right after it): the figure `LATENCY_MAX` assumes.
+    pub fn note_latency(&mut self, cycles: u32) {
+        self.worst_latency = self.worst_latency.max(cycles);
+    }
+
+    pub fn worst_latency(&self) -> u32 {
+        self.worst_latency
     }
 
     /// The update interrupt's work, to apply at once: the index level for
@@ -129,13 +195,14 @@ impl<I: Iterator<Item = Period>> Generator<I> {
         match self.state {
             State::Running => {
                 let p = self.current;
-                let _ = ops.push(program::index(self.edges.index_in(&p)));
+                let _ = ops.push(self.index_op());
                 let _ = ops.push(program::CLEAR_FLAGS);
+                let next = self.take_next();
                 self.edges.book(&p);
                 if p.motion != Motion::Idle {
                     self.last_moving = Some(p);
                 }
-                match self.periods.next().or_else(|| self.parking()) {
+                match next.or_else(|| self.parking()) {
                     Some(n) => {
                         self.current = n;
                         let _ = ops.extend_from_slice(&program::next(&n));
@@ -163,11 +230,11 @@ impl<I: Iterator<Item = Period>> Generator<I> {
         (self.edges.levels() == (true, true)).then_some(self.last_moving).flatten()
     }
 
-    /// The first op `on_update` returns, without the work of finding the
-    /// next period (a 64-bit division): the handler applies it first, so
-    /// the index edge comes as early as it can.
+    /// The first op `on_update` returns, prepared ahead (`prepare`): the
+    /// handler applies it first, so the index edge comes as early as it can.
     pub fn index_op(&self) -> Op {
         match self.state {
+            State::Running if self.prepared => program::index(self.index),
             State::Running => program::index(self.edges.index_in(&self.current)),
             State::Finishing | State::Done => program::index(false),
         }

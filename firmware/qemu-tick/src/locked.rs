@@ -58,6 +58,23 @@ fn engaged() -> Controller {
     c
 }
 
+/// Idle with the lathe known to be at rest (the estimator's still time).
+fn rested() -> Controller {
+    let mut c = idle();
+    for _ in 0..TIMING.tick_hz / 10 + 10 {
+        c.tick(&TickInput::default());
+    }
+    c
+}
+
+/// A self-test just started (`selftest start`).
+fn selftesting() -> Controller {
+    let mut c = rested();
+    refused_if(c.start_selftest(None).is_err());
+    c.tick(&TickInput::default());
+    c
+}
+
 /// A save's stall during which the lathe turned too far to count.
 fn stalled() -> Controller {
     let mut c = idle();
@@ -75,7 +92,10 @@ pub fn report(syst: &SYST, per_1201: u32) -> Option<u32> {
         let pre = console::prepare(&cmd, *c.config(), c.config_generation(), TIMING);
         move |c: &mut Controller| {
             let o = console::apply_prepared(cmd, pre, c);
-            refused_if(matches!(o, console::Outcome::Error(_) | console::Outcome::FieldError(..)));
+            refused_if(matches!(
+                o,
+                console::Outcome::Error(_) | console::Outcome::FieldError(..) | console::Outcome::SelfTestRefused(_)
+            ));
         }
     };
     let head =
@@ -84,14 +104,29 @@ pub fn report(syst: &SYST, per_1201: u32) -> Option<u32> {
     let nudge = set(b"set phase 12.5", engaged);
     let ratio = set(b"set ratio 3/2", idle);
     let defaults = set(b"defaults", idle);
+    let selftest_start = set(b"selftest start", rested);
     let cmd = |line: &'static [u8]| {
         let cmd = console::parse(line);
         move |c: &mut Controller| {
             let o = console::apply_prepared(cmd, None, c);
-            refused_if(matches!(o, console::Outcome::Error(_) | console::Outcome::FieldError(..)));
+            refused_if(matches!(
+                o,
+                console::Outcome::Error(_) | console::Outcome::FieldError(..) | console::Outcome::SelfTestRefused(_)
+            ));
         }
     };
-    let sections: [(&str, &dyn Fn() -> Controller, &dyn Fn(&mut Controller)); 12] = [
+    // the judge's verdict that ends a test (the generator stopped early),
+    // judged outside the lock as the firmware does
+    let ended = {
+        let c = selftesting();
+        let mut p = c.selftest_pending();
+        if let Some(p) = &mut p {
+            p.judge(&polyturn_sync::selftest::Books::default());
+        }
+        p
+    };
+    refused_if(ended.is_none());
+    let sections: [(&str, &dyn Fn() -> Controller, &dyn Fn(&mut Controller)); 15] = [
         ("copy of the settings", &idle, &|c| {
             core::hint::black_box(*c.config());
         }),
@@ -114,6 +149,15 @@ pub fn report(syst: &SYST, per_1201: u32) -> Option<u32> {
         ("begin a save's stall", &idle, &|c| c.begin_stall()),
         ("end a save's stall (lathe lost: re-base)", &stalled, &|c| {
             core::hint::black_box(c.end_stall());
+        }),
+        ("selftest start (planned outside)", &rested, &selftest_start),
+        ("self-test: the judge's copy (every ms)", &selftesting, &|c| {
+            core::hint::black_box(c.selftest_pending());
+        }),
+        ("self-test: keep the verdict and end it", &selftesting, &|c| {
+            if let Some(p) = ended {
+                c.selftest_judged(p);
+            }
         }),
         ("LED loop (state)", &engaged, &|c| {
             core::hint::black_box(c.state());

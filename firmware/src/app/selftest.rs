@@ -18,8 +18,9 @@ use embassy_stm32::interrupt::InterruptExt;
 use embassy_stm32::peripherals as P;
 use embassy_stm32::Peri;
 use polyturn_firmware::quadgen::bench::{self, BenchGenerator};
-use polyturn_firmware::quadgen::{program, AF};
-use polyturn_sync::selftest::Books;
+use polyturn_firmware::quadgen::program::{self, Bus};
+use polyturn_firmware::quadgen::AF;
+use polyturn_sync::selftest::{Books, Verdict};
 
 static GEN: Mutex<RefCell<Option<BenchGenerator>>> = Mutex::new(RefCell::new(None));
 static PLAYING: AtomicBool = AtomicBool::new(false);
@@ -63,7 +64,9 @@ impl Bench {
     }
 
     /// The planning executor's millisecond: start or stop the generator as
-    /// the controller's run asks, and feed it the books.
+    /// the controller's run asks, and have its books judged. Under the
+    /// tick's lock only copies (`selftest_pending`, `selftest_judged`); the
+    /// judging runs between them.
     pub fn service(&mut self) {
         let want = tick::with_core(|c| c.selftest_plan()).flatten();
         match (want, self.playing) {
@@ -73,12 +76,26 @@ impl Bench {
                 self.start(&plan);
                 self.playing = Some(id);
             }
-            (None, Some(_)) => self.stop(),
+            (None, Some(_)) => return self.wind_down(),
             (None, None) => return,
         }
         let books = critical_section::with(|cs| GEN.borrow_ref(cs).as_ref().map(bench::books));
         let books = books.unwrap_or(Books { running: false, ..Books::default() });
-        tick::with_core(|c| c.selftest_books(&books));
+        if let Some(mut pending) = tick::with_core(|c| c.selftest_pending()).flatten() {
+            pending.judge(&books);
+            tick::with_core(|c| c.selftest_judged(pending));
+        }
+    }
+
+    /// The run has ended: after a pass the generator plays its last rest
+    /// to the end (its parking period leaves A and B low, so the pins'
+    /// pull-downs then move nothing); otherwise it stops at once.
+    fn wind_down(&mut self) {
+        let passed = tick::with_core(|c| c.selftest_report().is_some_and(|r| r.verdict == Verdict::Pass));
+        let running = critical_section::with(|cs| GEN.borrow_ref(cs).as_ref().is_some_and(|g| g.running()));
+        if !(passed == Some(true) && running) {
+            self.stop();
+        }
     }
 
     /// The start program, applied with TIM9's interrupt masked so the
@@ -109,7 +126,11 @@ impl Bench {
 }
 
 /// TIM9's update: the index level first (the only timed write, `quadgen`
-/// module docs), then the flags and the next period's values.
+/// module docs), prepared ahead; TIM9_CNT then says how late it came
+/// (kept as the worst, in the books); then the flags and the next period's
+/// values, also prepared ahead; last the work for the next update event.
+/// An entry without UIF (RM0383 §14.4.4) is not an update event: nothing
+/// moves on.
 #[interrupt]
 fn TIM1_BRK_TIM9() {
     critical_section::with(|cs| {
@@ -119,7 +140,13 @@ fn TIM1_BRK_TIM9() {
             return;
         };
         let _ = program::apply(&[gen.index_op()], &mut Mmio);
+        let ticks = Mmio.read(program::CNT);
+        if Mmio.read(program::SR) & program::UIF == 0 {
+            return;
+        }
+        gen.note_latency(ticks * (gen.current().psc as u32 + 1));
         let ops = gen.on_update();
         let _ = program::apply(&ops, &mut Mmio);
+        gen.prepare();
     });
 }

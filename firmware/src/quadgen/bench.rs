@@ -35,6 +35,8 @@ pub fn books<I: Iterator<Item = Period>>(g: &Generator<I>) -> Books {
         indexes: e.indexes(),
         ms: (e.clocks() / (TIMER_HZ as u64 / 1000)).min(u32::MAX as u64) as u32,
         running: g.running(),
+        last_index: e.last_index(),
+        latency_cycles: g.worst_latency(),
     }
 }
 

@@ -61,6 +61,9 @@ pub const fn index(high: bool) -> Op {
     Op::Write(GPIOA_BSRR, if high { 1 << INDEX_PIN } else { 1 << (16 + INDEX_PIN) })
 }
 
+/// TIM9_SR.UIF (§14.4.4): "set by hardware on an update event".
+pub const UIF: u32 = 1 << 0;
+
 /// Clears UIF (SR is rc_w0, §14.4.4: writing 0 clears every flag, and no
 /// other flag is used).
 pub const CLEAR_FLAGS: Op = Op::Write(SR, 0);

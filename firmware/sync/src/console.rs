@@ -124,6 +124,8 @@ pub struct Prepared {
     generation: u32,
     only_phase: bool,
     next: Result<(Config, Derived), ConfigError>,
+    /// `selftest start`'s plan (it divides in 128 bits: not under the lock)
+    selftest: Option<Result<crate::selftest::Plan, crate::controller::selftest::SelfTestRefusal>>,
 }
 
 /// The long half of `apply`, outside the lock: `current` and `generation`
@@ -132,12 +134,18 @@ pub fn prepare(cmd: &Command<'_>, current: Config, generation: u32, timing: Timi
     let next = match *cmd {
         Command::Set(name, value) => current.with(name, value),
         Command::Defaults => Ok(Config::default()),
+        Command::SelfTest(SelfTestOp::Start(rpm)) => {
+            let d = Derived::new(&current, timing);
+            let plan = crate::controller::selftest::plan_selftest(&current, &d, rpm);
+            return Some(Prepared { generation, only_phase: false, next: Ok((current, d)), selftest: Some(plan) });
+        }
         _ => return None,
     };
     Some(Prepared {
         generation,
         only_phase: next.as_ref().is_ok_and(|c| c.differs_only_in_phase(&current)),
         next: next.map(|c| (c, Derived::new(&c, timing))),
+        selftest: None,
     })
 }
 
@@ -197,6 +205,13 @@ pub fn apply_prepared(cmd: Command<'_>, pre: Option<Prepared>, ctl: &mut Control
         Command::Jog(mdeg) => match ctl.jog(mdeg) {
             Ok(plan) => Outcome::Jog(plan, mdeg),
             Err(r) => Outcome::Error(r.describe()),
+        },
+        Command::SelfTest(SelfTestOp::Start(_)) => match pre.and_then(|p| p.selftest.map(|s| (p.generation, s))) {
+            Some((g, _)) if g != ctl.config_generation() => {
+                Outcome::Error("the settings changed meanwhile: nothing changed, send it again")
+            }
+            Some((_, plan)) => selftest::start(plan, ctl),
+            None => Outcome::Error("internal: command not prepared"),
         },
         Command::SelfTest(op) => selftest::apply(op, ctl),
         Command::Dfu if ctl.state() != crate::state::State::Idle => {

@@ -6,7 +6,9 @@
 //!
 //! At each rest, with the lathe still, everything must be exact:
 //! * the counter saw exactly the counts made (TIM3 against TIM9);
-//! * the index input saw exactly the pulses made (TIM3_CH3), and none
+//! * the index input saw exactly the pulses made (TIM3_CH3), the last one
+//!   latched at exactly the count the generator made it at (n·cpr + 1,
+//!   which needs its interrupt within `quadgen::LATENCY_MAX`), and none
 //!   slipped (a slip is the `encoder-implausible` fault);
 //! * the gear's target is the exact rounding of count × p·M/(q·E),
 //!   recomputed at low priority (`Scale::round`, 64/128-bit) against the
@@ -53,6 +55,11 @@ pub struct Books {
     pub ms: u32,
     /// false once the generator has played the whole profile and stopped
     pub running: bool,
+    /// the count TIM3 must have latched at the last index pulse made
+    pub last_index: Option<i64>,
+    /// the worst time from an update event to the index write, CK_INT
+    /// cycles, as TIM9's counter measured it
+    pub latency_cycles: u32,
 }
 
 /// What the controller shows at the same moment, relative to the start.
@@ -61,6 +68,8 @@ pub struct Seen {
     pub state: State,
     pub counts: i64,
     pub indexes: u32,
+    /// the count latched at the last index pulse seen
+    pub last_index: i64,
     /// the phase error, Q16 steps (as `status` reports it)
     pub lag_q16: i64,
     /// exact target − steps counted, Q16 steps
@@ -86,6 +95,13 @@ pub enum Failure {
         rest: u8,
     },
     Counts {
+        rest: u8,
+        seen: i64,
+        made: i64,
+    },
+    /// the last index latched another count than the generator's: its
+    /// interrupt wrote the index late (`quadgen::LATENCY_MAX`)
+    IndexLate {
         rest: u8,
         seen: i64,
         made: i64,
@@ -133,6 +149,8 @@ pub struct Report {
     pub ramp_lag_q16: i64,
     /// per hold: (steps counted, the gear's target's change)
     pub holds: [(i64, i64); 2],
+    /// the generator's worst interrupt latency, cycles (`Books`)
+    pub latency_cycles: u32,
 }
 
 #[derive(Clone, Copy, Debug)]
@@ -158,6 +176,7 @@ impl SelfTest {
             hold_lag_q16: 0,
             ramp_lag_q16: 0,
             holds: [(0, 0); 2],
+            latency_cycles: 0,
         };
         SelfTest { plan, report, hold_start: None }
     }
@@ -197,6 +216,7 @@ impl SelfTest {
         }
         let leg = self.plan.leg_at(b.ms);
         self.report.at_ms = b.ms;
+        self.report.latency_cycles = b.latency_cycles;
         self.report.leg = self.plan.legs[leg].kind;
         let lag = s.lag_q16.abs();
         match self.report.leg {
@@ -243,6 +263,8 @@ impl SelfTest {
             Some(Failure::Counts { rest, seen: s.counts, made: b.counts })
         } else if s.indexes != b.indexes {
             Some(Failure::Indexes { rest, seen: s.indexes, made: b.indexes })
+        } else if b.last_index.is_some_and(|made| made != s.last_index) {
+            Some(Failure::IndexLate { rest, seen: s.last_index, made: b.last_index.unwrap_or(0) })
         } else if s.target_steps != s.exact_steps {
             Some(Failure::Gear { rest, target: s.target_steps, exact: s.exact_steps })
         } else if s.off_q16.abs() > REST_TOLERANCE_Q16 {

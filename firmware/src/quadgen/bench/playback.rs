@@ -53,6 +53,7 @@ impl Playback {
         let p = self.gen.current();
         let index = self.gen.edges().index_in(&p);
         let ops = self.gen.on_update();
+        self.gen.prepare();
         let at = self.next_update;
         self.next_update += p.clocks() as u64;
         if self.finishing || p.motion == Motion::Idle {

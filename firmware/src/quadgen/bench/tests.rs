@@ -65,3 +65,23 @@ fn the_books_of_a_whole_plan_come_back_to_zero_and_end_stopped() {
     assert_eq!(rest2.indexes * 2, end.indexes);
     assert_eq!(g.index_op(), program::index(false));
 }
+
+/// The handler prepares the next update's work after its writes; a
+/// generator that is never prepared computes it on the spot: both give
+/// the same writes at every update event, so preparing moves work, not
+/// results.
+#[test]
+fn preparing_ahead_changes_no_write() {
+    let plan = Plan::new(797, 2400, 1_000);
+    let (mut ahead, _) = start(&plan).unwrap();
+    let (mut late, _) = start(&plan).unwrap();
+    let mut updates = 0;
+    while ahead.running() {
+        assert_eq!(ahead.index_op(), late.index_op());
+        assert_eq!(ahead.on_update(), late.on_update(), "update {updates}");
+        ahead.prepare();
+        updates += 1;
+    }
+    assert!(!late.running());
+    assert!(updates > 10_000, "{updates}");
+}

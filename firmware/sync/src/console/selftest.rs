@@ -6,7 +6,7 @@ use super::{Command, Outcome, Reply};
 use crate::console_status::Milli;
 use crate::controller::selftest::SelfTestRefusal;
 use crate::controller::Controller;
-use crate::selftest::{Failure, Kind, Report, Verdict};
+use crate::selftest::{Failure, Kind, Plan, Report, Verdict};
 use core::fmt::Write;
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -32,14 +32,18 @@ pub(super) fn parse(op: Option<&str>, rpm: Option<&str>) -> Command<'static> {
     }
 }
 
+/// Starts a test planned outside the lock (`console::prepare`).
+pub(super) fn start(plan: Result<Plan, SelfTestRefusal>, ctl: &mut Controller) -> Outcome {
+    match plan.and_then(|p| ctl.start_selftest_planned(p).map(|()| p)) {
+        Ok(p) => Outcome::SelfTestStarted(p.rpm, p.cpr, p.total_ms()),
+        Err(r) => Outcome::SelfTestRefused(r),
+    }
+}
+
+/// `selftest` and `selftest stop` (a start goes through `start`).
 pub(super) fn apply(op: SelfTestOp, ctl: &mut Controller) -> Outcome {
     let report = match op {
-        SelfTestOp::Start(rpm) => {
-            return match ctl.start_selftest(rpm) {
-                Ok(p) => Outcome::SelfTestStarted(p.rpm, p.cpr, p.total_ms()),
-                Err(r) => Outcome::SelfTestRefused(r),
-            }
-        }
+        SelfTestOp::Start(_) => return Outcome::Error("internal: command not prepared"),
         SelfTestOp::Report => ctl.selftest_report(),
         SelfTestOp::Stop => ctl.stop_selftest(),
     };
@@ -69,6 +73,12 @@ pub(super) fn write_refused(r: SelfTestRefusal, out: &mut Reply) {
             write!(out, "error: the lathe input is moving: unplug the lathe encoder, then wire the self-test's jumpers")
         }
         SelfTestRefusal::NoCutter => write!(out, "error: drive=none: there is no cutter to test"),
+        SelfTestRefusal::NotStepper => {
+            write!(out, "error: drive=bldc: the self-test checks the step output; set drive stepper for the bench")
+        }
+        SelfTestRefusal::CamFitted => {
+            write!(out, "error: a cam table is fitted and the X axis would follow the test: cam off first")
+        }
         SelfTestRefusal::Cpr(c) => write!(out, "error: cpr {c}: the self-test needs an even cpr, 4 or more"),
         SelfTestRefusal::Rpm { max: 0 } => write!(out, "error: selftest start rpm: no speed fits max-rpm and max-rate"),
         SelfTestRefusal::Rpm { max } => {
@@ -99,13 +109,14 @@ pub(super) fn write_report(r: &Report, out: &mut Reply) {
     let [(s1, t1), (s2, t2)] = r.holds;
     let _ = write!(
         out,
-        " rpm={} forward={} backward={} indexes={} lag_steps={},{} hold_steps={s1}/{t1},{s2}/{t2}",
+        " rpm={} forward={} backward={} indexes={} lag_steps={},{} hold_steps={s1}/{t1},{s2}/{t2} index_latency_cycles={}",
         r.rpm,
         r.forward,
         r.backward,
         r.indexes,
         Milli((r.hold_lag_q16.min(1 << 46) * 1000) >> 16),
         Milli((r.ramp_lag_q16.min(1 << 46) * 1000) >> 16),
+        r.latency_cycles,
     );
 }
 
@@ -139,6 +150,10 @@ fn write_failure(f: Failure, out: &mut Reply) -> core::fmt::Result {
         Failure::Indexes { rest, seen, made } => {
             write!(out, "rest {rest}: index pulses seen {seen}, made {made}: jumper PA4 to PB0;")
         }
+        Failure::IndexLate { rest, seen, made } => write!(
+            out,
+            "rest {rest}: the index latched count {seen}, made at {made}: the generator's interrupt was late, see the README's self-test timing;"
+        ),
         Failure::Gear { rest, target, exact } => {
             write!(out, "rest {rest}: gear target {target}, exact {exact}: a firmware fault, please report it;")
         }

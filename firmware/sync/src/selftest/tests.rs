@@ -8,11 +8,12 @@ fn plan() -> Plan {
 
 /// A sample that passes every rest check, `ms` into the profile.
 fn good(ms: u32, counts: i64) -> (Books, Seen) {
-    let b = Books { counts, indexes: 3, ms, running: true };
+    let b = Books { counts, indexes: 3, ms, running: true, last_index: Some(2401), latency_cycles: 300 };
     let s = Seen {
         state: State::Synced,
         counts,
         indexes: 3,
+        last_index: 2401,
         lag_q16: 0,
         off_q16: 0,
         cutter_steps: 10,
@@ -70,10 +71,11 @@ fn a_rest_is_checked_only_once_the_lathe_has_settled() {
 
 #[test]
 fn each_rest_rule_fails_with_its_figures() {
-    let cases: [(fn(&mut Seen), Failure); 5] = [
+    let cases: [(fn(&mut Seen), Failure); 6] = [
         (|s| s.state = State::Engaging, Failure::NotSynced { rest: 1 }),
         (|s| s.counts = 7, Failure::Counts { rest: 1, seen: 7, made: 0 }),
         (|s| s.indexes = 2, Failure::Indexes { rest: 1, seen: 2, made: 3 }),
+        (|s| s.last_index = 2402, Failure::IndexLate { rest: 1, seen: 2402, made: 2401 }),
         (|s| s.target_steps = 11, Failure::Gear { rest: 1, target: 11, exact: 10 }),
         (|s| s.off_q16 = -(1 << 15) - 1, Failure::Cutter { rest: 1, off_q16: -(1 << 15) - 1 }),
     ];

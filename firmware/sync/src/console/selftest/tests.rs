@@ -77,8 +77,15 @@ fn the_rpm_is_refused_outside_what_the_generator_and_settings_allow() {
 fn it_is_refused_without_a_cutter_with_an_odd_cpr_or_a_turning_lathe() {
     let mut c = ctl(Config::default().with("drive", "none").unwrap());
     assert_eq!(reply(&mut c, "selftest start"), "error: drive=none: there is no cutter to test");
+    let mut c = ctl(Config::default().with("drive", "bldc").unwrap());
+    assert!(reply(&mut c, "selftest start").starts_with("error: drive=bldc: the self-test checks the step output"));
     let mut c = ctl(Config::default().with("cpr", "1001").unwrap());
     assert_eq!(reply(&mut c, "selftest start"), "error: cpr 1001: the self-test needs an even cpr, 4 or more");
+    let mut c = ctl(Config::default());
+    let cam = crate::cam::Cam::new(&[0, 100, 0, -100], 2400).unwrap();
+    let x = crate::controller::XAxis::new(cam, crate::follower::Limits::from_rates(1000, 10_000, 25_000));
+    c.set_x_axis(Some(x)).unwrap();
+    assert!(reply(&mut c, "selftest start").starts_with("error: a cam table is fitted"));
     let mut c = ctl(Config::default());
     for t in 0..200u16 {
         c.tick(&TickInput { lathe: t, ..TickInput::default() });
