@@ -69,9 +69,12 @@ fn a_rest_is_checked_only_once_the_lathe_has_settled() {
     assert_eq!(t.report().rests, 1);
 }
 
+/// Breaks one figure of a good sample.
+type Break = fn(&mut Seen);
+
 #[test]
 fn each_rest_rule_fails_with_its_figures() {
-    let cases: [(fn(&mut Seen), Failure); 6] = [
+    let cases: [(Break, Failure); 6] = [
         (|s| s.state = State::Engaging, Failure::NotSynced { rest: 1 }),
         (|s| s.counts = 7, Failure::Counts { rest: 1, seen: 7, made: 0 }),
         (|s| s.indexes = 2, Failure::Indexes { rest: 1, seen: 2, made: 3 }),
