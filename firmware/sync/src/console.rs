@@ -206,14 +206,7 @@ pub fn apply_prepared(cmd: Command<'_>, pre: Option<Prepared>, ctl: &mut Control
             Ok(plan) => Outcome::Jog(plan, mdeg),
             Err(r) => Outcome::Error(r.describe()),
         },
-        Command::SelfTest(SelfTestOp::Start(_)) => match pre.and_then(|p| p.selftest.map(|s| (p.generation, s))) {
-            Some((g, _)) if g != ctl.config_generation() => {
-                Outcome::Error("the settings changed meanwhile: nothing changed, send it again")
-            }
-            Some((_, plan)) => selftest::start(plan, ctl),
-            None => Outcome::Error("internal: command not prepared"),
-        },
-        Command::SelfTest(op) => selftest::apply(op, ctl),
+        Command::SelfTest(op) => selftest::apply(op, pre.and_then(|p| p.selftest.map(|s| (p.generation, s))), ctl),
         Command::Dfu if ctl.state() != crate::state::State::Idle => {
             Outcome::Error("stop first (and clear any fault): dfu restarts the board into its ROM bootloader")
         }

@@ -30,7 +30,7 @@ impl Snapshot {
         let v_q16 = s.lathe_velocity_q32 >> 16;
         let lathe_rpm10 = v_q16 * self.tick_hz as i64 * 600 / ((c.encoder_counts_per_rev as i64) << 16);
         let cutter_rpm10 = lathe_rpm10 * c.ratio.num() as i64 / c.ratio.den() as i64;
-        let err_milli = (s.phase_error_q16.clamp(-(1 << 46), 1 << 46) * 1000) >> 16;
+        let err = Milli::steps_q16(s.phase_error_q16);
         let fault = self.fault.map(|f| f.name()).unwrap_or("none");
         let _ = write!(
             out,
@@ -39,7 +39,7 @@ impl Snapshot {
             fault,
             Tenths(lathe_rpm10),
             Tenths(cutter_rpm10),
-            Milli(err_milli),
+            err,
             s.target_steps,
             s.cutter_steps,
             if s.indexed { "yes" } else { "no" },
@@ -65,6 +65,14 @@ impl core::fmt::Display for Tenths {
 }
 
 pub(crate) struct Milli(pub(crate) i64);
+
+impl Milli {
+    /// Q16 steps as thousandths of a step (clamped to ±2^46 so the
+    /// product fits).
+    pub(crate) fn steps_q16(q16: i64) -> Milli {
+        Milli((q16.clamp(-(1 << 46), 1 << 46) * 1000) >> 16)
+    }
+}
 impl core::fmt::Display for Milli {
     fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
         let sign = if self.0 < 0 { "-" } else { "" };

@@ -32,20 +32,25 @@ pub(super) fn parse(op: Option<&str>, rpm: Option<&str>) -> Command<'static> {
     }
 }
 
-/// Starts a test planned outside the lock (`console::prepare`).
-pub(super) fn start(plan: Result<Plan, SelfTestRefusal>, ctl: &mut Controller) -> Outcome {
-    match plan.and_then(|p| ctl.start_selftest_planned(p).map(|()| p)) {
-        Ok(p) => Outcome::SelfTestStarted(p.rpm, p.cpr, p.total_ms()),
-        Err(r) => Outcome::SelfTestRefused(r),
-    }
-}
+/// A plan made outside the lock (`console::prepare`), with the settings'
+/// generation it was made for.
+type Planned = (u32, Result<Plan, SelfTestRefusal>);
 
-/// `selftest` and `selftest stop` (a start goes through `start`).
-pub(super) fn apply(op: SelfTestOp, ctl: &mut Controller) -> Outcome {
-    let report = match op {
-        SelfTestOp::Start(_) => return Outcome::Error("internal: command not prepared"),
-        SelfTestOp::Report => ctl.selftest_report(),
-        SelfTestOp::Stop => ctl.stop_selftest(),
+/// `selftest start` (with its `planned` run), `selftest` and `selftest stop`.
+pub(super) fn apply(op: SelfTestOp, planned: Option<Planned>, ctl: &mut Controller) -> Outcome {
+    let report = match (op, planned) {
+        (SelfTestOp::Start(_), None) => return Outcome::Error("internal: command not prepared"),
+        (SelfTestOp::Start(_), Some((g, _))) if g != ctl.config_generation() => {
+            return Outcome::Error("the settings changed meanwhile: nothing changed, send it again")
+        }
+        (SelfTestOp::Start(_), Some((_, plan))) => {
+            return match plan.and_then(|p| ctl.start_selftest_planned(p).map(|()| p)) {
+                Ok(p) => Outcome::SelfTestStarted(p.rpm, p.cpr, p.total_ms()),
+                Err(r) => Outcome::SelfTestRefused(r),
+            }
+        }
+        (SelfTestOp::Report, _) => ctl.selftest_report(),
+        (SelfTestOp::Stop, _) => ctl.stop_selftest(),
     };
     match report {
         Some(r) => Outcome::SelfTest(r),
@@ -114,8 +119,8 @@ pub(super) fn write_report(r: &Report, out: &mut Reply) {
         r.forward,
         r.backward,
         r.indexes,
-        Milli((r.hold_lag_q16.min(1 << 46) * 1000) >> 16),
-        Milli((r.ramp_lag_q16.min(1 << 46) * 1000) >> 16),
+        Milli::steps_q16(r.hold_lag_q16),
+        Milli::steps_q16(r.ramp_lag_q16),
         r.latency_cycles,
     );
 }
@@ -160,7 +165,7 @@ fn write_failure(f: Failure, out: &mut Reply) -> core::fmt::Result {
         Failure::Cutter { rest, off_q16 } => write!(
             out,
             "rest {rest}: the cutter stands {} steps from the exact target: steps lost, please report it;",
-            Milli((off_q16.clamp(-(1 << 46), 1 << 46) * 1000) >> 16)
+            Milli::steps_q16(off_q16)
         ),
     }
 }
