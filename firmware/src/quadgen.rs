@@ -39,7 +39,7 @@
 //! `LATENCY_MAX` = 3 000 cycles is an estimate, not a measurement: the
 //! interrupt must sit below the tick (level 0); at level 1 it waits for the
 //! tick (790 instructions worst in QEMU, 900-1 400 cycles estimated on
-//! silicon, README), the longest section under the tick's lock (761
+//! silicon, README), the longest section under the tick's lock (671
 //! instructions), embassy's TIM5 handler at the same level, and its own
 //! entry (12) and prologue. `MARGIN` (8 cycles) covers TIM3's input path:
 //! A, B and the index go through the same 8-sample filter (`app::drivers`).
