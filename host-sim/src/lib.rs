@@ -4,6 +4,8 @@
 
 pub mod cli;
 pub mod compensate;
+#[cfg(any(test, feature = "fakes"))]
+pub mod fakeboard;
 pub mod flash;
 pub mod geometry;
 pub mod hwsim;

@@ -4,16 +4,23 @@
 
 pub mod cam;
 pub mod compensate;
+pub mod console_line;
+#[cfg(feature = "device")]
 pub mod device;
 pub mod errors;
+pub mod figures;
+#[cfg(feature = "device")]
 pub mod flash;
 pub mod geometry;
 pub mod image;
 pub mod output;
 pub mod sequence;
+pub mod setup_plan;
 pub mod setups;
 pub mod simulate;
 pub mod values;
+#[cfg(feature = "device")]
+pub mod web;
 
 use clap::{CommandFactory, FromArgMatches, Parser, Subcommand};
 pub use errors::{CliError, CliResult};
@@ -41,6 +48,7 @@ pub enum Command {
     /// Run a setup through the real sync core and a model of the machine
     Simulate(simulate::SimulateArgs),
     /// Talk to the board's console over USB (status, settings, cam upload)
+    #[cfg(feature = "device")]
     Device(device::DeviceArgs),
     /// The order in which a single-point tool cuts a sharp polygon's sides
     Sequence(sequence::SequenceArgs),
@@ -49,7 +57,11 @@ pub enum Command {
     /// Smooth single-point tool paths for a sharp polygon, and the cam table
     Cam(cam::CamArgs),
     /// Write firmware to the board over USB through its ROM bootloader (BOOT0), no probe
+    #[cfg(feature = "device")]
     Flash(flash::FlashArgs),
+    /// The page: plan, preview, simulate, and the board over WebSerial and WebUSB, served on localhost
+    #[cfg(feature = "device")]
+    Web(web::WebArgs),
     /// Make the release .bin and .hex from the firmware ELF
     Image(image::ImageArgs),
     /// Print a shell completion script (e.g. `polyturn completions bash > /etc/bash_completion.d/polyturn`)
@@ -74,11 +86,15 @@ pub fn dispatch(argv: &[String]) -> CliResult<String> {
         Command::Geometry(a) => geometry::run(a),
         Command::Setups(a) => setups::run(a),
         Command::Simulate(a) => simulate::run_cli(a),
+        #[cfg(feature = "device")]
         Command::Device(a) => device::run(a),
         Command::Sequence(a) => sequence::run(a),
         Command::Compensate(a) => compensate::run(a),
         Command::Cam(a) => cam::run(a),
+        #[cfg(feature = "device")]
         Command::Flash(a) => flash::run(a),
+        #[cfg(feature = "device")]
+        Command::Web(a) => web::run(a),
         Command::Image(a) => image::run(a),
         Command::Completions { shell } => Ok(completions(shell)),
     }

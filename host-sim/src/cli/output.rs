@@ -35,6 +35,7 @@ impl Outputs {
     }
 
     /// Writes every file, or none.
+    #[cfg(not(target_family = "wasm"))]
     pub fn write(self) -> CliResult<Vec<PathBuf>> {
         let mut staged: Vec<(PathBuf, &PathBuf)> = Vec::new();
         for (flag, path, text) in &self.files {
@@ -57,11 +58,34 @@ impl Outputs {
     }
 }
 
+/// In the browser there are no files: what a command would write is kept
+/// for the page (`take_captured`), under the name the flag gave.
+#[cfg(target_family = "wasm")]
+impl Outputs {
+    pub fn write(self) -> CliResult<Vec<PathBuf>> {
+        let paths = self.files.iter().map(|(_, p, _)| p.clone()).collect();
+        CAPTURED.with(|c| c.borrow_mut().extend(self.files.into_iter().map(|(_, p, b)| (shown(&p), b))));
+        Ok(paths)
+    }
+}
+
+#[cfg(target_family = "wasm")]
+thread_local! {
+    static CAPTURED: std::cell::RefCell<Vec<(String, Vec<u8>)>> = const { std::cell::RefCell::new(Vec::new()) };
+}
+
+/// The files the last commands would have written, by name (the browser's).
+#[cfg(target_family = "wasm")]
+pub fn take_captured() -> Vec<(String, Vec<u8>)> {
+    CAPTURED.with(|c| std::mem::take(&mut *c.borrow_mut()))
+}
+
 /// A path as one line of an error (control characters escaped).
 fn shown(path: &Path) -> String {
     escaped(&path.display().to_string())
 }
 
+#[cfg(not(target_family = "wasm"))]
 fn unstage(staged: &[(PathBuf, &PathBuf)]) {
     for (tmp, _) in staged {
         let _ = std::fs::remove_file(tmp);
@@ -69,6 +93,7 @@ fn unstage(staged: &[(PathBuf, &PathBuf)]) {
 }
 
 /// `dir/.name.polyturn-PID.tmp`: same directory, so the rename is atomic.
+#[cfg(not(target_family = "wasm"))]
 fn temporary(path: &Path) -> PathBuf {
     let name = path.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
     path.with_file_name(format!(".{name}.polyturn-{}.tmp", std::process::id()))

@@ -73,7 +73,10 @@ pub fn run(a: SetupsArgs) -> CliResult<String> {
     };
     let found = plan(&req);
     if a.json {
-        return Ok(serde_json::json!({"sides": sides, "depth": depth, "setups": found}).to_string());
+        let r1 = req.cutter_radius.unwrap_or_else(|| default_cutter(r2));
+        return Ok(
+            serde_json::json!({"sides": sides, "depth": depth, "cutter_radius": r1, "setups": found}).to_string()
+        );
     }
     if found.is_empty() {
         return Ok(format!(

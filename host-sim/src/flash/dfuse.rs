@@ -8,8 +8,7 @@
 use super::dfuse_io as req;
 pub use super::dfuse_io::Io;
 use super::image::Image;
-use super::{APP_END, FLASH_BASE};
-use dfu_core::DfuProtocol;
+pub use super::plan::Plan;
 use std::time::Duration;
 
 mod download;
@@ -98,16 +97,6 @@ impl std::fmt::Display for FlashError {
     }
 }
 
-/// What goes over the wire: the image padded with 0xFF (erased flash) to
-/// whole transfers, so that every DNLOAD and UPLOAD block is full size and
-/// block n is at FLASH_BASE + (n − 2) × wTransferSize (AN3156 §4.1, §5.1)
-/// whichever size the ROM counts with.
-struct Plan {
-    bytes: Vec<u8>,
-    transfer: usize,
-    sectors: usize,
-}
-
 /// Erases and writes the image, reads it back, leaves DFU.
 pub fn flash<IO: Io>(
     io: &IO,
@@ -127,46 +116,7 @@ where
     Ok(Report { written_bytes: image.bytes.len(), sectors_erased: plan.sectors, left })
 }
 
-/// Refuses a device whose erase would reach the settings: dfu-core erases
-/// the interface string's pages from its start address until the image's
-/// end is covered, so those pages must end by APP_END.
+/// The plan for this device (`plan.rs`), from its descriptor and layout.
 fn plan<IO: Io>(io: &IO, image: &Image) -> Result<Plan, FlashError> {
-    let d = io.functional_descriptor();
-    let transfer = usize::from(d.transfer_size);
-    if d.dfu_version != (0x01, 0x1A) || !d.can_download || !d.can_upload || transfer < 64 {
-        let why = format!(
-            "not the STM32 ROM bootloader's DfuSe 1.1a: version {:x?}, transfer size {transfer}",
-            d.dfu_version
-        );
-        return Err(FlashError::Refused(why));
-    }
-    let DfuProtocol::Dfuse { address, memory_layout } = io.protocol() else {
-        return Err(FlashError::Refused("the device speaks plain DFU, not DfuSe".into()));
-    };
-    if image.base != FLASH_BASE || *address != FLASH_BASE {
-        return Err(FlashError::Refused(format!(
-            "the device's flash starts at 0x{address:08x}, not 0x{FLASH_BASE:08x}"
-        )));
-    }
-    let mut bytes = image.bytes.clone();
-    bytes.resize(bytes.len().div_ceil(transfer) * transfer, 0xFF);
-    let end = u64::from(FLASH_BASE) + bytes.len() as u64;
-    let (mut erased_end, mut sectors) = (u64::from(FLASH_BASE), 0);
-    for page in memory_layout.as_ref() {
-        if erased_end >= end {
-            break;
-        }
-        erased_end += u64::from(*page);
-        sectors += 1;
-    }
-    if erased_end < end {
-        return Err(FlashError::Refused(format!(
-            "the device's flash ends at 0x{erased_end:08x}, before the image does"
-        )));
-    }
-    if erased_end > u64::from(APP_END) {
-        let why = format!("the device's flash pages would erase up to 0x{erased_end:08x}, past 0x{APP_END:08x}");
-        return Err(FlashError::Refused(format!("{why} (sectors 6-7 keep the settings)")));
-    }
-    Ok(Plan { bytes, transfer, sectors })
+    super::plan::plan(io.functional_descriptor(), io.protocol(), image).map_err(FlashError::Refused)
 }

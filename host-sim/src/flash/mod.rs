@@ -10,21 +10,25 @@
 //! reaches past the end of sector 5 and nothing erases beyond it.
 
 pub mod check;
+#[cfg(feature = "device")]
 pub mod dfuse;
+#[cfg(feature = "device")]
 mod dfuse_io;
 pub mod elf;
 pub mod hex;
 pub mod image;
+pub mod plan;
+#[cfg(feature = "device")]
 pub mod usb;
 
-#[cfg(test)]
+#[cfg(all(test, feature = "device"))]
 mod dfuse_tests;
-#[cfg(test)]
-pub(crate) mod fake;
+#[cfg(any(test, feature = "fakes"))]
+pub mod fake;
 #[cfg(test)]
 mod image_tests;
-#[cfg(test)]
-pub(crate) mod testkit;
+#[cfg(any(test, feature = "fakes"))]
+pub mod testkit;
 
 /// Flash starts here, and the vector table with it (RM0383 §2.3 Table 1;
 /// the firmware's memory.x ORIGIN).

@@ -3,9 +3,7 @@
 //! with the same tag back (`session.rs`).
 
 pub mod checks;
-#[cfg(test)]
-mod fake_machine;
-pub mod figures;
+pub use super::figures;
 pub mod prompt;
 #[cfg(test)]
 mod selftest_tests;
@@ -22,8 +20,7 @@ use std::path::PathBuf;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::{Duration, Instant};
 
-/// A cam table file is a few tens of kB; more is not one (`/dev/zero`).
-pub const CAM_FILE_MAX: u64 = 1 << 20;
+pub use super::console_line::CAM_FILE_MAX;
 /// An erase of the settings sector takes up to 2 s at x32 (DS10314
 /// Table 27 t_ERASE128KB max): `save` and a table's last line wait longer.
 pub(crate) const FLASH_WAIT: Duration = Duration::from_secs(10);
@@ -226,26 +223,7 @@ fn read_table(file: &std::path::Path) -> CliResult<crate::noncircular::table::Ca
     f.take(CAM_FILE_MAX + 1)
         .read_to_string(&mut text)
         .map_err(|e| CliError(format!("upload-cam: cannot read '{name}' as text: {e}")))?;
-    if text.len() as u64 > CAM_FILE_MAX {
-        return Err(CliError(format!(
-            "upload-cam: '{name}' is larger than {CAM_FILE_MAX} bytes: not a polyturn cam table"
-        )));
-    }
-    let table: crate::noncircular::table::CamFile = serde_json::from_str(&text).map_err(|e| {
-        CliError(format!("upload-cam: '{name}' is not a polyturn cam table: {}", escaped(&e.to_string())))
-    })?;
-    if table.format != crate::noncircular::table::FORMAT {
-        return Err(CliError(format!(
-            "upload-cam: '{name}' is format '{}', this polyturn sends '{}'",
-            escaped(&table.format),
-            crate::noncircular::table::FORMAT
-        )));
-    }
-    // every line must go as one console line: checked before the port opens
-    for line in table.upload_lines() {
-        session::check_command(&line).map_err(|e| CliError(format!("upload-cam: '{name}' cannot be sent: {}", e.0)))?;
-    }
-    Ok(table)
+    super::console_line::cam_table(&name, &text)
 }
 
 /// Sends a table line by line; stops at the first error (the device then

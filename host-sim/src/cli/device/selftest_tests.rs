@@ -3,8 +3,8 @@
 //! as the app does (`fake_machine`).
 
 use super::checks::selftest;
-use super::fake_machine::Machine;
 use super::tests::{session, FakeDevice};
+use crate::fakeboard::Machine;
 
 fn board(counts_per_tick_x1000: i64) -> super::session::Session<FakeDevice> {
     let mut dev = FakeDevice::new();

@@ -5,14 +5,10 @@
 //! holds a control character (which could smuggle in a second command).
 
 use super::super::errors::{escaped, CliError, CliResult};
-use polyturn_sync::console::tag::TAG_DIGITS;
 use std::io::{ErrorKind, Read, Write};
 use std::time::{Duration, Instant};
 
-/// The firmware's line buffer (`polyturn_firmware::line::LINE_MAX`).
-pub const DEVICE_LINE_MAX: usize = polyturn_firmware::line::LINE_MAX;
-/// The longest command: the tag and its space take the rest.
-pub const COMMAND_MAX: usize = DEVICE_LINE_MAX - TAG_DIGITS - 2;
+pub use super::super::console_line::{check_command, COMMAND_MAX, DEVICE_LINE_MAX};
 /// The longest line taken from the device (its replies are at most
 /// `console::REPLY_LEN` plus the tag); anything longer is not a polyturn.
 pub const REPLY_MAX: usize = 512;
@@ -133,21 +129,3 @@ pub enum Wait {
     Failed(CliError),
 }
 use Wait::{Failed, Timeout};
-
-/// A command the board can take as one line: printable ASCII, not too long.
-pub fn check_command(command: &str) -> CliResult<()> {
-    if let Some(c) = command.chars().find(|c| c.is_control() || !c.is_ascii()) {
-        return Err(CliError(format!(
-            "the command '{}' holds {}: the board takes one line of plain ASCII",
-            escaped(command),
-            if c.is_control() { format!("a control character ({})", c.escape_default()) } else { format!("'{c}'") }
-        )));
-    }
-    if command.len() > COMMAND_MAX {
-        return Err(CliError(format!(
-            "the command is {} characters long: the board takes at most {COMMAND_MAX}",
-            command.len()
-        )));
-    }
-    Ok(())
-}

@@ -3,9 +3,9 @@
 //! interview with scripted answers.
 
 use super::*;
-use crate::cli::device::fake_machine::Machine;
 use crate::cli::device::prompt::Scripted;
 use crate::cli::device::tests::{session, FakeDevice};
+use crate::fakeboard::Machine;
 use clap::Parser;
 use polyturn_sync::Config;
 

@@ -1,4 +1,4 @@
-//! The machine behind the fake board (tests): time passes between the
+//! The machine behind the fake board (tests, the web page's): time passes between the
 //! host's commands, the lathe turns at a set speed with an index every
 //! `cpr` counts, and the step output emits what each tick planned two
 //! ticks later (`steps::pipe`), so jogs and the encoder check really run.
@@ -58,7 +58,16 @@ impl Machine {
 
     pub fn run(&mut self, ctl: &mut Controller, line: &str) {
         let checking = self.turn_for_check && line.contains("check-encoder stop");
-        for i in 0..self.ticks_per_line {
+        self.ticks(ctl, self.ticks_per_line, checking);
+    }
+
+    /// `ticks` control ticks pass with no command (a `watch` line's wait).
+    pub fn pass(&mut self, ctl: &mut Controller, ticks: usize) {
+        self.ticks(ctl, ticks, false);
+    }
+
+    fn ticks(&mut self, ctl: &mut Controller, ticks: usize, checking: bool) {
+        for i in 0..ticks {
             let before = self.lathe_milli / 1000;
             let turning = !self.turn_for_check || (checking && i >= 30_000);
             if turning {

@@ -1,0 +1,57 @@
+//! What may go to the board as one console line, and a `polyturn cam`
+//! table checked line by line before anything is sent: shared by
+//! `polyturn device` and the web page's device panel.
+
+use super::errors::{escaped, CliError, CliResult};
+use crate::noncircular::table::{CamFile, FORMAT};
+use polyturn_sync::console::tag::TAG_DIGITS;
+
+/// The firmware's line buffer (`polyturn_firmware::line::LINE_MAX`).
+pub const DEVICE_LINE_MAX: usize = polyturn_firmware::line::LINE_MAX;
+/// The longest command: the tag and its space take the rest.
+pub const COMMAND_MAX: usize = DEVICE_LINE_MAX - TAG_DIGITS - 2;
+/// A cam table file is a few tens of kB; more is not one (`/dev/zero`).
+pub const CAM_FILE_MAX: u64 = 1 << 20;
+
+/// A command the board can take as one line: printable ASCII, not too long.
+pub fn check_command(command: &str) -> CliResult<()> {
+    if let Some(c) = command.chars().find(|c| c.is_control() || !c.is_ascii()) {
+        return Err(CliError(format!(
+            "the command '{}' holds {}: the board takes one line of plain ASCII",
+            escaped(command),
+            if c.is_control() { format!("a control character ({})", c.escape_default()) } else { format!("'{c}'") }
+        )));
+    }
+    if command.len() > COMMAND_MAX {
+        return Err(CliError(format!(
+            "the command is {} characters long: the board takes at most {COMMAND_MAX}",
+            command.len()
+        )));
+    }
+    Ok(())
+}
+
+/// A `polyturn cam --table` file's text (`name` for the errors), checked:
+/// its format, and that every line it sends is one console line.
+pub fn cam_table(name: &str, text: &str) -> CliResult<CamFile> {
+    if text.len() as u64 > CAM_FILE_MAX {
+        return Err(CliError(format!(
+            "upload-cam: '{name}' is larger than {CAM_FILE_MAX} bytes: not a polyturn cam table"
+        )));
+    }
+    let table: CamFile = serde_json::from_str(text).map_err(|e| {
+        CliError(format!("upload-cam: '{name}' is not a polyturn cam table: {}", escaped(&e.to_string())))
+    })?;
+    if table.format != FORMAT {
+        return Err(CliError(format!(
+            "upload-cam: '{name}' is format '{}', this polyturn sends '{}'",
+            escaped(&table.format),
+            FORMAT
+        )));
+    }
+    // every line must go as one console line: checked before the port opens
+    for line in table.upload_lines() {
+        check_command(&line).map_err(|e| CliError(format!("upload-cam: '{name}' cannot be sent: {}", e.0)))?;
+    }
+    Ok(table)
+}

@@ -1,0 +1,135 @@
+//! The guided setup's arithmetic (issue 14): the physical facts a
+//! machinist knows (encoder lines, motor steps, microsteps, belt, top
+//! speed), the settings they make and what those mean. No board here:
+//! `polyturn device setup` asks and sends, and the web page's form sends
+//! the same settings.
+
+use super::errors::{CliError, CliResult};
+use super::figures::{self, COMMON_RATIOS};
+use super::values::{ratio, whole32, within};
+use crate::geometry::Direction;
+use polyturn_sync::{Ratio, Sense};
+
+#[derive(clap::Args, Debug, Clone)]
+pub struct SetupArgs {
+    /// Ask nothing: every fact from the flags, no checks run (for scripts)
+    #[arg(long)]
+    pub non_interactive: bool,
+    /// Encoder lines per turn, as on its label (counts = 4 x lines)
+    #[arg(long, value_name = "N", value_parser = whole32(1, 250_000), conflicts_with = "encoder_cpr")]
+    pub encoder_lines: Option<u32>,
+    /// Measured encoder counts per lathe turn (from check-encoder)
+    #[arg(long, value_name = "N", value_parser = whole32(4, 1_000_000))]
+    pub encoder_cpr: Option<u32>,
+    /// Motor full steps per turn
+    #[arg(long, value_name = "N", default_value = "200", value_parser = whole32(1, 100_000))]
+    pub motor_steps: u32,
+    /// Driver microsteps per full step
+    #[arg(long, value_name = "N", default_value = "16", value_parser = whole32(1, 512))]
+    pub microsteps: u32,
+    /// Motor turns per cutter turn (belt or gears), e.g. 2 or 40/20
+    #[arg(long, value_name = "RATIO", default_value = "1", value_parser = ratio)]
+    pub reduction: Ratio,
+    /// The lathe's fastest speed, rpm
+    #[arg(long, value_name = "RPM", value_parser = whole32(1, 10_000))]
+    pub max_lathe_rpm: Option<u32>,
+    /// The driver's shortest STEP pulse, microseconds (its datasheet)
+    #[arg(long, value_name = "US", value_parser = within(1.0, 1000.0, "us"))]
+    pub pulse_us: Option<f64>,
+    /// The driver's DIR setup time before a STEP, microseconds
+    #[arg(long, value_name = "US", value_parser = within(0.0, 1000.0, "us"))]
+    pub dir_setup_us: Option<f64>,
+    /// The cutter's sense against the chuck's (seen from the same end)
+    #[arg(long, value_name = "SENSE", default_value = "same", value_parser = crate::cli::values::direction)]
+    pub sense: Direction,
+    /// Counts fall when the lathe turns forward (check-encoder said so)
+    #[arg(long)]
+    pub encoder_reversed: bool,
+    /// With dir=same, a jog turned the cutter against the chuck's forward turn
+    #[arg(long)]
+    pub motor_reversed: bool,
+    /// Send the settings but do not save them
+    #[arg(long)]
+    pub no_save: bool,
+}
+
+/// The physical facts, however they were gathered.
+#[derive(Clone, Debug)]
+pub struct Facts {
+    pub cpr: u32,
+    pub steps: u32,
+    pub max_rpm: u32,
+    pub pulse_ns: Option<u32>,
+    pub dir_setup_ns: Option<u32>,
+    pub sense: Sense,
+    pub encoder_reversed: bool,
+    pub motor_reversed: bool,
+}
+
+pub fn from_flags(a: &SetupArgs) -> CliResult<Facts> {
+    let need = |flag: &str| CliError::flag(flag, "is needed with --non-interactive");
+    let cpr = match (a.encoder_cpr, a.encoder_lines) {
+        (Some(c), _) => c,
+        (None, Some(l)) => l * 4,
+        (None, None) => return Err(need("encoder-lines (or --encoder-cpr)")),
+    };
+    Ok(Facts {
+        cpr,
+        steps: motor_steps(a)?,
+        max_rpm: a.max_lathe_rpm.ok_or_else(|| need("max-lathe-rpm"))?,
+        pulse_ns: a.pulse_us.map(|us| (us * 1000.0).ceil() as u32),
+        dir_setup_ns: a.dir_setup_us.map(|us| (us * 1000.0).ceil() as u32),
+        sense: sense_of(a.sense),
+        encoder_reversed: a.encoder_reversed,
+        motor_reversed: a.motor_reversed,
+    })
+}
+
+pub fn sense_of(d: Direction) -> Sense {
+    match d {
+        Direction::Same => Sense::Same,
+        Direction::Opposite => Sense::Opposite,
+    }
+}
+
+pub fn motor_steps(a: &SetupArgs) -> CliResult<u32> {
+    let r = (a.reduction.num() as u64, a.reduction.den() as u64);
+    figures::steps_per_cutter_turn(a.motor_steps, a.microsteps, r).map_err(|e| CliError::flag("reduction", e))
+}
+
+/// The settings the facts make (the board checks each again).
+pub fn changes(f: &Facts) -> Vec<(String, String)> {
+    let dir = match figures::dir_setting(f.sense, f.encoder_reversed, f.motor_reversed) {
+        Sense::Same => "same",
+        Sense::Opposite => "opposite",
+    };
+    let mut c = vec![
+        ("cpr".to_string(), f.cpr.to_string()),
+        ("steps".to_string(), f.steps.to_string()),
+        ("max-rpm".to_string(), f.max_rpm.to_string()),
+        ("dir".to_string(), dir.to_string()),
+    ];
+    if let Some(p) = f.pulse_ns {
+        c.push(("pulse".into(), p.to_string()));
+    }
+    if let Some(d) = f.dir_setup_ns {
+        c.push(("dir-setup".into(), d.to_string()));
+    }
+    c
+}
+
+/// What the settings mean, for the machinist.
+pub fn summary(c: &polyturn_sync::Config, sent: &[(String, String)]) -> String {
+    let set: Vec<String> = sent.iter().map(|(n, v)| format!("{n}={v}")).collect();
+    let (n, d) = figures::steps_per_count(c);
+    let mut out = vec![
+        format!("set: {}", set.join(" ")),
+        format!("at ratio {}: {n}/{d} motor steps per encoder count", c.ratio),
+        format!("fastest lathe speed (max-rate {} steps/s, max-rpm {}):", c.max_step_rate_hz, c.max_lathe_rpm),
+    ];
+    for &(num, den, what) in COMMON_RATIOS {
+        let r = if den == 1 { format!("{num}") } else { format!("{num}/{den}") };
+        out.push(format!("  ratio {r:>4}: {:>5} rpm  {what}", figures::fastest_lathe_rpm(c, num, den)));
+    }
+    out.join("\n")
+}

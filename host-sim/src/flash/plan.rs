@@ -1,0 +1,105 @@
+//! What a flash will send, decided before the first request: the device
+//! checked (DfuSe 1.1a, its flash at FLASH_BASE, pages that end by the
+//! settings), the image padded to whole transfers and the sectors its
+//! erase takes. Shared by `polyturn flash` (`dfuse.rs`) and the web page,
+//! which runs the same requests over WebUSB.
+
+use super::image::Image;
+use super::{APP_END, FLASH_BASE};
+use dfu_core::functional_descriptor::FunctionalDescriptor;
+use dfu_core::memory_layout::mem;
+use dfu_core::DfuProtocol;
+
+/// What goes over the wire: the image padded with 0xFF (erased flash) to
+/// whole transfers, so that every DNLOAD and UPLOAD block is full size and
+/// block n is at FLASH_BASE + (n − 2) × wTransferSize (AN3156 §4.1, §5.1)
+/// whichever size the ROM counts with.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Plan {
+    pub bytes: Vec<u8>,
+    pub transfer: usize,
+    pub sectors: usize,
+    /// where each erased page starts (AN3156 §5.3: one erase per page)
+    pub pages: Vec<u32>,
+}
+
+/// Refuses a device whose erase would reach the settings: the device's
+/// pages are erased from its start address until the image's end is
+/// covered, so those pages must end by APP_END.
+pub fn plan<M: AsRef<mem>>(d: &FunctionalDescriptor, protocol: &DfuProtocol<M>, image: &Image) -> Result<Plan, String> {
+    let transfer = usize::from(d.transfer_size);
+    if d.dfu_version != (0x01, 0x1A) || !d.can_download || !d.can_upload || transfer < 64 {
+        return Err(format!(
+            "not the STM32 ROM bootloader's DfuSe 1.1a: version {:x?}, transfer size {transfer}",
+            d.dfu_version
+        ));
+    }
+    let DfuProtocol::Dfuse { address, memory_layout } = protocol else {
+        return Err("the device speaks plain DFU, not DfuSe".into());
+    };
+    if image.base != FLASH_BASE || *address != FLASH_BASE {
+        return Err(format!("the device's flash starts at 0x{address:08x}, not 0x{FLASH_BASE:08x}"));
+    }
+    let mut bytes = image.bytes.clone();
+    bytes.resize(bytes.len().div_ceil(transfer) * transfer, 0xFF);
+    let end = u64::from(FLASH_BASE) + bytes.len() as u64;
+    let (mut erased_end, mut pages) = (u64::from(FLASH_BASE), Vec::new());
+    for page in memory_layout.as_ref() {
+        if erased_end >= end {
+            break;
+        }
+        pages.push(erased_end as u32);
+        erased_end += u64::from(*page);
+    }
+    if erased_end < end {
+        return Err(format!("the device's flash ends at 0x{erased_end:08x}, before the image does"));
+    }
+    if erased_end > u64::from(APP_END) {
+        let why = format!("the device's flash pages would erase up to 0x{erased_end:08x}, past 0x{APP_END:08x}");
+        return Err(format!("{why} (sectors 6-7 keep the settings)"));
+    }
+    Ok(Plan { bytes, transfer, sectors: pages.len(), pages })
+}
+
+/// The STM32 ROM's functional descriptor and the interface string as
+/// WebUSB gives them (`interfaceName`), for the web page's plan.
+pub fn plan_from_strings(interface: &str, transfer_size: u16, image: &Image) -> Result<Plan, String> {
+    let protocol = DfuProtocol::new(interface, (0x01, 0x1A))
+        .map_err(|e| format!("the device's interface '{interface}' is not a DfuSe memory layout: {e}"))?;
+    let d = FunctionalDescriptor {
+        can_download: true,
+        can_upload: true,
+        manifestation_tolerant: false,
+        will_detach: true,
+        detach_timeout: 255,
+        transfer_size,
+        dfu_version: (0x01, 0x1A),
+    };
+    plan(&d, &protocol, image)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::flash::fake::INTERFACE;
+    use crate::flash::image::Format;
+    use crate::flash::testkit::good;
+
+    #[test]
+    fn the_web_plan_pads_to_whole_transfers_and_erases_the_pages_the_image_covers() {
+        let image = crate::flash::image::from_bytes(&good(40 * 1024 + 1), Format::Bin, false).unwrap();
+        let p = plan_from_strings(INTERFACE, 2048, &image).unwrap();
+        assert_eq!(p.bytes.len(), 42 * 1024, "41 KiB rounds up to 21 transfers of 2 KiB");
+        assert!(p.bytes[40 * 1024 + 1..].iter().all(|&b| b == 0xFF));
+        assert_eq!(p.pages, vec![0x0800_0000, 0x0800_4000, 0x0800_8000], "three 16 KiB sectors");
+    }
+
+    #[test]
+    fn a_device_whose_pages_would_erase_the_settings_is_refused() {
+        let image = crate::flash::image::from_bytes(&good(1024), Format::Bin, false).unwrap();
+        let e = plan_from_strings("@Internal Flash  /0x08000000/01*512Kg", 2048, &image).unwrap_err();
+        assert!(e.contains("past 0x08040000 (sectors 6-7 keep the settings)"), "{e}");
+        let e = plan_from_strings("not a layout", 2048, &image).unwrap_err();
+        assert!(e.starts_with("the device's interface 'not a layout'"), "{e}");
+    }
+}

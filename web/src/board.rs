@@ -1,0 +1,96 @@
+//! The fake serial port the page's device panel is tested against: the
+//! real sync core's console and controller behind the firmware's framing
+//! (`polyturn_host::fakeboard`), time passing on a machine model between
+//! commands and while `watch` streams.
+
+use polyturn_host::fakeboard::{FakeDevice, Machine};
+use std::io::Write;
+use wasm_bindgen::prelude::*;
+
+/// Control ticks (25 kHz) that pass before each command: 10 ms.
+const TICKS_PER_LINE: usize = 250;
+
+#[wasm_bindgen]
+pub struct FakeBoard {
+    dev: FakeDevice,
+}
+
+impl Default for FakeBoard {
+    fn default() -> FakeBoard {
+        FakeBoard::new()
+    }
+}
+
+#[wasm_bindgen]
+impl FakeBoard {
+    /// A board just started with the default settings, its lathe at rest
+    /// but for the encoder check (`check-encoder stop` turns it first).
+    #[wasm_bindgen(constructor)]
+    pub fn new() -> FakeBoard {
+        let mut dev = FakeDevice::new();
+        let mut machine = Machine::new(TICKS_PER_LINE);
+        machine.turn_for_check = true;
+        dev.machine = Some(machine);
+        FakeBoard { dev }
+    }
+
+    /// Bytes from the host (what WebSerial's writer sends).
+    pub fn write(&mut self, data: &[u8]) {
+        let _ = self.dev.write(data);
+    }
+
+    /// The replies the board has sent since the last read.
+    pub fn read(&mut self) -> Vec<u8> {
+        self.dev.take_replies()
+    }
+
+    /// While `watch` runs, its next status line (a tenth of a second
+    /// passes on the machine); empty otherwise. The port calls it at 10 Hz.
+    pub fn watch_line(&mut self) -> Vec<u8> {
+        self.dev.watch_line()
+    }
+
+    /// The lathe's speed when it turns, in thousandths of a count per
+    /// control tick, and how many ticks pass before each command (the
+    /// encoder check needs 1.2 s of rest and a turn: 60 000 ticks).
+    pub fn set_machine(&mut self, counts_per_tick_x1000: i32, ticks_per_line: u32) {
+        if let Some(m) = &mut self.dev.machine {
+            m.counts_per_tick_x1000 = i64::from(counts_per_tick_x1000);
+            m.ticks_per_line = ticks_per_line as usize;
+        }
+    }
+
+    /// Every command line the board received, in order.
+    pub fn received(&self) -> Vec<String> {
+        self.dev.received.clone()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_fake_board_answers_tagged_lines_as_the_firmware_does() {
+        let mut b = FakeBoard::new();
+        b.write(b"#7 set cpr 0\r\n#8 get cpr\r\n");
+        let out = String::from_utf8(b.read()).unwrap();
+        let lines: Vec<&str> = out.split("\r\n").collect();
+        assert!(lines[0].starts_with("#7 error: cpr"), "{out}");
+        assert_eq!(lines[1], "#8 ok cpr=2400");
+        assert_eq!(b.received(), vec!["#7 set cpr 0", "#8 get cpr"]);
+    }
+
+    #[test]
+    fn watch_streams_real_status_lines_until_the_next_command() {
+        let mut b = FakeBoard::new();
+        b.write(b"watch\n");
+        let reply = String::from_utf8(b.read()).unwrap();
+        let status = String::from_utf8(b.watch_line()).unwrap();
+        assert!(reply.starts_with("ok") && status.starts_with("ok state=idle fault=none"), "{reply} / {status}");
+        assert!(b.read().is_empty(), "nothing more until a command");
+        b.write(b"#1 get ratio\n");
+        assert_eq!(String::from_utf8(b.read()).unwrap(), "#1 ok ratio=2\r\n");
+        assert!(b.watch_line().is_empty(), "a command ends the watch");
+    }
+}

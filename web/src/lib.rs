@@ -1,0 +1,58 @@
+//! polyturn in the browser: the host library compiled to WebAssembly for
+//! the page in `www/`. Nothing here computes geometry or speaks the
+//! protocol itself: each export hands the page what the `polyturn` command
+//! line or the real sync core gives, so the page and the CLI cannot differ.
+//!
+//! - `run`: any `polyturn` command line (geometry, setups, simulate, cam,
+//!   compensate, sequence), its output and the files it would write;
+//! - `check_setting`: the sync core's own `set` validation and message;
+//! - `cam_lines`: a `polyturn cam --table` file as the console lines it sends;
+//! - `flash_plan`: an image checked and planned for the ROM's DfuSe;
+//! - `FakeBoard`, `FakeDfu`: the real console and a fake ROM bootloader,
+//!   behind the byte streams WebSerial and WebUSB give, for the page's tests.
+
+use wasm_bindgen::prelude::*;
+
+mod board;
+mod commands;
+mod flash;
+mod settings;
+
+pub use board::FakeBoard;
+pub use commands::run_args;
+pub use flash::{plan_image, FakeDfu};
+pub use settings::setting_error;
+
+/// `polyturn <args>`: Ok is `{"out": text, "files": {name: text}}`, Err the
+/// CLI's one-line error (without `error: `).
+#[wasm_bindgen]
+pub fn run(args: Vec<String>) -> Result<String, String> {
+    run_args(&args)
+}
+
+/// The console's error for `set <name> <value>` on a board whose `get`
+/// reply is `settings`, or undefined if the board would take it.
+#[wasm_bindgen]
+pub fn check_setting(settings: &str, name: &str, value: &str) -> Option<String> {
+    setting_error(settings, name, value)
+}
+
+/// The guided setup's settings from the machinist's facts (the flags of
+/// `polyturn device setup`) and the board's `get` reply.
+#[wasm_bindgen]
+pub fn guided_setup(args: Vec<String>, settings: &str) -> Result<String, String> {
+    settings::guided(&args, settings)
+}
+
+/// The console lines that upload a `polyturn cam --table` file.
+#[wasm_bindgen]
+pub fn cam_lines(name: &str, text: &str) -> Result<Vec<String>, String> {
+    let table = polyturn_host::cli::console_line::cam_table(name, text).map_err(|e| e.0)?;
+    Ok(table.upload_lines())
+}
+
+/// The longest command line the board takes (tag excluded).
+#[wasm_bindgen]
+pub fn command_max() -> usize {
+    polyturn_host::cli::console_line::COMMAND_MAX
+}

@@ -1,0 +1,269 @@
+// The page in headless Chromium (Debian's), driven by playwright-core: it
+// loads without console errors; its planner, preview and simulation give
+// what the `polyturn` command line gives; its device panel works against
+// the real sync core's console behind a fake WebSerial port; its DfuSe
+// layer flashes and verifies a fake ROM bootloader. `node e2e.mjs`, after
+// `bash web/build` and `cargo build -p polyturn-host`. SCREENSHOTS=dir
+// also saves the views as PNGs (the README's are docs/web-*.png).
+import { chromium } from 'playwright-core';
+import { spawn, execFileSync } from 'node:child_process';
+import { mkdtempSync, writeFileSync, readFileSync } from 'node:fs';
+import { tmpdir } from 'node:os';
+import { join } from 'node:path';
+import assert from 'node:assert/strict';
+
+const ROOT = new URL('../..', import.meta.url).pathname;
+const POLYTURN = process.env.POLYTURN ?? join(ROOT, 'target/debug/polyturn');
+const SHOTS = process.env.SCREENSHOTS;
+const TMP = mkdtempSync(join(tmpdir(), 'polyturn-web-'));
+const cli = (...args) => JSON.parse(execFileSync(POLYTURN, [...args.map(String), '--json'], { encoding: 'utf8' }));
+const close = (a, b, what) => assert.ok(Math.abs(a - b) <= 1e-9 * Math.max(1, Math.abs(b)), `${what}: page ${a}, CLI ${b}`);
+
+const server = spawn(POLYTURN, ['web', '--no-open', '--port', '0', '--dir', join(ROOT, 'web/www')]);
+const url = await new Promise((resolve, reject) => {
+  server.stdout.on('data', (d) => { const m = /http:\/\/\S+/.exec(String(d)); if (m) resolve(m[0]); });
+  server.on('exit', (c) => reject(new Error(`polyturn web exited ${c}`)));
+  setTimeout(() => reject(new Error('polyturn web printed no address in 10 s')), 10000);
+});
+const browser = await chromium.launch({
+  executablePath: process.env.CHROMIUM ?? '/usr/bin/chromium',
+  args: ['--no-sandbox', '--disable-gpu', '--disable-quic', '--no-first-run', '--disable-background-networking',
+    '--disable-component-update', '--disable-sync'],
+});
+const page = await browser.newPage({ viewport: { width: 1280, height: 900 }, acceptDownloads: true });
+const errors = [];
+page.on('console', (m) => { if (m.type() === 'error') errors.push(m.text()); });
+page.on('pageerror', (e) => errors.push(String(e)));
+// WebSerial's port chooser, answered with the real console (fakeport.js)
+await page.addInitScript(() => {
+  Object.defineProperty(navigator, 'serial', {
+    configurable: true,
+    value: { requestPort: async () => { const port = await (await import('/js/fakeport.js')).fakeSerialPort(); window.testBoard = port.board; return port; } },
+  });
+});
+
+const results = [];
+async function test(name, f) {
+  const t0 = Date.now();
+  try {
+    await f();
+    results.push([name, 'ok']);
+    console.log(`ok   ${name} (${Date.now() - t0} ms)`);
+  } catch (e) {
+    results.push([name, 'FAILED']);
+    const log = await page.textContent('#log').catch(() => '');
+    console.log(`FAIL ${name}\n     ${String(e.stack ?? e).split("\n").slice(0, 24).join('\n     ')}\n     console log: ${log.split('\n').slice(-10).join(' | ')}`);
+  }
+}
+const shot = async (name) => { if (SHOTS) await page.evaluate(() => window.scrollTo(0, 0)); if (SHOTS) await page.screenshot({ path: join(SHOTS, `web-${name}.png`), fullPage: false }); };
+const tab = (name) => page.click(`nav button[data-tab=${name}]`);
+const setValue = (sel, v) => page.$eval(sel, (el, v) => { el.value = v; el.dispatchEvent(new Event('input', { bubbles: true })); el.dispatchEvent(new Event('change', { bubbles: true })); }, String(v));
+
+const loaded = [];
+page.on('requestfinished', (r) => loaded.push(r.url().split('/').pop()));
+page.on('requestfailed', (r) => loaded.push(`FAILED ${r.url()} ${r.failure()?.errorText}`));
+await page.goto(url, { timeout: 60000 }).catch((e) => { console.log(`the page did not load: ${loaded.join(' ')}`); throw e; });
+await page.waitForSelector('body[data-ready=yes]', { timeout: 30000 });
+
+let chosen;
+await test('the planner table is polyturn setups --json', async () => {
+  await page.fill('#plan-form [name=sides]', '6');
+  await page.fill('#plan-form [name=stock-radius]', '20');
+  await page.fill('#plan-form [name=across-flats]', '30');
+  await page.fill('#plan-form [name=rpm]', '600');
+  await page.click('#plan-form button[type=submit]');
+  const want = cli('setups', '--sides', 6, '--stock-radius', 20, '--across-flats', 30, '--rpm', 600, '--tolerance', 0.01, '--max-edges', 6, '--max-ratio', 8);
+  await page.waitForFunction((n) => document.querySelectorAll('#setups tbody tr').length === n, want.setups.length);
+  const rows = await page.$$eval('#setups tbody tr', (trs) => trs.map((tr) => [...tr.children].map((td) => td.textContent)));
+  assert.ok(want.setups.length >= 3, 'a hexagon has several setups');
+  want.setups.forEach((s, i) => {
+    assert.deepEqual(rows[i].slice(0, 5), [s.ratio, String(s.edges), s.direction, String(s.revolutions), s.flat_deviation.toFixed(4)], `row ${i}`);
+    assert.equal(rows[i][8], s.min_cutter_radius === null ? '–' : s.min_cutter_radius.toFixed(1), `row ${i} smallest R1`);
+  });
+  chosen = { ...want.setups[0], cutter_radius: want.cutter_radius, stock: 20 };
+  await shot('plan');
+});
+
+const geometry = (s) => cli('geometry', '--cutter-radius', s.cutter_radius, '--stock-radius', s.stock, '--depth', s.depth, '--ratio', s.ratio, '--edges', s.edges, '--direction', s.direction);
+const previewJson = () => page.$eval('#figures', (el) => JSON.parse(el.dataset.json ?? 'null'));
+
+await test('a chosen setup previews with the figures of polyturn geometry --json', async () => {
+  await page.click('#setups tbody tr:first-child');
+  await page.waitForSelector('#preview.tab.active');
+  await page.waitForFunction((d) => JSON.parse(document.querySelector('#figures').dataset.json ?? 'null')?.depth === d, chosen.depth);
+  assert.deepEqual(await previewJson(), geometry(chosen));
+  const af = await page.textContent('#figures dd:nth-of-type(2)');
+  assert.equal(af, `${geometry(chosen).across_flats.toFixed(4)} mm`);
+  assert.ok(await page.$('#section-svg svg path'), 'the section is drawn');
+  await page.waitForFunction(() => /^\d/.test(document.querySelector('[data-min-r1]')?.textContent ?? ''));
+  assert.equal(await page.textContent('[data-min-r1]'), `${chosen.min_cutter_radius.toFixed(1)} mm for 0.01 mm`);
+  await shot('preview');
+});
+
+await test('the sliders redraw the preview as polyturn geometry draws it, and it exports SVG', async () => {
+  const times = [];
+  for (const depth of [4, 4.5, 3, 6, 5.5, 2, 7, 3.5, 4.25, 5]) {
+    await setValue('#preview-form [name=depth]', depth);
+    await page.waitForFunction((d) => JSON.parse(document.querySelector('#figures').dataset.json ?? 'null')?.depth === d, depth);
+    times.push(Number(await page.getAttribute('body', 'data-redraw-ms')));
+  }
+  assert.deepEqual(await previewJson(), geometry({ ...chosen, depth: 5 }));
+  await setValue('#preview-form [name=direction]', 'opposite');
+  await page.waitForFunction(() => JSON.parse(document.querySelector('#figures').dataset.json).direction === 'opposite');
+  assert.deepEqual(await previewJson(), geometry({ ...chosen, depth: 5, direction: 'opposite' }));
+  times.sort((a, b) => a - b);
+  console.log(`     preview redraw: median ${times[5].toFixed(1)} ms, worst ${times[times.length - 1].toFixed(1)} ms (goal < 50 ms)`);
+  const [download] = await Promise.all([page.waitForEvent('download'), page.click('#export-svg')]);
+  const file = join(TMP, 'section.svg');
+  await download.saveAs(file);
+  assert.match(readFileSync(file, 'utf8'), /^<svg[^>]*xmlns="http:\/\/www.w3.org\/2000\/svg"/);
+  await setValue('#preview-form [name=direction]', chosen.direction);
+});
+
+await test('a simulation runs in the worker and reports what polyturn simulate --json reports', async () => {
+  await tab('simulate');
+  await page.fill('#sim-form [name=revolutions]', '10');
+  await page.fill('#sim-form [name=seed]', '7');
+  await page.click('#sim-form button[type=submit]');
+  // the page answers while the worker simulates
+  const t0 = Date.now();
+  const state = await page.getAttribute('body', 'data-sim');
+  assert.equal(state, 'running');
+  await page.evaluate(() => 1);
+  assert.ok(Date.now() - t0 < 1000, 'the page stayed responsive');
+  await page.waitForSelector('body[data-sim=done]', { timeout: 120000 });
+  const got = await page.$eval('#sim-figures', (el) => JSON.parse(el.dataset.json));
+  const want = cli('simulate', '--cutter-radius', chosen.cutter_radius, '--stock-radius', 20, '--depth', 5, '--ratio', chosen.ratio, '--edges', chosen.edges,
+    '--direction', chosen.direction, '--rpm', 600, '--revolutions', 10, '--ripple', 0.02, '--start', 'rest', '--drive', 'stepper', '--seed', 7);
+  for (const k of ['ticks', 'steps_emitted', 'encoder_counts', 'synced_ticks', 'final_error_steps']) assert.equal(got[k], want[k], k);
+  for (const k of ['max_error_steps', 'max_error_deg', 'max_profile_deviation']) close(got[k], want[k], k);
+  assert.equal(got.cut.sides, want.cut.sides);
+  assert.deepEqual(got.faults, want.faults);
+  assert.ok(await page.$('#sim-svg svg'), 'the section and the phase error are drawn');
+  await shot('simulate');
+});
+
+const status = () => page.getAttribute('#status', 'data-state');
+const received = () => page.evaluate(() => window.testBoard.received());
+await test('the device panel connects to the real console and shows its live status', async () => {
+  await tab('device');
+  await page.click('#connect');
+  await page.waitForFunction(() => document.querySelector('#status')?.dataset.state === 'idle', null, { timeout: 10000 });
+  await page.waitForSelector('#settings input[name=ratio]');
+  assert.equal(await page.inputValue('#settings input[name=cpr]'), '2400');
+  await page.waitForFunction(() => document.querySelectorAll('#phase-plot polyline').length === 1);
+  assert.ok((await received()).some((l) => / watch$/.test(l)), 'the panel watches');
+});
+
+await test('a setting is set on the board; a bad one is refused in the console\'s words and never sent', async () => {
+  await page.fill('#settings input[name=ratio]', '5/2');
+  await page.click('#settings button[data-name=ratio]');
+  await page.waitForFunction(() => document.querySelector('#settings input[name=ratio]').value === '5/2' && document.querySelector('#settings-error').textContent.startsWith('ok'));
+  assert.ok((await received()).some((l) => / set ratio 5\/2$/.test(l)));
+  await page.fill('#settings input[name=cpr]', '0');
+  await page.waitForFunction(() => document.querySelector('#settings-error').textContent.startsWith('error'));
+  const shown = await page.textContent('#settings-error');
+  const console_says = await page.evaluate(async () => {
+    const w = await import('/pkg/polyturn_web.js');
+    const b = new w.FakeBoard();
+    b.write(new TextEncoder().encode('set cpr 0\n'));
+    return new TextDecoder().decode(b.read()).trim();
+  });
+  assert.equal(shown, console_says);
+  assert.match(shown, /^error: cpr/);
+  await page.click('#settings button[data-name=cpr]');
+  await page.waitForTimeout(300);
+  assert.ok(!(await received()).some((l) => / set cpr 0$/.test(l)), 'the refused value never reached the board');
+  await page.fill('#settings input[name=cpr]', '2400');
+});
+
+await test('engage and stop change the board\'s state', async () => {
+  await page.click('#engage');
+  await page.waitForFunction(() => !['idle', null].includes(document.querySelector('#status').dataset.state), null, { timeout: 5000 });
+  await page.click('#stop');
+  await page.waitForFunction(() => document.querySelector('#status').dataset.state === 'idle', null, { timeout: 5000 });
+});
+
+await test('the encoder check runs on the board and shows its figures', async () => {
+  await page.evaluate(() => window.testBoard.set_machine(300, 60000)); // 3.75 turns after 1.2 s at rest
+  await page.click('#check-start');
+  await page.waitForFunction(() => document.querySelector('#check-result').textContent.startsWith('ok encoder check started'));
+  await page.click('#check-stop');
+  await page.waitForFunction(() => / moved=/.test(document.querySelector('#check-result').textContent), null, { timeout: 10000 });
+  assert.match(await page.textContent('#check-result'), /moved=9000 backward=0 .*cpr=2400/);
+  await page.evaluate(() => window.testBoard.set_machine(0, 250));
+});
+
+await test('the guided setup sends the settings polyturn device setup derives', async () => {
+  await page.fill('#guided [name=lines]', '500');
+  await page.fill('#guided [name=microsteps]', '8');
+  await page.click('#guided button[type=submit]');
+  await page.waitForFunction(() => document.querySelector('#guided-result').textContent.includes('not saved yet'), null, { timeout: 10000 });
+  assert.match(await page.textContent('#guided-result'), /set: .*cpr=2000/);
+  await page.waitForFunction(() => document.querySelector('#settings input[name=cpr]')?.value === '2000');
+  assert.equal(await page.inputValue('#settings input[name=steps]'), '1600');
+  await shot('device');
+});
+
+await test('a cam table from polyturn cam uploads through the console', async () => {
+  const table = join(TMP, 'cam.json');
+  execFileSync(POLYTURN, ['cam', '--sides', '4', '--inscribed-radius', '10', '--rpm', '60', '--x-max-speed', '15', '--x-max-accel', '5000', '--encoder-counts', '2000', '--table', table]);
+  await page.setInputFiles('#cam-file', table);
+  await page.click('#cam-upload');
+  await page.waitForFunction(() => /^(uploaded|error)/.test(document.querySelector('#cam-result').textContent), null, { timeout: 30000 });
+  const result = await page.textContent('#cam-result');
+  assert.match(result, /^uploaded \d+ lines: ok/, `${result}\n${(await received()).slice(-6).join('\n')}\n${(await page.textContent('#log')).split('\n').slice(-8).join('\n')}`);
+  assert.ok((await received()).some((l) => / cam begin /.test(l)));
+});
+
+await test('the DfuSe layer writes, verifies and leaves a fake ROM bootloader', async () => {
+  const r = await page.evaluate(async () => {
+    const w = await import('/pkg/polyturn_web.js');
+    const { flash } = await import('/js/dfu.js');
+    const rom = new w.FakeDfu(0, 0);
+    rom.preload(0x08000000, new Uint8Array(64).fill(0x55)); // an older image
+    const plan = w.flash_plan('polyturn.bin', w.FakeDfu.sample_image(40000), rom.interface(), rom.transfer_size());
+    const t = { controlIn: async (q, v, n) => rom.control_in(q, v, n), controlOut: async (q, v, d) => rom.control_out(q, v, d) };
+    const phases = [];
+    const out = await flash(t, plan, (p) => { if (phases.at(-1) !== p.phase) phases.push(p.phase); });
+    const back = rom.read(0x08000000, plan.bytes.length);
+    return { out, phases, same: back.every((b, i) => b === plan.bytes[i]), len: plan.bytes.length, events: rom.events() };
+  });
+  assert.deepEqual(r.out, { left: 'manifest' });
+  assert.deepEqual(r.phases, ['erase', 'write', 'verify', 'leave']);
+  assert.ok(r.same, 'flash holds the image');
+  assert.equal(r.len, 40960, 'padded to whole 2 KiB transfers');
+  assert.deepEqual(r.events.filter((e) => e.startsWith('Erase')), ['Erase(134217728)', 'Erase(134234112)', 'Erase(134250496)'], 'sectors 0-2 only');
+  assert.equal(r.events.at(-1), 'Leave');
+});
+
+await test('a byte that reads back wrong fails the flash naming its address', async () => {
+  const e = await page.evaluate(async () => {
+    const w = await import('/pkg/polyturn_web.js');
+    const { flash } = await import('/js/dfu.js');
+    const rom = new w.FakeDfu(0x08000100, 0x01);
+    const plan = w.flash_plan('polyturn.bin', w.FakeDfu.sample_image(4096), rom.interface(), rom.transfer_size());
+    const t = { controlIn: async (q, v, n) => rom.control_in(q, v, n), controlOut: async (q, v, d) => rom.control_out(q, v, d) };
+    try { await flash(t, plan); return 'no error'; } catch (err) { return { msg: err.message, events: rom.events() }; }
+  });
+  assert.match(e.msg, /^verify failed at 0x08000100: wrote 0x[0-9a-f]{2}, read back 0x[0-9a-f]{2}$/);
+  assert.ok(!e.events.includes('Leave'), 'the board stays in its bootloader');
+});
+
+await test('a file that is no polyturn image is refused before any request', async () => {
+  const e = await page.evaluate(async () => {
+    const w = await import('/pkg/polyturn_web.js');
+    try { w.flash_plan('notes.bin', new TextEncoder().encode('hello'), new w.FakeDfu(0, 0).interface(), 2048); return 'taken'; } catch (err) { return String(err); }
+  });
+  assert.match(e, /^notes\.bin /);
+});
+
+await test('the page logged no errors', async () => {
+  assert.deepEqual(errors, []);
+});
+
+await browser.close();
+server.kill();
+const failed = results.filter(([, r]) => r !== 'ok');
+console.log(`${results.length - failed.length} passed, ${failed.length} failed`);
+process.exit(failed.length ? 1 : 0);

@@ -1,0 +1,188 @@
+// Device: the board's console over WebSerial (Chromium): status and the
+// live phase error, the settings form checked by the sync core's own `set`
+// (WebAssembly) before anything is sent, engage/stop/save, the encoder
+// check, the guided setup, and a cam table upload.
+import { load, dl } from './polyturn.js';
+import { Session, pairs } from './serial.js';
+import { fakeSerialPort } from './fakeport.js';
+
+const SAVE_WAIT_MS = 5000; // a sector erase (DS10314 t_ERASE128KB) and more
+const PLOT_POINTS = 300; // 30 s of watch at 10 Hz
+let session = null;
+let settings = '';
+const phase = [];
+
+const $ = (id) => document.getElementById(id);
+
+export function init() {
+  const supported = 'serial' in navigator;
+  $('serial-support').textContent = supported
+    ? 'Connect the board by USB and choose its port (polyturn console).'
+    : 'This browser has no WebSerial: use Chromium, Chrome or Edge for the device panel (or `polyturn device`).';
+  $('connect').disabled = !supported;
+  $('connect').addEventListener('click', () => connect(() => navigator.serial.requestPort()));
+  $('simulated').addEventListener('click', () => connect(fakeSerialPort));
+  $('engage').addEventListener('click', () => command('engage'));
+  $('stop').addEventListener('click', () => command('stop'));
+  $('clear').addEventListener('click', () => command('clear'));
+  $('save').addEventListener('click', () => command('save', SAVE_WAIT_MS));
+  $('check-start').addEventListener('click', () => command('check-encoder start', undefined, 'check-result'));
+  $('check-stop').addEventListener('click', () => command('check-encoder stop', 5000, 'check-result'));
+  $('guided').addEventListener('submit', (e) => { e.preventDefault(); guided(); });
+  $('cam-upload').addEventListener('click', uploadCam);
+}
+
+async function connect(choose) {
+  try {
+    const port = await choose();
+    session = await Session.open(port);
+    session.onLine = onStatus;
+    session.onClose = () => log('the port closed');
+    for (const b of document.querySelectorAll('#device button, #guided button')) b.disabled = false;
+    $('connect').textContent = port.getInfo?.().simulated ? 'Connected to the simulated board' : 'Connected';
+    $('connect').disabled = true;
+    $('simulated').disabled = true;
+    await refreshSettings();
+    await watch();
+  } catch (e) {
+    log(`connect: ${e.message ?? e}`);
+  }
+}
+
+function log(text) {
+  const el = $('log');
+  el.textContent = `${el.textContent}${text}\n`.split('\n').slice(-200).join('\n');
+  el.scrollTop = el.scrollHeight;
+}
+
+// Any command stops `watch` on the board; it starts again once no
+// command is waiting.
+let inflight = 0;
+async function ask(cmd, wait) {
+  inflight++;
+  log(`> ${cmd}`);
+  try {
+    const r = await session.ask(cmd, wait);
+    log(r);
+    return r;
+  } catch (e) {
+    log(e.message);
+    throw e;
+  } finally {
+    inflight--;
+    setTimeout(() => { if (inflight === 0) watch(); }, 0);
+  }
+}
+
+async function watch() {
+  try { await session.ask('watch'); } catch { /* the next command shows why */ }
+}
+
+async function command(cmd, wait, target) {
+  const out = target ? $(target) : null;
+  try {
+    const r = await ask(cmd, wait);
+    if (out) out.textContent = r;
+  } catch (e) {
+    if (out) out.textContent = e.message;
+  }
+  if (cmd === 'save' || cmd.startsWith('set')) await refreshSettings();
+}
+
+function onStatus(line) {
+  if (!line.startsWith('ok state=')) return log(line);
+  const s = pairs(line);
+  dl($('status'), [
+    ['state', s.state], ['fault', s.fault + (s.reason ? `: ${s.reason}` : '')],
+    ['lathe', `${s.lathe_rpm} rpm`], ['cutter', `${s.cutter_rpm} rpm`],
+    ['phase error', `${s.phase_err_steps} steps`], ['target / cutter', `${s.target} / ${s.cutter} steps`],
+    ['index seen', s.indexed],
+  ]);
+  $('status').dataset.state = s.state;
+  phase.push(Number(s.phase_err_steps));
+  if (phase.length > PLOT_POINTS) phase.shift();
+  plot();
+}
+
+// The phase error over the last 30 s, axes labelled in steps and seconds.
+function plot() {
+  const svg = $('phase-plot');
+  const [w, h, left, bottom] = [420, 180, 50, 30];
+  const span = Math.max(0.5, ...phase.map(Math.abs));
+  const x = (i) => left + ((w - left - 10) * i) / (PLOT_POINTS - 1);
+  const y = (v) => (h - bottom) / 2 - ((h - bottom) / 2 - 8) * (v / span);
+  const pts = phase.map((v, i) => `${x(i + PLOT_POINTS - phase.length).toFixed(1)},${y(v).toFixed(1)}`).join(' ');
+  svg.innerHTML = `<line x1="${left}" y1="${y(0)}" x2="${w - 10}" y2="${y(0)}" stroke="#999"/>
+    <line x1="${left}" y1="8" x2="${left}" y2="${h - bottom}" stroke="#333"/>
+    <text x="${left - 4}" y="${y(span) + 4}" text-anchor="end" font-size="11">+${span.toFixed(2)}</text>
+    <text x="${left - 4}" y="${y(-span) + 4}" text-anchor="end" font-size="11">-${span.toFixed(2)}</text>
+    <text x="${left - 4}" y="${y(0) + 4}" text-anchor="end" font-size="11">0</text>
+    <text x="14" y="${(h - bottom) / 2}" font-size="11" transform="rotate(-90 14 ${(h - bottom) / 2})" text-anchor="middle">phase error, steps</text>
+    <text x="${left}" y="${h - 8}" font-size="11">−30 s</text><text x="${w - 10}" y="${h - 8}" font-size="11" text-anchor="end">now</text>
+    <text x="${(w + left) / 2}" y="${h - 8}" font-size="11" text-anchor="middle">time</text>
+    <polyline fill="none" stroke="#c33" stroke-width="1.5" points="${pts}"/>`;
+}
+
+async function refreshSettings() {
+  settings = await ask('get');
+  const form = $('settings');
+  const rows = Object.entries(pairs(settings)).flatMap(([name, value]) => {
+    const label = document.createElement('label');
+    label.textContent = name;
+    const input = document.createElement('input');
+    Object.assign(input, { name, value });
+    input.addEventListener('input', () => validate(input));
+    const set = document.createElement('button');
+    set.type = 'button';
+    set.textContent = 'Set';
+    set.dataset.name = name;
+    set.addEventListener('click', () => setOne(input));
+    return [label, input, set];
+  });
+  form.replaceChildren(...rows);
+}
+
+// The sync core's own `set`, on the board's settings, in WebAssembly.
+async function validate(input) {
+  const error = (await load()).check_setting(settings, input.name, input.value.trim());
+  input.classList.toggle('bad', !!error);
+  $('settings-error').textContent = error ?? '';
+  return error;
+}
+
+async function setOne(input) {
+  if (await validate(input)) return; // refused here: nothing is sent
+  await command(`set ${input.name} ${input.value.trim()}`, undefined, 'settings-error');
+}
+
+async function guided() {
+  const f = $('guided').elements;
+  const args = ['--encoder-lines', f.lines.value, '--motor-steps', f['motor-steps'].value, '--microsteps', f.microsteps.value,
+    '--reduction', f.reduction.value, '--max-lathe-rpm', f['max-rpm'].value];
+  const out = $('guided-result');
+  try {
+    const plan = JSON.parse((await load()).guided_setup(args, settings));
+    for (const [name, value] of plan.order) await ask(`set ${name} ${value}`);
+    out.textContent = `${plan.summary}\nnot saved yet: Save to flash keeps them.`;
+    await refreshSettings();
+  } catch (e) {
+    out.textContent = `error: ${e.message ?? e}`;
+  }
+}
+
+async function uploadCam() {
+  const file = $('cam-file').files[0];
+  const out = $('cam-result');
+  if (!file) { out.textContent = 'choose a table file first'; return; }
+  try {
+    const lines = (await load()).cam_lines(file.name, await file.text());
+    let last = '';
+    for (const [i, line] of lines.entries()) {
+      last = await ask(line, i + 1 === lines.length ? SAVE_WAIT_MS : undefined);
+      out.textContent = `sent ${i + 1} of ${lines.length} lines`;
+    }
+    out.textContent = `uploaded ${lines.length} lines: ${last}`;
+  } catch (e) {
+    out.textContent = `error: ${e.message ?? e}`;
+  }
+}
