@@ -133,7 +133,9 @@ mod tests {
         assert_eq!(local_path(d, "/"), Some(d.join("index.html")));
         assert_eq!(local_path(d, "/pkg/a.js?v=2"), Some(d.join("pkg/a.js")));
         assert_eq!(local_path(d, "/docs/"), Some(d.join("docs/index.html")));
-        for bad in ["/../etc/passwd", "/pkg/../../x", "//etc/passwd", "/./a"] {
+        // leading slashes all go: `//etc/passwd` names a file in the folder
+        assert_eq!(local_path(d, "//etc/passwd"), Some(d.join("etc/passwd")));
+        for bad in ["/../etc/passwd", "/pkg/../../x", "/./a", "/a/../../b"] {
             assert_eq!(local_path(d, bad), None, "{bad}");
         }
     }

@@ -123,5 +123,19 @@ fn error_plot(r: &SimResult, width: f64) -> String {
         r##"<text x="44" y="{}" font-family="monospace" font-size="12">phase error while synced, +/-{lim:.2} steps full scale, 0..{t_end:.1} s</text>"##,
         top + 14.0
     );
+    // the axes' scales and units at their ends
+    let label = r##"font-family="monospace" font-size="11""##;
+    let (left, bottom) = (38.0, top + h + 14.0);
+    let _ = writeln!(s, r##"<text x="{left}" y="{:.1}" text-anchor="end" {label}>+{lim:.2}</text>"##, top + 10.0);
+    let _ = writeln!(s, r##"<text x="{left}" y="{:.1}" text-anchor="end" {label}>0</text>"##, top + h / 2.0 + 4.0);
+    let _ = writeln!(s, r##"<text x="{left}" y="{:.1}" text-anchor="end" {label}>-{lim:.2}</text>"##, top + h);
+    let _ = writeln!(s, r##"<text x="40" y="{bottom:.1}" {label}>0 s</text>"##);
+    let _ =
+        writeln!(s, r##"<text x="{:.1}" y="{bottom:.1}" text-anchor="end" {label}>{t_end:.1} s</text>"##, width - 20.0);
+    let _ = writeln!(
+        s,
+        r##"<text x="{:.1}" y="{bottom:.1}" text-anchor="middle" {label}>time; vertical: phase error, steps</text>"##,
+        width / 2.0
+    );
     s
 }
