@@ -140,4 +140,6 @@ impl CamUpload {
 }
 
 #[cfg(test)]
+mod crc_tests;
+#[cfg(test)]
 mod tests;

@@ -253,3 +253,5 @@ pub fn degrees_mdeg(v: &str, max_mdeg: i32) -> Option<i32> {
 
 #[cfg(test)]
 mod tests;
+#[cfg(test)]
+mod with_tests;

@@ -335,4 +335,6 @@ fn write_mdeg(out: &mut Reply, mdeg: i32) -> core::fmt::Result {
 pub mod tag;
 
 #[cfg(test)]
+mod command_tests;
+#[cfg(test)]
 mod tests;

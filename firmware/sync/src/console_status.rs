@@ -79,3 +79,6 @@ impl core::fmt::Display for Milli {
         write!(f, "{sign}{}.{:03}", self.0.unsigned_abs() / 1000, self.0.unsigned_abs() % 1000)
     }
 }
+
+#[cfg(test)]
+mod tests;

@@ -389,11 +389,27 @@ impl Controller {
 
 mod checks;
 mod commands;
+#[cfg(test)]
+mod fault_tests;
+#[cfg(test)]
+mod index_tests;
 pub mod jog;
+#[cfg(test)]
+mod rig;
 pub mod selftest;
+#[cfg(test)]
+mod sense_tests;
 #[cfg(test)]
 mod setup_tests;
 mod stall;
+#[cfg(test)]
+mod sync_tests;
+#[cfg(test)]
+mod target_tests;
+#[cfg(test)]
+mod tracking_tests;
+#[cfg(test)]
+mod x_axis_tests;
 pub use commands::{check_table, prepare_cam, Status};
 pub use jog::JogPlan;
 pub use stall::Stall;

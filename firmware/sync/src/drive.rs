@@ -111,3 +111,8 @@ impl Bldc {
         (u as i32, self.still > d.stall_ticks)
     }
 }
+
+#[cfg(test)]
+mod bldc_tests;
+#[cfg(test)]
+mod step_book_tests;

@@ -99,6 +99,9 @@ impl IndexTracker {
 }
 
 #[cfg(test)]
+mod pinned_tests;
+
+#[cfg(test)]
 mod tests {
     use super::*;
     use proptest::prelude::*;

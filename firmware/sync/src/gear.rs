@@ -138,6 +138,11 @@ impl Gear {
 }
 
 #[cfg(test)]
+mod stride_tests;
+#[cfg(test)]
+mod tie_tests;
+
+#[cfg(test)]
 mod tests {
     use super::*;
     use proptest::prelude::*;

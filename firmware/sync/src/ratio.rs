@@ -138,6 +138,9 @@ impl core::fmt::Display for Ratio {
 }
 
 #[cfg(test)]
+mod limits_tests;
+
+#[cfg(test)]
 mod tests {
     use super::*;
 

@@ -78,3 +78,6 @@ impl State {
         }
     }
 }
+
+#[cfg(test)]
+mod tests;

@@ -201,4 +201,6 @@ fn q8_ratio(num: u32, den: u32) -> (u32, u8) {
 }
 
 #[cfg(test)]
+mod pinned_tests;
+#[cfg(test)]
 mod tests;

@@ -1,0 +1,165 @@
+//! Every command word parsed, `get` for every setting, and the replies of
+//! help, watch, stop, clear, defaults and save (docs/manual.md §4, §5).
+
+use super::*;
+use crate::controller::TickInput;
+use crate::state::{Fault, State};
+
+fn ctl() -> Controller {
+    let mut c = Controller::new(Config::default(), Timing::FIRMWARE);
+    c.start(0, 0, 0);
+    c
+}
+
+fn say(c: &mut Controller, line: &str) -> (std::string::String, Action) {
+    let (r, a) = handle(line.as_bytes(), c);
+    (r.as_str().into(), a)
+}
+
+#[test]
+fn each_command_word_parses_to_its_command_and_refuses_extra_words() {
+    for (line, cmd) in [
+        ("help", Command::Help),
+        ("?", Command::Help),
+        ("get", Command::GetAll),
+        ("engage", Command::Engage),
+        ("stop", Command::Stop),
+        ("clear", Command::Clear),
+        ("status", Command::Status),
+        ("watch", Command::Watch),
+        ("save", Command::Save),
+        ("defaults", Command::Defaults),
+        ("dfu", Command::Dfu),
+    ] {
+        assert_eq!(parse(line.as_bytes()), cmd, "{line}");
+        assert_eq!(parse(std::format!("  {line}  ").as_bytes()), cmd, "{line} with spaces");
+        let extra = std::format!("{line} now");
+        assert!(matches!(parse(extra.as_bytes()), Command::Bad(_)), "{extra}");
+    }
+    assert_eq!(parse(b"get max-rpm"), Command::Get("max-rpm"));
+    assert_eq!(parse(b"set phase -1.5"), Command::Set("phase", "-1.5"));
+    assert_eq!(parse(b"get bogus"), Command::Bad("get: unknown name (try help)"));
+    assert_eq!(parse(b""), Command::Bad("empty line (try help)"));
+}
+
+#[test]
+fn help_lists_the_commands_and_every_setting_name() {
+    let mut c = ctl();
+    assert_eq!(say(&mut c, "help"), (HELP.into(), Action::None));
+    assert_eq!(say(&mut c, "?").0, HELP);
+    for name in NAMES {
+        assert!(HELP.contains(&std::format!(" {name}")), "{name}");
+    }
+}
+
+#[test]
+fn get_shows_every_setting_as_set() {
+    let mut c = ctl();
+    for (name, value, shown) in [
+        ("cpr", "4000", "4000"),
+        ("steps", "1600", "1600"),
+        ("ratio", "5/2", "5/2"),
+        ("dir", "opposite", "opposite"),
+        ("edges", "5", "5"),
+        ("max-rate", "150000", "150000"),
+        ("max-accel", "300000", "300000"),
+        ("ferror", "32", "32"),
+        ("phase", "-12.5", "-12.500"),
+        ("drive", "bldc", "bldc"),
+        ("dir-setup", "2500", "2500"),
+        ("pulse", "1500", "1500"),
+        ("enable", "high", "high"),
+        ("max-rpm", "900", "900"),
+    ] {
+        let want = std::format!("ok {name}={shown}");
+        assert_eq!(say(&mut c, &std::format!("set {name} {value}")).0, want);
+        assert_eq!(say(&mut c, &std::format!("get {name}")).0, want);
+    }
+    assert_eq!(
+        say(&mut c, "get").0,
+        "ok cpr=4000 steps=1600 ratio=5/2 dir=opposite edges=5 max-rate=150000 max-accel=300000 ferror=32 \
+         phase=-12.500 drive=bldc dir-setup=2500 pulse=1500 enable=high max-rpm=900"
+    );
+}
+
+#[test]
+fn the_other_values_of_the_word_settings_read_back() {
+    let mut c = ctl();
+    for (name, value) in [("drive", "none"), ("drive", "stepper"), ("dir", "same"), ("enable", "low"), ("ratio", "2")] {
+        assert_eq!(say(&mut c, &std::format!("set {name} {value}")).0, std::format!("ok {name}={value}"));
+    }
+    assert_eq!(say(&mut c, "get phase").0, "ok phase=0.000", "no sign on zero");
+    assert_eq!(say(&mut c, "set phase -0.5").0, "ok phase=-0.500");
+    assert_eq!(say(&mut c, "set phase 0.005").0, "ok phase=0.005");
+}
+
+#[test]
+fn watch_streams_the_status_line() {
+    let mut c = ctl();
+    let (reply, action) = say(&mut c, "watch");
+    assert_eq!(action, Action::Watch);
+    assert_eq!(reply, say(&mut c, "status").0);
+    assert_eq!(say(&mut c, "status").1, Action::None);
+}
+
+#[test]
+fn the_status_line_shows_the_measured_speeds() {
+    let mut c = ctl();
+    // one count a tick: 625 rpm on 2400 counts at 25 kHz, the cutter at 2:1
+    for t in 1..=5_000u32 {
+        c.tick(&TickInput { lathe: t as u16, ..TickInput::default() });
+    }
+    let s = say(&mut c, "status").0;
+    assert!(s.starts_with("ok state=idle fault=none lathe_rpm=625.0 cutter_rpm=1250.0 phase_err_steps="), "{s}");
+    assert!(s.ends_with(" target=13333 cutter=0 indexed=no"), "5000 × 8/3 = 13333.3: {s}");
+}
+
+#[test]
+fn stop_ramps_down_and_clear_answers_with_the_state_it_leaves() {
+    let mut c = ctl();
+    c.engage().unwrap();
+    assert_eq!(say(&mut c, "stop"), ("ok stopping".into(), Action::None));
+    assert_eq!(c.state(), State::Disengaging);
+    c.trip(Fault::EStop);
+    assert_eq!(say(&mut c, "clear").0, "ok idle");
+    assert_eq!(c.state(), State::Idle);
+}
+
+#[test]
+fn defaults_loads_the_defaults_without_saving_and_only_while_idle() {
+    let mut c = ctl();
+    say(&mut c, "set ratio 5/2");
+    assert_eq!(say(&mut c, "defaults"), ("ok defaults loaded (not saved: use save)".into(), Action::None));
+    assert_eq!(*c.config(), Config::default());
+    say(&mut c, "set ratio 5/2");
+    c.engage().unwrap();
+    assert_eq!(say(&mut c, "defaults").0, "error: stop first: settings change only while idle");
+    assert_eq!(c.config().ratio.den(), 2);
+}
+
+#[test]
+fn save_is_refused_while_the_lathe_turns() {
+    let mut c = ctl();
+    for t in 1..=100u16 {
+        c.tick(&TickInput { lathe: t, ..TickInput::default() });
+    }
+    assert_eq!(
+        say(&mut c, "save"),
+        ("error: stop the lathe first: saving pauses the controller for up to 2 s".into(), Action::None)
+    );
+    // 0.1 s without a count: at rest
+    for _ in 0..2_500 {
+        c.tick(&TickInput { lathe: 100, ..TickInput::default() });
+    }
+    assert_eq!(say(&mut c, "save"), ("ok saving".into(), Action::Save));
+}
+
+#[test]
+fn a_negative_phase_shows_as_a_negative_phase_error_at_rest() {
+    // −90° of a 3200-step cutter: the cutter, at 0, is 800 steps ahead
+    let mut c = ctl();
+    assert_eq!(say(&mut c, "set phase -90").0, "ok phase=-90.000");
+    c.tick(&TickInput::default());
+    let s = say(&mut c, "status").0;
+    assert!(s.contains(" phase_err_steps=-800.000 target=0 cutter=0 "), "{s}");
+}

@@ -1,0 +1,105 @@
+//! The status line field by field (docs/manual.md §4.2): speeds in rpm to a
+//! tenth, the phase error in steps to a thousandth, signs included.
+
+use super::*;
+use crate::controller::Status;
+use crate::state::State;
+
+/// One count a tick at 25 kHz on 2400 counts a turn is 625 rpm; the
+/// cutter turns 11/3 as fast (2291.67 rpm, shown truncated: 2291.6).
+fn snapshot(v_q32: i64, phase_error_q16: i64, fault: Option<Fault>) -> Snapshot {
+    let state = fault.map_or(State::Synced, State::Fault);
+    let status = Status {
+        state,
+        lathe_velocity_q32: v_q32,
+        phase_error_q16,
+        cutter_steps: -56,
+        target_steps: 1234,
+        lathe_counts: 99,
+        indexed: fault.is_none(),
+        ticks: 7,
+    };
+    let config = Config::default().with("max-rpm", "600").unwrap().with("ratio", "11/3").unwrap();
+    Snapshot { status, config, tick_hz: 25_000, fault }
+}
+
+fn line(s: &Snapshot) -> std::string::String {
+    let mut out = Reply::new();
+    s.write(&mut out);
+    out.as_str().into()
+}
+
+#[test]
+fn a_synced_line_shows_every_field() {
+    let s = snapshot(1 << 32, -(3 << 16) - (1 << 15), None);
+    assert_eq!(
+        line(&s),
+        "ok state=synced fault=none lathe_rpm=625.0 cutter_rpm=2291.6 phase_err_steps=-3.500 target=1234 cutter=-56 indexed=yes"
+    );
+}
+
+#[test]
+fn a_lathe_turning_backwards_shows_negative_speeds_and_a_fault_its_reason() {
+    let s = snapshot(-(1 << 32), 81_920, Some(Fault::Stall));
+    assert_eq!(
+        line(&s),
+        "ok state=fault fault=stall lathe_rpm=-625.0 cutter_rpm=-2291.6 phase_err_steps=1.250 target=1234 cutter=-56 \
+         indexed=no reason=\"cutter encoder not following: check motor and its encoder\""
+    );
+}
+
+#[test]
+fn the_idle_line_reads_as_the_manual_shows_it() {
+    let status = Status {
+        state: State::Idle,
+        lathe_velocity_q32: 0,
+        phase_error_q16: 0,
+        cutter_steps: 0,
+        target_steps: 0,
+        lathe_counts: 0,
+        indexed: false,
+        ticks: 0,
+    };
+    let s = Snapshot { status, config: Config::default(), tick_hz: 25_000, fault: None };
+    assert_eq!(
+        line(&s),
+        "ok state=idle fault=none lathe_rpm=0.0 cutter_rpm=0.0 phase_err_steps=0.000 target=0 cutter=0 indexed=no"
+    );
+}
+
+#[test]
+fn under_one_unit_a_negative_value_keeps_its_sign() {
+    // 53/65536 count a tick backwards: −0.505 rpm, shown −0.5 (and the
+    // cutter at 11/3: −1.8); −0.25 step
+    let s = snapshot(-53 << 16, -(1 << 14), None);
+    let l = line(&s);
+    assert!(l.contains(" lathe_rpm=-0.5 cutter_rpm=-1.8 phase_err_steps=-0.250 "), "{l}");
+}
+
+#[test]
+fn a_phase_error_beyond_2_pow_30_steps_is_shown_clamped() {
+    let l = line(&snapshot(0, i64::MAX, None));
+    assert!(l.contains(" phase_err_steps=1073741824.000 "), "{l}");
+    let l = line(&snapshot(0, i64::MIN, None));
+    assert!(l.contains(" phase_err_steps=-1073741824.000 "), "{l}");
+}
+
+#[test]
+fn thousandths_and_tenths_print_their_digits() {
+    let show = |v: i64| std::format!("{} {}", Milli(v), Tenths(v));
+    assert_eq!(show(0), "0.000 0.0");
+    assert_eq!(show(7), "0.007 0.7");
+    assert_eq!(show(-1_234), "-1.234 -123.4");
+    assert_eq!(std::format!("{}", Milli::steps_q16(3 << 16)), "3.000");
+}
+
+#[test]
+fn a_fresh_controllers_status_line_is_the_idle_line() {
+    let c = crate::controller::Controller::new(Config::default(), crate::derived::Timing::FIRMWARE);
+    let mut out = Reply::new();
+    write_status(&c, &mut out);
+    assert_eq!(
+        out.as_str(),
+        "ok state=idle fault=none lathe_rpm=0.0 cutter_rpm=0.0 phase_err_steps=0.000 target=0 cutter=0 indexed=no"
+    );
+}

@@ -1,0 +1,149 @@
+//! The BLDC speed loop: feed-forward plus PI on the cutter encoder's phase
+//! error, its output limit, anti-windup, standstill hold and stall check.
+//! Default settings with drive=bldc: max-rate 200 kHz is 8 counts a tick
+//! (524 288 in Q16), so the output limit (1½ × that) is 786 432; a stall
+//! is 5000 ticks (0.2 s) commanded to move with the encoder still.
+
+use super::*;
+use crate::config::{Config, DriveKind};
+use crate::derived::{Derived, Timing};
+
+const UMAX: i64 = 786_432;
+
+fn derived() -> Derived {
+    let d = Derived::new(&Config { drive: DriveKind::Bldc, ..Config::default() }, Timing::FIRMWARE);
+    assert_eq!((d.limits.max_velocity, d.stall_ticks), (524_288, 5_000));
+    d
+}
+
+fn moving(position: i64, velocity: i64) -> Follower {
+    Follower { position, velocity }
+}
+
+/// The integral term as it stands: a command at one Q16 count a tick with
+/// no phase error is 1 + integral (and integrates nothing).
+fn integral(b: &mut Bldc, d: &Derived) -> i64 {
+    b.command(&moving(0, 1), 0, d).0 as i64 - 1
+}
+
+#[test]
+fn the_command_is_feed_forward_plus_a_sixteenth_of_the_error_plus_its_integral() {
+    let d = derived();
+    let mut b = Bldc::default();
+    // 100 counts behind (Q16 6 553 600): 409 600 + 6 400 integrated, on
+    // 3000 of feed-forward
+    assert_eq!(b.command(&moving(100 << 16, 3_000), 0, &d), (3_000 + 409_600 + 6_400, false));
+    assert_eq!(b.command(&moving(100 << 16, 3_000), 0, &d), (3_000 + 409_600 + 12_800, false));
+    assert_eq!(integral(&mut b, &d), 12_800);
+    // and ahead of the command the other way
+    let mut b = Bldc::default();
+    assert_eq!(b.command(&moving(0, -3_000), 16 << 16, &d), (-3_000 - 65_536 - 1_024, false));
+}
+
+#[test]
+fn the_command_is_limited_to_one_and_a_half_times_max_rate() {
+    let d = derived();
+    for sign in [1, -1] {
+        let mut b = Bldc::default();
+        let (u, _) = b.command(&moving(sign * (10_000 << 16), sign * 524_288), 0, &d);
+        assert_eq!(u as i64, sign * UMAX);
+    }
+}
+
+#[test]
+fn an_error_pushing_a_saturated_command_further_is_not_integrated() {
+    let d = derived();
+    for sign in [1, -1] {
+        let mut b = Bldc::default();
+        for _ in 0..100 {
+            let (u, _) = b.command(&moving(sign * (100 << 16), sign * 524_288), 0, &d);
+            assert_eq!(u as i64, sign * UMAX);
+        }
+        assert_eq!(integral(&mut b, &d), 0, "no wind-up ({sign})");
+    }
+}
+
+#[test]
+fn an_error_pulling_a_saturated_command_back_is_integrated() {
+    let d = derived();
+    let mut b = Bldc::default();
+    // wind the integral up within the limit: 391 ticks of 16 counts behind
+    for _ in 0..391 {
+        let (u, _) = b.command(&moving(16 << 16, 0), 0, &d);
+        assert!((u as i64) < UMAX);
+    }
+    assert_eq!(integral(&mut b, &d), 391 * 1_024);
+    // at full speed and a count ahead, the sum is over the limit, but the
+    // error says slow down: the integral unwinds (by 65 536 >> 10 = 64)
+    let (u, _) = b.command(&moving(0, 524_288), 1 << 16, &d);
+    assert_eq!(u as i64, UMAX);
+    assert_eq!(integral(&mut b, &d), 391 * 1_024 - 64);
+}
+
+#[test]
+fn standing_on_the_commanded_count_the_command_is_zero_and_nothing_integrates() {
+    let d = derived();
+    let mut b = Bldc::default();
+    b.command(&moving(16 << 16, 0), 0, &d); // integral 1024
+                                            // at rest 0.3 count past count 10, the encoder on 10: hold, no hunting
+    let here = moving((10 << 16) + 19_660, 0);
+    for _ in 0..10 {
+        assert_eq!(b.command(&here, 10 << 16, &d), (0, false));
+    }
+    assert_eq!(integral(&mut b, &d), 1_024);
+    // at rest but a count off: the loop acts
+    assert_ne!(b.command(&moving(11 << 16, 0), 10 << 16, &d).0, 0);
+    // on the count but commanded to move: feed-forward
+    let mut b = Bldc::default();
+    assert_eq!(b.command(&moving(10 << 16, 5_000), 10 << 16, &d), (5_000, false));
+}
+
+#[test]
+fn a_cutter_still_for_more_than_stall_ticks_while_commanded_to_move_stalls() {
+    let d = derived();
+    // a sixteenth of max-rate (32 768) is enough to expect the encoder to move
+    let mut b = Bldc::default();
+    for k in 1..=5_000 {
+        assert_eq!(b.command(&moving(0, 32_768), 0, &d), (32_768, false), "tick {k}");
+    }
+    assert_eq!(b.command(&moving(0, 32_768), 0, &d), (32_768, true), "tick 5001");
+    // slower, it is not judged
+    let mut b = Bldc::default();
+    for _ in 0..6_000 {
+        assert!(!b.command(&moving(0, 32_767), 0, &d).1);
+    }
+}
+
+#[test]
+fn any_encoder_count_restarts_the_stall_check() {
+    let d = derived();
+    let mut b = Bldc::default();
+    for k in 1..=12_000i64 {
+        let cutter = (k / 4_000) << 16; // a count every 4000 ticks
+        assert!(!b.command(&moving(cutter, 100_000), cutter, &d).1, "tick {k}");
+    }
+}
+
+#[test]
+fn reset_clears_the_integral_and_the_stall_count() {
+    let d = derived();
+    let mut b = Bldc::default();
+    for _ in 0..4_000 {
+        b.command(&moving(16 << 16, 100_000), 0, &d);
+    }
+    b.reset();
+    for k in 0..4_000 {
+        // (no phase error: nothing integrates)
+        assert!(!b.command(&moving(0, 100_000), 0, &d).1, "{k}: 4000 + 4000 ticks, but reset between");
+    }
+    assert_eq!(integral(&mut b, &d), 0);
+}
+
+#[test]
+fn the_cutter_encoder_counts_from_where_it_started() {
+    let mut b = Bldc::default();
+    b.start(40_000);
+    assert_eq!(b.read(40_000), 0);
+    assert_eq!(b.read(40_010), 10);
+    assert_eq!(b.read(39_990), -10);
+}

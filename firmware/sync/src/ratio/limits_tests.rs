@@ -1,0 +1,55 @@
+//! The parser's limits: terms of at most 12 digits (so no product of two
+//! can overflow 64 bits), at most 6 decimals, and the value shown back.
+
+use super::*;
+
+#[test]
+fn terms_of_twelve_digits_are_read_and_reduced() {
+    assert_eq!(Ratio::parse("999999999999/999999999999"), Ok(Ratio::new(1, 1).unwrap()));
+    assert_eq!(Ratio::parse("200000000000/100000000000"), Ok(Ratio::TWO));
+    assert_eq!(Ratio::parse("000000000003"), Ok(Ratio::new(3, 1).unwrap()));
+}
+
+#[test]
+fn a_term_of_more_than_twelve_digits_is_refused_as_syntax() {
+    // valid after reduction, but too long to read
+    assert_eq!(Ratio::parse("1000000000000/1000000000000"), Err(RatioError::Syntax));
+    assert_eq!(Ratio::parse("0000000000003"), Err(RatioError::Syntax));
+    // 19 digits fit a u64, but times 10^6 for the decimals they would not
+    assert_eq!(Ratio::parse("1000000000000000000"), Err(RatioError::Syntax));
+    assert_eq!(Ratio::parse("1000000000000000000.5"), Err(RatioError::Syntax));
+    assert_eq!(Ratio::parse("9999999999999999999.999999"), Err(RatioError::Syntax));
+    assert_eq!(Ratio::parse("1.5/1"), Err(RatioError::Syntax));
+}
+
+#[test]
+fn up_to_six_decimals_are_exact_and_a_seventh_is_refused() {
+    assert_eq!(Ratio::parse("2.500000"), Ok(Ratio::new(5, 2).unwrap()));
+    assert_eq!(Ratio::parse("0.125000"), Ok(Ratio::new(1, 8).unwrap()));
+    // six decimals are read: 1000001/1000000 is then too fine a ratio
+    assert_eq!(Ratio::parse("1.000001"), Err(RatioError::TooLarge));
+    assert_eq!(Ratio::parse("0.003"), Ok(Ratio::new(3, 1000).unwrap()));
+    assert_eq!(Ratio::parse("12.125"), Ok(Ratio::new(97, 8).unwrap()));
+    assert_eq!(Ratio::parse("2.5000000"), Err(RatioError::Syntax), "seven decimals");
+    assert_eq!(Ratio::parse("2."), Err(RatioError::Syntax));
+    assert_eq!(Ratio::parse(".5"), Ok(Ratio::new(1, 2).unwrap()));
+}
+
+#[test]
+fn a_ratio_shows_as_its_reduced_terms() {
+    let show = |s: &str| std::format!("{}", Ratio::parse(s).unwrap());
+    assert_eq!(show("4/2"), "2");
+    assert_eq!(show("22/6"), "11/3");
+    assert_eq!(show("0.5"), "1/2");
+    assert_eq!(Ratio::parse("11/3").unwrap().to_f64(), 11.0 / 3.0);
+    assert_eq!(Ratio::TWO.to_f64(), 2.0);
+}
+
+#[test]
+fn gcd_is_euclids() {
+    assert_eq!(gcd(12, 18), 6);
+    assert_eq!(gcd(18, 12), 6);
+    assert_eq!(gcd(7, 0), 7);
+    assert_eq!(gcd(17, 5), 1);
+    assert_eq!(gcd(6400, 2400), 800);
+}

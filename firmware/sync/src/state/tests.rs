@@ -1,0 +1,54 @@
+//! Fault and state names as the console prints them, the reasons the
+//! manual's fault table quotes (docs/manual.md §4.1, the board's reason),
+//! and which faults stop at once (the table's "motion" column).
+
+use super::*;
+
+const ALL: [Fault; 7] = [
+    Fault::Overspeed,
+    Fault::FollowingError,
+    Fault::EncoderImplausible,
+    Fault::EStop,
+    Fault::DriveAlarm,
+    Fault::Stall,
+    Fault::StepOutput,
+];
+
+#[test]
+fn each_fault_has_its_console_name() {
+    let names = ALL.map(Fault::name);
+    assert_eq!(
+        names,
+        ["overspeed", "following-error", "encoder-implausible", "estop", "drive-alarm", "stall", "step-output"]
+    );
+}
+
+#[test]
+fn each_fault_gives_the_reason_the_manual_quotes() {
+    let reasons = ALL.map(Fault::reason);
+    assert_eq!(
+        reasons,
+        [
+            "lathe speed x ratio needs more than max-rate: slow the lathe",
+            "cutter fell behind: motor too weak or max-accel too low",
+            "lathe encoder jumped or slipped: check wiring and max-rpm",
+            "e-stop open: close it, then clear",
+            "drive reports an alarm: check the drive, then clear",
+            "cutter encoder not following: check motor and its encoder",
+            "step pulses did not match the plan: a firmware or board fault, please report it",
+        ]
+    );
+}
+
+#[test]
+fn estop_alarm_and_step_output_stop_at_once_the_others_ramp_down() {
+    let immediate = ALL.map(Fault::immediate);
+    assert_eq!(immediate, [false, false, false, true, true, false, true]);
+}
+
+#[test]
+fn each_state_has_its_console_name() {
+    let states =
+        [State::Idle, State::Engaging, State::Synced, State::Disengaging, State::Jogging, State::Fault(Fault::Stall)];
+    assert_eq!(states.map(State::name), ["idle", "engaging", "synced", "disengaging", "jogging", "fault"]);
+}
