@@ -123,4 +123,6 @@ impl Cam {
 }
 
 #[cfg(test)]
+mod pinned_tests;
+#[cfg(test)]
 mod tests;

@@ -82,4 +82,6 @@ impl Follower {
 }
 
 #[cfg(test)]
+mod pinned_tests;
+#[cfg(test)]
 mod tests;
