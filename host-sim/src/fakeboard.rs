@@ -52,24 +52,18 @@ impl FakeDevice {
             upload: Box::default(),
         }
     }
+
     /// The replies waiting to be read (what the board has sent).
     pub fn take_replies(&mut self) -> Vec<u8> {
         self.out.drain(..).collect()
     }
 
-    /// While `watch` runs, its next line (a tenth of a second later on the
-    /// machine); nothing otherwise.
+    /// While `watch` runs, its next line: a tenth of a second passes on the
+    /// machine, then the real `status` reply. Nothing otherwise.
     pub fn watch_line(&mut self) -> Vec<u8> {
-        if self.watching {
-            self.status_line()
-        } else {
-            Vec::new()
+        if !self.watching {
+            return Vec::new();
         }
-    }
-
-    /// The next line `watch` streams: a tenth of a second passes on the
-    /// machine, then the real `status` reply.
-    fn status_line(&mut self) -> Vec<u8> {
         if let Some(m) = &mut self.machine {
             m.pass(&mut self.ctl, WATCH_TICKS);
         }
@@ -131,8 +125,8 @@ impl FakeDevice {
 
 impl Read for FakeDevice {
     fn read(&mut self, buf: &mut [u8]) -> std::io::Result<usize> {
-        if self.out.is_empty() && self.watching {
-            let line = self.status_line();
+        if self.out.is_empty() {
+            let line = self.watch_line();
             self.out.extend(line);
         }
         if self.out.is_empty() {

@@ -25,11 +25,7 @@ pub struct FlashPlan {
 
 /// Checks `file` (named `name`: .bin, .hex or an ELF) for the device whose
 /// DFU interface string is `interface`; the error says which rule failed.
-#[wasm_bindgen]
-pub fn flash_plan(name: &str, file: &[u8], interface: &str, transfer_size: u16) -> Result<FlashPlan, String> {
-    plan_image(name, file, interface, transfer_size)
-}
-
+#[wasm_bindgen(js_name = flash_plan)]
 pub fn plan_image(name: &str, file: &[u8], interface: &str, transfer_size: u16) -> Result<FlashPlan, String> {
     let refused = |r: image::Refusal| format!("{name} {} ({})", r.rule, r.found);
     let format = image::format_of(Path::new(name), file).map_err(refused)?;
