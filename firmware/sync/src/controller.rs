@@ -38,7 +38,6 @@ pub struct XAxis {
     pub cam: Cam,
     pub limits: Limits,
     follower: Follower,
-    steps: StepBook,
     last_target: i64,
     /// on its cam: within half a step and matching its speed
     on_cam: bool,
@@ -46,7 +45,7 @@ pub struct XAxis {
 
 impl XAxis {
     pub fn new(cam: Cam, limits: Limits) -> XAxis {
-        XAxis { cam, limits, follower: Follower::default(), steps: StepBook::default(), last_target: 0, on_cam: false }
+        XAxis { cam, limits, follower: Follower::default(), last_target: 0, on_cam: false }
     }
     /// The commanded X position, Q16 steps.
     pub fn position_q16(&self) -> i64 {
@@ -122,6 +121,11 @@ pub struct Controller {
     /// whole cutter turns dropped at engagement, in steps (a multiple of M)
     turns: i64,
     x: Option<XAxis>,
+    /// Where the X axis really is: its pulses, each the way of the plan
+    /// that made it. The controller's, not a cam's: the cross-slide stays
+    /// where the last cam left it when another is fitted, and the pulse
+    /// counter (never reset) has counted every move, both ways.
+    x_steps: StepBook,
     ticks: u64,
     /// set while a flash write stalls the CPU (`stall`)
     stall: Option<stall::Watch>,
@@ -157,6 +161,7 @@ impl Controller {
             origin: 0,
             turns: 0,
             x: None,
+            x_steps: StepBook::default(),
             ticks: 0,
             stall: None,
             config_generation: 0,
@@ -222,13 +227,13 @@ impl Controller {
         // The cam is a function of the lathe's angle whatever the sense.
         x.cam.advance(delta);
         let offset = if self.d.sense_positive { self.est.offset_q16() } else { -self.est.offset_q16() };
-        let at = x.steps.read(io.x_emitted) << 16;
+        let at = self.x_steps.read(io.x_emitted) << 16;
         let target = x.cam.position_q16(offset);
         let velocity = target - x.last_target;
         x.last_target = target;
         if !enable {
             x.follower = Follower { position: at, velocity: 0 };
-            x.steps.hold(at);
+            self.x_steps.hold(at);
             x.on_cam = false;
             return StepPlan::default();
         }
@@ -241,7 +246,7 @@ impl Controller {
         let off = target + velocity - x.follower.position;
         x.on_cam = off.abs() < 1 << 15 && (x.follower.velocity - velocity).abs() <= 4 * x.limits.max_accel;
         let lag = x.follower.position - at;
-        let plan = x.steps.plan(x.follower.position, &self.d.steps);
+        let plan = self.x_steps.plan(x.follower.position, &self.d.steps);
         if self.state == State::Synced && lag.abs() > self.d.following_limit_q16 {
             self.trip(Fault::FollowingError);
         }
