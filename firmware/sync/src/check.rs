@@ -160,4 +160,6 @@ impl EncoderCheck {
 }
 
 #[cfg(test)]
+mod report_tests;
+#[cfg(test)]
 mod tests;

@@ -243,8 +243,7 @@ impl Controller {
         }
         // The axis must really be where it is commanded (its steps can be
         // limited by the step generator): the same limit as the cutter's.
-        let off = target + velocity - x.follower.position;
-        x.on_cam = off.abs() < 1 << 15 && (x.follower.velocity - velocity).abs() <= 4 * x.limits.max_accel;
+        x.on_cam = x.follower.arrived(target + velocity, velocity, &x.limits);
         let lag = x.follower.position - at;
         let plan = self.x_steps.plan(x.follower.position, &self.d.steps);
         if self.state == State::Synced && lag.abs() > self.d.following_limit_q16 {
@@ -327,21 +326,19 @@ impl Controller {
     }
 
     fn check_sync(&mut self, cutter: i64) {
-        let error = self.target - self.follower.position;
         if self.state == State::Engaging {
             // with no cutter (drive=none) only the X axis has to arrive
             let none = self.config.drive == DriveKind::None;
-            let close = none || error.abs() < 1 << 15;
-            let matched = none || (self.follower.velocity - self.target_velocity).abs() <= 4 * self.d.limits.max_accel;
+            let cutter_on = none || self.follower.arrived(self.target, self.target_velocity, &self.d.limits);
             // synchronised means every axis: an X axis must be on its cam too
             let x_on_cam = self.x.as_ref().is_none_or(|x| x.on_cam);
-            if close && matched && x_on_cam {
+            if cutter_on && x_on_cam {
                 self.state = State::Synced;
             }
             return;
         }
         let lag = match self.config.drive {
-            DriveKind::Stepper => error,
+            DriveKind::Stepper => self.target - self.follower.position,
             DriveKind::Bldc => self.follower.position - cutter,
             DriveKind::None => 0,
         };

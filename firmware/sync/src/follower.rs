@@ -75,6 +75,14 @@ impl Follower {
         self.position += self.velocity;
     }
 
+    /// On its target: within half a step of it, and moving within four
+    /// ticks' acceleration of its speed. Every axis (cutter and X) must be
+    /// on its target for the controller to call itself synchronised.
+    #[inline]
+    pub fn arrived(&self, target: i64, target_velocity: i64, lim: &Limits) -> bool {
+        (target - self.position).abs() < 1 << 15 && (self.velocity - target_velocity).abs() <= 4 * lim.max_accel
+    }
+
     /// Whole steps (rounded) of the commanded position.
     pub fn whole_steps(&self) -> i64 {
         (self.position + (1 << 15)) >> 16

@@ -103,3 +103,11 @@ fn a_fresh_controllers_status_line_is_the_idle_line() {
         "ok state=idle fault=none lathe_rpm=0.0 cutter_rpm=0.0 phase_err_steps=0.000 target=0 cutter=0 indexed=no"
     );
 }
+
+#[test]
+fn with_dir_opposite_the_lathe_reads_its_own_sense_and_the_cutter_the_other() {
+    // the lathe's encoder counting up at 625 rpm: the motor turns backwards
+    let mut s = snapshot(1 << 32, 0, None);
+    s.config.sense = Sense::Opposite;
+    assert!(line(&s).contains(" lathe_rpm=625.0 cutter_rpm=-2291.6 "), "{}", line(&s));
+}

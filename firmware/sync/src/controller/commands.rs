@@ -13,7 +13,8 @@ use crate::state::{Fault, State};
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct Status {
     pub state: State,
-    /// lathe speed, Q32 counts per tick
+    /// the lathe's speed, Q32 counts per tick: positive while its encoder
+    /// counts up, whatever `dir` (the estimator's own sign follows `dir`)
     pub lathe_velocity_q32: i64,
     /// target − commanded cutter position, Q16 steps
     pub phase_error_q16: i64,
@@ -52,7 +53,7 @@ impl Controller {
     pub fn status(&self) -> Status {
         Status {
             state: self.state,
-            lathe_velocity_q32: self.est.velocity_q32(),
+            lathe_velocity_q32: if self.d.sense_positive { self.est.velocity_q32() } else { -self.est.velocity_q32() },
             phase_error_q16: self.target
                 - self.follower.position
                 - (self.target_velocity - self.follower.velocity) * self.ahead(),

@@ -92,3 +92,17 @@ fn the_x_cam_follows_the_lathes_angle_whatever_the_sense() {
     // count, here a third of a step)
     assert!(worst < 1 << 10, "differ by {worst} / 65536 step");
 }
+
+#[test]
+fn with_dir_opposite_the_status_shows_the_lathe_turning_forward_as_it_does() {
+    let speed = |sense| {
+        let mut r = Rig::new(Config { sense, ..Config::default() });
+        r.run(per_tick(1.0), 3_000);
+        r.c.status().lathe_velocity_q32
+    };
+    // one count a tick (2^32 in Q32, to the estimator's rounding) both ways
+    for sense in [Sense::Same, Sense::Opposite] {
+        let v = speed(sense);
+        assert!((v - (1 << 32)).abs() < 1 << 12, "{sense:?}: {v}");
+    }
+}

@@ -30,7 +30,7 @@ fn a_move_from_rest_to_rest_takes_within_five_percent_of_the_bang_bang_time() {
         let target = steps << 16;
         let mut f = Follower::default();
         let mut ticks = 0u32;
-        while (target - f.position).abs() >= 1 << 15 || f.velocity.abs() > 4 * lim.max_accel {
+        while !f.arrived(target, 0, &lim) {
             f.track(target, 0, &lim);
             ticks += 1;
             assert!(ticks < 100_000);
@@ -38,4 +38,20 @@ fn a_move_from_rest_to_rest_takes_within_five_percent_of_the_bang_bang_time() {
         let fastest = 2.0 * (target as f64 / lim.max_accel as f64).sqrt();
         assert!((ticks as f64) < fastest * 1.05, "{steps} steps: {ticks} ticks, fastest {fastest:.0}");
     }
+}
+
+#[test]
+fn arrived_means_under_half_a_step_away_and_within_four_ticks_acceleration_of_speed() {
+    let lim = Limits { max_velocity: 8 << 16, max_accel: 41 };
+    let at = |position: i64, velocity: i64| Follower { position, velocity };
+    // position: half a step either side is not there yet
+    assert!(at(1_000 + (1 << 15) - 1, 100).arrived(1_000, 100, &lim));
+    assert!(at(1_000 - (1 << 15) + 1, 100).arrived(1_000, 100, &lim));
+    assert!(!at(1_000 + (1 << 15), 100).arrived(1_000, 100, &lim));
+    assert!(!at(1_000 - (1 << 15), 100).arrived(1_000, 100, &lim));
+    // speed: 4 × 41 either side is, a unit more is not
+    assert!(at(1_000, 100 + 164).arrived(1_000, 100, &lim));
+    assert!(at(1_000, 100 - 164).arrived(1_000, 100, &lim));
+    assert!(!at(1_000, 100 + 165).arrived(1_000, 100, &lim));
+    assert!(!at(1_000, 100 - 165).arrived(1_000, 100, &lim));
 }
