@@ -411,6 +411,8 @@ mod target_tests;
 #[cfg(test)]
 mod tracking_tests;
 #[cfg(test)]
+mod turns_tests;
+#[cfg(test)]
 mod x_axis_tests;
 pub use commands::{check_table, prepare_cam, Status};
 pub use jog::JogPlan;

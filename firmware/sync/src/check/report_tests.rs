@@ -1,6 +1,6 @@
-//! The report's edges: the proposed cpr is the rounded mean of gaps that
-//! agree within one count (and are not zero), and the hands-off window
-//! includes its last tick.
+//! The check at its edges: a jump is more than the lathe can turn; the
+//! proposed cpr is the rounded mean of gaps that agree within one count
+//! (and are not zero); the hands-off window includes its last tick.
 
 use super::*;
 use std::vec::Vec;
@@ -71,4 +71,14 @@ fn the_hands_off_window_includes_its_last_tick() {
     check.sample(s);
     let r = check.report();
     assert_eq!((r.still_done, r.chatter, r.moved), (true, 3, 2));
+}
+
+#[test]
+fn a_sample_moving_the_most_the_lathe_can_is_no_jump_and_a_count_more_is() {
+    // at most 100 counts a tick: 200 in two ticks is a lathe, 101 in one is not
+    let mut check = EncoderCheck::new(Sample::default(), 0, 100);
+    check.sample(Sample { ticks: 2, counts: 200, ..Sample::default() });
+    assert_eq!(check.report().jumps, 0);
+    check.sample(Sample { ticks: 3, counts: 99, ..Sample::default() });
+    assert_eq!(check.report().jumps, 1);
 }

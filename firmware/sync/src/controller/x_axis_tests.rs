@@ -2,7 +2,7 @@
 //! while the cutter is off, and its following error counts only once
 //! everything is synchronised.
 
-use super::rig::Rig;
+use super::rig::{per_tick, Rig};
 use super::*;
 use crate::cam::Cam;
 use crate::config::Config;
@@ -140,4 +140,29 @@ fn a_refitted_cam_starts_from_where_the_x_axis_really_is_after_moves_both_ways()
     // the same cam fitted again: the X axis is at 0 and should stay there
     // (it is believed at 200, and steps 200 back to get to 0)
     assert_eq!(run_cam_once(&mut r, 0), (0, 0));
+}
+
+#[test]
+fn on_a_moving_cam_the_synced_x_command_is_where_the_cam_will_be_at_the_tick_s_end() {
+    // 0 → 360 steps over half a turn (1200 counts) and back: at one count
+    // a tick, 0.3 step a tick (the X output's limit is 0.5). The X plan
+    // runs during the next tick, so the command leads the cam by one
+    // tick's travel, as the cutter's target leads the gear by its window;
+    // and the axis counts as on its cam against that lead.
+    let table: &'static [i32] = std::vec::Vec::leak(std::vec![0, 360]);
+    let mut r =
+        with_x(Config { drive: crate::config::DriveKind::None, ..Config::default() }, Cam::new(table, 2_400).unwrap());
+    r.c.engage().unwrap();
+    // (settled by count 700: synced within half a step, then closing)
+    let mut worst = 0;
+    for _ in 0..1_100 {
+        r.tick(per_tick(1.0));
+        if r.c.state() == State::Synced && r.lathe() > 700 {
+            // the cam at the lathe's count one tick on, Q16 steps
+            let ahead = ((r.lathe_q16 + per_tick(1.0)) * 360) / 1_200;
+            worst = worst.max((r.c.x_axis().unwrap().position_q16() - ahead).abs());
+        }
+    }
+    assert_eq!(r.c.state(), State::Synced);
+    assert!(worst < 1 << 10, "within 1/64 step of the cam a tick ahead: {worst}");
 }

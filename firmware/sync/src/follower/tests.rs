@@ -76,6 +76,7 @@ fn ramp_down_stops_within_the_acceleration_limit() {
         f.ramp_down(&lim);
         assert!((v - f.velocity).abs() <= lim.max_accel);
         ticks += 1;
+        assert!(ticks < 1 << 20, "never stops"); // (a bounded test)
     }
     let a = lim.max_accel;
     assert_eq!(ticks as i64, ((5 << 16) + a - 1) / a);

@@ -155,3 +155,15 @@ fn lags_are_kept_apart_for_holds_and_ramps_and_holds_report_steps_against_target
     assert_eq!((r.ramp_lag_q16, r.hold_lag_q16), (9, 5));
     assert_eq!(r.holds[0], (850, 849));
 }
+
+#[test]
+fn a_pass_reports_the_counts_made_each_way() {
+    // out 7200 counts by rest 2, back to 0 by rest 3
+    let mut t = SelfTest::new(plan());
+    for (ms, counts) in [(1_950, 0), (6_550, 7_200), (11_150, 0)] {
+        let (b, s) = good(ms, counts);
+        t.sample(&b, &s);
+    }
+    let r = t.report();
+    assert_eq!((r.verdict, r.rests, r.forward, r.backward), (Verdict::Pass, 3, 7_200, -7_200));
+}

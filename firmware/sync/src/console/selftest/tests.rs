@@ -93,3 +93,30 @@ fn it_is_refused_without_a_cutter_with_an_odd_cpr_or_a_turning_lathe() {
     assert!(reply(&mut c, "selftest start").starts_with("error: the lathe input is moving"));
     assert_eq!(c.state(), State::Idle);
 }
+
+#[test]
+fn a_start_prepared_from_stale_settings_changes_nothing() {
+    use crate::console::{apply_prepared, parse, prepare, render};
+    let mut c = ctl(Config::default());
+    let cmd = parse(b"selftest start 500");
+    let pre = prepare(&cmd, *c.config(), c.config_generation(), c.timing());
+    assert_eq!(reply(&mut c, "set ratio 5/2"), "ok ratio=5/2"); // lands in between
+    let (r, _) = render(&apply_prepared(cmd, pre, &mut c));
+    assert!(r.starts_with("error: the settings changed meanwhile"), "{r}");
+    assert_eq!((c.state(), c.selftest_running()), (State::Idle, false));
+}
+
+#[test]
+fn a_count_mismatch_names_the_likely_wiring_fault() {
+    use crate::selftest::Failure;
+    let say = |seen, made| {
+        let mut out = crate::console::Reply::new();
+        super::write_failure(Failure::Counts { rest: 2, seen, made }, &mut out).unwrap();
+        std::string::String::from(out.as_str())
+    };
+    assert_eq!(say(0, 7_200), "rest 2: counted 0, generated 7200: no counts: jumper PA2 to PA6 and PA3 to PA7;");
+    assert_eq!(say(-7_200, 7_200), "rest 2: counted -7200, generated 7200: counting backward: PA2 and PA3 swapped;");
+    assert!(say(7_199, 7_200)
+        .ends_with(": counts lost or doubled: shorter jumpers, and see the README's self-test timing;"));
+    assert!(say(7_200, -7_199).contains("counts lost or doubled"), "not quite backward");
+}
