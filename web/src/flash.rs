@@ -7,7 +7,7 @@
 use dfu_core::DfuIo;
 use polyturn_host::flash::fake::{FakeRom, Faults};
 use polyturn_host::flash::image;
-use polyturn_host::flash::plan::plan_from_strings;
+use polyturn_host::flash::plan::plan_for_web;
 use std::path::Path;
 use wasm_bindgen::prelude::*;
 
@@ -24,13 +24,14 @@ pub struct FlashPlan {
 }
 
 /// Checks `file` (named `name`: .bin, .hex or an ELF) for the device whose
-/// DFU interface string is `interface`; the error says which rule failed.
+/// DFU interface string is `interface` and DFU functional descriptor is
+/// `functional` (its 9 bytes); the error says which rule failed.
 #[wasm_bindgen(js_name = flash_plan)]
-pub fn plan_image(name: &str, file: &[u8], interface: &str, transfer_size: u16) -> Result<FlashPlan, String> {
+pub fn plan_image(name: &str, file: &[u8], interface: &str, functional: &[u8]) -> Result<FlashPlan, String> {
     let refused = |r: image::Refusal| format!("{name} {} ({})", r.rule, r.found);
     let format = image::format_of(Path::new(name), file).map_err(refused)?;
     let img = image::from_bytes(file, format, false).map_err(refused)?;
-    let plan = plan_from_strings(interface, transfer_size, &img)?;
+    let plan = plan_for_web(interface, functional, &img)?;
     Ok(FlashPlan {
         bytes: plan.bytes,
         transfer: plan.transfer,
@@ -63,8 +64,9 @@ impl FakeDfu {
         polyturn_host::flash::fake::INTERFACE.into()
     }
 
-    pub fn transfer_size(&self) -> u16 {
-        polyturn_host::flash::fake::TRANSFER
+    /// The configuration descriptor, as a standard GET_DESCRIPTOR reads it.
+    pub fn configuration_descriptor(&self) -> Vec<u8> {
+        self.rom.configuration_descriptor()
     }
 
     /// A device-to-host request; Err is a stall or a USB error.
@@ -109,7 +111,8 @@ mod tests {
     #[test]
     fn an_image_is_planned_as_polyturn_flash_plans_it() {
         let rom = FakeDfu::new(0, 0);
-        let p = plan_image("polyturn.bin", &good(5000), &rom.interface(), rom.transfer_size()).unwrap();
+        let config = rom.configuration_descriptor();
+        let p = plan_image("polyturn.bin", &good(5000), &rom.interface(), &config[config.len() - 9..]).unwrap();
         assert_eq!((p.image_len, p.bytes.len(), p.transfer), (5000, 6144, 2048));
         assert_eq!(p.pages, vec![0x0800_0000]);
         assert_eq!(p.version.as_deref(), Some(polyturn_host::cli::VERSION));
@@ -118,7 +121,7 @@ mod tests {
     #[test]
     fn a_file_that_is_no_image_is_refused_naming_the_rule() {
         let e =
-            plan_image("notes.bin", b"hello", "@Internal Flash  /0x08000000/04*016Kg", 2048).map(|_| ()).unwrap_err();
+            plan_image("notes.bin", b"hello", "@Internal Flash  /0x08000000/04*016Kg", &[]).map(|_| ()).unwrap_err();
         assert!(e.starts_with("notes.bin "), "{e}");
     }
 }

@@ -222,7 +222,8 @@ await test('the DfuSe layer writes, verifies and leaves a fake ROM bootloader', 
     const { flash } = await import('/js/dfu.js');
     const rom = new w.FakeDfu(0, 0);
     rom.preload(0x08000000, new Uint8Array(64).fill(0x55)); // an older image
-    const plan = w.flash_plan('polyturn.bin', w.FakeDfu.sample_image(40000), rom.interface(), rom.transfer_size());
+    const { functionalDescriptor } = await import('/js/flash.js');
+    const plan = w.flash_plan('polyturn.bin', w.FakeDfu.sample_image(40000), rom.interface(), functionalDescriptor(rom.configuration_descriptor()));
     const t = { controlIn: async (q, v, n) => rom.control_in(q, v, n), controlOut: async (q, v, d) => rom.control_out(q, v, d) };
     const phases = [];
     const out = await flash(t, plan, (p) => { if (phases.at(-1) !== p.phase) phases.push(p.phase); });
@@ -242,7 +243,8 @@ await test('a byte that reads back wrong fails the flash naming its address', as
     const w = await import('/pkg/polyturn_web.js');
     const { flash } = await import('/js/dfu.js');
     const rom = new w.FakeDfu(0x08000100, 0x01);
-    const plan = w.flash_plan('polyturn.bin', w.FakeDfu.sample_image(4096), rom.interface(), rom.transfer_size());
+    const { functionalDescriptor } = await import('/js/flash.js');
+    const plan = w.flash_plan('polyturn.bin', w.FakeDfu.sample_image(4096), rom.interface(), functionalDescriptor(rom.configuration_descriptor()));
     const t = { controlIn: async (q, v, n) => rom.control_in(q, v, n), controlOut: async (q, v, d) => rom.control_out(q, v, d) };
     try { await flash(t, plan); return 'no error'; } catch (err) { return { msg: err.message, events: rom.events() }; }
   });
@@ -250,10 +252,76 @@ await test('a byte that reads back wrong fails the flash naming its address', as
   assert.ok(!e.events.includes('Leave'), 'the board stays in its bootloader');
 });
 
+await test('the page reads the ROM\'s functional descriptor and refuses what polyturn flash refuses', async () => {
+  const r = await page.evaluate(async () => {
+    const w = await import('/pkg/polyturn_web.js');
+    const { functionalDescriptor } = await import('/js/flash.js');
+    const rom = new w.FakeDfu(0, 0);
+    const f = functionalDescriptor(rom.configuration_descriptor());
+    const image = w.FakeDfu.sample_image(4096);
+    const plan = (d) => { try { return w.flash_plan('polyturn.bin', image, rom.interface(), d).transfer; } catch (e) { return String(e); } };
+    const dfu11 = Uint8Array.from(f); dfu11[7] = 0x10; // bcdDFUVersion 1.10: plain DFU
+    const small = Uint8Array.from(f); small[5] = 32; small[6] = 0; // wTransferSize 32
+    const bare = functionalDescriptor(new Uint8Array([9, 2, 9, 0, 1, 1, 0, 0xc0, 0x32])); // no 0x21 in it
+    return { f: Array.from(f), ok: plan(f), dfu11: plan(dfu11), small: plan(small), bare, none: plan(new Uint8Array()) };
+  });
+  // lsusb -v of 0483:df11: attributes 0x0b, detach 255 ms, transfer 2048, DFU 1.1a
+  assert.deepEqual(r.f, [9, 0x21, 0x0b, 0xff, 0, 0, 8, 0x1a, 1]);
+  assert.equal(r.ok, 2048);
+  assert.match(r.dfu11, /^not the STM32 ROM bootloader's DfuSe 1\.1a/);
+  assert.match(r.small, /transfer size 32/);
+  assert.equal(r.bare, null);
+  assert.match(r.none, /^the device's DFU functional descriptor is not one/);
+});
+
+await test('a bootloader that goes astray fails the flash: a wrong state, no answer, a refused leave', async () => {
+  const r = await page.evaluate(async () => {
+    const w = await import('/pkg/polyturn_web.js');
+    const { flash, Stall } = await import('/js/dfu.js');
+    const { functionalDescriptor } = await import('/js/flash.js');
+    // `bend(rom, q, v, d)` may answer in the ROM's place (undefined: the ROM answers)
+    const run = async (bend) => {
+      const rom = new w.FakeDfu(0, 0);
+      const plan = w.flash_plan('polyturn.bin', w.FakeDfu.sample_image(4096), rom.interface(), functionalDescriptor(rom.configuration_descriptor()));
+      const t = {
+        controlIn: async (q, v, n) => (await bend('in', rom, q, v, n)) ?? rom.control_in(q, v, n),
+        controlOut: async (q, v, d) => (await bend('out', rom, q, v, d)) ?? rom.control_out(q, v, d),
+      };
+      const t0 = performance.now();
+      try {
+        const out = await flash(t, plan, () => {}, { stepMs: 300 });
+        return { out, events: rom.events() };
+      } catch (e) {
+        return { error: e.message, ms: performance.now() - t0, events: rom.events() };
+      }
+    };
+    let erased = false;
+    return {
+      // a status of dfuIDLE (state 2) after the first erase, not dfuDNLOAD-IDLE
+      idle: await run(async (dir, rom, q, v, n) => {
+        if (dir === 'out' && q === 1 && n[0] === 0x41) erased = true;
+        if (dir === 'in' && q === 3 && erased) { const s = rom.control_in(q, v, n); s[4] = 2; return s; }
+      }),
+      // the first data block is never answered
+      silent: await run(async (dir, rom, q, v, d) => (dir === 'out' && q === 1 && v === 2 && d.length > 0 ? new Promise(() => {}) : undefined)),
+      // the board drops off the bus at the leave request: it left
+      vanished: await run(async (dir, rom, q, v, d) => { if (dir === 'out' && q === 1 && v === 2 && d.length === 0) throw new Error('NetworkError: device disconnected'); }),
+      // the board stalls the leave request: it refused
+      stalled: await run(async (dir, rom, q, v, d) => { if (dir === 'out' && q === 1 && v === 2 && d.length === 0) throw new Stall('stall (stall)'); }),
+    };
+  });
+  assert.match(r.idle.error ?? '', /^the erase of sector 0 at 0x08000000: the bootloader went to state 2 \(OK\), not dfuDNLOAD-IDLE$/, JSON.stringify(r.idle));
+  assert.match(r.silent.error ?? '', /^USB transfer failed during the write at 0x08000000: no answer to the request within 0\.3 s/, JSON.stringify(r.silent));
+  assert.ok(r.silent.ms < 2000, `bounded: ${r.silent.ms} ms`);
+  assert.ok(!r.silent.events.includes('Leave'));
+  assert.deepEqual(r.vanished.out, { left: 'vanished' });
+  assert.match(r.stalled.error ?? '', /^USB transfer failed during the leave request: stall/, JSON.stringify(r.stalled));
+});
+
 await test('a file that is no polyturn image is refused before any request', async () => {
   const e = await page.evaluate(async () => {
     const w = await import('/pkg/polyturn_web.js');
-    try { w.flash_plan('notes.bin', new TextEncoder().encode('hello'), new w.FakeDfu(0, 0).interface(), 2048); return 'taken'; } catch (err) { return String(err); }
+    try { w.flash_plan('notes.bin', new TextEncoder().encode('hello'), new w.FakeDfu(0, 0).interface(), new Uint8Array()); return 'taken'; } catch (err) { return String(err); }
   });
   assert.match(e, /^notes\.bin /);
 });

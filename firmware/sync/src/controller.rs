@@ -402,6 +402,8 @@ pub mod selftest;
 #[cfg(test)]
 mod sense_tests;
 #[cfg(test)]
+mod settings_tests;
+#[cfg(test)]
 mod setup_tests;
 mod stall;
 #[cfg(test)]

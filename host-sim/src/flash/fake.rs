@@ -205,4 +205,5 @@ impl Inner {
 }
 
 /// The DfuIo side: the requests, one transfer each.
+mod descriptors;
 mod io;

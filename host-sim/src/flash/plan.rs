@@ -61,20 +61,19 @@ pub fn plan<M: AsRef<mem>>(d: &FunctionalDescriptor, protocol: &DfuProtocol<M>, 
     Ok(Plan { bytes, transfer, sectors: pages.len(), pages })
 }
 
-/// The STM32 ROM's functional descriptor and the interface string as
-/// WebUSB gives them (`interfaceName`), for the web page's plan.
-pub fn plan_from_strings(interface: &str, transfer_size: u16, image: &Image) -> Result<Plan, String> {
-    let protocol = DfuProtocol::new(interface, (0x01, 0x1A))
-        .map_err(|e| format!("the device's interface '{interface}' is not a DfuSe memory layout: {e}"))?;
-    let d = FunctionalDescriptor {
-        can_download: true,
-        can_upload: true,
-        manifestation_tolerant: false,
-        will_detach: true,
-        detach_timeout: 255,
-        transfer_size,
-        dfu_version: (0x01, 0x1A),
+/// The web page's plan: the interface string as WebUSB gives it
+/// (`interfaceName`) and the DFU functional descriptor's bytes as the page
+/// read them from the device's configuration descriptor (DFU 1.1 §4.1.3),
+/// so the page refuses what `polyturn flash` refuses.
+pub fn plan_for_web(interface: &str, functional: &[u8], image: &Image) -> Result<Plan, String> {
+    let d = match FunctionalDescriptor::from_bytes(functional) {
+        Some(Ok(d)) => d,
+        Some(Err(_)) | None => {
+            return Err(format!("the device's DFU functional descriptor is not one (bytes {functional:02x?})"));
+        }
     };
+    let protocol = DfuProtocol::new(interface, d.dfu_version)
+        .map_err(|e| format!("the device's interface '{interface}' is not a DfuSe memory layout: {e}"))?;
     plan(&d, &protocol, image)
 }
 
@@ -88,7 +87,7 @@ mod tests {
     #[test]
     fn the_web_plan_pads_to_whole_transfers_and_erases_the_pages_the_image_covers() {
         let image = crate::flash::image::from_bytes(&good(40 * 1024 + 1), Format::Bin, false).unwrap();
-        let p = plan_from_strings(INTERFACE, 2048, &image).unwrap();
+        let p = plan_for_web(INTERFACE, &rom_descriptor(), &image).unwrap();
         assert_eq!(p.bytes.len(), 42 * 1024, "41 KiB rounds up to 21 transfers of 2 KiB");
         assert!(p.bytes[40 * 1024 + 1..].iter().all(|&b| b == 0xFF));
         assert_eq!(p.pages, vec![0x0800_0000, 0x0800_4000, 0x0800_8000], "three 16 KiB sectors");
@@ -97,9 +96,39 @@ mod tests {
     #[test]
     fn a_device_whose_pages_would_erase_the_settings_is_refused() {
         let image = crate::flash::image::from_bytes(&good(1024), Format::Bin, false).unwrap();
-        let e = plan_from_strings("@Internal Flash  /0x08000000/01*512Kg", 2048, &image).unwrap_err();
+        let e = plan_for_web("@Internal Flash  /0x08000000/01*512Kg", &rom_descriptor(), &image).unwrap_err();
         assert!(e.contains("past 0x08040000 (sectors 6-7 keep the settings)"), "{e}");
-        let e = plan_from_strings("not a layout", 2048, &image).unwrap_err();
+        let e = plan_for_web("not a layout", &rom_descriptor(), &image).unwrap_err();
         assert!(e.starts_with("the device's interface 'not a layout'"), "{e}");
+    }
+
+    /// The fake ROM's functional descriptor, the last 9 bytes of its
+    /// configuration descriptor.
+    fn rom_descriptor() -> [u8; 9] {
+        let config = crate::flash::fake::FakeRom::new(Default::default()).configuration_descriptor();
+        config[config.len() - 9..].try_into().unwrap()
+    }
+
+    #[test]
+    fn the_web_plan_refuses_what_polyturn_flash_refuses_in_the_descriptor() {
+        let image = crate::flash::image::from_bytes(&good(1024), Format::Bin, false).unwrap();
+        let with = |bytes: &[(usize, u8)]| {
+            let mut d = rom_descriptor();
+            for &(i, v) in bytes {
+                d[i] = v;
+            }
+            plan_for_web(INTERFACE, &d, &image).map(|_| ())
+        };
+        assert_eq!(with(&[]), Ok(()), "the ROM's own");
+        // plain DFU 1.1, no upload, a 32-byte transfer
+        for bad in [&[(7, 0x10)][..], &[(2, 0x09)], &[(5, 32), (6, 0)]] {
+            let e = with(bad).unwrap_err();
+            assert!(e.starts_with("not the STM32 ROM bootloader's DfuSe 1.1a"), "{bad:?}: {e}");
+        }
+        // not a functional descriptor (type 0x04), or cut short
+        let e = with(&[(1, 0x04)]).unwrap_err();
+        assert!(e.starts_with("the device's DFU functional descriptor is not one"), "{e}");
+        let e = plan_for_web(INTERFACE, &rom_descriptor()[..5], &image).unwrap_err();
+        assert!(e.starts_with("the device's DFU functional descriptor is not one"), "{e}");
     }
 }

@@ -2,11 +2,15 @@
 // `polyturn flash` (host-sim/src/flash/dfuse*.rs), in the same order, on
 // a plan the host library made (`flash_plan`: the image checked, padded to
 // whole transfers, the pages to erase, none past the settings). Every wait
-// for the device is bounded. Tested against the fake ROM in WebAssembly.
+// for the device is bounded: WebUSB transfers have no timeout of their own
+// (whatwg/usb#25), so each races a timer. Tested against the fake ROM in
+// WebAssembly.
 export const DNLOAD = 1, UPLOAD = 2, GETSTATUS = 3, CLRSTATUS = 4, ABORT = 6;
 // DFU 1.1 §6.1.2 bState
-export const IDLE = 2, DNBUSY = 4, DNLOAD_IDLE = 5, MANIFEST = 7, UPLOAD_IDLE = 9, ERROR = 10;
-const STEP_MS = 10000; // a 128 KiB sector erase takes up to 4 s (DS10314)
+export const IDLE = 2, DNLOAD_SYNC = 3, DNBUSY = 4, DNLOAD_IDLE = 5, MANIFEST = 7, UPLOAD_IDLE = 9, ERROR = 10;
+// a 128 KiB sector erase takes up to 4 s (DS10314), and the ROM may hold
+// back its GETSTATUS answer until the erase ends
+const STEP_MS = 10000;
 const POLL_MAX_MS = 1000;
 const STATUS = ['OK', 'errTARGET', 'errFILE', 'errWRITE', 'errERASE', 'errCHECK_ERASED', 'errPROG', 'errVERIFY',
   'errADDRESS', 'errNOTDONE', 'errFIRMWARE', 'errVENDOR', 'errUSBR', 'errPOR', 'errUNKNOWN', 'errSTALLEDPKT'];
@@ -15,28 +19,47 @@ const sleep = (ms) => new Promise((r) => setTimeout(r, ms));
 const le32 = (v) => [v & 0xff, (v >>> 8) & 0xff, (v >>> 16) & 0xff, (v >>> 24) & 0xff];
 const hex = (v) => `0x${v.toString(16).padStart(8, '0')}`;
 
+// A transfer's promise, or an error once `ms` pass without an answer.
+export function bounded(promise, ms, what) {
+  let timer;
+  const late = new Promise((_, reject) => {
+    timer = setTimeout(() => reject(new Error(`no answer to ${what} within ${ms / 1000} s: unplug the board and start again`)), ms);
+  });
+  return Promise.race([promise, late]).finally(() => clearTimeout(timer));
+}
+
+// A stall is the device refusing a request; other failures are the bus
+// (or the device leaving it).
+export class Stall extends Error {}
+
 // A WebUSB device's DFU interface as the two transfers DfuSe needs.
 export function webusb(device, interfaceNumber) {
   const setup = (request, value) => ({ requestType: 'class', recipient: 'interface', request, value, index: interfaceNumber });
   return {
     async controlIn(request, value, length) {
       const r = await device.controlTransferIn(setup(request, value), length);
-      if (r.status !== 'ok') throw new Error(`stall (${r.status})`);
+      if (r.status !== 'ok') throw new Stall(`stall (${r.status})`);
       return new Uint8Array(r.data.buffer, r.data.byteOffset, r.data.byteLength);
     },
     async controlOut(request, value, data) {
       const r = await device.controlTransferOut(setup(request, value), data);
-      if (r.status !== 'ok') throw new Error(`stall (${r.status})`);
+      if (r.status !== 'ok') throw new Stall(`stall (${r.status})`);
       return r.bytesWritten;
     },
   };
 }
 
 class Dfu {
-  constructor(t) { this.t = t; }
+  constructor(t, stepMs) { this.t = t; this.stepMs = stepMs; }
 
   async usb(step, f) {
-    try { return await f(); } catch (e) { throw new Error(`USB transfer failed during ${step}: ${e.message ?? e}`); }
+    try {
+      return await bounded(f(), this.stepMs, 'the request');
+    } catch (e) {
+      const err = new Error(`USB transfer failed during ${step}: ${e.message ?? e}`);
+      err.stall = e instanceof Stall;
+      throw err;
+    }
   }
 
   // DFU_GETSTATUS: {status, pollMs, state}
@@ -59,16 +82,23 @@ class Dfu {
   }
 
   // Polls until the request is done (AN3156: it runs at the first
-  // GETSTATUS), at most STEP_MS.
+  // GETSTATUS), at most stepMs. Done is dfuDNLOAD-IDLE with status OK
+  // (AN2662 §4.5.2), as dfu-core's wait (`polyturn flash`) requires.
   async wait(step) {
     const t0 = performance.now();
     for (;;) {
       const s = await this.status(step);
-      if (s.state === ERROR) throw new Error(`the bootloader refused ${step}: ${STATUS[s.status] ?? s.status}`);
-      if (s.state === DNLOAD_IDLE || s.state === IDLE) return;
-      if (s.state !== DNBUSY && s.state !== 3) throw new Error(`${step}: unexpected state ${s.state}`);
+      if (s.state === ERROR) {
+        // leave it idle for the next try, as `polyturn flash` does
+        await this.usb(step, () => this.t.controlOut(CLRSTATUS, 0, new Uint8Array())).catch(() => {});
+        throw new Error(`the bootloader refused ${step}: ${STATUS[s.status] ?? s.status}`);
+      }
+      if (s.state === DNLOAD_IDLE && s.status === 0) return;
+      if (s.state !== DNBUSY && s.state !== DNLOAD_SYNC) {
+        throw new Error(`${step}: the bootloader went to state ${s.state} (${STATUS[s.status] ?? s.status}), not dfuDNLOAD-IDLE`);
+      }
       const waited = performance.now() - t0;
-      if (waited > STEP_MS) throw new Error(`${step}: the bootloader was still busy after ${Math.round(waited)} ms`);
+      if (waited > this.stepMs) throw new Error(`${step}: the bootloader was still busy after ${Math.round(waited)} ms`);
       await sleep(Math.min(s.pollMs, POLL_MAX_MS));
     }
   }
@@ -80,15 +110,16 @@ class Dfu {
 }
 
 // Erases, writes, reads everything back and compares, then leaves DFU.
-// `progress({phase, done, total})`. Resolves to {left: 'manifest'|'vanished'}.
-export async function flash(t, plan, progress = () => {}) {
-  const d = new Dfu(t);
+// `progress({phase, done, total})`; `stepMs` bounds each request and each
+// wait. Resolves to {left: 'manifest'|'vanished'}.
+export async function flash(t, plan, progress = () => {}, { stepMs = STEP_MS } = {}) {
+  const d = new Dfu(t, stepMs);
   const base = plan.pages[0];
   const { bytes, transfer } = plan;
   const blocks = bytes.length / transfer;
   await d.toIdle('the start');
   for (const [i, page] of plan.pages.entries()) {
-    await d.command(0x41, page, `the erase of sector ${i}`);
+    await d.command(0x41, page, `the erase of sector ${i} at ${hex(page)}`);
     progress({ phase: 'erase', done: i + 1, total: plan.pages.length });
   }
   await d.command(0x21, base, 'the write address');
@@ -113,7 +144,10 @@ async function verify(d, { bytes, transfer, pages }, progress) {
     const address = base + n * transfer;
     const step = `the read-back at ${hex(address)}`;
     const got = await d.usb(step, () => d.t.controlIn(UPLOAD, n + 2, transfer));
-    if (got.length !== transfer) throw new Error(`${step}: the bootloader sent ${got.length} of ${transfer} bytes`);
+    if (got.length !== transfer) {
+      await d.usb(step, () => d.t.controlOut(ABORT, 0, new Uint8Array())).catch(() => {});
+      throw new Error(`${step}: the bootloader sent ${got.length} of ${transfer} bytes`);
+    }
     const wrote = bytes.subarray(n * transfer, (n + 1) * transfer);
     const k = wrote.findIndex((w, i) => w !== got[i]);
     if (k >= 0) {
@@ -126,16 +160,26 @@ async function verify(d, { bytes, transfer, pages }, progress) {
 }
 
 // AN3156 §5.5: the address of the start, then a zero-length DNLOAD; the
-// ROM answers dfuMANIFEST and jumps, or vanishes from the bus at once.
+// ROM answers dfuMANIFEST and jumps, or leaves the bus at once (so a bus
+// failure, as in dfu-util's dfuse_do_leave, is it gone). A stall is a
+// refusal, and no answer at all is not known to be a leave: both errors.
 async function leave(d, base) {
   await d.command(0x21, base, 'the start address');
-  await d.usb('the leave request', () => d.t.controlOut(DNLOAD, 2, new Uint8Array()));
+  const gone = (e) => {
+    if (e.stall || /no answer to/.test(e.message)) throw e;
+    return { left: 'vanished' };
+  };
   try {
-    const s = await d.status('the leave request');
-    if (s.state === MANIFEST) return { left: 'manifest' };
-    throw new Error(`the leave request: the bootloader stayed in state ${s.state} (${STATUS[s.status] ?? s.status})`);
+    await d.usb('the leave request', () => d.t.controlOut(DNLOAD, 2, new Uint8Array()));
   } catch (e) {
-    if (String(e.message).startsWith('USB transfer failed')) return { left: 'vanished' };
-    throw e;
+    return gone(e);
   }
+  let s;
+  try {
+    s = await d.status('the leave request');
+  } catch (e) {
+    return gone(e);
+  }
+  if (s.state === MANIFEST) return { left: 'manifest' };
+  throw new Error(`the leave request: the bootloader stayed in state ${s.state} (${STATUS[s.status] ?? s.status})`);
 }

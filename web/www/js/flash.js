@@ -1,7 +1,7 @@
 // Flash: a release image to a board in ROM DFU mode over WebUSB
 // (Chromium), checked and planned by the host library first.
 import { load } from './polyturn.js';
-import { flash, webusb } from './dfu.js';
+import { bounded, flash, webusb } from './dfu.js';
 
 const $ = (id) => document.getElementById(id);
 // AN2606: the STM32 ROM bootloader's USB DFU
@@ -28,6 +28,24 @@ export function findFlash(device) {
   return null;
 }
 
+// The DFU functional descriptor (type 0x21, DFU 1.1 §4.1.3) among the
+// descriptors a configuration descriptor carries (USB 2.0 §9.4.3: each
+// starts with its length and type). Null if there is none.
+export function functionalDescriptor(config) {
+  for (let i = 0; i + 1 < config.length && config[i] > 0; i += config[i]) {
+    if (config[i + 1] === 0x21) return config.subarray(i, i + config[i]);
+  }
+  return null;
+}
+
+// GET_DESCRIPTOR(CONFIGURATION 0), USB 2.0 §9.4.3.
+async function configurationDescriptor(device) {
+  const setup = { requestType: 'standard', recipient: 'device', request: 6, value: 0x0200, index: 0 };
+  const r = await bounded(device.controlTransferIn(setup, 1024), 5000, 'the configuration descriptor');
+  if (r.status !== 'ok') throw new Error(`the board refused its configuration descriptor (${r.status})`);
+  return new Uint8Array(r.data.buffer, r.data.byteOffset, r.data.byteLength);
+}
+
 async function go() {
   const file = $('image-file').files[0];
   const status = $('flash-status');
@@ -37,14 +55,18 @@ async function go() {
   let device;
   try {
     device = await navigator.usb.requestDevice({ filters: [ROM] });
-    await device.open();
-    if (!device.configuration) await device.selectConfiguration(1);
+    const usb = (what, p) => bounded(p, 5000, what);
+    await usb('open', device.open());
+    if (!device.configuration) await usb('select configuration', device.selectConfiguration(1));
     const alt = findFlash(device);
     if (!alt) throw new Error('this device has no "@Internal Flash" DFU interface: not the STM32 ROM bootloader');
-    await device.claimInterface(alt.interfaceNumber);
-    await device.selectAlternateInterface(alt.interfaceNumber, alt.alternate);
-    // the ROM's wTransferSize is 2048 (AN3156 §4); the layout is its name
-    const plan = (await load()).flash_plan(file.name, new Uint8Array(await file.arrayBuffer()), alt.name, 2048);
+    await usb('claim', device.claimInterface(alt.interfaceNumber));
+    await usb('select alternate', device.selectAlternateInterface(alt.interfaceNumber, alt.alternate));
+    // the layout is the alternate's name; wTransferSize, the version and
+    // what it can do are in its functional descriptor, checked as
+    // `polyturn flash` checks them
+    const functional = functionalDescriptor(await configurationDescriptor(device)) ?? new Uint8Array();
+    const plan = (await load()).flash_plan(file.name, new Uint8Array(await file.arrayBuffer()), alt.name, functional);
     status.textContent = `image ${plan.version ?? ''}, ${plan.image_len} bytes, sha256 ${plan.sha256.slice(0, 16)}…`;
     const r = await flash(webusb(device, alt.interfaceNumber), plan, ({ phase, done, total }) => {
       $('flash-progress').value = done / total;
@@ -54,6 +76,6 @@ async function go() {
   } catch (e) {
     error.textContent = `error: ${e.message ?? e}`;
   } finally {
-    try { await device?.close(); } catch { /* it may have left the bus */ }
+    try { await bounded(device?.close() ?? Promise.resolve(), 2000, 'close'); } catch { /* it may have left the bus */ }
   }
 }

@@ -171,3 +171,45 @@ fn the_tick_counts_index_edges_for_the_encoder_check() {
     assert_eq!((r.moved, r.indexes, r.gap, r.cpr), (7_300, 4, Some((3, 2400, 2400)), Some(2400)));
     assert_eq!(c.encoder_check(), None, "stopped");
 }
+
+#[test]
+fn a_jog_rounds_to_the_nearest_step_and_takes_up_to_ten_turns() {
+    // 68 mdeg is 0.604 step: one step, either way (rounded, not truncated)
+    let mut c = ctl(Config::default());
+    assert_eq!(c.jog(68).map(|p| p.steps), Ok(1));
+    let mut c = ctl(Config::default());
+    assert_eq!(c.jog(-68).map(|p| p.steps), Ok(-1));
+    let mut c = ctl(Config::default());
+    assert_eq!(c.jog(3_600_000).map(|p| p.steps), Ok(32_000), "ten turns exactly");
+    let mut c = ctl(Config::default());
+    assert_eq!(c.jog(-3_600_001).map(|p| p.steps), Err(Refusal::JogRange));
+}
+
+#[test]
+fn a_jog_ignores_the_lathe_rocking_by_its_slack_wherever_it_stands() {
+    // the lathe at rest at count 1000 (a jog measures from where it is),
+    // then rocking 2 counts a tick: within 4 counts the jog goes on, at 5
+    // it stops
+    let mut c = ctl(Config::default());
+    for k in 1..=500u16 {
+        c.tick(&TickInput { lathe: 2 * k, ..TickInput::default() });
+    }
+    for _ in 0..3_000 {
+        c.tick(&TickInput { lathe: 1_000, ..TickInput::default() });
+    }
+    c.jog(90_000).unwrap();
+    let mut o = Output::default();
+    let mut tick = |c: &mut Controller, lathe: u16| {
+        let out = c.tick(&TickInput { lathe, emitted: o.emitted, ..TickInput::default() });
+        let (n, _) = o.pipe[o.t % 2];
+        o.emitted = o.emitted.wrapping_add(n);
+        o.pipe[o.t % 2] = (out.plan.count, Some(out.plan.dir));
+        o.t += 1;
+    };
+    for at in [1_002, 1_004, 1_002, 1_000, 998, 996, 998, 996] {
+        tick(&mut c, at);
+        assert_eq!(c.state(), State::Jogging, "{at}: within 4 counts");
+    }
+    tick(&mut c, 995);
+    assert_eq!(c.state(), State::Disengaging, "5 counts: the lathe is turning");
+}

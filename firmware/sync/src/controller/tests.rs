@@ -182,3 +182,19 @@ fn a_cam_header_is_refused_for_each_limit_alone() {
     let other = CamHeader { counts_per_rev: 4000, ..ok };
     assert_eq!(c.check_cam(&other), Err("cam table made for another cpr: set cpr or remake the table"));
 }
+
+#[test]
+fn a_stall_counts_a_tick_s_most_plausible_count_and_loses_one_more_and_each_says_so() {
+    for (jump, want) in [(0, Stall::Still), (0, Stall::Counted), (1, Stall::Lost { reindexed: false })] {
+        let mut c = ctl();
+        let most = c.derived().max_counts_per_tick;
+        let at = if want == Stall::Still { 0 } else { most + jump };
+        c.begin_stall();
+        c.tick(&TickInput { lathe: at as u16, ..TickInput::default() });
+        assert_eq!(c.end_stall(), want, "{at} counts in a tick, at most {most}");
+    }
+    assert_eq!(Stall::Still.describe(), "");
+    assert_eq!(Stall::Counted.describe(), " (the lathe turned during the save: counted)");
+    assert!(Stall::Lost { reindexed: true }.describe().ends_with("the phase is re-referenced to the index)"));
+    assert!(Stall::Lost { reindexed: false }.describe().ends_with("the phase to earlier cuts is lost)"));
+}

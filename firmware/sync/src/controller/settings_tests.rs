@@ -1,0 +1,52 @@
+//! Settings while running or faulted: what `install_config` allows, and
+//! what it keeps.
+
+use super::rig::{per_tick, Rig};
+use super::*;
+use crate::cam::Cam;
+use crate::config::Config;
+use crate::follower::Limits;
+
+fn install(r: &mut Rig, name: &str, value: &str) -> Result<(), Refusal> {
+    let c = r.c.config().with(name, value).unwrap();
+    let only_phase = c.differs_only_in_phase(r.c.config());
+    r.c.install_config(c, Derived::new(&c, Timing::FIRMWARE), only_phase)
+}
+
+#[test]
+fn after_a_ramped_fault_has_stopped_the_settings_change_and_not_while_it_ramps() {
+    let mut r = Rig::new(Config::default());
+    r.run(per_tick(0.5), 3_000); // the lathe turning steadily first
+    r.c.engage().unwrap();
+    r.until(per_tick(0.5), 20_000, |c| c.state() == State::Synced);
+    r.run(per_tick(0.5), 1_000);
+    r.c.trip(Fault::FollowingError);
+    assert!(r.c.follower().velocity > 0);
+    assert_eq!(install(&mut r, "max-accel", "300000"), Err(Refusal::NotIdle), "ramping down");
+    r.until(0, 50_000, |c| c.follower().velocity == 0);
+    assert_eq!(install(&mut r, "max-accel", "300000"), Ok(()), "stopped");
+}
+
+#[test]
+fn an_x_axis_stays_fitted_unless_cpr_changes() {
+    let table: &'static [i32] = std::vec::Vec::leak(std::vec![0, 10]);
+    let mut r = Rig::new(Config::default());
+    r.c.set_x_axis(Some(XAxis::new(Cam::new(table, 2_400).unwrap(), Limits::from_rates(12_500, 1_000_000, 25_000))))
+        .unwrap();
+    install(&mut r, "steps", "1600").unwrap();
+    assert!(r.c.x_axis().is_some(), "a motor setting keeps the cam");
+    install(&mut r, "cpr", "4000").unwrap();
+    assert!(r.c.x_axis().is_none(), "the cam's period is in counts of the old encoder");
+}
+
+#[test]
+fn setting_the_same_phase_while_synced_stays_synced() {
+    let mut r = Rig::new(Config::default().with("phase", "10").unwrap());
+    r.run(per_tick(0.5), 3_000);
+    r.c.engage().unwrap();
+    r.until(per_tick(0.5), 20_000, |c| c.state() == State::Synced);
+    install(&mut r, "phase", "10").unwrap();
+    assert_eq!(r.c.state(), State::Synced, "nothing to move to");
+    install(&mut r, "phase", "12").unwrap();
+    assert_eq!(r.c.state(), State::Engaging, "a nudge is a move, not lag");
+}
