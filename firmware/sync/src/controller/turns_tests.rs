@@ -49,3 +49,30 @@ fn engaging_many_turns_behind_catches_up_only_the_nearest_fraction() {
     // 11 000 counts: 29 333.3, 29 333 steps: 9.17 turns, 9 dropped
     assert_eq!(engage_after(-11_000), (9 * M, 9 * M - 29_333));
 }
+
+#[test]
+fn engaging_again_counts_the_turns_from_where_the_cutter_stands() {
+    // engaged 10 000 counts on (8 turns dropped, the cutter at 26 667 −
+    // 25 600 = 1067), stopped; the lathe turns 5 000 counts more: the gear
+    // says 40 000 steps, 14 400 after the turns dropped, 13 333 ahead of
+    // the cutter: 4.17 turns, 4 more dropped, 533 steps to go
+    let mut r = Rig::new(Config::default());
+    r.run(per_tick(1.0), 10_000);
+    r.run(0, 1_000);
+    r.c.engage().unwrap();
+    r.until(0, 50_000, |c| c.state() == State::Synced);
+    r.c.disengage();
+    r.until(0, 50_000, |c| c.state() == State::Idle);
+    r.run(0, 100);
+    let before = r.cutter_net;
+    assert_eq!(before, 26_667 - 8 * M);
+    r.run(per_tick(1.0), 5_000);
+    r.run(0, 1_000);
+    r.c.engage().unwrap();
+    // at once, before a tick: the phase error shown is what is left to go
+    assert_eq!(r.c.status().phase_error_q16 >> 16, 40_000 - 12 * M - before);
+    r.until(0, 50_000, |c| c.state() == State::Synced);
+    r.run(0, 100);
+    assert_eq!(r.c.turn_offset_steps(), -12 * M);
+    assert_eq!(r.cutter_net, 40_000 - 12 * M);
+}
