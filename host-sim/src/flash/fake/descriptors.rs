@@ -1,8 +1,9 @@
 //! The fake ROM's USB descriptors as the page reads them with a standard
-//! GET_DESCRIPTOR (USB 2.0 §9.6.3, §9.6.5): one configuration, one DFU
-//! interface whose alternate settings are the ROM's memories (AN3156 §2:
-//! internal flash, option bytes, OTP, device feature), then the DFU
-//! functional descriptor (DFU 1.1 §4.1.3).
+//! GET_DESCRIPTOR (USB 2.0 §9.4.3; the descriptors §9.6.3, §9.6.5): one
+//! configuration, one DFU interface whose alternate settings are the ROM's
+//! memories (`dfu-util -l` on an STM32F4 ROM lists four: @Internal Flash,
+//! @Option Bytes, @OTP Memory, @Device Feature), then the DFU functional
+//! descriptor (DFU 1.1 §4.1.3).
 
 use super::FakeRom;
 use dfu_core::functional_descriptor::FunctionalDescriptor;
