@@ -14,7 +14,7 @@ use polyturn_sync::selftest::{Failure, Verdict};
 use polyturn_sync::steps::Dir;
 use polyturn_sync::{Config, Controller, Fault, TickInput, Timing};
 
-const TICK_HZ: u32 = 25_000;
+const TICK_HZ: u32 = Timing::FIRMWARE.tick_hz;
 const CYCLES_PER_TICK: u64 = (TIMER_HZ / TICK_HZ) as u64;
 
 /// What the jumpers and the board do wrong, if anything.

@@ -1,10 +1,11 @@
 //! polyturn firmware: the board-independent, host-testable parts.
 //!
 //! Everything here compiles on the PC and is tested there; only `main.rs` and
-//! the `hw` module touch registers (and only on the MCU).
+//! the `app` module touch registers (and only on the MCU).
 #![cfg_attr(not(test), no_std)]
 
 pub mod board;
+pub mod clocks;
 pub mod dfu;
 pub mod esc;
 pub mod flashprog;

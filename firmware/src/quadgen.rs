@@ -78,7 +78,7 @@ pub use profile::{max_rpm, Error, Periods, Profile, Segment};
 use program::Op;
 
 /// TIM9's kernel clock CK_INT (APB2 timers at 96 MHz).
-pub const TIMER_HZ: u32 = 96_000_000;
+pub const TIMER_HZ: u32 = crate::clocks::CLOCKS.apb2_timer_hz();
 /// The update interrupt's vector (TIM9 shares TIM1's break vector).
 pub const IRQ: &str = "TIM1_BRK_TIM9";
 /// Pins: A, B (alternate function `AF`), index (GPIO output).

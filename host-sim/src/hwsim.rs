@@ -14,8 +14,8 @@ use polyturn_stm32_model::{Mcu, Params};
 use polyturn_sync::steps::{StepPlan, StepTiming};
 
 /// Timer clock and control tick of the board.
-pub const TIMER_HZ: u32 = 96_000_000;
-pub const TICK_LEN: u32 = TIMER_HZ / 25_000;
+pub const TIMER_HZ: u32 = polyturn_sync::Timing::FIRMWARE.step_timer_hz;
+pub const TICK_LEN: u32 = TIMER_HZ / polyturn_sync::Timing::FIRMWARE.tick_hz;
 /// Where the DMA ring sits in the model's SRAM.
 const RING: u32 = 0x2000_0400;
 

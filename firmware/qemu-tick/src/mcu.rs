@@ -13,7 +13,7 @@ fn panic(info: &core::panic::PanicInfo) -> ! {
     loop {}
 }
 
-pub(crate) const TIMING: Timing = Timing { tick_hz: 25_000, step_timer_hz: 96_000_000 };
+pub(crate) const TIMING: Timing = Timing::FIRMWARE;
 
 /// The tick under test, kept out of line so its cost is measured alone.
 #[inline(never)]

@@ -14,8 +14,8 @@ use polyturn_firmware::stepgen::program::Bus;
 use polyturn_sync::encoder::Counter16;
 use polyturn_sync::steps::Dir;
 
-/// Timer clock (APB1 ×2 and APB2 ×1 both give the system clock).
-pub const TIMER_HZ: u32 = polyturn_firmware::board::SYSCLK_HZ;
+/// Timer clock (APB1 ×2 and APB2 ×1 both give the system clock: `clocks`).
+pub const TIMER_HZ: u32 = polyturn_firmware::clocks::TIMING.step_timer_hz;
 const ENABLE_PIN: usize = 13;
 const X_STEP_PIN: usize = 4;
 const X_DIR_PIN: usize = 5;

@@ -99,8 +99,22 @@ unsafe fn USART6() {
 }
 
 /// 25 MHz HSE → 96 MHz system clock, 48 MHz for USB; all timers at 96 MHz.
+/// The divisors are `clocks::CLOCKS`'s, whose timer clock the sync core
+/// plans with (`Timing::FIRMWARE`): the assertion keeps the two the same.
 fn clocks() -> embassy_stm32::Config {
     use embassy_stm32::rcc::*;
+    const C: polyturn_firmware::clocks::Clocks = polyturn_firmware::clocks::CLOCKS;
+    const _: () = assert!(
+        C.hse_hz == 25_000_000
+            && C.pll_m == 25
+            && C.pll_n == 192
+            && C.pll_p == 2
+            && C.pll_q == 4
+            && C.ahb_div == 1
+            && C.apb1_div == 2
+            && C.apb2_div == 1,
+        "embassy's RCC settings below must be clocks::CLOCKS"
+    );
     let mut c = embassy_stm32::Config::default();
     c.rcc.hse = Some(Hse { freq: Hertz(25_000_000), mode: HseMode::Oscillator });
     c.rcc.pll_src = PllSource::HSE;

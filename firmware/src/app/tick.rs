@@ -42,7 +42,7 @@ static COST_WORST: AtomicU32 = AtomicU32::new(0);
 /// Ticks whose segments the DMA reached before they were written.
 static STEPS_LATE: AtomicU32 = AtomicU32::new(0);
 
-pub const TIMING: Timing = Timing { tick_hz: board::TICK_HZ, step_timer_hz: TIMER_HZ };
+pub const TIMING: Timing = polyturn_firmware::clocks::TIMING;
 
 pub fn start(config: Config, mut pins: OutputPins) {
     pins.set_polarity(config.enable_active_high);

@@ -14,8 +14,10 @@ pub struct Timing {
 }
 
 impl Timing {
-    /// The firmware's: 25 kHz tick, 100 MHz timer clock.
-    pub const FIRMWARE: Timing = Timing { tick_hz: 25_000, step_timer_hz: 100_000_000 };
+    /// The board's: 25 kHz tick, 96 MHz timer clock. The firmware's clock
+    /// tree (`polyturn_firmware::clocks`) fails to build unless it makes
+    /// exactly this; the simulator, the fake board and the page use it.
+    pub const FIRMWARE: Timing = Timing { tick_hz: 25_000, step_timer_hz: 96_000_000 };
 }
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

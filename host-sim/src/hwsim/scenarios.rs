@@ -10,7 +10,7 @@ use polyturn_sync::steps::pipe::StepPipe;
 use polyturn_sync::steps::StepTiming;
 use polyturn_sync::{Config, Controller, State, TickInput, Timing};
 
-pub const TIMING: Timing = Timing { tick_hz: 25_000, step_timer_hz: TIMER_HZ };
+pub const TIMING: Timing = Timing::FIRMWARE;
 
 /// What one run shows.
 #[derive(Clone, Debug)]

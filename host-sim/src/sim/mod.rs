@@ -140,7 +140,7 @@ impl Scenario {
         Scenario {
             setup,
             core,
-            tick_hz: 25_000,
+            tick_hz: polyturn_sync::Timing::FIRMWARE.tick_hz,
             lathe: LatheProfile { start_rpm, legs, ripple, wander: ripple / 5.0, dips: vec![] },
             events: vec![Event::Engage(engage_at)],
             seed,

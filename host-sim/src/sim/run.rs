@@ -10,7 +10,8 @@ use polyturn_sync::gear::Scale;
 use polyturn_sync::{Controller, DriveKind, Fault, State, TickInput, Timing};
 use std::f64::consts::TAU;
 
-const TIMER_HZ: u32 = 100_000_000;
+/// The board's step timer clock: the simulated tick plans in its cycles.
+const TIMER_HZ: u32 = Timing::FIRMWARE.step_timer_hz;
 
 struct Plants {
     lathe: Lathe,

@@ -10,8 +10,8 @@ use crate::noncircular::table::CamFile;
 use polyturn_sync::{Config, Controller, DriveKind, Fault, State, TickInput, Timing};
 use std::f64::consts::TAU;
 
-const TICK_HZ: u32 = 25_000;
-const TIMER_HZ: u32 = 100_000_000;
+const TICK_HZ: u32 = Timing::FIRMWARE.tick_hz;
+const TIMER_HZ: u32 = Timing::FIRMWARE.step_timer_hz;
 const BINS: usize = 4096;
 
 /// A single-point run: the lathe at `rpm` (with `ripple`), the core on
@@ -45,7 +45,7 @@ fn controller(sc: &SinglePoint) -> Result<Controller, String> {
         ..Config::default()
     };
     config.validate().map_err(|e| format!("--{} {}", e.field, e.allowed))?;
-    let mut ctl = Controller::new(config, Timing { tick_hz: TICK_HZ, step_timer_hz: TIMER_HZ });
+    let mut ctl = Controller::new(config, Timing::FIRMWARE);
     ctl.start(0, 0, 0);
     // the firmware's own path: the same checks as a table from flash
     ctl.fit_cam(&t.header(), Vec::leak(t.points.clone()))?;

@@ -39,7 +39,7 @@ fn a_table_sent_in_chunks_with_its_checksum_arrives_whole_and_runs_in_the_core()
     let Progress::Complete(h) = done else { panic!("{done:?}") };
     let (h2, got) = u.table().unwrap();
     assert_eq!((h2, got), (h, &points[..]));
-    let mut ctl = Controller::new(Config::default(), Timing { tick_hz: 25_000, step_timer_hz: 100_000_000 });
+    let mut ctl = Controller::new(Config::default(), Timing::FIRMWARE);
     ctl.fit_cam(&h, Vec::leak(got.to_vec())).unwrap();
     assert_eq!(ctl.x_axis().unwrap().cam.points(), &points[..]);
     // another encoder is refused, naming the setting
