@@ -8,13 +8,20 @@ use polyturn_firmware::stepgen::program::{self as prog, apply, Bus, Op};
 use polyturn_firmware::stepgen::RING_ENTRIES;
 use polyturn_host::hwsim::scenarios::{lathe, ramp, rocking, steady, Outcome};
 use polyturn_host::hwsim::{driver::receive, Isr, TICK_LEN};
-use polyturn_stm32_model::{Mcu, Params, PwmModeSwitch};
+use polyturn_stm32_model::{Mcu, NdtrReading, Params, PwmModeSwitch};
 use polyturn_sync::steps::Dir;
 use polyturn_sync::Config;
 
 fn config(ratio: &str, rpm: &str) -> Config {
     let c = Config::default().with("max-rate", "250000").unwrap().with("max-rpm", rpm).unwrap();
     c.with("ratio", ratio).unwrap()
+}
+
+/// The model on both readings of when DMA2's NDTR counts a word (see
+/// `NdtrReading`): the generator learns which at each arm, and must give
+/// the same edges on either.
+fn both_ndtr_readings() -> [Params; 2] {
+    [NdtrReading::AfterTransfer, NdtrReading::AtPreload].map(|ndtr| Params { ndtr, ..Params::default() })
 }
 
 /// Every pulse a driver needing the pulse width high and low sees, every
@@ -38,10 +45,13 @@ fn assert_clean(name: &str, o: &Outcome) {
 
 #[test]
 fn steps_land_within_two_cycles_of_the_ideal_train_from_10_hz_to_250_khz() {
-    for hz in [10u64, 1_000, 7_777, 64_000, 123_457, 250_000] {
+    for (hz, p) in
+        [10u64, 1_000, 7_777, 64_000, 123_457, 250_000].into_iter().flat_map(|h| both_ndtr_readings().map(|p| (h, p)))
+    {
         let ticks = (25_000 * 2 / hz).clamp(400, 25_000);
-        let o = steady(hz * 1000, ticks, Isr::new((200, 2_000)), Params::default());
-        assert_clean(&format!("{hz} Hz"), &o);
+        let o = steady(hz * 1000, ticks, Isr::new((200, 2_000)), p);
+        assert!(o.received.steps > 0, "{hz} Hz, {:?}: the output started", p.ndtr);
+        assert_clean(&format!("{hz} Hz, {:?}", p.ndtr), &o);
         assert!(o.faults.is_empty(), "{hz} Hz: {:?}", o.faults);
         if let Some(e) = o.spacing_error {
             assert!(e <= 2.0, "{hz} Hz: spacing error {e} cycles");
@@ -53,11 +63,13 @@ fn steps_land_within_two_cycles_of_the_ideal_train_from_10_hz_to_250_khz() {
 fn the_interrupts_latency_moves_no_step() {
     // the same command with the tick's interrupt early, late and jittery:
     // the very same edges, to the cycle
-    let edges = |lat| steady(64_000_000, 600, Isr::new(lat), Params::default()).received.rises;
-    let early = edges((200, 200));
+    let [manual, preload] = both_ndtr_readings();
+    let edges = |lat, p| steady(64_000_000, 600, Isr::new(lat), p).received.rises;
+    let early = edges((200, 200), manual);
     assert!(early.len() > 1000);
-    assert_eq!(early, edges((2_000, 2_000)));
-    assert_eq!(early, edges((200, 2_000)));
+    assert_eq!(early, edges((2_000, 2_000), manual));
+    assert_eq!(early, edges((200, 2_000), manual));
+    assert_eq!(early, edges((200, 2_000), preload), "NDTR counting the preload moves no step either");
 }
 
 #[test]
@@ -65,25 +77,33 @@ fn a_lathe_ramp_to_top_speed_loses_no_step_at_2_1_and_11_3() {
     for (ratio, rpm) in [("2", 2_300.0), ("11/3", 1_250.0)] {
         let c = config(ratio, &format!("{rpm}"));
         // 1 s to top speed: within the default max-accel
-        let o = lathe(c, &ramp(2400.0, rpm, 1.0, 0.1), 2.3, Isr::new((200, 2_000)), Params::default(), None);
-        assert!(o.received.pulses > 40_000, "{ratio}: {} pulses", o.received.pulses);
-        assert_clean(ratio, &o);
-        assert!(o.faults.is_empty(), "{ratio}: {:?}", o.faults);
+        for p in both_ndtr_readings() {
+            let o = lathe(c, &ramp(2400.0, rpm, 1.0, 0.1), 2.3, Isr::new((200, 2_000)), p, None);
+            assert!(o.received.pulses > 40_000, "{ratio}, {:?}: {} pulses", p.ndtr, o.received.pulses);
+            assert_clean(ratio, &o);
+            assert!(o.faults.is_empty(), "{ratio}, {:?}: {:?}", p.ndtr, o.faults);
+        }
     }
 }
 
 #[test]
 fn a_chuck_rocked_by_hand_never_doubles_a_step() {
-    let o = lathe(config("2", "2000"), &rocking(40.0, 0.6), 0.8, Isr::new((200, 2_000)), Params::default(), None);
-    assert!(o.target_reversals > 30);
-    assert_clean("rocking", &o);
+    for p in both_ndtr_readings() {
+        let o = lathe(config("2", "2000"), &rocking(40.0, 0.6), 0.8, Isr::new((200, 2_000)), p, None);
+        assert!(o.target_reversals > 30);
+        assert_clean("rocking", &o);
+    }
 }
 
 #[test]
 fn an_estop_mid_train_then_a_second_engagement_keeps_the_books_exact() {
     // under both readings of a switch into PWM mode (see the model)
-    for switch in [PwmModeSwitch::Reevaluate, PwmModeSwitch::OnlyFromFrozen] {
-        let params = Params { pwm_mode_switch: switch, ..Params::default() };
+    // and of when NDTR counts a word
+    for (switch, p) in [PwmModeSwitch::Reevaluate, PwmModeSwitch::OnlyFromFrozen]
+        .into_iter()
+        .flat_map(|s| both_ndtr_readings().map(|p| (s, p)))
+    {
+        let params = Params { pwm_mode_switch: switch, ..p };
         // engaging again while the lathe turns: the catch-up needs time
         let o = lathe(
             config("2", "2000"),

@@ -21,6 +21,14 @@
 //! constant, see `entries::Entry`.) So the deadline is `tick − MIN_SEGMENT`
 //! cycles after the tick, whatever the steps. A late write is detected
 //! from the DMA's position (NDTR, before and after writing) and halts.
+//!
+//! NDTR has two readings in the manual: it decrements after each transfer
+//! (§9.3.2 "post-decrement"), or already when direct mode preloads the word
+//! from memory before the request (§9.2, §9.3.12); the second runs one
+//! word ahead all the time. Which one the silicon follows is learnt at
+//! each arm, before any request (`ndtr_lead`), so the position is the
+//! words stored either way. Read with the wrong lead, every arm would look
+//! late and the output would never start.
 
 pub mod entries;
 pub mod program;
@@ -55,16 +63,37 @@ pub struct Generator {
     armed: bool,
     /// every ring entry is silent (the DMA may start on it)
     silent: bool,
+    /// words NDTR counts ahead of the words stored: 0 or 1 (`ndtr_lead`)
+    lead: u32,
 }
+
+/// Cycles from enabling the stream to reading NDTR at arm: the preload is
+/// one AHB read by the DMA (the model's DMA latency, 6 cycles, is the
+/// whole request-to-write path); 32 leave it a wide margin.
+pub const PRELOAD_WAIT: u32 = 32;
 
 impl Generator {
     /// `ring`: the address of `RING_ENTRIES × 5` words of RAM for the DMA.
     pub const fn new(ring: u32) -> Generator {
-        Generator { ring, write: 0, silenced: 0, layout: Layout::armed(Dir::Forward), armed: false, silent: false }
+        Generator {
+            ring,
+            write: 0,
+            silenced: 0,
+            layout: Layout::armed(Dir::Forward),
+            armed: false,
+            silent: false,
+            lead: 0,
+        }
     }
 
     pub fn armed(&self) -> bool {
         self.armed
+    }
+
+    /// What the last arm learnt: 0 if NDTR counts transfers, 1 if it counts
+    /// the preloaded word too (the bench reports which, `ndtr_lead`).
+    pub fn ndtr_lead(&self) -> u32 {
+        self.lead
     }
 
     /// At boot, before the first tick: outputs driven quietly (STEP low),
@@ -154,16 +183,28 @@ impl Generator {
             self.silent = true; // the stream never ran on the ring
             return Err(Fail::ArmLate);
         }
+        let Some(lead) = ndtr_lead(bus) else {
+            self.halt(t, bus);
+            self.silent = true; // the DMA only read the silent ring
+            return Err(Fail::ArmLate);
+        };
         let ring = self.ring;
-        *self =
-            Generator { ring, write: 0, silenced: 0, layout: Layout::armed(Dir::Forward), armed: true, silent: false };
+        *self = Generator {
+            ring,
+            write: 0,
+            silenced: 0,
+            layout: Layout::armed(Dir::Forward),
+            armed: true,
+            silent: false,
+            lead,
+        };
         Ok(())
     }
 
     /// Segments whose DMA burst has started, and those it has finished
     /// (they differ while a burst is under way).
     fn dma_entries(&self, bus: &mut impl Bus) -> (usize, usize) {
-        let left = bus.read(program::S5NDTR) % program::RING_WORDS;
+        let left = (bus.read(program::S5NDTR) + self.lead) % program::RING_WORDS;
         let done = (program::RING_WORDS - left) % program::RING_WORDS;
         let started = done.div_ceil(program::BURST_WORDS) as usize % RING_ENTRIES;
         (started, (done / program::BURST_WORDS) as usize)
@@ -174,6 +215,24 @@ impl Generator {
         for (i, w) in e.words().iter().enumerate() {
             bus.write(base + 4 * i as u32, *w);
         }
+    }
+}
+
+/// How far NDTR runs ahead of the words stored, read right after arming:
+/// the stream is on and TIM1 has not yet requested anything, so NDTR is
+/// the ring's length (it counts transfers) or one less (it counted the
+/// preload). `None` if TIM1's update came before the read (its UIF is set;
+/// URS keeps the arm's UG from setting it, §12.4.1): too late to tell, so
+/// the arm is retried at the next tick.
+fn ndtr_lead(bus: &mut impl Bus) -> Option<u32> {
+    bus.delay(PRELOAD_WAIT);
+    let left = bus.read(program::S5NDTR);
+    if bus.read(program::TIM1 + program::SR) & program::UIF != 0 {
+        return None;
+    }
+    match program::RING_WORDS.checked_sub(left) {
+        Some(lead @ (0 | 1)) => Some(lead),
+        _ => None,
     }
 }
 

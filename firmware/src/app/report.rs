@@ -21,12 +21,13 @@ pub async fn every_second() {
             snap.write(&mut line);
             let late = tick::steps_late();
             info!(
-                "{} | tick {} cycles avg, {} worst ({} ticks), step segments late {}",
+                "{} | tick {} cycles avg, {} worst ({} ticks), step segments late {}, NDTR lead {}",
                 line.as_str(),
                 avg,
                 worst,
                 ticks,
-                late
+                late,
+                tick::ndtr_lead()
             );
         }
     }

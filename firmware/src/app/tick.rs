@@ -41,6 +41,8 @@ static COST_SUM: AtomicU32 = AtomicU32::new(0);
 static COST_WORST: AtomicU32 = AtomicU32::new(0);
 /// Ticks whose segments the DMA reached before they were written.
 static STEPS_LATE: AtomicU32 = AtomicU32::new(0);
+/// `Generator::ndtr_lead` of the last arm, for the bench's log.
+static NDTR_LEAD: AtomicU32 = AtomicU32::new(0);
 
 pub const TIMING: Timing = polyturn_firmware::clocks::TIMING;
 
@@ -100,6 +102,7 @@ fn TIM1_TRG_COM_TIM11() {
         if io.steps.tick(&out.plan, out.halt || !stepping, &timing, &mut Mmio).is_err() {
             STEPS_LATE.fetch_add(1, Ordering::Relaxed);
         }
+        NDTR_LEAD.store(io.steps.ndtr_lead(), Ordering::Relaxed);
         // every tick, whatever the drive: a fault or halt stops the ESC too
         let bldc = io.core.config().drive == DriveKind::Bldc;
         let max = io.core.derived().limits.max_velocity;
@@ -149,6 +152,11 @@ pub fn alive() -> bool {
 /// output), since boot.
 pub fn steps_late() -> u32 {
     STEPS_LATE.load(Ordering::Relaxed)
+}
+
+/// 1 if DMA2's NDTR counted the preloaded word at the last arm, else 0.
+pub fn ndtr_lead() -> u32 {
+    NDTR_LEAD.load(Ordering::Relaxed)
 }
 
 /// (ticks, average cycles, worst cycles) since the last call.

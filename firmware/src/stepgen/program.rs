@@ -46,6 +46,8 @@ pub const S5FCR: u32 = DMA2 + 0x24 + 0x18 * 5;
 // a UG never starts a burst (UIF set by a UG could otherwise request one
 // the moment UDE is set)
 const CEN: u32 = 1 << 0;
+/// TIMx_SR.UIF (§12.4.5): set by every update event the counter makes
+pub const UIF: u32 = 1 << 0;
 const URS: u32 = 1 << 2;
 const ARPE: u32 = 1 << 7;
 const CR1_STOPPED: u32 = ARPE | URS;

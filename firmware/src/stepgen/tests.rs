@@ -125,8 +125,9 @@ fn a_halted_generator_writes_nothing_until_it_re_arms() {
     bus.writes.clear();
     g.tick(&StepPlan::default(), true, &T, &mut bus).unwrap();
     assert!(bus.writes.is_empty(), "not armed: nothing to halt");
-    // arm: stream off, TIM11 at 0, no update; NDTR full, stream on, NDTR full
-    bus.reads = vec![0, 0, 0, program::RING_WORDS, 1, program::RING_WORDS];
+    // arm: stream off, TIM11 at 0, no update; NDTR full and TIM1 without
+    // an update (the reading of NDTR); NDTR full, stream on, NDTR full
+    bus.reads = vec![0, 0, 0, program::RING_WORDS, 0, program::RING_WORDS, 1, program::RING_WORDS];
     g.tick(&StepPlan::default(), false, &T, &mut bus).unwrap();
     assert!(g.armed());
     let n = bus.writes.len();
@@ -146,9 +147,9 @@ fn a_segment_whose_burst_is_under_way_is_not_silenced() {
     let mut g = Generator::new(ring);
     let mut bus = Script::default();
     g.prepare(T.tick_len, &mut bus);
-    // arm: the stream reads as stopped, TIM11 at 100 and no update; then
-    // NDTR full, the stream on, NDTR full
-    bus.reads = vec![0, 100, 0, program::RING_WORDS, 1, program::RING_WORDS];
+    // arm: the stream reads as stopped, TIM11 at 100 and no update, NDTR
+    // full with TIM1 not yet updated; then NDTR full, the stream on, NDTR full
+    bus.reads = vec![0, 100, 0, program::RING_WORDS, 0, program::RING_WORDS, 1, program::RING_WORDS];
     g.tick(&StepPlan::default(), false, &T, &mut bus).unwrap();
     for _ in 0..2 {
         bus.reads = vec![program::RING_WORDS, 1, program::RING_WORDS];
@@ -163,4 +164,47 @@ fn a_segment_whose_burst_is_under_way_is_not_silenced() {
     let touched: Vec<usize> = bus.writes[before..].iter().map(|(a, _)| slot(*a)).collect();
     assert!(touched.contains(&0), "slot 0, read whole, is silenced");
     assert!(!touched.contains(&1), "slot 1 is mid-burst: {touched:?}");
+}
+
+/// Arms a generator whose NDTR reads `ndtr` after the arm, with TIM1's
+/// update flag `uif`; then one tick whose NDTR reads `now`. Returns the
+/// arm's result, the tick's, and the slots the tick silenced.
+fn arm_reading(ndtr: u32, uif: u32, now: u32) -> (Result<(), Fail>, Result<(), Fail>, Vec<usize>) {
+    let ring = 0x2000_0000;
+    let mut g = Generator::new(ring);
+    let mut bus = Script::default();
+    g.prepare(T.tick_len, &mut bus);
+    bus.reads = vec![0, 100, 0, ndtr, uif, ndtr, 1, ndtr];
+    let armed = g.tick(&StepPlan::default(), false, &T, &mut bus);
+    bus.reads = vec![now, 1, now];
+    let before = bus.writes.len();
+    let next = g.tick(&StepPlan::default(), false, &T, &mut bus);
+    let slot = |a: u32| (a.wrapping_sub(ring) / (4 * program::BURST_WORDS)) as usize;
+    let mut touched: Vec<usize> = bus.writes[before..].iter().map(|(a, _)| slot(*a)).collect();
+    touched.dedup();
+    (armed, next, touched)
+}
+
+#[test]
+fn ndtr_that_counts_the_preloaded_word_is_read_one_word_behind() {
+    let (w, full) = (program::BURST_WORDS, program::RING_WORDS);
+    // the manual's reading: full at arm; a burst later, one slot taken
+    let (armed, next, touched) = arm_reading(full, 0, full - w);
+    assert_eq!((armed, next), (Ok(()), Ok(())));
+    assert_eq!(touched[0], 0, "slot 0 taken whole and silenced");
+    // the preload's: one less at arm, and one less again a burst later;
+    // the same slot is taken, and it is not late
+    let (armed, next, preload_touched) = arm_reading(full - 1, 0, full - w - 1);
+    assert_eq!((armed, next), (Ok(()), Ok(())));
+    assert_eq!(preload_touched, touched);
+}
+
+#[test]
+fn an_arm_that_cannot_tell_the_reading_waits_for_the_next_tick() {
+    let full = program::RING_WORDS;
+    // TIM1 updated before the read: a request may have moved NDTR
+    assert_eq!(arm_reading(full - 1, 1, full).0, Err(Fail::ArmLate));
+    // two words gone before any request: neither reading
+    assert_eq!(arm_reading(full - 2, 0, full).0, Err(Fail::ArmLate));
+    assert_eq!(arm_reading(full + 1, 0, full).0, Err(Fail::ArmLate));
 }

@@ -109,6 +109,11 @@ impl Dma {
         }
     }
 
+    /// NDTR as last programmed (what circular mode reloads).
+    pub fn programmed_len(&self) -> u32 {
+        self.programmed
+    }
+
     pub fn quiet_cycles(&self, now: u64) -> u64 {
         self.next_due.saturating_sub(now + 1)
     }

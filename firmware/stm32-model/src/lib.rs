@@ -47,7 +47,7 @@ mod tim2;
 mod tim9;
 mod timebase;
 
-pub use mcu::{Edge, Mcu, Params, PinId};
+pub use mcu::{Edge, Mcu, NdtrReading, Params, PinId};
 
 /// What OCxREF does when OCxM is switched into a PWM mode while the timer runs.
 ///

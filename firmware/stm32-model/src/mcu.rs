@@ -28,11 +28,32 @@ pub struct Params {
     pub tim2_resync_cycles: u32,
     /// OCxREF on a switch into PWM mode; see [`PwmModeSwitch`].
     pub pwm_mode_switch: PwmModeSwitch,
+    /// When DMA2_S5NDTR counts a word; see [`NdtrReading`].
+    pub ndtr: NdtrReading,
+}
+
+/// Two readings of when NDTR counts a word in direct mode, memory to
+/// peripheral. The firmware must work on both (`stepgen::ndtr_lead`); the
+/// bench tells which one the silicon follows.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum NdtrReading {
+    /// after the word is written to the peripheral: "post-decrement of the
+    /// DMA_SxNDTR register" once the transfer is done (§9.3.2, §9.3.3)
+    AfterTransfer,
+    /// when direct mode preloads the word from memory ahead of the request
+    /// ("the DMA preloads only one data from the memory", §9.2; §9.3.12):
+    /// NDTR reads one less while a word is preloaded
+    AtPreload,
 }
 
 impl Default for Params {
     fn default() -> Params {
-        Params { dma_latency_cycles: 6, tim2_resync_cycles: 2, pwm_mode_switch: PwmModeSwitch::Reevaluate }
+        Params {
+            dma_latency_cycles: 6,
+            tim2_resync_cycles: 2,
+            pwm_mode_switch: PwmModeSwitch::Reevaluate,
+            ndtr: NdtrReading::AfterTransfer,
+        }
     }
 }
 

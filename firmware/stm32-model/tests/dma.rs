@@ -244,3 +244,28 @@ fn direct_mode_reads_the_next_item_before_its_request() {
     m.run_until(40);
     assert_eq!(m.read(TIM1_CCR2), 222, "the item read after the previous transfer");
 }
+
+// The second reading of NDTR (Params::ndtr = AtPreload): it counts the word direct mode
+// preloads at enable and after each transfer (§9.2 "preloads only one data", §9.3.12), so
+// it reads one less than the transfers done would leave, and in circular mode the count
+// that reaches 0 at the last item's preload reads the programmed length (§9.3.8 reload).
+// On the manual's reading (AfterTransfer) it counts transfers only (§9.3.2).
+#[test]
+fn ndtr_counts_the_preloaded_word_only_on_the_preload_reading() {
+    let run = |ndtr| {
+        let mut m = Mcu::new(Params { ndtr, ..Params::default() });
+        sram_u16(&mut m, BUF, &[11, 22, 33]);
+        dma5(&mut m, TIM1_CCR2, BUF, 3, dma_cr::SIZE_HALF, true);
+        let mut seen = vec![m.read(DMA2_S5NDTR)];
+        m.write(TIM1_ARR, 9);
+        m.write(TIM1_DIER, dier::UDE.mask());
+        start_tim1(&mut m, 0); // overflows at cycles 11, 21, 31, 41
+        for k in 0..4 {
+            m.run_until(17 + 10 * k);
+            seen.push(m.read(DMA2_S5NDTR));
+        }
+        seen
+    };
+    assert_eq!(run(NdtrReading::AfterTransfer), [3, 2, 1, 3, 2]);
+    assert_eq!(run(NdtrReading::AtPreload), [2, 1, 3, 2, 1]);
+}

@@ -1,6 +1,6 @@
 //! The bus: 32-bit CPU accesses decoded to a peripheral window or to SRAM.
 
-use super::Mcu;
+use super::{Mcu, NdtrReading};
 use crate::addr::{self, PERIPH_WINDOW};
 use crate::unmodelled;
 
@@ -47,8 +47,24 @@ impl Mcu {
             Some((addr::TIM2, o)) => self.tim2.read(o),
             Some((addr::TIM11, o)) => self.tim11.read(o),
             Some((addr::TIM9, o)) => self.tim9.read(o),
-            Some((_, o)) => self.dma.read(o),
+            Some((_, o)) => self.dma_read(o),
             None => self.sram_read(a, 4),
+        }
+    }
+
+    /// A DMA register; NDTR as `Params::ndtr` reads it: one ahead while a
+    /// word is preloaded on `AtPreload` (in circular mode the count that
+    /// reaches 0 there reloads, §9.3.8, so it reads the programmed length).
+    fn dma_read(&self, o: u32) -> u32 {
+        let v = self.dma.read(o);
+        let ahead = self.params.ndtr == NdtrReading::AtPreload && self.prefetched.is_some();
+        if o != crate::addr::dma_off::sxndtr(5) || !ahead {
+            return v;
+        }
+        match v {
+            0 => 0,
+            1 => self.dma.programmed_len(),
+            n => n - 1,
         }
     }
 }

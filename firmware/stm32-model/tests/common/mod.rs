@@ -4,7 +4,7 @@
 pub use polyturn_stm32_model::addr::*;
 pub use polyturn_stm32_model::bits::*;
 #[allow(unused_imports)]
-pub use polyturn_stm32_model::{Edge, Mcu, Params, PinId, PwmModeSwitch};
+pub use polyturn_stm32_model::{Edge, Mcu, NdtrReading, Params, PinId, PwmModeSwitch};
 
 pub fn mcu() -> Mcu {
     Mcu::new(Params::default())
