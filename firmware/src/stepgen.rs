@@ -25,10 +25,14 @@
 //! NDTR has two readings in the manual: it decrements after each transfer
 //! (§9.3.2 "post-decrement"), or already when direct mode preloads the word
 //! from memory before the request (§9.2, §9.3.12); the second runs one
-//! word ahead all the time. Which one the silicon follows is learnt at
-//! each arm, before any request (`ndtr_lead`), so the position is the
-//! words stored either way. Read with the wrong lead, every arm would look
-//! late and the output would never start.
+//! word ahead all the time. Which one the silicon follows is learnt once
+//! at boot, with TIM1 stopped and its DMA requests off so that nothing but
+//! the preload can move NDTR (`prepare`), and every arm checks NDTR reads
+//! what that lead predicts before TIM1's first request, or retries: a
+//! request left pending from before (the DMA's handshake keeps one,
+//! §9.3.3) cannot teach a wrong lead. With a lead of 0 where it is 1 every
+//! arm looks late (a fault, never a step); with 1 where it is 0 a burst's
+//! second word could be read before it is written, unseen.
 
 pub mod entries;
 pub mod program;
@@ -69,8 +73,10 @@ pub struct Generator {
 
 /// Cycles from enabling the stream to reading NDTR at arm: the preload is
 /// one AHB read by the DMA (the model's DMA latency, 6 cycles, is the
-/// whole request-to-write path); 32 leave it a wide margin.
+/// whole request-to-write path); 32 leave it a wide margin. At boot, where
+/// time is free, the probe waits 10 µs.
 pub const PRELOAD_WAIT: u32 = 32;
+pub const PROBE_WAIT: u32 = 960;
 
 impl Generator {
     /// `ring`: the address of `RING_ENTRIES × 5` words of RAM for the DMA.
@@ -90,8 +96,8 @@ impl Generator {
         self.armed
     }
 
-    /// What the last arm learnt: 0 if NDTR counts transfers, 1 if it counts
-    /// the preloaded word too (the bench reports which, `ndtr_lead`).
+    /// What the boot probe learnt: 0 if NDTR counts transfers, 1 if it
+    /// counts the preloaded word too (the bench reports which).
     pub fn ndtr_lead(&self) -> u32 {
         self.lead
     }
@@ -101,6 +107,7 @@ impl Generator {
     pub fn prepare(&mut self, tick_len: u32, bus: &mut impl Bus) {
         let _ = apply(&program::quiet(tick_len, entries::dir_level(Dir::Forward)), bus);
         self.silence(bus);
+        self.lead = probe_lead(self.ring, bus);
     }
 
     /// Silences the whole ring (RAM only; the stream must be off).
@@ -183,12 +190,12 @@ impl Generator {
             self.silent = true; // the stream never ran on the ring
             return Err(Fail::ArmLate);
         }
-        let Some(lead) = ndtr_lead(bus) else {
+        if !lead_holds(self.lead, bus) {
             self.halt(t, bus);
             self.silent = true; // the DMA only read the silent ring
             return Err(Fail::ArmLate);
-        };
-        let ring = self.ring;
+        }
+        let (ring, lead) = (self.ring, self.lead);
         *self = Generator {
             ring,
             write: 0,
@@ -218,22 +225,31 @@ impl Generator {
     }
 }
 
-/// How far NDTR runs ahead of the words stored, read right after arming:
-/// the stream is on and TIM1 has not yet requested anything, so NDTR is
-/// the ring's length (it counts transfers) or one less (it counted the
-/// preload). `None` if TIM1's update came before the read (its UIF is set;
-/// URS keeps the arm's UG from setting it, §12.4.1): too late to tell, so
-/// the arm is retried at the next tick.
-fn ndtr_lead(bus: &mut impl Bus) -> Option<u32> {
+/// How far NDTR runs ahead of the words stored, at boot: the stream on
+/// over the ring with TIM1 stopped and no DMA request enabled (`quiet`
+/// left DIER at 0), so NDTR is the ring's length if it counts transfers or
+/// one less once the preload counted; then the stream off again. Anything
+/// else (nothing can move it) leaves 0, and every arm fails its check.
+fn probe_lead(ring: u32, bus: &mut impl Bus) -> u32 {
+    let _ = apply(&program::probe(ring), bus);
+    bus.delay(PROBE_WAIT);
+    let left = bus.read(program::S5NDTR);
+    let _ = apply(&program::PROBE_END, bus);
+    match program::RING_WORDS - left.min(program::RING_WORDS) {
+        1 => 1,
+        _ => 0,
+    }
+}
+
+/// Right after arming, before TIM1's first update (its UIF still clear
+/// after the read; URS keeps the arm's UG from setting it, §12.4.1), NDTR
+/// must read what the boot's lead predicts: else a request was served (one
+/// left pending, or the tick ended around the arm) and the arm is retried.
+fn lead_holds(lead: u32, bus: &mut impl Bus) -> bool {
     bus.delay(PRELOAD_WAIT);
     let left = bus.read(program::S5NDTR);
-    if bus.read(program::TIM1 + program::SR) & program::UIF != 0 {
-        return None;
-    }
-    match program::RING_WORDS.checked_sub(left) {
-        Some(lead @ (0 | 1)) => Some(lead),
-        _ => None,
-    }
+    let updated = bus.read(program::TIM1 + program::SR) & program::UIF != 0;
+    !updated && left == program::RING_WORDS - lead
 }
 
 #[cfg(test)]

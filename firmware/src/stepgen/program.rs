@@ -143,6 +143,24 @@ pub const fn quiet(tick_len: u32, dir_level: u32) -> [Op; 16] {
     ]
 }
 
+/// The stream on over the ring as `arm` sets it, TIM1 left stopped with no
+/// DMA request enabled: at boot, after `quiet`, to see whether NDTR counts
+/// the word direct mode preloads (`Generator::prepare`).
+pub const fn probe(ring: u32) -> [Op; 5] {
+    [
+        Op::Write(S5PAR, TIM1 + DMAR),
+        Op::Write(S5M0AR, ring),
+        Op::Write(S5NDTR, RING_WORDS),
+        Op::Write(S5FCR, 0),
+        Op::Write(S5CR, S5CR_RUN | DMA_EN),
+    ]
+}
+
+/// The probe's stream off again, its flags cleared (§9.3.17: a stream is
+/// enabled only with them clear).
+pub const PROBE_END: [Op; 3] =
+    [Op::Write(S5CR, S5CR_RUN), Op::WaitClear { addr: S5CR, mask: DMA_EN, polls: 64 }, Op::Write(HIFCR, STREAM5_FLAGS)];
+
 /// (Re-)arms the output from any state, after `quiet`. The DMA ring at
 /// `ring` must be silent. The counter runs one segment to the end of the
 /// current tick (its count set from TIM11's, `Sync`), then a silent tick,

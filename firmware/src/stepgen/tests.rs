@@ -166,13 +166,15 @@ fn a_segment_whose_burst_is_under_way_is_not_silenced() {
     assert!(!touched.contains(&1), "slot 1 is mid-burst: {touched:?}");
 }
 
-/// Arms a generator whose NDTR reads `ndtr` after the arm, with TIM1's
-/// update flag `uif`; then one tick whose NDTR reads `now`. Returns the
-/// arm's result, the tick's, and the slots the tick silenced.
-fn arm_reading(ndtr: u32, uif: u32, now: u32) -> (Result<(), Fail>, Result<(), Fail>, Vec<usize>) {
+/// A generator whose boot probe reads NDTR `boot`, armed with NDTR
+/// reading `ndtr` and TIM1's update flag `uif`; then one tick whose NDTR
+/// reads `now`. Returns the lead learnt, the arm's result, the tick's, and
+/// the slots the tick wrote.
+fn arm_reading(boot: u32, ndtr: u32, uif: u32, now: u32) -> (u32, Result<(), Fail>, Result<(), Fail>, Vec<usize>) {
     let ring = 0x2000_0000;
     let mut g = Generator::new(ring);
-    let mut bus = Script::default();
+    // quiet's wait for the stream, the probe's NDTR, its wait for the stream
+    let mut bus = Script { reads: vec![0, boot, 0], ..Default::default() };
     g.prepare(T.tick_len, &mut bus);
     bus.reads = vec![0, 100, 0, ndtr, uif, ndtr, 1, ndtr];
     let armed = g.tick(&StepPlan::default(), false, &T, &mut bus);
@@ -182,29 +184,49 @@ fn arm_reading(ndtr: u32, uif: u32, now: u32) -> (Result<(), Fail>, Result<(), F
     let slot = |a: u32| (a.wrapping_sub(ring) / (4 * program::BURST_WORDS)) as usize;
     let mut touched: Vec<usize> = bus.writes[before..].iter().map(|(a, _)| slot(*a)).collect();
     touched.dedup();
-    (armed, next, touched)
+    (g.ndtr_lead(), armed, next, touched)
 }
 
 #[test]
 fn ndtr_that_counts_the_preloaded_word_is_read_one_word_behind() {
     let (w, full) = (program::BURST_WORDS, program::RING_WORDS);
-    // the manual's reading: full at arm; a burst later, one slot taken
-    let (armed, next, touched) = arm_reading(full, 0, full - w);
-    assert_eq!((armed, next), (Ok(()), Ok(())));
+    // the manual's reading: full at boot and at arm; a burst later, one
+    // slot taken and silenced
+    let (lead, armed, next, touched) = arm_reading(full, full, 0, full - w);
+    assert_eq!((lead, armed, next), (0, Ok(()), Ok(())));
     assert_eq!(touched[0], 0, "slot 0 taken whole and silenced");
-    // the preload's: one less at arm, and one less again a burst later;
-    // the same slot is taken, and it is not late
-    let (armed, next, preload_touched) = arm_reading(full - 1, 0, full - w - 1);
-    assert_eq!((armed, next), (Ok(()), Ok(())));
+    // the preload's: one less at boot, at arm, and a burst later; the
+    // same slot is taken, and it is not late
+    let (lead, armed, next, preload_touched) = arm_reading(full - 1, full - 1, 0, full - w - 1);
+    assert_eq!((lead, armed, next), (1, Ok(()), Ok(())));
     assert_eq!(preload_touched, touched);
 }
 
 #[test]
-fn an_arm_that_cannot_tell_the_reading_waits_for_the_next_tick() {
+fn an_arm_whose_ndtr_is_not_what_the_boot_learnt_waits_for_the_next_tick() {
     let full = program::RING_WORDS;
+    // a request served at arm (one left pending, say) on silicon that
+    // counts transfers: it must not pass for the preload's lead
+    assert_eq!(arm_reading(full, full - 1, 0, full).1, Err(Fail::ArmLate));
+    // the preload not yet counted at arm where the boot saw it counted
+    assert_eq!(arm_reading(full - 1, full, 0, full).1, Err(Fail::ArmLate));
     // TIM1 updated before the read: a request may have moved NDTR
-    assert_eq!(arm_reading(full - 1, 1, full).0, Err(Fail::ArmLate));
-    // two words gone before any request: neither reading
-    assert_eq!(arm_reading(full - 2, 0, full).0, Err(Fail::ArmLate));
-    assert_eq!(arm_reading(full + 1, 0, full).0, Err(Fail::ArmLate));
+    assert_eq!(arm_reading(full, full, 1, full).1, Err(Fail::ArmLate));
+    // nothing but a request moves NDTR by two: no lead, and no arm
+    let (lead, armed, ..) = arm_reading(full - 2, full - 2, 0, full);
+    assert_eq!((lead, armed), (0, Err(Fail::ArmLate)));
+}
+
+#[test]
+fn the_boot_probe_runs_the_stream_with_tim1_stopped_and_no_request_enabled_then_stops_it() {
+    let mut g = Generator::new(0x2000_0000);
+    let mut bus = Script::default();
+    g.prepare(T.tick_len, &mut bus);
+    let writes = |addr: u32| bus.writes.iter().filter(|w| w.0 == addr).map(|w| w.1).collect::<Vec<_>>();
+    let tim1 = |off: u32| writes(program::TIM1 + off);
+    assert_eq!(tim1(program::DIER), [0], "no DMA request enabled");
+    assert!(tim1(program::CR1).iter().all(|v| v & 1 == 0), "TIM1 never counting");
+    assert_eq!(writes(program::S5CR).last().map(|v| v & program::DMA_EN), Some(0), "the stream left off");
+    let on = bus.writes.iter().position(|w| w.0 == program::S5CR && w.1 & program::DMA_EN != 0).unwrap();
+    assert!(bus.writes[on..].iter().any(|w| w.0 == u32::MAX && w.1 >= PROBE_WAIT), "it waits for the preload");
 }
