@@ -81,7 +81,7 @@ const _: () = {
     assert!(CLOCKS.hclk_hz() / CLOCKS.apb2_div <= 100_000_000);
     // the PLL's own ranges (RM0383 §6.3.2 RCC_PLLCFGR): an exact VCO input
     // of 1 to 2 MHz, a VCO of 100 to 432 MHz, P one of 2, 4, 6, 8, Q >= 2
-    assert!(CLOCKS.hse_hz % CLOCKS.pll_m == 0 && CLOCKS.vco_hz() % CLOCKS.pll_p == 0);
+    assert!(CLOCKS.hse_hz.is_multiple_of(CLOCKS.pll_m) && CLOCKS.vco_hz().is_multiple_of(CLOCKS.pll_p));
     assert!(CLOCKS.hse_hz / CLOCKS.pll_m >= 1_000_000 && CLOCKS.hse_hz / CLOCKS.pll_m <= 2_000_000);
     assert!(CLOCKS.vco_hz() >= 100_000_000 && CLOCKS.vco_hz() <= 432_000_000);
     assert!(matches!(CLOCKS.pll_p, 2 | 4 | 6 | 8) && CLOCKS.pll_q >= 2);
