@@ -1,8 +1,38 @@
 //! Assembles console lines from USB packets: CR, LF or CRLF ends a line;
 //! an over-long line is dropped whole (and reported), never truncated into
-//! a different command.
+//! a different command. Every byte but CR and LF is kept as it came (a NUL,
+//! a byte over 127): the console answers what is not text. The fake board
+//! (`polyturn_host::fakeboard`) frames with this same code, so the two
+//! cannot differ.
+
+use polyturn_sync::console::tag;
 
 pub const LINE_MAX: usize = 96;
+/// The largest USB full-speed bulk packet: the console reads one at a time.
+pub const PACKET_MAX: usize = 64;
+/// The reply to a line longer than `LINE_MAX`, untagged (its tag may be
+/// anything: the line was not kept).
+pub const TOO_LONG: &str = "error: line too long (96 characters at most)";
+
+/// Where a line's command goes once its tag is off: the cam upload (every
+/// line that starts `cam`; what follows `cam`) or the sync core's console.
+#[derive(Debug, PartialEq, Eq)]
+pub enum Route<'a> {
+    Cam(&'a [u8]),
+    Console(&'a [u8]),
+}
+
+/// Splits a line as the console task answers it: its tag's digits (if
+/// tagged) and where the rest goes; a malformed tag's error, answered
+/// untagged.
+pub fn route(line: &[u8]) -> Result<(Option<&[u8]>, Route<'_>), &'static str> {
+    let (tag, body) = tag::split(line)?;
+    let to = match body.strip_prefix(b"cam") {
+        Some(args) => Route::Cam(args),
+        None => Route::Console(body),
+    };
+    Ok((tag, to))
+}
 
 /// True if `bytes` hold nothing but line ends. `watch` starts only when
 /// the rest of its packet is this (the LF of its CRLF, issue 13 review),
@@ -83,6 +113,33 @@ mod tests {
             lines(b"status\r\nset ratio 2\rengage\n"),
             vec![Ok("status".into()), Ok("set ratio 2".into()), Ok("engage".into())]
         );
+    }
+
+    #[test]
+    fn a_line_is_routed_to_the_cam_upload_or_the_console_with_its_tag() {
+        assert_eq!(route(b"#7 cam data 0 1"), Ok((Some(&b"7"[..]), Route::Cam(b" data 0 1"))));
+        assert_eq!(route(b"camera"), Ok((None, Route::Cam(b"era"))), "anything from cam on, as the firmware did");
+        assert_eq!(route(b"#12 status"), Ok((Some(&b"12"[..]), Route::Console(b"status"))));
+        assert_eq!(route(b" cam off"), Ok((None, Route::Console(b" cam off"))));
+        assert!(route(b"#x status").is_err());
+    }
+
+    #[test]
+    fn a_line_of_exactly_line_max_bytes_is_kept_and_one_more_is_too_long() {
+        let mut input = vec![b'y'; LINE_MAX];
+        input.push(b'\n');
+        input.extend(vec![b'z'; LINE_MAX + 1]);
+        input.push(b'\r');
+        assert_eq!(lines(&input), vec![Ok("y".repeat(LINE_MAX)), Err(())]);
+    }
+
+    #[test]
+    fn binary_bytes_are_kept_in_the_line_and_only_cr_and_lf_end_it() {
+        let mut b = LineBuffer::default();
+        for &c in b"\0\x1b\xff" {
+            assert_eq!(b.push(c), None);
+        }
+        assert_eq!(b.push(b'\r'), Some(Line::Text(&b"\0\x1b\xff"[..])));
     }
 
     #[test]

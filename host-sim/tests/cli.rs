@@ -157,3 +157,141 @@ fn cam_refuses_bad_input_naming_the_flag() {
         assert!(err.starts_with(&format!("error: {flag} ")), "{bad}: {err}");
     }
 }
+
+/// A fresh directory for one test's files.
+fn scratch(tag: &str) -> std::path::PathBuf {
+    let dir = std::env::temp_dir().join(format!("polyturn-{tag}-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+#[cfg(unix)]
+#[test]
+fn an_output_through_a_symlink_writes_the_file_it_names_and_keeps_the_link() {
+    use std::os::unix::fs::symlink;
+    let dir = scratch("symlink");
+    std::fs::write(dir.join("real.svg"), "old").unwrap();
+    symlink("real.svg", dir.join("l.svg")).unwrap();
+    // a link to a file not made yet: that file is made
+    symlink(dir.join("new.svg"), dir.join("d.svg")).unwrap();
+    for (link, real) in [("l.svg", "real.svg"), ("d.svg", "new.svg")] {
+        let (code, _, err) = polyturn(&format!("geometry {HEX} --svg {}", dir.join(link).display()));
+        assert_eq!(code, 0, "{err}");
+        assert!(std::fs::symlink_metadata(dir.join(link)).unwrap().file_type().is_symlink(), "{link} replaced");
+        assert!(std::fs::read_to_string(dir.join(real)).unwrap().starts_with("<svg"), "{real} not written");
+    }
+    // two flags naming one file, through a link: still refused
+    let (code, _, err) = polyturn(&format!(
+        "{OCTAGON} --rpm 12 --table {} --svg {}",
+        dir.join("real.svg").display(),
+        dir.join("l.svg").display()
+    ));
+    assert_eq!(code, 2);
+    assert!(err.starts_with("error: --svg names the same file as --table"), "{err}");
+}
+
+#[cfg(unix)]
+#[test]
+fn an_output_fifo_is_written_into_not_replaced() {
+    use std::os::unix::fs::FileTypeExt;
+    let dir = scratch("fifo");
+    let fifo = dir.join("pipe.svg");
+    assert!(Command::new("mkfifo").arg(&fifo).status().unwrap().success());
+    let reader = {
+        let fifo = fifo.clone();
+        std::thread::spawn(move || std::fs::read_to_string(fifo).unwrap())
+    };
+    let (code, out, err) = polyturn(&format!("demo --svg {}", fifo.display()));
+    assert_eq!(code, 0, "{err}");
+    assert!(std::fs::symlink_metadata(&fifo).unwrap().file_type().is_fifo(), "the FIFO was replaced: {out}");
+    assert!(reader.join().unwrap().starts_with("<svg"));
+}
+
+#[cfg(target_os = "linux")]
+#[test]
+fn a_full_device_is_an_error_naming_the_flag_and_stays_a_device() {
+    use std::os::unix::fs::FileTypeExt;
+    // /dev/full takes an open and refuses every write (ENOSPC)
+    for line in ["demo --svg /dev/full".to_string(), format!("{OCTAGON} --rpm 12 --table /dev/full")] {
+        let (code, out, err) = polyturn(&line);
+        assert_eq!(code, 2, "{line}: {out}");
+        assert!(err.starts_with("error: --") && err.contains("could not write '/dev/full'"), "{line}: {err}");
+        assert_eq!(err.lines().count(), 1);
+        assert!(std::fs::metadata("/dev/full").unwrap().file_type().is_char_device(), "{line} replaced /dev/full");
+    }
+}
+
+#[test]
+fn a_dash_writes_the_file_to_stdout_and_the_report_to_stderr() {
+    let (code, out, err) = polyturn("demo --svg -");
+    assert_eq!(code, 0, "{err}");
+    assert!(out.starts_with("<svg") && out.trim_end().ends_with("</svg>"), "{out}");
+    assert!(err.contains("6 sides"), "{err}");
+    assert!(!std::path::Path::new("-").exists(), "a file named '-' was made");
+    let (code, out, err) = polyturn(&format!("{OCTAGON} --rpm 12 --table - --json"));
+    assert_eq!(code, 0, "{err}");
+    let table: serde_json::Value = serde_json::from_str(&out).unwrap();
+    assert_eq!(table["format"], "polyturn-cam-1");
+    // stdout by its name is stdout too (written through, the link kept)
+    #[cfg(target_os = "linux")]
+    {
+        let (code, out, err) = polyturn(&format!("{OCTAGON} --rpm 12 --table /dev/stdout"));
+        assert_eq!(code, 0, "{err}");
+        assert!(out.starts_with("{\"format\":\"polyturn-cam-1\"") && err.contains("8 sides"), "{out}");
+        assert!(std::fs::symlink_metadata("/dev/stdout").unwrap().file_type().is_symlink());
+    }
+    let (code, _, err) = polyturn(&format!("{OCTAGON} --rpm 12 --table - --svg -"));
+    assert_eq!(code, 2);
+    assert!(err.starts_with("error: --svg names the same file as --table"), "{err}");
+}
+
+#[cfg(unix)]
+#[test]
+fn a_long_simulation_on_a_terminal_shows_it_is_alive_and_away_from_one_stays_quiet() {
+    use serialport::{SerialPort, TTYPort};
+    use std::io::Read;
+    // some seconds of work: 60 s of lathe time, 1.5 million ticks
+    let long = "simulate --cutter-radius 50 --stock-radius 10 --depth 1.5 --ratio 1000/999 --edges 12 --direction same --rpm 600 --revolutions 600 --motor-steps 100";
+    let (mut master, slave) = {
+        let (master, slave) = TTYPort::pair().expect("a pty");
+        (master.try_clone_native().expect("a close-on-exec master"), slave)
+    };
+    master.set_timeout(std::time::Duration::from_millis(200)).unwrap();
+    let tty = std::fs::OpenOptions::new().write(true).open(slave.name().unwrap()).unwrap();
+    // read while it runs: a pty's unread output may be lost at hang-up
+    let reader = std::thread::spawn(move || {
+        let (mut seen, mut buf) = (Vec::new(), [0u8; 256]);
+        loop {
+            match master.read(&mut buf) {
+                Ok(n) if n > 0 => seen.extend_from_slice(&buf[..n]),
+                Err(e) if e.kind() == std::io::ErrorKind::TimedOut => {}
+                _ => return seen,
+            }
+        }
+    });
+    let out = Command::new(env!("CARGO_BIN_EXE_polyturn")).args(long.split_whitespace()).stderr(tty).output().unwrap();
+    drop(slave);
+    assert!(out.status.success());
+    let seen = reader.join().unwrap();
+    let seen = String::from_utf8_lossy(&seen);
+    assert!(seen.contains("\rsimulating 600 lathe turns at 600 rpm (60 s of cutting"), "{seen:?}");
+    assert!(seen.ends_with("\r\x1b[K"), "the line is left behind: {seen:?}");
+    let (code, _, err) = polyturn(long);
+    assert_eq!((code, err.as_str()), (0, ""));
+}
+
+#[test]
+fn cam_refuses_an_m_past_its_useful_range_at_once_saying_the_range() {
+    let axis = "--inscribed-radius 20 --rpm 12 --x-max-speed 15 --x-max-accel 2000";
+    let (code, _, err) = polyturn(&format!("cam --sides 7 {axis} --m 999"));
+    assert_eq!(code, 2);
+    assert!(
+        err.starts_with("error: --m must be in 2..=6 for 7 sides: m and m - 7 cut the sides in the same order"),
+        "{err}"
+    );
+    assert!(err.trim_end().ends_with("(got '999')"), "{err}");
+    let (code, _, err) = polyturn(&format!("cam --sides 360 {axis} --m 131"));
+    assert_eq!(code, 2);
+    assert!(err.starts_with("error: --m must be in 2..=128 for 360 sides: the table's 1024 points"), "{err}");
+}

@@ -21,6 +21,19 @@ enum Board {
     BlankLines,
     NoNewline,
     Chatty,
+    /// a port that echoes every byte back (a terminal in echo mode, some
+    /// USB-serial adapters, a loopback plug), with the real console behind
+    /// it or nothing
+    Echo {
+        board: bool,
+    },
+    /// answers every command with this after its tag
+    Odd(&'static str),
+    /// answers every command with a line of `n` bytes (its tag, `ok` and
+    /// x's; CR LF after)
+    Long(usize),
+    /// closes the port when a command arrives, unanswered
+    Hangup,
 }
 
 struct Fake {
@@ -36,8 +49,22 @@ impl Drop for Fake {
     }
 }
 
+/// Held while a pty is made and while a child starts: `TTYPort::pair`'s
+/// master is inherited by any child started meanwhile (no close-on-exec),
+/// and a master held open by a `polyturn` process keeps its port from
+/// ever seeing the board hang up.
+static SPAWN: Mutex<()> = Mutex::new(());
+
+fn spawning() -> std::sync::MutexGuard<'static, ()> {
+    SPAWN.lock().unwrap_or_else(|e| e.into_inner())
+}
+
 fn fake(board: Board) -> Fake {
-    let (mut master, slave) = TTYPort::pair().expect("a pty");
+    let (mut master, slave) = {
+        let _g = spawning();
+        let (master, slave) = TTYPort::pair().expect("a pty");
+        (master.try_clone_native().expect("a close-on-exec master"), slave)
+    };
     master.set_timeout(Duration::from_millis(20)).unwrap();
     let path = slave.name().expect("pty name");
     let heard = Arc::new(Mutex::new(Vec::new()));
@@ -52,6 +79,9 @@ fn serve(port: &mut TTYPort, board: Board, heard: &Mutex<Vec<String>>, stop: &At
     let (mut line, mut watching, mut buf) = (Vec::new(), false, [0u8; 64]);
     while !stop.load(Ordering::SeqCst) {
         let n = port.read(&mut buf).unwrap_or(0);
+        if let Board::Echo { .. } = board {
+            let _ = port.write_all(&buf[..n]);
+        }
         match board {
             Board::BlankLines => drop(port.write_all(b"\r\n\r\n\r\n")),
             Board::NoNewline => drop(port.write_all(&[b'x'; 64])),
@@ -73,8 +103,16 @@ fn serve(port: &mut TTYPort, board: Board, heard: &Mutex<Vec<String>>, stop: &At
             watching = false;
             let text = String::from_utf8_lossy(&std::mem::take(&mut line)).into_owned();
             heard.lock().unwrap().push(text.clone());
+            let tag = text.split_once(' ').map_or("", |(t, _)| t);
             let reply = match board {
-                Board::Real => match tag::split(text.as_bytes()) {
+                Board::Hangup => {
+                    // the command is in: the board goes (unplugged, a reset)
+                    std::thread::sleep(Duration::from_millis(100));
+                    return;
+                }
+                Board::Odd(body) => format!("{tag} {body}\r\n"),
+                Board::Long(n) => format!("{tag} ok {}\r\n", "x".repeat(n - tag.len() - 4)),
+                Board::Real | Board::Echo { board: true } => match tag::split(text.as_bytes()) {
                     Ok((t, body)) => {
                         let (r, a) = console::handle(body, &mut ctl);
                         watching = a == Action::Watch;
@@ -92,12 +130,23 @@ fn serve(port: &mut TTYPort, board: Board, heard: &Mutex<Vec<String>>, stop: &At
 }
 
 fn polyturn(port: &str, args: &str) -> (i32, String, String, Duration) {
+    polyturn_raw(port, &format!("--timeout 0.5 {args}"))
+}
+
+/// `polyturn device --port PORT ARGS`, no `--timeout` of ours.
+fn polyturn_raw(port: &str, args: &str) -> (i32, String, String, Duration) {
     let t = Instant::now();
-    let out = Command::new(env!("CARGO_BIN_EXE_polyturn"))
-        .args(["device", "--port", port, "--timeout", "0.5"])
-        .args(args.split(' '))
-        .output()
-        .unwrap();
+    let child = {
+        let _g = spawning();
+        Command::new(env!("CARGO_BIN_EXE_polyturn"))
+            .args(["device", "--port", port])
+            .args(args.split(' '))
+            .stdout(Stdio::piped())
+            .stderr(Stdio::piped())
+            .spawn()
+            .unwrap()
+    };
+    let out = child.wait_with_output().unwrap();
     let s = |b: Vec<u8>| String::from_utf8_lossy(&b).into_owned();
     (out.status.code().unwrap_or(-1), s(out.stdout), s(out.stderr), t.elapsed())
 }
@@ -118,17 +167,24 @@ fn the_binary_talks_to_the_real_console_with_tagged_lines() {
 #[test]
 fn a_watch_ended_with_ctrl_c_leaves_the_board_answering_the_next_command() {
     let f = fake(Board::Real);
-    let mut child = Command::new(env!("CARGO_BIN_EXE_polyturn"))
-        .args(["device", "--port", &f.path, "watch"])
-        .stdout(Stdio::piped())
-        .spawn()
-        .unwrap();
+    let mut child = {
+        let _g = spawning();
+        Command::new(env!("CARGO_BIN_EXE_polyturn"))
+            .args(["device", "--port", &f.path, "watch"])
+            .stdout(Stdio::piped())
+            .spawn()
+            .unwrap()
+    };
     let mut first = [0u8; 64];
     let n = child.stdout.as_mut().unwrap().read(&mut first).unwrap();
     assert!(String::from_utf8_lossy(&first[..n]).starts_with("ok state=idle"));
     std::thread::sleep(Duration::from_millis(200));
     let pid = child.id().to_string();
-    assert!(Command::new("kill").args(["-INT", &pid]).status().unwrap().success());
+    let killed = {
+        let _g = spawning();
+        Command::new("kill").args(["-INT", &pid]).status().unwrap()
+    };
+    assert!(killed.success());
     let status = child.wait().unwrap();
     assert!(status.success(), "{status:?}");
     // the board was sent a tagged command after the watch, which ended it
@@ -158,12 +214,114 @@ fn a_misbehaving_port_gets_a_timeout_naming_it_and_nothing_hangs() {
 #[test]
 fn a_command_with_a_hidden_second_line_is_never_sent() {
     let f = fake(Board::Real);
-    let out = Command::new(env!("CARGO_BIN_EXE_polyturn"))
-        .args(["device", "--port", &f.path, "set", "phase", "1\r\nset cpr 4000"])
-        .output()
-        .unwrap();
+    let out = {
+        let _g = spawning();
+        Command::new(env!("CARGO_BIN_EXE_polyturn"))
+            .args(["device", "--port", &f.path, "set", "phase", "1\r\nset cpr 4000"])
+            .output()
+            .unwrap()
+    };
     assert_eq!(out.status.code(), Some(2));
     assert!(String::from_utf8_lossy(&out.stderr).contains("control character"));
     std::thread::sleep(Duration::from_millis(100));
     assert!(f.heard.lock().unwrap().is_empty(), "nothing reached the board");
+}
+
+/// `polyturn device ARGS` against `board`: its exit status and what it
+/// printed, with what the board heard.
+fn run_against(board: Board, args: &str) -> (i32, String, String, Vec<String>) {
+    let f = fake(board);
+    let (code, out, err, took) =
+        if args.contains("--timeout") { polyturn_raw(&f.path, args) } else { polyturn(&f.path, args) };
+    // `save` waits 10 s for its reply (a flash erase): at most that
+    assert!(took < Duration::from_secs(12), "{args}: took {took:?}");
+    std::thread::sleep(Duration::from_millis(50));
+    let heard = f.heard.lock().unwrap().clone();
+    (code, out, err, heard)
+}
+
+#[test]
+fn an_echoing_port_is_never_taken_for_the_board() {
+    for args in ["set cpr 1000", "engage", "save", "dfu", "status"] {
+        let (code, out, err, _) = run_against(Board::Echo { board: false }, args);
+        assert_eq!(code, 2, "{args}: {out}{err}");
+        assert!(out.is_empty(), "{args}: printed {out}");
+        assert!(err.contains("echoed the command back"), "{args}: {err}");
+    }
+}
+
+#[test]
+fn behind_an_echoing_port_the_boards_own_reply_is_taken_ok_or_error() {
+    let (code, out, err, _) = run_against(Board::Echo { board: true }, "set cpr 0");
+    assert_eq!(code, 2, "{out}");
+    assert!(err.starts_with("error: device: error: cpr"), "{err}");
+    let (code, out, err, _) = run_against(Board::Echo { board: true }, "set cpr 4000");
+    assert_eq!((code, out.trim()), (0, "ok cpr=4000"), "{err}");
+}
+
+#[test]
+fn a_tagged_reply_that_is_neither_ok_nor_error_is_an_error_quoting_it() {
+    for odd in [" error: cpr 4..=1000000", "ERROR: cpr", "", "okay", "garbage", "error:no space", "Ok cpr=1"] {
+        let (code, out, err, _) = run_against(Board::Odd(odd), "set cpr 1000");
+        assert_eq!(code, 2, "{odd:?}: {out}");
+        assert!(out.is_empty(), "{odd:?}: printed {out}");
+        assert!(err.contains("--port /dev/pts/") && err.contains("neither ok nor error"), "{odd:?}: {err}");
+        assert!(err.contains(&format!(" {odd}'")), "{odd:?}: the reply is quoted: {err}");
+    }
+}
+
+#[test]
+fn control_bytes_from_the_board_never_reach_the_terminal_raw() {
+    let (code, out, err, _) = run_against(Board::Odd("ok \x1b[2J\x00\x07cleared"), "status");
+    assert_eq!(code, 0, "{err}");
+    assert_eq!(out.trim_end(), "ok \\u{1b}[2J\\u{0}\\u{7}cleared");
+    assert!(!out.bytes().any(|b| b.is_ascii_control() && b != b'\n'), "{out:?}");
+    let (code, _, err, _) = run_against(Board::Odd("error: \x1b[2Jgone"), "status");
+    assert_eq!(code, 2);
+    assert!(err.contains("\\u{1b}[2Jgone") && !err.contains('\x1b'), "{err:?}");
+}
+
+#[test]
+fn a_reply_line_is_bounded_at_exactly_512_bytes() {
+    let (code, out, err, _) = run_against(Board::Long(512), "status");
+    assert_eq!(code, 0, "{err}");
+    assert!(out.starts_with("ok xxx") && out.trim_end().ends_with("xxx"), "{out}");
+    for n in [513, 600, 766] {
+        let (code, out, err, _) = run_against(Board::Long(n), "status");
+        assert_eq!(code, 2, "{n}: {out}");
+        assert!(err.contains("longer than 512 bytes"), "{n}: {err}");
+    }
+}
+
+#[test]
+fn a_board_that_closes_the_port_mid_command_is_reported_as_a_disconnect() {
+    let (code, out, err, _) = run_against(Board::Hangup, "status");
+    assert_eq!(code, 2, "{out}");
+    assert!(err.contains("closed the port") && !err.contains("no reply"), "{err}");
+}
+
+#[test]
+fn a_jog_the_console_would_refuse_is_refused_before_anything_is_sent() {
+    for deg in ["1e308", "inf", "-inf", "nan", "NaN", "3600.001", "-3600.5", "+90", "90.0001", "0x10"] {
+        let (code, out, err, heard) = run_against(Board::Odd("ok jogging"), &format!("jog {deg}"));
+        assert_eq!(code, 2, "{deg}: {out}");
+        assert!(err.contains("-3600..=3600"), "{deg}: {err}");
+        assert!(heard.is_empty(), "{deg}: sent {heard:?}");
+    }
+}
+
+#[test]
+fn negative_numbers_on_nested_commands_are_refused_naming_their_flag_and_range() {
+    for (args, says) in [
+        ("selftest --rpm -1", "--rpm"),
+        ("check-encoder --turns -1", "--turns"),
+        ("check-encoder --seconds -0", "--seconds"),
+        ("--timeout -inf status", "--timeout"),
+        ("--timeout -1 status", "--timeout"),
+    ] {
+        let (code, out, err, heard) = run_against(Board::Real, args);
+        assert_eq!(code, 2, "{args}: {out}");
+        assert!(err.starts_with(&format!("error: {says} must be")) && err.contains("(got '-"), "{args}: {err}");
+        assert!(heard.is_empty(), "{args}: sent {heard:?}");
+    }
 }

@@ -54,6 +54,8 @@ fn cases() -> Vec<(String, Option<&'static str>)> {
         c(format!("simulate {HEX} --rpm 5000 --revolutions 3"), Some("--rpm")),
         c(format!("simulate {HEX} --rpm 600 --revolutions 1 --start spinning --drive servo"), Some("--drive")),
         c(format!("simulate {HEX} --rpm 600 --revolutions 1 --encoder-cpr 3"), Some("--encoder-cpr")),
+        c(format!("simulate {HEX} --rpm -inf --revolutions 1"), Some("--rpm")),
+        c(format!("simulate {HEX} --rpm 600 --revolutions 1 --ripple -inf"), Some("--ripple")),
         // setups
         c("setups --sides 6 --stock-radius 10".into(), Some("--across-flats")),
         c("setups --sides 6 --stock-radius 10 --depth 1 --across-flats 18".into(), Some("--depth")),
@@ -67,7 +69,14 @@ fn cases() -> Vec<(String, Option<&'static str>)> {
         // cam: the axis and the table
         c(format!("cam {OCT} --rpm 12 --x-max-speed 1e-6"), Some("--x-max-speed")),
         c(format!("cam {OCT} --rpm 12 --x-max-accel 1e-9"), Some("--x-max-accel")),
-        c(format!("cam {OCT} --rpm 12 --steps-per-mm 0.01"), Some("--x-max-speed")),
+        c(format!("cam {OCT} --rpm 12 --steps-per-mm 0.01"), Some("--steps-per-mm")),
+        c(format!("cam {OCT} --rpm 12 --steps-per-mm 1e-308"), Some("--steps-per-mm")),
+        c(format!("cam {OCT} --rpm 12 --steps-per-mm 100001"), Some("--steps-per-mm")),
+        // m past N cuts in m mod N's order, only slower and coarser
+        c("cam --sides 7 --inscribed-radius 20 --rpm 12 --x-max-speed 15 --x-max-accel 2000 --m 999".into(), Some("--m")),
+        c(format!("cam {OCT} --rpm 12 --m 11"), Some("--m")),
+        c(format!("cam {OCT} --rpm -inf"), Some("--rpm")),
+        c(format!("cam {OCT} --rpm 12 --x-max-accel -nan"), Some("--x-max-accel")),
         c(format!("cam {OCT} --rpm 12 --steps-per-mm 0.5"), Some("--steps-per-mm")),
         c(format!("cam {OCT} --rpm 12 --encoder-counts 4"), Some("--encoder-counts")),
         c(format!("cam {OCT} --rpm 12 --m 2"), Some("--m")),
@@ -90,6 +99,8 @@ fn cases() -> Vec<(String, Option<&'static str>)> {
         c("flash Cargo.toml --wait -1".into(), Some("--wait")),
         c("flash Cargo.toml --wait 1e9".into(), Some("--wait")),
         c("flash Cargo.toml --wait nan".into(), Some("--wait")),
+        c("flash Cargo.toml --wait -inf".into(), Some("--wait")),
+        c("flash Cargo.toml --wait -nan".into(), Some("--wait")),
         c("flash Cargo.toml --dry-run=yes".into(), Some("--dry-run")),
         c("flash a.bin b.bin".into(), Some("b.bin")),
         c("image /dev/zero --bin /nonexistent/a.bin --hex /nonexistent/a.hex".into(), Some("ELF")),
@@ -180,4 +191,20 @@ fn completions_are_printed_for_bash() {
     let (code, out, _) = polyturn(&words("completions bash"));
     assert_eq!(code, 0);
     assert!(out.contains("_polyturn()") && out.contains("--inscribed-radius") && out.contains("upload-cam"));
+}
+
+#[test]
+fn a_hex_with_a_blank_line_is_refused_naming_the_file_and_the_line() {
+    let dir = std::env::temp_dir().join(format!("polyturn-hostile-hex-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let hex = dir.join("fw.hex");
+    std::fs::write(&hex, ":020000040800F2\n\n:00000001FF\n").unwrap();
+    let (code, out, err) = polyturn(&words(&format!("flash {} --dry-run", hex.display())));
+    assert_eq!((code, out.as_str()), (2, ""));
+    assert_eq!(err.lines().count(), 1, "{err}");
+    assert!(
+        err.starts_with("error: FILE must be Intel HEX")
+            && err.contains(&format!("(got '{}': line 2 is blank)", hex.display())),
+        "{err}"
+    );
 }

@@ -52,6 +52,19 @@ pub fn cam_lines(name: &str, text: &str) -> Result<Vec<String>, String> {
 }
 
 /// The longest command line the board takes (tag excluded).
+/// Whether a tagged line's text is a reply (`ok`, `ok ...`, `error: ...`)
+/// and not, say, the port echoing the command (`console_line::is_reply`).
+#[wasm_bindgen]
+pub fn is_reply(line: &str) -> bool {
+    polyturn_host::cli::console_line::is_reply(line)
+}
+
+/// The longest line the page takes from the board.
+#[wasm_bindgen]
+pub fn reply_max() -> usize {
+    polyturn_host::cli::console_line::REPLY_MAX
+}
+
 #[wasm_bindgen]
 pub fn command_max() -> usize {
     polyturn_host::cli::console_line::COMMAND_MAX

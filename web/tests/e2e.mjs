@@ -326,6 +326,46 @@ await test('a file that is no polyturn image is refused before any request', asy
   assert.match(e, /^notes\.bin /);
 });
 
+await test('a port that echoes the command is never taken for the board, and the board behind it is heard', async () => {
+  const got = await page.evaluate(async () => {
+    const { Session } = await import('/js/serial.js');
+    const lib = await (await import('/js/polyturn.js')).load();
+    const sleep = (ms) => new Promise((r) => setTimeout(r, ms));
+    // a loopback plug (no board), or an adapter echoing in front of the real console
+    const echoing = (board) => {
+      const queue = [];
+      return {
+        readable: new ReadableStream({
+          async pull(c) {
+            for (;;) {
+              if (queue.length) return c.enqueue(queue.shift());
+              const r = board ? board.read() : [];
+              if (r.length) return c.enqueue(r);
+              await sleep(5);
+            }
+          },
+        }),
+        writable: new WritableStream({ write(chunk) { queue.push(chunk); if (board) board.write(chunk); } }),
+        async open() {},
+        async close() {},
+      };
+    };
+    const outcome = (p) => p.then((r) => `ok|${r}`, (e) => `err|${e.message}`);
+    const alone = await Session.open(echoing(null));
+    const behind = await Session.open(echoing(new lib.FakeBoard()));
+    return {
+      alone: await outcome(alone.ask('set cpr 1000', 300)),
+      refused: await outcome(behind.ask('set cpr 0', 1000)),
+      read: await outcome(behind.ask('get cpr', 1000)),
+      asReply: await outcome(behind.ask('ok fine', 1000)),
+    };
+  });
+  assert.match(got.alone, /^err\|no reply to 'set' within 300 ms: the port echoed the command back/);
+  assert.match(got.refused, /^err\|error: /, 'the board\'s refusal behind the echo is a refusal');
+  assert.match(got.read, /^ok\|ok .*2400/);
+  assert.match(got.asReply, /^err\|the command 'ok fine' reads as a reply/);
+});
+
 await test('the page logged no errors', async () => {
   assert.deepEqual(errors, []);
 });

@@ -12,7 +12,7 @@ use embassy_time::Timer;
 use embassy_usb::class::cdc_acm::{CdcAcmClass, State};
 use embassy_usb::driver::EndpointError;
 use embassy_usb::Builder;
-use polyturn_firmware::line::{only_line_ends, Line, LineBuffer};
+use polyturn_firmware::line::{only_line_ends, route, Line, LineBuffer, Route, PACKET_MAX, TOO_LONG};
 use polyturn_sync::cam_upload::{CamHeader, CamUpload, Progress};
 use polyturn_sync::console::{self, tag, Action, Reply};
 use polyturn_sync::controller::check_table;
@@ -48,7 +48,7 @@ pub async fn console(
     cfg.serial_number = Some(env!("CARGO_PKG_VERSION"));
     let mut builder =
         Builder::new(driver, cfg, CONFIG_DESC.init([0; 256]), BOS_DESC.init([0; 256]), &mut [], CONTROL.init([0; 64]));
-    let mut class = CdcAcmClass::new(&mut builder, STATE.init(State::new()), 64);
+    let mut class = CdcAcmClass::new(&mut builder, STATE.init(State::new()), PACKET_MAX as u16);
     let mut dev = builder.build();
     join(dev.run(), async {
         loop {
@@ -69,7 +69,7 @@ struct Store {
 
 async fn session(class: &mut Class, store: &mut Store) -> Result<(), EndpointError> {
     let mut lines = LineBuffer::default();
-    let mut packet = [0u8; 64];
+    let mut packet = [0u8; PACKET_MAX];
     let mut n = class.read_packet(&mut packet).await?;
     loop {
         let mut watching = false;
@@ -103,17 +103,18 @@ type Tag = heapless::Vec<u8, { tag::TAG_DIGITS }>;
 
 /// One line's reply (and what to do besides), with its tag.
 fn answer(line: &[u8], store: &mut Store) -> (Tag, Reply, Action) {
-    let (tag, body) = match tag::split(line) {
-        Ok((t, body)) => (Tag::from_slice(t.unwrap_or_default()).unwrap_or_default(), body),
+    let (tag, body) = match route(line) {
+        Ok((t, to)) => (Tag::from_slice(t.unwrap_or_default()).unwrap_or_default(), to),
         Err(e) => {
             let mut r = Reply::new();
             let _ = write!(r, "error: {e}");
             return (Tag::new(), r, Action::None);
         }
     };
-    if body.starts_with(b"cam") {
-        return (tag, cam_line(body, store), Action::None);
-    }
+    let body = match body {
+        Route::Cam(args) => return (tag, cam_line(args, store), Action::None),
+        Route::Console(body) => body,
+    };
     // Parse, derive new settings and render outside the lock the tick
     // shares; inside it only a copy of the settings and `apply_prepared`
     // (short, copies out).
@@ -134,7 +135,7 @@ fn not_ready() -> Reply {
 }
 
 fn too_long() -> Reply {
-    text_reply("error: line too long (96 characters at most)")
+    text_reply(TOO_LONG)
 }
 
 /// Writes the settings. Not under the tick's lock: the erase stalls the
@@ -201,10 +202,11 @@ fn text_reply(s: &str) -> Reply {
     r
 }
 
-/// `cam off`, or one line of an upload; a complete, checked table is saved
-/// to flash with the settings (idle, lathe at rest) and fitted from there.
-fn cam_line(line: &[u8], store: &mut Store) -> Reply {
-    let args = core::str::from_utf8(&line[3..]).unwrap_or("?");
+/// `cam off`, or one line of an upload (`args`: what follows `cam`); a
+/// complete, checked table is saved to flash with the settings (idle,
+/// lathe at rest) and fitted from there.
+fn cam_line(args: &[u8], store: &mut Store) -> Reply {
+    let args = core::str::from_utf8(args).unwrap_or("?");
     // asked only once a table is complete (not under the lock per chunk)
     let idle = || tick::with_core(|c| c.state() == polyturn_sync::State::Idle && c.lathe_at_rest()).unwrap_or(false);
     if args.trim() == "off" {
@@ -272,7 +274,7 @@ async fn send(class: &mut Class, tag: &[u8], reply: &Reply) -> Result<(), Endpoi
 
 /// Streams status five times a second until any input arrives; returns
 /// that input's length (in `buf`) for the session to handle.
-async fn watch(class: &mut Class, buf: &mut [u8; 64]) -> Result<usize, EndpointError> {
+async fn watch(class: &mut Class, buf: &mut [u8; PACKET_MAX]) -> Result<usize, EndpointError> {
     loop {
         match select(Timer::after_millis(200), class.read_packet(buf)).await {
             Either::First(()) => {

@@ -10,6 +10,7 @@
 
 use crate::cam::CAM_POINTS;
 use crate::codec::crc32_update;
+use crate::console::number;
 
 /// What `begin` announced.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -57,8 +58,10 @@ impl Default for CamUpload {
     }
 }
 
-fn num<T: core::str::FromStr>(w: Option<&str>) -> Result<T, &'static str> {
-    w.and_then(|w| w.parse().ok()).ok_or("cam: expected a number (see help)")
+/// A header field or an offset: digits, as the console's other numbers
+/// (`console::number`).
+fn num(w: Option<&str>) -> Result<u32, &'static str> {
+    w.and_then(number::unsigned).ok_or("cam: expected a number (see help)")
 }
 
 impl CamUpload {
@@ -106,14 +109,14 @@ impl CamUpload {
 
     fn data<'a>(&mut self, w: &mut impl Iterator<Item = &'a str>) -> Result<Progress, &'static str> {
         let h = self.header.ok_or("cam data: no upload in progress (cam begin first)")?;
-        if num::<usize>(w.next())? != self.got {
+        if num(w.next())? as usize != self.got {
             return Err("cam data: offset out of order (start again with cam begin)");
         }
         for v in w {
             if self.got >= h.points as usize {
                 return Err("cam data: more points than announced");
             }
-            self.buf[self.got] = v.parse().map_err(|_| "cam data: values are whole steps")?;
+            self.buf[self.got] = number::signed(v).ok_or("cam data: values are whole steps")?;
             self.got += 1;
         }
         Ok(Progress::Received(self.got))
@@ -124,7 +127,7 @@ impl CamUpload {
         if self.got != h.points as usize {
             return Err("cam end: fewer points than announced");
         }
-        let crc = crc.and_then(|c| u32::from_str_radix(c, 16).ok()).ok_or("cam end: expected a hex CRC-32")?;
+        let crc = crc.and_then(number::hex32).ok_or("cam end: expected a hex CRC-32")?;
         if crc != checksum(&h, &self.buf[..self.got]) {
             return Err("cam end: checksum mismatch, table discarded");
         }

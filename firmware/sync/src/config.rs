@@ -2,6 +2,7 @@
 //! names the field (as the console spells it) and its allowed range, and an
 //! invalid change leaves the settings as they were.
 
+use crate::console::number::unsigned;
 use crate::ratio::{Ratio, RatioError};
 
 /// Relative sense of rotation (see the geometry model for the convention:
@@ -144,7 +145,7 @@ impl Config {
     /// unless the whole result validates.
     pub fn with(&self, name: &str, value: &str) -> Result<Config, ConfigError> {
         let mut c = *self;
-        let num = |field, allowed| value.trim().parse::<u32>().map_err(|_| range(field, allowed));
+        let num = |field, allowed| unsigned(value.trim()).ok_or(range(field, allowed));
         match name {
             "cpr" => c.encoder_counts_per_rev = num("cpr", "4..=1000000 counts per lathe rev")?,
             "steps" => c.motor_steps_per_rev = num("steps", "1..=1000000 steps per cutter rev")?,
@@ -234,13 +235,18 @@ pub fn degrees_mdeg(v: &str, max_mdeg: i32) -> Option<i32> {
         Some(b) => (true, b),
         None => (false, v),
     };
-    let (whole, frac) = body.split_once('.').unwrap_or((body, ""));
-    let ok = |s: &str| s.len() <= 6 && s.bytes().all(|b| b.is_ascii_digit());
-    if whole.is_empty() && frac.is_empty() || !ok(whole) || !ok(frac) || frac.len() > 3 {
+    // `12`, `12.5`, `0.125` as the documents write them: the whole part
+    // an unsigned number (no `+`, no leading zero), any decimals digits
+    let (whole, frac) = match body.split_once('.') {
+        Some((w, f)) => (w, Some(f)),
+        None => (body, None),
+    };
+    let w = i32::try_from(unsigned(whole)?).ok()?;
+    let frac = frac.unwrap_or("000");
+    if frac.is_empty() || frac.len() > 3 || !frac.bytes().all(|b| b.is_ascii_digit()) {
         return None;
     }
-    let w: i32 = if whole.is_empty() { 0 } else { whole.parse().ok()? };
-    let mut f: i32 = if frac.is_empty() { 0 } else { frac.parse().ok()? };
+    let mut f = frac.bytes().fold(0, |f, b| f * 10 + i32::from(b - b'0'));
     for _ in frac.len()..3 {
         f *= 10;
     }

@@ -9,6 +9,7 @@ use crate::derived::{Derived, Timing};
 use core::fmt::Write;
 
 mod checks;
+pub mod number;
 mod selftest;
 
 pub use selftest::SelfTestOp;

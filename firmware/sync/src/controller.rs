@@ -83,6 +83,12 @@ pub enum Refusal {
     NoCutter,
     /// jog refused: under one step, or over ten turns
     JogRange,
+    /// encoder check refused: the cutter is engaged or ramping down
+    CutterRunning,
+    /// encoder check refused: a self-test plays into the lathe input
+    SelfTesting,
+    /// engage refused: an encoder check runs, the chuck turned by hand
+    Checking,
 }
 
 impl Refusal {
@@ -96,6 +102,13 @@ impl Refusal {
             Refusal::LatheTurning => "stop the lathe first: jog only with the lathe at rest",
             Refusal::NoCutter => "drive=none: there is no cutter to jog",
             Refusal::JogRange => "jog -3600..=3600 degrees of the cutter, at least one step",
+            Refusal::CutterRunning => {
+                "stop first: the encoder check has the chuck turned by hand, only with the cutter idle"
+            }
+            Refusal::SelfTesting => "a self-test is running: selftest stop first, then unplug its jumpers",
+            Refusal::Checking => {
+                "an encoder check is running (the chuck is being turned by hand): check-encoder stop first"
+            }
         }
     }
 }

@@ -7,6 +7,8 @@
 /// Largest numerator or denominator accepted after reduction.
 pub const RATIO_MAX_TERM: u32 = 1000;
 
+use crate::console::number::digits;
+
 /// A reduced, positive rational with both terms in 1..=[`RATIO_MAX_TERM`].
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
@@ -108,21 +110,25 @@ impl Ratio {
     }
 }
 
+/// A term as the console's other numbers are written (`console::number`):
+/// no sign, no leading zero.
 fn parse_uint(s: &str) -> Result<u64, RatioError> {
     let s = s.trim();
-    if s.is_empty() || s.len() > 12 || !s.bytes().all(|b| b.is_ascii_digit()) {
-        return Err(if s.starts_with('-') { RatioError::NotPositive } else { RatioError::Syntax });
+    match digits(s).filter(|d| d.len() <= 12) {
+        Some(d) => d.parse::<u64>().map_err(|_| RatioError::Syntax),
+        None if s.starts_with('-') => Err(RatioError::NotPositive),
+        None => Err(RatioError::Syntax),
     }
-    s.parse::<u64>().map_err(|_| RatioError::Syntax)
 }
 
-/// `whole.frac` is whole + frac/10^len exactly; at most 6 decimals.
+/// `whole.frac` is whole + frac/10^len exactly; at most 6 decimals (digits,
+/// their leading zeros included: `2.05`), and a whole part (`0.5`, not `.5`).
 fn parse_decimal(whole: &str, frac: &str) -> Result<Ratio, RatioError> {
-    if frac.is_empty() || frac.len() > 6 {
+    if frac.is_empty() || frac.len() > 6 || !frac.bytes().all(|b| b.is_ascii_digit()) {
         return Err(RatioError::Syntax);
     }
-    let w = if whole.is_empty() { 0 } else { parse_uint(whole)? };
-    let f = parse_uint(frac)?;
+    let w = parse_uint(whole)?;
+    let f = frac.bytes().fold(0, |f, b| f * 10 + u64::from(b - b'0'));
     let scale = 10u64.pow(frac.len() as u32);
     Ratio::new(w * scale + f, scale)
 }

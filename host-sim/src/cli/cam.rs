@@ -1,16 +1,19 @@
 //! `polyturn cam`: smooth single-point tool paths for a sharp-cornered
 //! polygon (seed 004), checked against the X axis, and the cam table.
 
+mod request;
+
 use super::errors::{CliError, CliResult};
 use super::output::Outputs;
-use super::values::{above, out_file, rpm, whole32};
+use super::values::{above, out_file, rpm, whole32, within};
 use crate::geometry::svg::Drawing;
-use crate::noncircular::path::{Polygon, ToolPath};
-use crate::noncircular::plan::{plan, Axis, Evaluation, Limit, Outcome, TOLERANCE_MM};
+use crate::noncircular::order;
+use crate::noncircular::path::ToolPath;
+use crate::noncircular::plan::{plan, Evaluation, Limit, Outcome, TOLERANCE_MM};
 use crate::noncircular::rounded::Rounded;
 use crate::noncircular::table::{build, CamFile};
-use crate::noncircular::{check, order, smallest_m};
 use polyturn_sync::cam::{Cam, CamError};
+use request::{request, turns, Request};
 use serde_json::json;
 use std::f64::consts::TAU;
 use std::path::PathBuf;
@@ -23,86 +26,46 @@ pub const TABLE_REFUSED_MM: f64 = 0.1;
 /// Past this the report calls the table coarse.
 pub const TABLE_COARSE_MM: f64 = 0.01;
 
+/// Sides N at most.
+const MAX_SIDES: u32 = 360;
+
+// Numbers take a leading '-' as a value (`--rpm -inf`), so that it is
+// refused naming its flag rather than read as flags `-i -n -f`.
 #[derive(clap::Args, Debug)]
 pub struct CamArgs {
     /// Sides N of the sharp polygon (3..=360)
-    #[arg(long, value_name = "N", value_parser = whole32(3, 360))]
+    #[arg(long, value_name = "N", allow_hyphen_values = true, value_parser = whole32(3, MAX_SIDES))]
     pub sides: u32,
     /// Inscribed radius (half the across-flats), mm (> 0, <= 500)
-    #[arg(long, value_name = "MM", value_parser = above(0.0, 500.0, "mm"))]
+    #[arg(long, value_name = "MM", allow_hyphen_values = true, value_parser = above(0.0, 500.0, "mm"))]
     pub inscribed_radius: f64,
     /// Lathe speed while cutting, rpm (1..=3000)
-    #[arg(long, value_name = "RPM", value_parser = rpm(3000.0))]
+    #[arg(long, value_name = "RPM", allow_hyphen_values = true, value_parser = rpm(3000.0))]
     pub rpm: f64,
     /// The X axis's top speed, mm/s (> 0, <= 10000; at most 12500 steps/s with --steps-per-mm)
-    #[arg(long, value_name = "MM/S", value_parser = above(0.0, 1e4, "mm/s"))]
+    #[arg(long, value_name = "MM/S", allow_hyphen_values = true, value_parser = above(0.0, 1e4, "mm/s"))]
     pub x_max_speed: f64,
     /// The X axis's top acceleration, mm/s^2 (> 0, <= 1000000)
-    #[arg(long, value_name = "MM/S^2", value_parser = above(0.0, 1e6, "mm/s^2"))]
+    #[arg(long, value_name = "MM/S^2", allow_hyphen_values = true, value_parser = above(0.0, 1e6, "mm/s^2"))]
     pub x_max_accel: f64,
-    /// Lathe turns per pattern m (seed 004, Theorem 2) [default: the smallest valid]
-    #[arg(long, value_name = "M", value_parser = whole32(0, 1000))]
+    /// Lathe turns per pattern m: 2..=N-1 and at most 128, co-prime with N (seed 004, Theorem 2). The cuts set the top speed, not m: m + N cuts the sides in the same order in N more turns, and past 128 a cut gets under 8 of the table's 1024 points [default: the smallest valid]
+    #[arg(long, value_name = "M", allow_hyphen_values = true, value_parser = turns)]
     pub m: Option<u32>,
-    /// X axis steps per mm of tool radius (> 0, <= 100000)
-    #[arg(long, value_name = "STEPS/MM", default_value = "800", value_parser = above(0.0, 1e5, "steps/mm"))]
+    /// X axis steps per mm of tool radius (1..=100000: a 1 mm screw, 200-step motor at 256 microsteps is 51200; under 1 a step is more than ten times the 0.1 mm a table may be off)
+    #[arg(long, value_name = "STEPS/MM", default_value = "800", allow_hyphen_values = true, value_parser = within(1.0, 1e5, "steps/mm"))]
     pub steps_per_mm: f64,
     /// Lathe encoder counts per turn, after x4 quadrature (4..=1048576)
-    #[arg(long, value_name = "COUNTS", default_value = "2400", value_parser = whole32(4, 1 << 20))]
+    #[arg(long, value_name = "COUNTS", default_value = "2400", allow_hyphen_values = true, value_parser = whole32(4, 1 << 20))]
     pub encoder_counts: u32,
-    /// Write the cam table (JSON, for `polyturn device upload-cam`) to this file
+    /// Write the cam table (JSON, for `polyturn device upload-cam`) to this file (- for stdout)
     #[arg(long, value_name = "FILE", value_parser = out_file)]
     pub table: Option<PathBuf>,
-    /// Also draw the tool path and the section to this SVG file
+    /// Also draw the tool path and the section to this SVG file (- for stdout)
     #[arg(long, value_name = "FILE", value_parser = out_file)]
     pub svg: Option<PathBuf>,
     /// Print the report as one JSON object
     #[arg(long)]
     pub json: bool,
-}
-
-struct Request {
-    polygon: Polygon,
-    m: u32,
-    axis: Axis,
-    steps_per_mm: f64,
-    counts_per_rev: u32,
-}
-
-fn request(a: &CamArgs) -> CliResult<Request> {
-    let sides = a.sides;
-    let m = match a.m {
-        Some(m) => check(sides, m).map(|_| m).map_err(|e| CliError::flag("m", e.describe()))?,
-        None => smallest_m(sides).map_err(|e| CliError::flag("sides", e.describe()))?,
-    };
-    let axis = Axis { rpm: a.rpm, max_speed: a.x_max_speed, max_accel: a.x_max_accel };
-    let spm = a.steps_per_mm;
-    if axis.max_speed * spm > X_MAX_RATE_HZ {
-        let top = X_MAX_RATE_HZ / spm;
-        return Err(CliError::flag(
-            "x-max-speed",
-            format!("must be <= {top:.1} mm/s: the firmware emits at most {X_MAX_RATE_HZ} X steps/s ({spm} steps/mm)"),
-        ));
-    }
-    // The firmware takes the limits in whole steps/s and steps/s^2, > 0.
-    if axis.max_speed * spm < 1.0 {
-        return Err(CliError::flag(
-            "x-max-speed",
-            format!("must be >= {} mm/s: at least one X step per second ({spm} steps/mm)", 1.0 / spm),
-        ));
-    }
-    if axis.max_accel * spm < 1.0 {
-        return Err(CliError::flag(
-            "x-max-accel",
-            format!("must be >= {} mm/s^2: at least one X step per second squared ({spm} steps/mm)", 1.0 / spm),
-        ));
-    }
-    Ok(Request {
-        polygon: Polygon { sides, apothem_mm: a.inscribed_radius },
-        m,
-        axis,
-        steps_per_mm: spm,
-        counts_per_rev: a.encoder_counts,
-    })
 }
 
 pub fn run(a: CamArgs) -> CliResult<String> {
@@ -127,12 +90,9 @@ pub fn run(a: CamArgs) -> CliResult<String> {
     if let Some(file) = &a.svg {
         files.add("svg", file, drawing(path.as_ref(), &e, &table))?;
     }
-    files.write()?;
+    let written = files.write()?;
     let report = report(&e, &r, corners, &table, table_dev, sharp_rpm);
-    if a.json {
-        return Ok(report.to_string());
-    }
-    Ok(text(&report))
+    Ok(written.report(if a.json { report.to_string() } else { text(&report) }))
 }
 
 /// The table must be one the firmware takes (the sync core's own checks,

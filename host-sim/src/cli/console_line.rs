@@ -12,6 +12,17 @@ pub const DEVICE_LINE_MAX: usize = polyturn_firmware::line::LINE_MAX;
 pub const COMMAND_MAX: usize = DEVICE_LINE_MAX - TAG_DIGITS - 2;
 /// A cam table file is a few tens of kB; more is not one (`/dev/zero`).
 pub const CAM_FILE_MAX: u64 = 1 << 20;
+/// The longest line taken from the device, without its CR LF (its replies
+/// are at most `console::REPLY_LEN` plus the tag); anything longer is not
+/// a polyturn.
+pub const REPLY_MAX: usize = 512;
+
+/// The board's replies start `ok` (alone or with a space) or `error: `;
+/// no command does, so neither an echo nor garbage passes for one. The
+/// CLI's session and the page's (`web/www/js/serial.js`) both use it.
+pub fn is_reply(line: &str) -> bool {
+    line == "ok" || line.starts_with("ok ") || line.starts_with("error: ")
+}
 
 /// A command the board can take as one line: printable ASCII, not too long.
 pub fn check_command(command: &str) -> CliResult<()> {

@@ -55,7 +55,7 @@ pub fn propose_cpr(f: &EncoderFigures, turns: Option<u32>) -> Result<u32, String
     }
     match (f.cpr, f.gap) {
         (Some(c), _) => Ok(c),
-        (None, Some((lo, hi))) if hi - lo > 1 => Err(format!("counts between index pulses varied from {lo} to {hi}: counts are lost (noise, a loose coupling, or the lathe turned too fast for the encoder)")),
+        (None, Some((lo, hi))) if hi.saturating_sub(lo) > 1 => Err(format!("counts between index pulses varied from {lo} to {hi}: counts are lost (noise, a loose coupling, or the lathe turned too fast for the encoder)")),
         _ => Err(format!("{} index pulse(s) seen: turn the chuck 3 turns or more one way, or give the number of turns (no index)", f.indexes)),
     }
 }

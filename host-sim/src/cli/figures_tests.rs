@@ -78,3 +78,15 @@ fn settings_are_read_back_and_sent_in_an_order_the_board_accepts() {
     let impossible = vec![("steps".to_string(), "80000".to_string())];
     assert!(send_order(&c, &impossible).unwrap_err().contains("do not fit together"));
 }
+
+#[test]
+fn a_board_reporting_gaps_at_the_ends_of_the_range_gets_an_answer_not_a_panic() {
+    let line = format!(
+        "ok encoder ended moved=12000 backward=0 jumps=0 chatter=0 still=done indexes=4 skipped=0 gaps=3 gap={}..{} cpr=none",
+        i64::MIN,
+        i64::MAX
+    );
+    let f = parse_encoder(&line).unwrap();
+    assert_eq!(f.gap, Some((i64::MIN, i64::MAX)));
+    assert!(propose_cpr(&f, None).unwrap_err().contains("varied"));
+}

@@ -22,7 +22,8 @@ pub struct FlashArgs {
     #[arg(long)]
     pub any_image: bool,
     /// How long to look for the bootloader on USB, seconds (0..=600)
-    #[arg(long, value_name = "S", default_value = "10", value_parser = within(0.0, 600.0, "s"))]
+    // a leading '-' is a value (`-inf`), refused naming --wait, not flags
+    #[arg(long, value_name = "S", default_value = "10", allow_hyphen_values = true, value_parser = within(0.0, 600.0, "s"))]
     pub wait: f64,
     /// Check the image and print what would be written; no USB
     #[arg(long)]

@@ -96,9 +96,9 @@ pub fn run(a: GeometryArgs) -> CliResult<String> {
     if let Some(path) = &a.svg {
         files.add("svg", path, draw(&setup, &section))?;
     }
-    files.write()?;
+    let written = files.write()?;
     let r = report(&setup, &section);
-    Ok(if a.json { r.to_string() } else { human(&r) })
+    Ok(written.report(if a.json { r.to_string() } else { human(&r) }))
 }
 
 /// A circle has N "flats" too, each bulging R(1 - cos(pi/N)) from its

@@ -33,24 +33,27 @@ pub fn run(a: ImageArgs) -> CliResult<String> {
     let image = load("ELF", &a.elf, a.any_image, Some(Format::Elf))?;
     let text = hex::write(&image).map_err(|r| refused("ELF", &a.elf, r))?;
     let mut files = Outputs::default();
+    files.reading("ELF", &a.elf);
     files.add_bytes("bin", &a.bin, image.bytes.clone())?;
     files.add("hex", &a.hex, text)?;
-    files.write()?;
+    let written = files.write()?;
     if a.json {
-        return Ok(json!({
-            "chip": CHIP,
-            "version": image.version,
-            "base": format!("0x{:08x}", image.base),
-            "bytes": image.bytes.len(),
-            "kib": kib(&image),
-            "sectors": [0, last_sector(image.bytes.len() as u32)],
-            "sha256": image.sha256,
-            "bin": a.bin.display().to_string(),
-            "hex": a.hex.display().to_string(),
-        })
-        .to_string());
+        return Ok(written.report(
+            json!({
+                "chip": CHIP,
+                "version": image.version,
+                "base": format!("0x{:08x}", image.base),
+                "bytes": image.bytes.len(),
+                "kib": kib(&image),
+                "sectors": [0, last_sector(image.bytes.len() as u32)],
+                "sha256": image.sha256,
+                "bin": a.bin.display().to_string(),
+                "hex": a.hex.display().to_string(),
+            })
+            .to_string(),
+        ));
     }
-    Ok(format!("{}\nwrote {} and {}", summary(&image), shown(&a.bin), shown(&a.hex)))
+    Ok(written.report(format!("{}\nwrote {} and {}", summary(&image), shown(&a.bin), shown(&a.hex))))
 }
 
 /// Reads and checks an image file; a refusal names the argument:
@@ -148,5 +151,24 @@ mod tests {
         let e = run_line(&format!("image {} --bin {} --hex /nonexistent-dir/o.hex", p("fw"), p("o.bin"))).unwrap_err();
         assert!(e.0.starts_with("--hex could not write '/nonexistent-dir/o.hex'"), "{}", e.0);
         assert!(!d.join("o.bin").exists());
+    }
+
+    #[cfg(unix)]
+    #[test]
+    fn the_release_files_never_overwrite_the_elf_however_it_is_spelt() {
+        let d = dir("self");
+        let file = elf(&[(FLASH_BASE, FLASH_BASE, &good(4096), 0)]);
+        std::fs::write(d.join("fw"), &file).unwrap();
+        std::fs::hard_link(d.join("fw"), d.join("hard")).unwrap();
+        let _ = std::os::unix::fs::symlink("fw", d.join("soft"));
+        let p = |n: &str| d.join(n).display().to_string();
+        for out in [p("fw"), format!("{}/./fw", d.display()), p("hard"), p("soft")] {
+            let e = run_line(&format!("image {} --bin {} --hex {}", p("fw"), p("o.hex"), out)).unwrap_err();
+            assert!(e.0.starts_with("--hex must not be the ELF it reads (got '"), "{}", e.0);
+            let e = run_line(&format!("image {} --bin {out} --hex {}", p("soft"), p("o.hex"))).unwrap_err();
+            assert!(e.0.starts_with("--bin must not be the ELF it reads"), "{}", e.0);
+        }
+        assert_eq!(std::fs::read(d.join("fw")).unwrap(), file);
+        assert!(!d.join("o.hex").exists());
     }
 }

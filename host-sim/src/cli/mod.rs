@@ -100,10 +100,25 @@ pub fn dispatch(argv: &[String]) -> CliResult<String> {
     }
 }
 
-/// The command line, with negative numbers taken as values (so that
-/// `--ratio -2` is refused as a ratio, naming --ratio, not as a flag).
-fn command() -> clap::Command {
-    Cli::command().mut_subcommands(|s| s.allow_negative_numbers(true))
+/// The command line, with negative numbers taken as values at every depth
+/// (so that `--ratio -2` is refused as a ratio, naming --ratio, not as a
+/// flag), and so is any value given to an option (`--rpm -inf`, which is
+/// no negative number to clap, is refused by `--rpm`'s own range).
+pub fn command() -> clap::Command {
+    hyphen_values(Cli::command())
+}
+
+fn hyphen_values(c: clap::Command) -> clap::Command {
+    c.allow_negative_numbers(true)
+        .mut_args(|a| {
+            let option = a.get_long().is_some() && a.get_action().takes_values();
+            if option {
+                a.allow_hyphen_values(true)
+            } else {
+                a
+            }
+        })
+        .mut_subcommands(hyphen_values)
 }
 
 fn completions(shell: clap_complete::Shell) -> String {
@@ -117,5 +132,38 @@ mod tests {
     #[test]
     fn the_command_line_definition_is_consistent() {
         super::command().debug_assert();
+    }
+
+    /// Every option of every command, as (the command's path, `--long`).
+    fn options(c: &clap::Command, path: &[String], out: &mut Vec<(Vec<String>, String)>) {
+        for a in c.get_arguments().filter(|a| a.get_action().takes_values()) {
+            if let Some(long) = a.get_long() {
+                out.push((path.to_vec(), format!("--{long}")));
+            }
+        }
+        for s in c.get_subcommands() {
+            options(s, &[path, &[s.get_name().to_string()]].concat(), out);
+        }
+    }
+
+    #[test]
+    fn a_non_finite_or_negative_value_is_taken_as_the_options_value_at_every_depth() {
+        let mut all = Vec::new();
+        options(&super::command(), &[], &mut all);
+        assert!(all.len() > 60, "the walk found the options ({})", all.len());
+        assert!(all.iter().any(|(p, o)| p == &["device", "selftest"] && o == "--rpm"), "nested commands too");
+        for (path, option) in &all {
+            for value in ["-inf", "-nan", "-1", "-0"] {
+                let argv: Vec<String> = path.iter().cloned().chain([option.clone(), value.into()]).collect();
+                let said = match super::command().try_get_matches_from(std::iter::once("polyturn".into()).chain(argv)) {
+                    Ok(_) => continue,
+                    Err(e) => e.to_string(),
+                };
+                assert!(
+                    !said.contains("unexpected argument") && !said.contains("a value is required"),
+                    "{path:?} {option} {value}: {said}"
+                );
+            }
+        }
     }
 }

@@ -1,19 +1,59 @@
 //! Files a command writes: all of them or none. Every output is rendered
-//! first; then each is written to a temporary file beside its target and,
-//! only when all were written, renamed into place. A refused command, a
-//! missing directory or a full disk leaves every target as it was. Text
-//! and binary files (a firmware .bin) alike.
+//! first; then each regular file is written to a temporary file beside
+//! its target, the devices, FIFOs and stdout (`-`) are written directly,
+//! and only when all were written are the temporaries renamed into place.
+//! A refused command, a missing directory or a full disk leaves every
+//! regular file as it was. Text and binary files (a firmware .bin) alike.
+
+mod target;
 
 use super::errors::{escaped, CliError, CliResult};
+use std::io::Write;
 use std::path::{Path, PathBuf};
+use target::{classify, identity, identity_of, Identity, Target};
+
+/// One file to write: the flag and path that named it, where it goes.
+struct Output {
+    flag: &'static str,
+    given: PathBuf,
+    #[cfg_attr(target_family = "wasm", allow(dead_code))]
+    target: Target,
+    bytes: Vec<u8>,
+}
 
 /// The files of one command, by the flag that named each.
 #[derive(Default)]
 pub struct Outputs {
-    files: Vec<(&'static str, PathBuf, Vec<u8>)>,
+    files: Vec<Output>,
+    /// the files the command reads, which no output may replace
+    inputs: Vec<(String, Identity)>,
+}
+
+/// What was written; the command's report goes to stderr when its
+/// stdout carries a file, so that `--svg - > x.svg` is a clean SVG.
+#[derive(Debug)]
+pub struct Written {
+    to_stdout: bool,
+}
+
+impl Written {
+    /// The text for stdout: `report`, or nothing once it went to stderr.
+    pub fn report(self, report: String) -> String {
+        if !self.to_stdout {
+            return report;
+        }
+        let _ = writeln!(std::io::stderr().lock(), "{report}");
+        String::new()
+    }
 }
 
 impl Outputs {
+    /// Notes a file the command reads (`arg` names it in a refusal): an
+    /// output naming it is refused, however spelt.
+    pub fn reading(&mut self, arg: &str, path: &Path) {
+        self.inputs.push((arg.to_string(), identity_of(path)));
+    }
+
     /// Adds `text` for the file given by `--flag`; a second flag naming
     /// the same file is refused (it would silently replace the first).
     pub fn add(&mut self, flag: &'static str, path: &Path, text: String) -> CliResult<()> {
@@ -22,39 +62,69 @@ impl Outputs {
 
     /// The same for a binary file.
     pub fn add_bytes(&mut self, flag: &'static str, path: &Path, bytes: Vec<u8>) -> CliResult<()> {
-        // a directory (or `..`) cannot be replaced by a rename: refused
-        // here, before any file is written
-        if path.is_dir() || path.file_name().is_none() {
-            return Err(CliError::flag(flag, format!("must name a file, not a directory (got '{}')", shown(path))));
+        // refused here, before any file is written
+        let target = classify(path).map_err(|why| CliError::flag(flag, format!("{why} (got '{}')", shown(path))))?;
+        let id = identity(&target);
+        if let Some((arg, _)) = self.inputs.iter().find(|(_, i)| *i == id) {
+            return Err(CliError::flag(flag, format!("must not be the {arg} it reads (got '{}')", shown(path))));
         }
-        if let Some((other, _, _)) = self.files.iter().find(|(_, p, _)| same_file(p, path)) {
-            return Err(CliError::flag(flag, format!("names the same file as --{other} ('{}')", shown(path))));
+        if let Some(other) = self.files.iter().find(|o| identity(&o.target) == id) {
+            return Err(CliError::flag(flag, format!("names the same file as --{} ('{}')", other.flag, shown(path))));
         }
-        self.files.push((flag, path.to_path_buf(), bytes));
+        self.files.push(Output { flag, given: path.to_path_buf(), target, bytes });
         Ok(())
     }
 
-    /// Writes every file, or none.
+    /// Writes every file, or (for regular files) none.
     #[cfg(not(target_family = "wasm"))]
-    pub fn write(self) -> CliResult<Vec<PathBuf>> {
-        let mut staged: Vec<(PathBuf, &PathBuf)> = Vec::new();
-        for (flag, path, text) in &self.files {
-            let tmp = temporary(path);
-            if let Err(e) = std::fs::write(&tmp, text) {
-                let _ = std::fs::remove_file(&tmp);
-                unstage(&staged);
-                return Err(CliError::flag(flag, format!("could not write '{}': {e}", shown(path))));
+    pub fn write(self) -> CliResult<Written> {
+        let mut staged: Vec<(PathBuf, &Path)> = Vec::new();
+        let fail = |o: &Output, staged: &[(PathBuf, &Path)], e: std::io::Error| {
+            unstage(staged);
+            CliError::flag(o.flag, format!("could not write '{}': {e}", shown(&o.given)))
+        };
+        for o in &self.files {
+            if let Target::File(path) = &o.target {
+                let tmp = temporary(path);
+                if let Err(e) = std::fs::write(&tmp, &o.bytes) {
+                    let _ = std::fs::remove_file(&tmp);
+                    return Err(fail(o, &staged, e));
+                }
+                staged.push((tmp, path));
             }
-            staged.push((tmp, path));
         }
-        for (i, (tmp, path)) in staged.iter().enumerate() {
+        // a device or a pipe cannot be staged: written before any rename,
+        // so that its failure (a full /dev/full) still leaves the files be
+        for o in &self.files {
+            if let Err(e) = stream(&o.target, &o.bytes) {
+                return Err(fail(o, &staged, e));
+            }
+        }
+        let regular = self.files.iter().filter(|o| matches!(o.target, Target::File(_)));
+        for (i, ((tmp, path), o)) in staged.iter().zip(regular).enumerate() {
             if let Err(e) = std::fs::rename(tmp, path) {
-                unstage(&staged[i..]);
-                let flag = self.files[i].0;
-                return Err(CliError::flag(flag, format!("could not write '{}': {e}", shown(path))));
+                return Err(fail(o, &staged[i..], e));
             }
         }
-        Ok(self.files.into_iter().map(|(_, p, _)| p).collect())
+        Ok(Written { to_stdout: self.files.iter().any(|o| o.target == Target::Stdout) })
+    }
+}
+
+/// Writes a device, FIFO or stdout target; nothing for a regular file.
+#[cfg(not(target_family = "wasm"))]
+fn stream(target: &Target, bytes: &[u8]) -> std::io::Result<()> {
+    match target {
+        Target::File(_) => Ok(()),
+        Target::Stdout => {
+            let mut out = std::io::stdout().lock();
+            out.write_all(bytes)?;
+            out.flush()
+        }
+        Target::Stream(path) => {
+            let mut f = std::fs::OpenOptions::new().write(true).open(path)?;
+            f.write_all(bytes)?;
+            f.flush()
+        }
     }
 }
 
@@ -62,10 +132,9 @@ impl Outputs {
 /// for the page (`take_captured`), under the name the flag gave.
 #[cfg(target_family = "wasm")]
 impl Outputs {
-    pub fn write(self) -> CliResult<Vec<PathBuf>> {
-        let paths = self.files.iter().map(|(_, p, _)| p.clone()).collect();
-        CAPTURED.with(|c| c.borrow_mut().extend(self.files.into_iter().map(|(_, p, b)| (shown(&p), b))));
-        Ok(paths)
+    pub fn write(self) -> CliResult<Written> {
+        CAPTURED.with(|c| c.borrow_mut().extend(self.files.into_iter().map(|o| (shown(&o.given), o.bytes))));
+        Ok(Written { to_stdout: false })
     }
 }
 
@@ -86,7 +155,7 @@ fn shown(path: &Path) -> String {
 }
 
 #[cfg(not(target_family = "wasm"))]
-fn unstage(staged: &[(PathBuf, &PathBuf)]) {
+fn unstage(staged: &[(PathBuf, &Path)]) {
     for (tmp, _) in staged {
         let _ = std::fs::remove_file(tmp);
     }
@@ -99,68 +168,5 @@ fn temporary(path: &Path) -> PathBuf {
     path.with_file_name(format!(".{name}.polyturn-{}.tmp", std::process::id()))
 }
 
-/// The same file, however spelt (`f`, `./f`, `dir/../f`), existing or not.
-fn same_file(a: &Path, b: &Path) -> bool {
-    let key = |p: &Path| {
-        let parent = p.parent().filter(|d| !d.as_os_str().is_empty()).unwrap_or(Path::new("."));
-        parent.canonicalize().map(|d| d.join(p.file_name().unwrap_or_default())).unwrap_or_else(|_| p.to_path_buf())
-    };
-    a == b || key(a) == key(b)
-}
-
 #[cfg(test)]
-mod tests {
-    use super::*;
-
-    fn dir(tag: &str) -> PathBuf {
-        let d = std::env::temp_dir().join(format!("polyturn-out-{tag}-{}", std::process::id()));
-        std::fs::create_dir_all(&d).unwrap();
-        d
-    }
-
-    #[test]
-    fn one_unwritable_file_writes_none() {
-        let d = dir("none");
-        let mut o = Outputs::default();
-        o.add("table", &d.join("t.json"), "{}".into()).unwrap();
-        o.add("svg", Path::new("/nonexistent-dir/x.svg"), "<svg/>".into()).unwrap();
-        let e = o.write().unwrap_err();
-        assert!(e.0.starts_with("--svg could not write '/nonexistent-dir/x.svg'"), "{}", e.0);
-        assert!(!d.join("t.json").exists());
-        assert_eq!(std::fs::read_dir(&d).unwrap().count(), 0, "no temporary left behind");
-    }
-
-    #[test]
-    fn two_flags_naming_one_file_are_refused() {
-        let d = dir("same");
-        let mut o = Outputs::default();
-        o.add("table", &d.join("f"), "a".into()).unwrap();
-        assert!(o
-            .add("svg", &d.join(".").join("f"), "b".into())
-            .unwrap_err()
-            .0
-            .starts_with("--svg names the same file as --table"));
-    }
-
-    #[test]
-    fn a_directory_is_refused_before_anything_is_written() {
-        let d = dir("isdir");
-        let mut o = Outputs::default();
-        o.add("table", &d.join("t.json"), "{}".into()).unwrap();
-        assert!(o.add("svg", &d, "<svg/>".into()).unwrap_err().0.starts_with("--svg must name a file"));
-        assert!(o.add("svg", Path::new(".."), "<svg/>".into()).is_err());
-        let e = Outputs { files: vec![("svg", PathBuf::from("/nonexistent-dir/a\nb"), Vec::new())] }.write();
-        assert_eq!(e.unwrap_err().0.lines().count(), 1, "the path's newline is escaped");
-    }
-
-    #[test]
-    fn all_files_are_written_when_all_can_be() {
-        let d = dir("all");
-        let mut o = Outputs::default();
-        o.add("table", &d.join("t.json"), "{}".into()).unwrap();
-        o.add("svg", &d.join("x.svg"), "<svg/>".into()).unwrap();
-        o.write().unwrap();
-        assert_eq!(std::fs::read_to_string(d.join("x.svg")).unwrap(), "<svg/>");
-        assert_eq!(std::fs::read_dir(&d).unwrap().count(), 2);
-    }
-}
+mod tests;

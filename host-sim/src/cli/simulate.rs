@@ -1,6 +1,10 @@
 //! `polyturn simulate` and `polyturn demo`.
 
-use super::errors::{CliError, CliResult};
+// the browser runs it in its own worker, with no terminal
+#[cfg(not(target_family = "wasm"))]
+mod alive;
+
+use super::errors::{escaped, CliError, CliResult};
 use super::geometry::SetupArgs;
 use super::output::Outputs;
 use super::values::{above, drive, out_file, rpm, whole, whole32, within};
@@ -12,38 +16,40 @@ use std::path::PathBuf;
 /// The lathe time one run may simulate (bounds the work of any input).
 const MAX_CUT_S: f64 = 600.0;
 
+// Numbers take a leading '-' as a value (`--rpm -inf`), so that it is
+// refused naming its flag rather than read as flags `-i -n -f`.
 #[derive(clap::Args, Debug)]
 pub struct SimulateArgs {
     #[command(flatten)]
     pub setup: SetupArgs,
     /// Lathe speed while cutting, rpm (1..=6000)
-    #[arg(long, value_name = "RPM", value_parser = rpm(6000.0))]
+    #[arg(long, value_name = "RPM", allow_hyphen_values = true, value_parser = rpm(6000.0))]
     pub rpm: f64,
     /// Lathe turns to cut (> 0, <= 10000; at most 600 s of cutting)
-    #[arg(long, value_name = "TURNS", value_parser = above(0.0, 10_000.0, "turns"))]
+    #[arg(long, value_name = "TURNS", allow_hyphen_values = true, value_parser = above(0.0, 10_000.0, "turns"))]
     pub revolutions: f64,
     /// Lathe speed ripple, a fraction of the speed (0..=0.5)
-    #[arg(long, value_name = "FRACTION", default_value = "0", value_parser = within(0.0, 0.5, ""))]
+    #[arg(long, value_name = "FRACTION", default_value = "0", allow_hyphen_values = true, value_parser = within(0.0, 0.5, ""))]
     pub ripple: f64,
     /// Engage with the lathe at rest or already spinning: rest or spinning
     #[arg(long, value_name = "rest|spinning", default_value = "rest", value_parser = start)]
     pub start: Start,
     /// Lathe encoder counts per turn, after x4 quadrature (4..=1000000)
-    #[arg(long, value_name = "COUNTS", default_value = "2400", value_parser = whole32(4, 1_000_000))]
+    #[arg(long, value_name = "COUNTS", default_value = "2400", allow_hyphen_values = true, value_parser = whole32(4, 1_000_000))]
     pub encoder_cpr: u32,
     /// Cutter motor steps per cutter turn, microsteps included (1..=1000000)
-    #[arg(long, value_name = "STEPS", default_value = "3200", value_parser = whole32(1, 1_000_000))]
+    #[arg(long, value_name = "STEPS", default_value = "3200", allow_hyphen_values = true, value_parser = whole32(1, 1_000_000))]
     pub motor_steps: u32,
     /// The cutter's drive: stepper or bldc
     #[arg(long, value_name = "stepper|bldc", default_value = "stepper", value_parser = drive)]
     pub drive: DriveKind,
     /// Seed of the simulated encoder noise and speed ripple (0..=2^64-1)
-    #[arg(long, value_name = "S", default_value = "1", value_parser = whole(0, u64::MAX))]
+    #[arg(long, value_name = "S", default_value = "1", allow_hyphen_values = true, value_parser = whole(0, u64::MAX))]
     pub seed: u64,
     /// Print the report as one JSON object
     #[arg(long)]
     pub json: bool,
-    /// Also draw the simulated section against the ideal to this SVG file
+    /// Also draw the simulated section against the ideal to this SVG file (- for stdout)
     #[arg(long, value_name = "FILE", value_parser = out_file)]
     pub svg: Option<PathBuf>,
 }
@@ -83,18 +89,22 @@ pub fn scenario_from(a: &SimulateArgs) -> CliResult<Scenario> {
 
 pub fn run_cli(a: SimulateArgs) -> CliResult<String> {
     let sc = scenario_from(&a)?;
-    let r = run(&sc).map_err(CliError)?;
+    #[cfg(not(target_family = "wasm"))]
+    let r = alive::run_alive(&sc, a.revolutions, a.rpm);
+    #[cfg(target_family = "wasm")]
+    let r = run(&sc);
+    let r = r.map_err(CliError)?;
     let mut files = Outputs::default();
     if let Some(path) = &a.svg {
         files.add("svg", path, report::svg(&sc, &r))?;
     }
-    files.write()?;
-    Ok(if a.json { report::json(&sc, &r).to_string() } else { report::human(&sc, &r) })
+    let written = files.write()?;
+    Ok(written.report(if a.json { report::json(&sc, &r).to_string() } else { report::human(&sc, &r) }))
 }
 
 #[derive(clap::Args, Debug)]
 pub struct DemoArgs {
-    /// Where to draw the hexagon
+    /// Where to draw the hexagon (- for stdout)
     #[arg(long, value_name = "FILE", default_value = "hexagon.svg", value_parser = out_file)]
     pub svg: PathBuf,
     /// Print the report as one JSON object
@@ -116,13 +126,13 @@ pub fn demo(a: DemoArgs) -> CliResult<String> {
     let r = run(&sc).map_err(CliError)?;
     let mut files = Outputs::default();
     files.add("svg", &a.svg, report::svg(&sc, &r))?;
-    files.write()?;
-    let path = a.svg.display();
+    let written = files.write()?;
     if a.json {
-        return Ok(report::json(&sc, &r).to_string());
+        return Ok(written.report(report::json(&sc, &r).to_string()));
     }
-    Ok(format!(
+    let path = if a.svg.as_os_str() == "-" { "stdout".into() } else { escaped(&a.svg.display().to_string()) };
+    Ok(written.report(format!(
         "polyturn demo: a hexagon from 2:1 x 3 edges at 600 rpm (2 % speed ripple), simulated end to end\n{}\nwrote {path}",
         report::human(&sc, &r)
-    ))
+    )))
 }

@@ -5,7 +5,7 @@
 //! refused before the bootloader erases anything.
 
 use super::image::Refusal;
-use super::{CHIP, MARKER, RAM_END, RAM_START};
+use super::{CHIP, MARKER, RAM_END, RAM_START, VECTOR_TABLE_BYTES};
 
 /// A marker's chip and version are short: a longer one is no marker.
 const MARKER_TEXT_MAX: usize = 80;
@@ -28,7 +28,8 @@ pub fn image(base: u32, bytes: &[u8], any_image: bool) -> Result<Option<String>,
 }
 
 /// The initial stack pointer in RAM and word-aligned; the reset handler
-/// Thumb (odd) and inside the image.
+/// Thumb (odd) and inside the image, past the vector table (an address
+/// in the table would run vectors as code).
 fn vectors(base: u32, bytes: &[u8]) -> Result<(), Refusal> {
     let word = |i: usize| bytes.get(i..i + 4).map(|w| u32::from_le_bytes([w[0], w[1], w[2], w[3]]));
     let (Some(sp), Some(reset)) = (word(0), word(4)) else {
@@ -42,14 +43,18 @@ fn vectors(base: u32, bytes: &[u8]) -> Result<(), Refusal> {
         );
         return Err(Refusal::new(rule, format!("stack pointer 0x{sp:08x}")));
     }
-    let end = u64::from(base) + bytes.len() as u64;
-    let rule =
-        format!("must have a reset address that is Thumb code (odd) inside the image, 0x{base:08x}..0x{end:08x}");
+    let (code, end) = (u64::from(base) + u64::from(VECTOR_TABLE_BYTES), u64::from(base) + bytes.len() as u64);
+    let rule = format!(
+        "must have a reset address that is Thumb code (odd) in the image after its vector table, 0x{code:08x}..0x{end:08x}"
+    );
     if reset & 1 == 0 {
         return Err(Refusal::new(rule, format!("reset address 0x{reset:08x}, even")));
     }
     let entry = u64::from(reset & !1);
-    if entry < u64::from(base) + 8 || entry >= end {
+    if entry >= u64::from(base) && entry < code {
+        return Err(Refusal::new(rule, format!("reset address 0x{reset:08x}, inside the vector table")));
+    }
+    if entry < code || entry >= end {
         return Err(Refusal::new(rule, format!("reset address 0x{reset:08x}")));
     }
     Ok(())

@@ -5,11 +5,14 @@
 //! file bytes. This is what `objcopy -O binary` takes.
 
 use super::image::{Canvas, Refusal};
-use object::elf::{FileHeader32, ELFCLASS32, ELFDATA2LSB, EM_ARM, PT_LOAD};
+use object::elf::{FileHeader32, FileType, ELFCLASS32, ELFDATA2LSB, EM_ARM, ET_CORE, ET_DYN, ET_EXEC, ET_REL, PT_LOAD};
 use object::read::elf::{FileHeader, ProgramHeader};
 use object::Endianness;
 
 const ELF_RULE: &str = "must be a 32-bit little-endian ARM ELF (the firmware as `cargo fw` builds it)";
+/// An object file's segments are not placed yet (a `.o` has none; its
+/// sections sit at address 0 until the linker moves them).
+const EXEC_RULE: &str = "must be a linked executable ELF (ET_EXEC), as `cargo fw` builds it";
 
 pub fn parse(file: &[u8]) -> Result<(u32, Vec<u8>), Refusal> {
     // the ident bytes first, for a plainer refusal than the parser's
@@ -24,6 +27,9 @@ pub fn parse(file: &[u8]) -> Result<(u32, Vec<u8>), Refusal> {
     if header.e_machine(endian) != EM_ARM {
         return Err(Refusal::new(ELF_RULE, format!("an ELF for machine {}", header.e_machine(endian).0)));
     }
+    if header.e_type(endian) != ET_EXEC {
+        return Err(Refusal::new(EXEC_RULE, kind(header.e_type(endian))));
+    }
     let mut canvas = Canvas::new();
     for (i, segment) in header.program_headers(endian, file).map_err(bad)?.iter().enumerate() {
         if segment.p_type(endian) != PT_LOAD || segment.p_filesz(endian) == 0 {
@@ -35,4 +41,14 @@ pub fn parse(file: &[u8]) -> Result<(u32, Vec<u8>), Refusal> {
         canvas.place(segment.p_paddr(endian), data, &format!("segment {i}"))?;
     }
     canvas.finish()
+}
+
+/// What an ELF that is no executable is.
+fn kind(e_type: FileType) -> String {
+    match e_type {
+        ET_REL => "a relocatable object (ET_REL)".into(),
+        ET_DYN => "a shared object (ET_DYN)".into(),
+        ET_CORE => "a core dump (ET_CORE)".into(),
+        other => format!("an ELF of type {}", other.0),
+    }
 }

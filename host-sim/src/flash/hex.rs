@@ -1,12 +1,17 @@
 //! Intel HEX, the 32-bit kind (I32HEX) that objcopy and STM32CubeProgrammer
 //! use: data, end-of-file, extended linear address and start linear address
 //! records; checksums checked by the `ihex` crate. The segment records of
-//! 8086 I16HEX have no meaning for a Cortex-M and are refused.
+//! 8086 I16HEX have no meaning for a Cortex-M and are refused. Nothing is
+//! skipped unread: a blank line or spaces around a record (a file edited
+//! or pasted by hand) is refused, and so is a start address that is not
+//! the reset address the bootloader will jump through.
 
 use super::image::{Canvas, Image, Refusal};
 use ihex::Record;
 
 const HEX_RULE: &str = "must be Intel HEX: data, end-of-file and extended/start linear address records";
+const LINE_RULE: &str = "must be Intel HEX as a tool writes it: one record on every line, nothing around it";
+const START_RULE: &str = "must give at most one start address, the reset address of its vector table";
 
 /// The image a .hex file describes, gaps 0xFF.
 pub fn parse(file: &[u8]) -> Result<(u32, Vec<u8>), Refusal> {
@@ -14,11 +19,10 @@ pub fn parse(file: &[u8]) -> Result<(u32, Vec<u8>), Refusal> {
     let mut canvas = Canvas::new();
     let mut upper: u32 = 0;
     let mut ended = false;
+    let mut start: Option<(usize, u32)> = None;
     for (i, line) in text.lines().enumerate() {
-        let (n, line) = (i + 1, line.trim());
-        if line.is_empty() {
-            continue;
-        }
+        let n = i + 1;
+        bare(line, n)?;
         if ended {
             return Err(Refusal::new(HEX_RULE, format!("line {n} comes after the end-of-file record")));
         }
@@ -33,9 +37,10 @@ pub fn parse(file: &[u8]) -> Result<(u32, Vec<u8>), Refusal> {
                 canvas.place(upper | u32::from(offset), &value, &format!("line {n}"))?;
             }
             Record::ExtendedLinearAddress(high) => upper = u32::from(high) << 16,
-            // the vector table gives the reset address; the bootloader
-            // jumps through it (AN3156 §5.5)
-            Record::StartLinearAddress(_) => {}
+            Record::StartLinearAddress(_) if start.is_some() => {
+                return Err(Refusal::new(START_RULE, format!("line {n}: a second start address")));
+            }
+            Record::StartLinearAddress(address) => start = Some((n, address)),
             Record::EndOfFile => ended = true,
             Record::ExtendedSegmentAddress(_) | Record::StartSegmentAddress { .. } => {
                 return Err(Refusal::new(HEX_RULE, format!("line {n} is an 8086 segment record")));
@@ -45,7 +50,38 @@ pub fn parse(file: &[u8]) -> Result<(u32, Vec<u8>), Refusal> {
     if !ended {
         return Err(Refusal::new(HEX_RULE, "no end-of-file record (cut short?)"));
     }
-    canvas.finish()
+    let (base, bytes) = canvas.finish()?;
+    if let Some((n, address)) = start {
+        starts_at_reset(&bytes, n, address)?;
+    }
+    Ok((base, bytes))
+}
+
+/// A line that is a record and nothing else.
+fn bare(line: &str, n: usize) -> Result<(), Refusal> {
+    if line.trim().is_empty() {
+        return Err(Refusal::new(LINE_RULE, format!("line {n} is blank")));
+    }
+    if line.trim() != line {
+        return Err(Refusal::new(LINE_RULE, format!("line {n} has spaces or tabs around its record")));
+    }
+    Ok(())
+}
+
+/// The bootloader jumps through the vector table, not to the start
+/// address (AN3156 §5.5): one that differs says the file is not what it
+/// seems (hand-edited, or joined from two builds). Bit 0 (Thumb) aside.
+fn starts_at_reset(bytes: &[u8], n: usize, address: u32) -> Result<(), Refusal> {
+    // too short for a reset vector: check.rs refuses it, saying so
+    let Some(w) = bytes.get(4..8) else { return Ok(()) };
+    let reset = u32::from_le_bytes([w[0], w[1], w[2], w[3]]);
+    if address & !1 == reset & !1 {
+        return Ok(());
+    }
+    Err(Refusal::new(
+        START_RULE,
+        format!("line {n}: start address 0x{address:08x}, not the vector table's reset address 0x{reset:08x}"),
+    ))
 }
 
 /// The image as I32HEX text: 16 bytes a record as objcopy writes them,

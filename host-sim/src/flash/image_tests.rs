@@ -196,3 +196,55 @@ fn files_are_read_bounded_and_recognised() {
     assert_eq!(load(&p("fw.bin"), false).unwrap().bytes, good(4096));
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+#[test]
+fn a_relocatable_or_shared_elf_is_refused_as_not_linked() {
+    let bytes = good(4096);
+    for (e_type, found) in
+        [(1u8, "a relocatable object (ET_REL)"), (3, "a shared object (ET_DYN)"), (4, "a core dump (ET_CORE)")]
+    {
+        let mut file = elf(&[(FLASH_BASE, FLASH_BASE, &bytes, 0)]);
+        file[16] = e_type;
+        let r = refused(&file, Format::Elf, true);
+        assert_eq!(
+            (r.rule.as_str(), r.found.as_str()),
+            ("must be a linked executable ELF (ET_EXEC), as `cargo fw` builds it", found)
+        );
+    }
+}
+
+#[test]
+fn a_reset_address_inside_the_vector_table_is_refused() {
+    // 0x198: the F411's 16 system and 86 interrupt vectors
+    for reset in [FLASH_BASE + 9, FLASH_BASE + 0x41, FLASH_BASE + 0x197] {
+        let r = refused(&image_with(4096, SP, reset, b""), Format::Bin, true);
+        assert_eq!(r.found, format!("reset address 0x{reset:08x}, inside the vector table"));
+        assert!(r.rule.contains("0x08000198..0x08001000"), "{r:?}");
+    }
+    assert!(from_bytes(&image_with(4096, SP, FLASH_BASE + 0x199, b""), Format::Bin, true).is_ok());
+}
+
+#[test]
+fn a_hex_start_address_must_be_the_reset_vector_and_lines_must_be_bare_records() {
+    let bytes = good(1024);
+    let ok = hex_of(&[(FLASH_BASE, &bytes)]);
+    let eof = ":00000001FF";
+    let start = |a: u32| record(5, 0, &a.to_be_bytes());
+    // objcopy's start address (the ELF entry, the reset handler) is taken
+    assert!(from_bytes(ok.replace(eof, &format!("{}\n{eof}", start(RESET))).as_bytes(), Format::Hex, false).is_ok());
+    let cases = [
+        (
+            ok.replace(eof, &format!("{}\n{eof}", start(FLASH_BASE + 0x401))),
+            "line 66: start address 0x08000401, not the vector table's reset address 0x08000199",
+        ),
+        (ok.replace(eof, &format!("{}\n{}\n{eof}", start(RESET), start(RESET))), "line 67: a second start address"),
+        (ok.replacen("\n", "\n\n", 1), "line 2 is blank"),
+        (format!("{ok}\n\n"), "line 67 is blank"),
+        (ok.replacen("\n:10", "\n :10", 1), "line 2 has spaces or tabs around its record"),
+        (ok.replacen("\n:10", "\t\n:10", 1), "line 1 has spaces or tabs around its record"),
+    ];
+    for (text, found) in cases {
+        let r = refused(text.as_bytes(), Format::Hex, false);
+        assert_eq!(r.found, found, "{r:?}");
+    }
+}

@@ -40,6 +40,10 @@ pub const SECTOR_KIB: [u32; 8] = [16, 16, 16, 16, 64, 128, 128, 128];
 pub const APP_SECTORS: usize = 6;
 /// The end of sector 5: the first byte of the settings (sector 6).
 pub const APP_END: u32 = FLASH_BASE + 256 * 1024;
+/// The vector table's size: 16 system vectors and 86 interrupt positions,
+/// the last (SPI5) at 0x194 (RM0383 Table 37). cortex-m-rt puts the
+/// reset handler right after it.
+pub const VECTOR_TABLE_BYTES: u32 = 0x198;
 /// SRAM, 128 KiB (RM0383 §2.3 Table 1; memory.x RAM).
 pub const RAM_START: u32 = 0x2000_0000;
 pub const RAM_END: u32 = RAM_START + 128 * 1024;

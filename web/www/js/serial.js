@@ -1,11 +1,12 @@
 // One console session over a WebSerial port, as `polyturn device` speaks
 // it (host-sim/src/cli/device/session.rs): each command goes out with a tag
-// (`#N cmd`), only the line with the same tag is its reply, every wait has
-// a deadline and every line a length bound; other lines (watch's status)
-// go to `onLine`.
+// (`#N cmd`), and its reply is the line with the same tag that reads as a
+// reply (`ok`, `ok ...`, `error: ...`: the library's `is_reply`), so a port
+// that echoes the command is never taken for the board; any other line
+// with the tag is an error quoting it. Every wait has a deadline and every
+// line a length bound; other lines (watch's status) go to `onLine`.
 import { load } from './polyturn.js';
 
-const REPLY_MAX = 512; // longest line taken from the board
 export const TIMEOUT_MS = 2000;
 
 export class Session {
@@ -23,7 +24,10 @@ export class Session {
     await port.open({ baudRate: 115200 });
     s.reader = port.readable.getReader();
     s.writer = port.writable.getWriter();
-    s.commandMax = (await load()).command_max();
+    const lib = await load();
+    s.commandMax = lib.command_max();
+    s.replyMax = lib.reply_max();
+    s.isReply = lib.is_reply;
     s.readLoop();
     return s;
   }
@@ -38,24 +42,43 @@ export class Session {
         pending += text.decode(value, { stream: true });
         let nl;
         while ((nl = pending.indexOf('\n')) >= 0) {
-          this.line(pending.slice(0, nl).replace(/\r$/, ''));
+          const l = pending.slice(0, nl).replace(/\r$/, '');
           pending = pending.slice(nl + 1);
+          if (l.length > this.replyMax) this.fail(`the board sent a line longer than ${this.replyMax} bytes: not a polyturn console`);
+          else this.line(l);
         }
-        if (pending.length > REPLY_MAX) pending = ''; // not a polyturn line
+        if (pending.length > this.replyMax) { // not a polyturn line
+          pending = '';
+          this.fail(`the board sent a line longer than ${this.replyMax} bytes: not a polyturn console`);
+        }
       }
     } finally {
+      this.fail('the board closed the port before replying');
       this.onClose();
     }
   }
 
   line(l) {
+    const w = this.waiting;
+    if (w && l === w.sent) {
+      w.echoed = true; // our own line, echoed by the port
+      return;
+    }
     const m = /^#(\d+) (.*)$/.exec(l);
-    if (m && this.waiting && Number(m[1]) === this.waiting.tag) {
-      this.waiting.resolve(m[2]);
+    if (m && w && Number(m[1]) === w.tag) {
       this.waiting = null;
+      if (this.isReply(m[2])) w.resolve(m[2]);
+      else w.reject(new Error(`the board answered '${w.command.split(' ')[0]}' with '${l.slice(0, 80)}': neither ok nor error, not a polyturn reply`));
     } else if (l.length) {
       this.onLine(l);
     }
+  }
+
+  // Ends the command waiting, if any, with `why`.
+  fail(why) {
+    const w = this.waiting;
+    this.waiting = null;
+    if (w) w.reject(new Error(why));
   }
 
   // Sends one command; resolves to the reply (`ok ...`), rejects with the
@@ -70,18 +93,24 @@ export class Session {
   async send(command, timeoutMs) {
     if (/[^\x20-\x7e]/.test(command)) throw new Error(`the command '${command}' holds a character the board does not take`);
     if (command.length > this.commandMax) throw new Error(`the command is ${command.length} characters long: the board takes at most ${this.commandMax}`);
-    this.tag = (this.tag + 1) % 1000000;
+    if (this.isReply(command)) throw new Error(`the command '${command}' reads as a reply: not sent`);
+    this.tag = this.tag % 999999 + 1;
     const tag = this.tag;
+    const sent = `#${tag} ${command}`;
     const reply = new Promise((resolve, reject) => {
+      const w = { tag, sent, command, echoed: false };
       const timer = setTimeout(() => {
         this.waiting = null;
-        reject(new Error(`no reply to '${command}' within ${timeoutMs} ms`));
+        const echo = w.echoed ? ': the port echoed the command back (a terminal in echo mode, a loopback or an adapter), not a polyturn board' : '';
+        reject(new Error(`no reply to '${command.split(' ')[0]}' within ${timeoutMs} ms${echo}`));
       }, timeoutMs);
-      this.waiting = { tag, resolve: (r) => { clearTimeout(timer); resolve(r); } };
+      w.resolve = (r) => { clearTimeout(timer); resolve(r); };
+      w.reject = (e) => { clearTimeout(timer); reject(e); };
+      this.waiting = w;
     });
-    await this.writer.write(new TextEncoder().encode(`#${tag} ${command}\n`));
+    await this.writer.write(new TextEncoder().encode(`${sent}\n`));
     const r = await reply;
-    if (r.startsWith('error')) throw new Error(r);
+    if (r.startsWith('error: ')) throw new Error(r);
     return r;
   }
 

@@ -81,3 +81,28 @@ fn a_refused_line_abandons_the_upload_whole_and_says_so() {
     assert!(matches!(upload(&mut u, &all), Ok(Progress::Complete(_))));
     assert!(!u.in_progress(), "complete is not in progress");
 }
+
+#[test]
+fn a_number_with_a_sign_or_leading_zeros_is_refused_in_every_field() {
+    let points: Vec<i32> = (-4..4).collect();
+    let good = lines(&points, 0);
+    let mut u = std::boxed::Box::new(CamUpload::default());
+    assert!(matches!(upload(&mut u, &good), Ok(Progress::Complete(_))), "the well-formed table passes");
+    for (at, from, to) in [
+        (0, "begin 8", "begin +8"),
+        (0, "begin 8 900", "begin 8 0900"),
+        (0, "1600000", "+1600000"),
+        (1, "data 0", "data +0"),
+        (1, "data 0", "data 00"),
+        (1, " 1 ", " +1 "),
+        (1, " -1 ", " -01 "),
+        (2, "end ", "end +"),
+    ] {
+        let mut bad = good.clone();
+        bad[at] = bad[at].replacen(from, to, 1);
+        assert_ne!(bad, good, "{to}: the line changed");
+        let mut u = std::boxed::Box::new(CamUpload::default());
+        assert!(upload(&mut u, &bad).is_err(), "{:?}", bad[at]);
+        assert!(u.table().is_none());
+    }
+}

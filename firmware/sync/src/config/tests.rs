@@ -41,7 +41,7 @@ fn a_ratio_that_would_overspeed_the_motor_is_refused() {
 fn phase_accepts_decimal_degrees() {
     let c = Config::default().with("phase", "-12.5").unwrap();
     assert_eq!(c.phase_offset_mdeg, -12_500);
-    assert_eq!(Config::default().with("phase", ".25").unwrap().phase_offset_mdeg, 250);
+    assert_eq!(Config::default().with("phase", "0.25").unwrap().phase_offset_mdeg, 250);
 }
 
 #[test]

@@ -101,12 +101,35 @@ fn the_motor_rate_at_a_lathe_speed_is_rpm_times_ratio_times_steps() {
 
 #[test]
 fn degrees_are_digits_with_an_optional_leading_minus_and_nothing_else() {
-    for bad in ["+5", "+5.5", "5.+5", "-", ".", "-.", "--5", "0000001", "5.-5", "1e2"] {
+    for bad in ["+5", "+5.5", "5.+5", "-", ".", "-.", "--5", "0000001", "5.-5", "1e2", "000360", "05", "-05.5"] {
         assert_eq!(degrees_mdeg(bad, 360_000), None, "{bad}");
         assert_eq!(set("phase", bad).unwrap_err().field, "phase", "{bad}");
     }
-    // up to six digits either side of the point, three decimals used
-    assert_eq!(degrees_mdeg("000360", 360_000), Some(360_000));
+    // the whole part as the documents write it, up to three decimals
+    for bad in ["5.", ".25", "-.5", "5.1234", "5.1a", "5. "] {
+        assert_eq!(degrees_mdeg(bad, 360_000), None, "{bad}");
+    }
+    assert_eq!(degrees_mdeg("360", 360_000), Some(360_000));
     assert_eq!(degrees_mdeg("-0.100", 360_000), Some(-100));
-    assert_eq!(degrees_mdeg("5.", 360_000), Some(5_000));
+    assert_eq!(degrees_mdeg("-0", 360_000), Some(0));
+    assert_eq!(degrees_mdeg("0.05", 360_000), Some(50), "a decimal's leading zero is a digit");
+    assert_eq!(degrees_mdeg("12.5", 360_000), Some(12_500));
+    assert_eq!(degrees_mdeg("12.345", 360_000), Some(12_345));
+    assert_eq!(degrees_mdeg("2147484", i32::MAX), None, "whole degrees beyond i32 millidegrees");
+    assert_eq!(degrees_mdeg("4294967296", i32::MAX), None, "beyond u32");
+    assert_eq!(degrees_mdeg("2147483", i32::MAX), Some(2_147_483_000));
+}
+
+#[test]
+fn a_whole_number_setting_takes_digits_without_sign_or_leading_zero() {
+    let d = Config::default();
+    for (name, bad) in [("cpr", "+5000"), ("cpr", "00004"), ("cpr", "04000"), ("steps", "+1600"), ("max-rpm", "0900")] {
+        assert_eq!(set(name, bad).unwrap_err().field, name, "{name} {bad}");
+    }
+    assert_eq!(set("dir-setup", "0"), Ok(Config { dir_setup_ns: 0, ..d }), "0 itself is fine");
+    assert_eq!(
+        set("cpr", " 4000 "),
+        Ok(Config { encoder_counts_per_rev: 4000, ..d }),
+        "spaces around are not part of it"
+    );
 }

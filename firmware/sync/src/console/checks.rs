@@ -40,8 +40,10 @@ pub(super) fn parse_jog(deg: &str) -> Command<'static> {
 pub(super) fn encoder(op: EncoderOp, ctl: &mut Controller) -> Outcome {
     let report = match op {
         EncoderOp::Start => {
-            ctl.start_encoder_check();
-            return Outcome::Text(STARTED);
+            return match ctl.start_encoder_check() {
+                Ok(()) => Outcome::Text(STARTED),
+                Err(r) => Outcome::Error(r.describe()),
+            }
         }
         EncoderOp::Report => ctl.encoder_check(),
         EncoderOp::Stop => ctl.stop_encoder_check(),

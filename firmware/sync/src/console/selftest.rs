@@ -24,8 +24,8 @@ pub(super) fn parse(op: Option<&str>, rpm: Option<&str>) -> Command<'static> {
         (None, None) => Command::SelfTest(SelfTestOp::Report),
         (Some("stop"), None) => Command::SelfTest(SelfTestOp::Stop),
         (Some("start"), None) => Command::SelfTest(SelfTestOp::Start(None)),
-        (Some("start"), Some(r)) => match r.parse::<u32>() {
-            Ok(n) if r.len() <= 6 => Command::SelfTest(SelfTestOp::Start(Some(n))),
+        (Some("start"), Some(r)) => match super::number::unsigned(r) {
+            Some(n) if r.len() <= 6 => Command::SelfTest(SelfTestOp::Start(Some(n))),
             _ => Command::Bad("selftest start rpm: a whole number of lathe rpm (see selftest start's limits)"),
         },
         _ => Command::Bad(USAGE),

@@ -112,6 +112,33 @@ fn check_encoder_starts_reports_and_ends() {
 }
 
 #[test]
+fn check_encoder_start_and_engage_refuse_each_other_with_the_reason() {
+    let mut c = ctl();
+    c.start(0, 0, 0);
+    assert_eq!(say(&mut c, "engage").0, "ok engaging");
+    assert_eq!(
+        say(&mut c, "check-encoder start").0,
+        "error: stop first: the encoder check has the chuck turned by hand, only with the cutter idle"
+    );
+    assert!(say(&mut c, "check-encoder").0.starts_with("error: no encoder check running"), "none started");
+    let mut c = ctl();
+    c.start(0, 0, 0);
+    assert!(say(&mut c, "check-encoder start").0.starts_with("ok encoder check started"));
+    assert_eq!(
+        say(&mut c, "engage").0,
+        "error: an encoder check is running (the chuck is being turned by hand): check-encoder stop first"
+    );
+    assert_eq!(c.state(), crate::state::State::Idle);
+    let mut c = ctl();
+    c.start(0, 0, 0);
+    assert!(say(&mut c, "selftest start").0.starts_with("ok selftest started"));
+    assert_eq!(
+        say(&mut c, "check-encoder start").0,
+        "error: a self-test is running: selftest stop first, then unplug its jumpers"
+    );
+}
+
+#[test]
 fn jog_replies_with_its_steps_and_refuses_bad_angles() {
     let mut c = ctl();
     c.start(0, 0, 0);
@@ -137,4 +164,73 @@ fn dfu_only_while_idle_and_the_reply_comes_first() {
     let (reply, action) = say(&mut c, "dfu");
     assert!(reply.starts_with("error: stop first"), "{reply}");
     assert_eq!(action, Action::None);
+}
+
+/// What `polyturn device` takes as a reply (issue 27, item 3): `ok`, `ok `
+/// and more, or `error: ` and more; no command starts so, so the echo of
+/// one is never taken for its reply.
+fn is_reply(r: &str) -> bool {
+    r == "ok" || r.starts_with("ok ") || r.starts_with("error: ")
+}
+
+#[test]
+fn every_reply_starts_with_ok_or_error_so_it_cannot_be_mistaken_for_a_command() {
+    let lines = [
+        "help",
+        "?",
+        "get",
+        "get cpr",
+        "get x",
+        "set cpr 4000",
+        "set cpr 0",
+        "set",
+        "set phase 10",
+        "engage",
+        "status",
+        "watch",
+        "stop",
+        "clear",
+        "engage",
+        "save",
+        "stop",
+        "save",
+        "defaults",
+        "check-encoder",
+        "check-encoder start",
+        "check-encoder",
+        "engage",
+        "check-encoder stop",
+        "check-encoder x",
+        "jog 90",
+        "jog 90",
+        "stop",
+        "jog 1e308",
+        "selftest",
+        "selftest start 900",
+        "selftest start",
+        "selftest",
+        "check-encoder start",
+        "selftest stop",
+        "selftest x",
+        "dfu",
+        "",
+        "nonsense",
+        "cam begin 2",
+        "\u{7f}",
+    ];
+    let mut c = ctl();
+    c.start(0, 0, 0);
+    for line in lines {
+        let (r, _) = say(&mut c, line);
+        assert!(is_reply(&r), "{line:?}: {r:?}");
+        let mut fresh = ctl();
+        fresh.start(0, 0, 0);
+        let (r, _) = say(&mut fresh, line);
+        assert!(is_reply(&r), "{line:?} at start: {r:?}");
+    }
+    assert!(is_reply(&handle(&[0xff, 0xfe], &mut c).0));
+    for word in ["get", "set", "engage", "stop", "status", "watch", "save", "defaults", "clear", "cam", "jog"] {
+        assert!(!is_reply(word) && !is_reply(&std::format!("{word} x")), "{word}");
+    }
+    assert!(is_reply(HELP) && is_reply(checks::DFU_REPLY));
 }

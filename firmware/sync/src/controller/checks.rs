@@ -1,8 +1,9 @@
 //! The encoder check's hooks in the controller: the tick keeps the index
 //! count and latch (`on_index`), `service` samples them at low priority.
 
-use super::Controller;
+use super::{Controller, Refusal};
 use crate::check::{EncoderCheck, EncoderReport, Sample};
+use crate::state::State;
 
 /// The check's hands-off window: the first second.
 pub const STILL_SECONDS: u64 = 1;
@@ -17,10 +18,26 @@ impl Controller {
         }
     }
 
-    /// Starts (or restarts) the encoder check.
-    pub fn start_encoder_check(&mut self) {
+    /// Starts (or restarts) the encoder check, only while idle: its reply
+    /// has the machinist turn the chuck by hand, which is never safe with
+    /// the cutter engaged, jogging or in a self-test (whose generator, not
+    /// the encoder, drives the count), nor with a fault latched.
+    pub fn start_encoder_check(&mut self) -> Result<(), Refusal> {
+        match self.state {
+            State::Fault(_) => return Err(Refusal::Faulted),
+            State::Jogging => return Err(Refusal::Moving),
+            _ if self.selftest_running() => return Err(Refusal::SelfTesting),
+            State::Engaging | State::Synced | State::Disengaging => return Err(Refusal::CutterRunning),
+            State::Idle => {}
+        }
         let still = STILL_SECONDS * self.timing.tick_hz as u64;
         self.check = Some(EncoderCheck::new(self.check_sample(), still, self.d.max_counts_per_tick as i64));
+        Ok(())
+    }
+
+    /// True while an encoder check runs (`engage` waits for its end).
+    pub fn encoder_check_running(&self) -> bool {
+        self.check.is_some()
     }
 
     /// The figures so far, if a check runs.

@@ -80,6 +80,9 @@ impl Controller {
             State::Jogging => return Err(Refusal::Moving),
             State::Idle | State::Disengaging => {}
         }
+        if self.encoder_check_running() {
+            return Err(Refusal::Checking);
+        }
         let margin = self.d.limits.max_velocity - self.d.limits.max_velocity / 16;
         if self.target_velocity.abs() > margin {
             return Err(Refusal::Overspeed);

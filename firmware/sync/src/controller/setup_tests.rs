@@ -155,7 +155,7 @@ fn a_jog_started_right_after_a_ramp_still_ends() {
 #[test]
 fn the_tick_counts_index_edges_for_the_encoder_check() {
     let mut c = ctl(Config::default());
-    c.start_encoder_check();
+    c.start_encoder_check().unwrap();
     // a second hands off, then three turns at 1 count a tick with an index
     // latched every 2400 counts
     for _ in 0..25_000 {
@@ -212,4 +212,48 @@ fn a_jog_ignores_the_lathe_rocking_by_its_slack_wherever_it_stands() {
     }
     tick(&mut c, 995);
     assert_eq!(c.state(), State::Disengaging, "5 counts: the lathe is turning");
+}
+
+#[test]
+fn the_encoder_check_starts_only_while_idle_so_no_hand_meets_a_turning_cutter() {
+    let refused = |c: &mut Controller, why: Refusal| {
+        assert_eq!(c.start_encoder_check(), Err(why));
+        assert_eq!(c.encoder_check(), None, "{why:?}: no check was started");
+    };
+    let mut c = ctl(Config::default());
+    c.engage().unwrap();
+    refused(&mut c, Refusal::CutterRunning);
+    c.disengage();
+    assert_eq!(c.state(), State::Disengaging);
+    refused(&mut c, Refusal::CutterRunning);
+    let mut c = ctl(Config::default());
+    c.jog(90_000).unwrap();
+    refused(&mut c, Refusal::Moving);
+    let mut c = ctl(Config::default());
+    c.trip(Fault::EStop);
+    refused(&mut c, Refusal::Faulted);
+    let mut c = ctl(Config::default());
+    c.start_selftest(None).unwrap();
+    refused(&mut c, Refusal::SelfTesting);
+    // synced: the cutter following a lathe at rest
+    let mut c = ctl(Config::default());
+    c.engage().unwrap();
+    for _ in 0..100 {
+        c.tick(&TickInput::default());
+        c.service();
+    }
+    assert_eq!(c.state(), State::Synced);
+    refused(&mut c, Refusal::CutterRunning);
+}
+
+#[test]
+fn engage_is_refused_while_an_encoder_check_runs_and_allowed_after_it() {
+    let mut c = ctl(Config::default());
+    c.start_encoder_check().unwrap();
+    assert!(c.encoder_check_running());
+    assert_eq!(c.engage(), Err(Refusal::Checking));
+    assert_eq!(c.state(), State::Idle);
+    c.stop_encoder_check().unwrap();
+    assert!(!c.encoder_check_running());
+    assert_eq!(c.engage(), Ok(()));
 }

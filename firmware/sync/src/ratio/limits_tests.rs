@@ -7,14 +7,14 @@ use super::*;
 fn terms_of_twelve_digits_are_read_and_reduced() {
     assert_eq!(Ratio::parse("999999999999/999999999999"), Ok(Ratio::new(1, 1).unwrap()));
     assert_eq!(Ratio::parse("200000000000/100000000000"), Ok(Ratio::TWO));
-    assert_eq!(Ratio::parse("000000000003"), Ok(Ratio::new(3, 1).unwrap()));
+    assert_eq!(Ratio::parse("100000000000/300000000000"), Ok(Ratio::new(1, 3).unwrap()));
 }
 
 #[test]
 fn a_term_of_more_than_twelve_digits_is_refused_as_syntax() {
     // valid after reduction, but too long to read
     assert_eq!(Ratio::parse("1000000000000/1000000000000"), Err(RatioError::Syntax));
-    assert_eq!(Ratio::parse("0000000000003"), Err(RatioError::Syntax));
+    assert_eq!(Ratio::parse("3/1000000000000"), Err(RatioError::Syntax));
     // 19 digits fit a u64, but times 10^6 for the decimals they would not
     assert_eq!(Ratio::parse("1000000000000000000"), Err(RatioError::Syntax));
     assert_eq!(Ratio::parse("1000000000000000000.5"), Err(RatioError::Syntax));
@@ -32,7 +32,9 @@ fn up_to_six_decimals_are_exact_and_a_seventh_is_refused() {
     assert_eq!(Ratio::parse("12.125"), Ok(Ratio::new(97, 8).unwrap()));
     assert_eq!(Ratio::parse("2.5000000"), Err(RatioError::Syntax), "seven decimals");
     assert_eq!(Ratio::parse("2."), Err(RatioError::Syntax));
-    assert_eq!(Ratio::parse(".5"), Ok(Ratio::new(1, 2).unwrap()));
+    assert_eq!(Ratio::parse(".5"), Err(RatioError::Syntax), "the documents write 0.5");
+    assert_eq!(Ratio::parse("2.05"), Ok(Ratio::new(41, 20).unwrap()), "a decimal's leading zero is a digit");
+    assert_eq!(Ratio::parse("2.5a"), Err(RatioError::Syntax));
 }
 
 #[test]
@@ -52,4 +54,14 @@ fn gcd_is_euclids() {
     assert_eq!(gcd(7, 0), 7);
     assert_eq!(gcd(17, 5), 1);
     assert_eq!(gcd(6400, 2400), 800);
+}
+
+#[test]
+fn a_term_is_written_as_the_documents_write_it_without_sign_or_leading_zero() {
+    for bad in ["+5", "02", "2/03", "+11/3", "11/+3", "02.5", "00.5", "2.+5", "2.-5"] {
+        assert_eq!(Ratio::parse(bad), Err(RatioError::Syntax), "{bad}");
+    }
+    assert_eq!(Ratio::parse("-02"), Err(RatioError::NotPositive));
+    assert_eq!(Ratio::parse("10/20"), Ok(Ratio::new(1, 2).unwrap()), "zeros that are not leading");
+    assert_eq!(Ratio::parse("0.5"), Ok(Ratio::new(1, 2).unwrap()));
 }

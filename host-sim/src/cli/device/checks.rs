@@ -73,7 +73,10 @@ pub fn explain(f: &EncoderFigures, proposal: &Result<u32, String>) -> String {
     out.join("\n")
 }
 
-/// Sends `jog DEG` and waits (bounded) until the board is idle again.
+/// The longest self-test plan waited for, s (the board's is about 11 s
+/// at 400 rpm, and longer only at slow speeds).
+const SELFTEST_MAX_S: f64 = 600.0;
+
 /// Runs the bench self-test: starts it with `start` (`selftest start
 /// [rpm]`), asks for its figures every 250 ms until it ends, at most its
 /// length and 5 s; `Ok` only for a pass, a fail is an error with the board's
@@ -84,6 +87,9 @@ pub fn selftest<P: Read + Write>(s: &mut Session<P>, start: &str) -> CliResult<S
         .split_whitespace()
         .find_map(|w| w.strip_prefix("seconds="))
         .and_then(|v| v.trim_end_matches(':').parse::<f64>().ok())
+        // the board's plan is tens of seconds: anything else (`1e308`, `inf`,
+        // `-1` from a port that is not one) must not become the wait
+        .filter(|s| (0.0..=SELFTEST_MAX_S).contains(s))
         .unwrap_or(60.0);
     let limit = Duration::from_secs_f64(seconds + 5.0);
     let begun = Instant::now();
@@ -109,11 +115,14 @@ pub fn selftest<P: Read + Write>(s: &mut Session<P>, start: &str) -> CliResult<S
     }
 }
 
-pub fn jog<P: Read + Write>(s: &mut Session<P>, mdeg_text: &str) -> CliResult<String> {
-    let reply = s.ask(&format!("jog {mdeg_text}"))?;
-    let deg: f64 = mdeg_text.parse().unwrap_or(3600.0);
+/// Sends `jog DEG` and waits (bounded) until the board is idle again.
+pub fn jog<P: Read + Write>(s: &mut Session<P>, degrees: &str) -> CliResult<String> {
+    // checked before sending, with the console's own parser and bound: the
+    // wait below is made from it, whatever the port answers
+    let mdeg = jog_mdeg(degrees)?;
+    let reply = s.ask(&format!("jog {degrees}"))?;
     // 2 s a cutter turn at most (`JOG_SECONDS_PER_TURN`), plus the ramps
-    let limit = Duration::from_secs_f64(deg.abs() / 360.0 * 2.0 + 5.0);
+    let limit = Duration::from_millis(u64::from(mdeg.unsigned_abs()) / 180 + 5_000);
     let start = Instant::now();
     loop {
         std::thread::sleep(Duration::from_millis(100));
@@ -128,5 +137,27 @@ pub fn jog<P: Read + Write>(s: &mut Session<P>, mdeg_text: &str) -> CliResult<St
             let _ = s.ask("stop");
             return Err(s.port_error(format!("the jog did not end within {:.0} s: stopped", limit.as_secs_f64())));
         }
+    }
+}
+
+/// `jog`'s angle as the console takes it (`console::checks::parse_jog`:
+/// its parser and `JOG_MAX_MDEG`), in millidegrees.
+fn jog_mdeg(degrees: &str) -> CliResult<i32> {
+    let max = polyturn_sync::controller::jog::JOG_MAX_MDEG;
+    polyturn_sync::config::degrees_mdeg(degrees, max)
+        .ok_or_else(|| CliError(format!("DEGREES {} (got '{}')", jog_range(max), crate::cli::errors::escaped(degrees))))
+}
+
+fn jog_range(max_mdeg: i32) -> String {
+    format!("must be {}..={} degrees of the cutter, up to 3 decimals", -max_mdeg / 1000, max_mdeg / 1000)
+}
+
+/// clap's check of `polyturn device jog DEGREES`: refused before the port
+/// opens, in the console's own syntax and range.
+pub fn jog_degrees(s: &str) -> Result<String, String> {
+    let max = polyturn_sync::controller::jog::JOG_MAX_MDEG;
+    match polyturn_sync::config::degrees_mdeg(s, max) {
+        Some(_) => Ok(s.to_string()),
+        None => Err(jog_range(max)),
     }
 }

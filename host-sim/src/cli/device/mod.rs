@@ -32,7 +32,7 @@ pub struct DeviceArgs {
     #[arg(long, global = true, value_name = "PATH")]
     pub port: Option<String>,
     /// How long to wait for each reply, seconds (> 0, <= 60)
-    #[arg(long, global = true, value_name = "S", default_value = "3", value_parser = above(0.0, 60.0, "s"))]
+    #[arg(long, global = true, value_name = "S", default_value = "3", allow_hyphen_values = true, value_parser = above(0.0, 60.0, "s"))]
     pub timeout: f64,
     #[command(subcommand)]
     pub command: DeviceCommand,
@@ -79,17 +79,17 @@ pub enum DeviceCommand {
     /// turn, direction, lost counts, chatter; proposes `set cpr`
     CheckEncoder {
         /// No index pulse: count over this many chuck turns (from a mark)
-        #[arg(long, value_name = "N", value_parser = crate::cli::values::whole32(1, 100))]
+        #[arg(long, value_name = "N", allow_hyphen_values = true, value_parser = crate::cli::values::whole32(1, 100))]
         turns: Option<u32>,
         /// Measure for this long instead of until Enter, s (lathe running slowly)
-        #[arg(long, value_name = "S", value_parser = above(0.0, 600.0, "s"))]
+        #[arg(long, value_name = "S", allow_hyphen_values = true, value_parser = above(0.0, 600.0, "s"))]
         seconds: Option<f64>,
     },
     /// Turn the cutter by an angle, slowly (30 rpm), lathe at rest: check
     /// its direction and that one commanded turn is one real turn
     Jog {
-        /// degrees of the cutter, -3600..=3600 (360 = one turn)
-        #[arg(allow_hyphen_values = true)]
+        /// degrees of the cutter, -3600..=3600, up to 3 decimals (360 = one turn)
+        #[arg(allow_hyphen_values = true, value_parser = checks::jog_degrees)]
         degrees: String,
     },
     /// The bench self-test (lathe encoder unplugged; jumpers PA2-PA6,
@@ -97,7 +97,7 @@ pub enum DeviceCommand {
     /// inputs and checks its gearbox against it; pass or fail with figures
     Selftest {
         /// speed of the holds, lathe rpm (default 300, capped by the board)
-        #[arg(long, value_name = "RPM", value_parser = crate::cli::values::whole32(1, 100_000))]
+        #[arg(long, value_name = "RPM", allow_hyphen_values = true, value_parser = crate::cli::values::whole32(1, 100_000))]
         rpm: Option<u32>,
     },
     /// Restart the board into its ROM USB bootloader, for `polyturn flash`
@@ -203,6 +203,7 @@ pub fn watch<P: Read + Write>(s: &mut Session<P>, out: &mut impl Write) -> CliRe
                         s.port_error(format!("the watch stopped: no status within {:.1} s", s.timeout.as_secs_f64()))
                     )
                 }
+                Err(Wait::Closed(why)) => return Err(s.closed("watch", &why)),
                 Err(Wait::Failed(e)) => return Err(e),
             }
         };

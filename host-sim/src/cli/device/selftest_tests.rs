@@ -46,3 +46,50 @@ fn a_refusal_or_a_failure_is_an_error_with_the_boards_reason() {
     let e = selftest(&mut s, "selftest").unwrap_err();
     assert!(e.0.starts_with("device: the self-test failed: fault estop: e-stop open"), "{}", e.0);
 }
+
+/// A port that answers each command, tagged, with the next of `script`.
+pub(super) struct Replier {
+    pub script: std::collections::VecDeque<&'static str>,
+    out: Vec<u8>,
+}
+
+impl Replier {
+    pub fn new(script: &[&'static str]) -> Replier {
+        Replier { script: script.iter().copied().collect(), out: vec![] }
+    }
+}
+
+impl std::io::Read for Replier {
+    fn read(&mut self, buf: &mut [u8]) -> std::io::Result<usize> {
+        if self.out.is_empty() {
+            return Err(std::io::ErrorKind::TimedOut.into());
+        }
+        let n = buf.len().min(self.out.len());
+        buf[..n].copy_from_slice(&self.out[..n]);
+        self.out.drain(..n);
+        Ok(n)
+    }
+}
+
+impl std::io::Write for Replier {
+    fn write(&mut self, data: &[u8]) -> std::io::Result<usize> {
+        let line = String::from_utf8_lossy(data);
+        let tag = line.split(' ').next().unwrap_or("");
+        if let Some(answer) = self.script.pop_front() {
+            self.out.extend(format!("{tag} {answer}\r\n").as_bytes());
+        }
+        Ok(data.len())
+    }
+    fn flush(&mut self) -> std::io::Result<()> {
+        Ok(())
+    }
+}
+
+#[test]
+fn a_self_test_length_no_board_would_plan_is_no_panic_and_no_endless_wait() {
+    for seconds in ["1e308", "inf", "-1", "NaN"] {
+        let started: &'static str = Box::leak(format!("ok selftest started rpm=1 cpr=4 seconds={seconds}:").into());
+        let mut s = session(Replier::new(&[started, "ok selftest pass rpm=1"]));
+        assert!(selftest(&mut s, "selftest start").unwrap().ends_with("ok selftest pass rpm=1"), "{seconds}");
+    }
+}

@@ -122,3 +122,99 @@ fn a_port_that_misbehaves_gets_a_timeout_naming_it_never_a_hang_or_a_false_reply
     assert!(against(b"error: unknown command or wrong arguments (try help)\r\n", false)
         .contains("does not tag its replies"));
 }
+
+/// A port that echoes every byte it is sent, with a board behind it or not.
+struct Echoing {
+    board: Option<FakeDevice>,
+    echo: std::collections::VecDeque<u8>,
+}
+
+impl Read for Echoing {
+    fn read(&mut self, buf: &mut [u8]) -> std::io::Result<usize> {
+        if self.echo.is_empty() {
+            return self.board.as_mut().map_or(Err(ErrorKind::TimedOut.into()), |b| b.read(buf));
+        }
+        let n = buf.len().min(self.echo.len());
+        for (b, e) in buf.iter_mut().zip(self.echo.drain(..n)) {
+            *b = e;
+        }
+        Ok(n)
+    }
+}
+
+impl Write for Echoing {
+    fn write(&mut self, data: &[u8]) -> std::io::Result<usize> {
+        self.echo.extend(data);
+        self.board.as_mut().map_or(Ok(data.len()), |b| b.write(data))
+    }
+    fn flush(&mut self) -> std::io::Result<()> {
+        Ok(())
+    }
+}
+
+#[test]
+fn the_echo_of_a_command_is_never_its_reply_and_the_boards_reply_behind_it_is() {
+    let mut s = session(Echoing { board: None, echo: Default::default() });
+    let e = s.ask("set cpr 1000").unwrap_err().0;
+    assert!(e.starts_with("--port /dev/fake: no reply to 'set' within 0.3 s (the port echoed the command back"), "{e}");
+    let mut s = session(Echoing { board: Some(FakeDevice::new()), echo: Default::default() });
+    assert!(s.ask("set cpr 0").unwrap_err().0.starts_with("device: error: cpr"));
+    assert_eq!(s.ask("set cpr 4000").unwrap(), "ok cpr=4000");
+    assert_eq!(s.io.board.as_ref().unwrap().ctl.config().encoder_counts_per_rev, 4000);
+}
+
+#[test]
+fn a_reply_is_ok_alone_ok_and_more_or_error_and_more_and_nothing_else() {
+    use super::session::{is_reply, ok_or_device_error};
+    for yes in ["ok", "ok cpr=4", "error: cpr 4..=1000000"] {
+        assert!(is_reply(yes), "{yes}");
+    }
+    for no in ["", "okay", "ok\t1", " ok", "Ok", "error:x", "ERROR: x", " error: x", "error", "set cpr 1", "#1 ok"] {
+        assert!(!is_reply(no), "{no}");
+        assert!(ok_or_device_error(no.to_string()).is_err(), "{no}");
+    }
+    assert!(ok_or_device_error("error: x".into()).unwrap_err().0.starts_with("device: error: x"));
+    assert_eq!(ok_or_device_error("ok".into()), Ok("ok".into()));
+}
+
+#[test]
+fn a_command_that_reads_as_a_reply_is_not_sent() {
+    let mut s = session(FakeDevice::new());
+    assert!(s.ask("ok").unwrap_err().0.contains("reads as a reply"));
+    assert!(s.ask("error: x").is_err());
+    assert!(s.io.received.is_empty());
+}
+
+/// A port at its end: the board unplugged.
+struct Gone;
+
+impl Read for Gone {
+    fn read(&mut self, _: &mut [u8]) -> std::io::Result<usize> {
+        Ok(0)
+    }
+}
+
+impl Write for Gone {
+    fn write(&mut self, data: &[u8]) -> std::io::Result<usize> {
+        Ok(data.len())
+    }
+    fn flush(&mut self) -> std::io::Result<()> {
+        Ok(())
+    }
+}
+
+#[test]
+fn a_port_that_ends_is_the_board_gone_not_a_timeout() {
+    let e = session(Gone).ask("status").unwrap_err().0;
+    assert!(e.starts_with("--port /dev/fake: the board closed the port before replying to 'status'"), "{e}");
+}
+
+#[test]
+fn a_jog_out_of_the_consoles_range_is_refused_before_sending_whatever_the_port_says() {
+    let mut s = session(FakeDevice::new());
+    for deg in ["1e308", "inf", "-inf", "nan", "3600.001", "+90", ".5"] {
+        let e = super::checks::jog(&mut s, deg).unwrap_err().0;
+        assert!(e.starts_with("DEGREES must be -3600..=3600 degrees of the cutter"), "{deg}: {e}");
+    }
+    assert!(s.io.received.is_empty());
+}

@@ -50,6 +50,7 @@ fn the_rpm_is_refused_outside_what_the_generator_and_settings_allow() {
         reply(&mut c, "selftest start 798"),
         "error: selftest start rpm: 1..=797 (the generator, max-rpm and max-rate allow)"
     );
+    assert!(reply(&mut c, "selftest start 999999").contains("1..=797"), "six digits are a number, out of range");
     assert_eq!(
         reply(&mut c, "selftest start 0"),
         "error: selftest start rpm: 1..=797 (the generator, max-rpm and max-rate allow)"
@@ -62,7 +63,13 @@ fn the_rpm_is_refused_outside_what_the_generator_and_settings_allow() {
     let mut c = ctl(weak);
     assert!(reply(&mut c, "selftest start 165").contains("1..=164"));
     assert!(reply(&mut c, "selftest start").contains("rpm=164"), "the default is capped too");
-    for bad in ["selftest start -5", "selftest start 1.5", "selftest start 9999999"] {
+    for bad in [
+        "selftest start -5",
+        "selftest start 1.5",
+        "selftest start 9999999",
+        "selftest start +5",
+        "selftest start 0500",
+    ] {
         let mut c = ctl(Config::default());
         assert!(reply(&mut c, bad).starts_with("error: selftest start rpm: a whole number"), "{bad}");
         assert_eq!(c.state(), State::Idle);

@@ -1,0 +1,87 @@
+//! Outputs: all or none, one file once, and never a file the command reads.
+
+use super::*;
+
+fn dir(tag: &str) -> PathBuf {
+    let d = std::env::temp_dir().join(format!("polyturn-out-{tag}-{}", std::process::id()));
+    std::fs::create_dir_all(&d).unwrap();
+    d
+}
+
+#[test]
+fn one_unwritable_file_writes_none() {
+    let d = dir("none");
+    let mut o = Outputs::default();
+    o.add("table", &d.join("t.json"), "{}".into()).unwrap();
+    o.add("svg", Path::new("/nonexistent-dir/x.svg"), "<svg/>".into()).unwrap();
+    let e = o.write().unwrap_err();
+    assert!(e.0.starts_with("--svg could not write '/nonexistent-dir/x.svg'"), "{}", e.0);
+    assert!(!d.join("t.json").exists());
+    assert_eq!(std::fs::read_dir(&d).unwrap().count(), 0, "no temporary left behind");
+}
+
+#[test]
+fn two_flags_naming_one_file_are_refused() {
+    let d = dir("same");
+    let mut o = Outputs::default();
+    o.add("table", &d.join("f"), "a".into()).unwrap();
+    assert!(o
+        .add("svg", &d.join(".").join("f"), "b".into())
+        .unwrap_err()
+        .0
+        .starts_with("--svg names the same file as --table"));
+}
+
+#[test]
+fn a_directory_is_refused_before_anything_is_written() {
+    let d = dir("isdir");
+    let mut o = Outputs::default();
+    o.add("table", &d.join("t.json"), "{}".into()).unwrap();
+    assert!(o.add("svg", &d, "<svg/>".into()).unwrap_err().0.starts_with("--svg must name a file"));
+    assert!(o.add("svg", Path::new(".."), "<svg/>".into()).is_err());
+    let mut o = Outputs::default();
+    o.add("svg", Path::new("/nonexistent-dir/a\nb"), String::new()).unwrap();
+    let e = o.write();
+    assert_eq!(e.unwrap_err().0.lines().count(), 1, "the path's newline is escaped");
+}
+
+#[test]
+fn all_files_are_written_when_all_can_be() {
+    let d = dir("all");
+    let mut o = Outputs::default();
+    o.add("table", &d.join("t.json"), "{}".into()).unwrap();
+    o.add("svg", &d.join("x.svg"), "<svg/>".into()).unwrap();
+    o.write().unwrap();
+    assert_eq!(std::fs::read_to_string(d.join("x.svg")).unwrap(), "<svg/>");
+    assert_eq!(std::fs::read_dir(&d).unwrap().count(), 2);
+}
+
+#[cfg(unix)]
+#[test]
+fn an_output_that_is_the_input_is_refused_however_spelt() {
+    let d = dir("input");
+    std::fs::write(d.join("fw.elf"), "elf").unwrap();
+    std::fs::hard_link(d.join("fw.elf"), d.join("hard")).unwrap();
+    let _ = std::os::unix::fs::symlink("fw.elf", d.join("soft"));
+    for spelt in [d.join("fw.elf"), d.join(".").join("fw.elf"), d.join("hard"), d.join("soft")] {
+        let mut o = Outputs::default();
+        o.reading("ELF", &d.join("fw.elf"));
+        let e = o.add_bytes("bin", &spelt, vec![1]).unwrap_err();
+        assert!(e.0.starts_with("--bin must not be the ELF it reads (got '"), "{}", e.0);
+    }
+    assert_eq!(std::fs::read_to_string(d.join("fw.elf")).unwrap(), "elf");
+}
+
+#[cfg(target_os = "linux")]
+#[test]
+fn a_device_that_refuses_the_write_leaves_the_regular_files_as_they_were() {
+    let d = dir("full");
+    std::fs::write(d.join("t.json"), "old").unwrap();
+    let mut o = Outputs::default();
+    o.add("table", &d.join("t.json"), "new".into()).unwrap();
+    o.add("svg", Path::new("/dev/full"), "<svg/>".into()).unwrap();
+    let e = o.write().unwrap_err();
+    assert!(e.0.starts_with("--svg could not write '/dev/full': No space left on device"), "{}", e.0);
+    assert_eq!(std::fs::read_to_string(d.join("t.json")).unwrap(), "old");
+    assert_eq!(std::fs::read_dir(&d).unwrap().count(), 1, "no temporary left behind");
+}

@@ -1,0 +1,77 @@
+//! The fake board frames lines as the firmware does (issue 27, item 18):
+//! the same bound, the same untagged refusal of an over-long line, every
+//! byte kept, `cam` lines to the upload, and no unbounded buffer.
+
+use super::*;
+
+fn replies(dev: &mut FakeDevice, input: &[u8]) -> String {
+    dev.write_all(input).unwrap();
+    String::from_utf8_lossy(&dev.take_replies()).into_owned()
+}
+
+#[test]
+fn a_line_over_96_bytes_is_dropped_whole_and_answered_untagged_as_the_firmware_does() {
+    let mut dev = FakeDevice::new();
+    let exact = format!("#1 status{}", " ".repeat(polyturn_firmware::line::LINE_MAX - 9));
+    assert_eq!(exact.len(), 96);
+    assert!(replies(&mut dev, format!("{exact}\r\n").as_bytes()).starts_with("#1 ok state=idle"));
+    let over = format!("{exact} \r\n");
+    assert_eq!(replies(&mut dev, over.as_bytes()), "error: line too long (96 characters at most)\r\n");
+    // the next line is a line of its own again
+    assert_eq!(replies(&mut dev, b"#2 get edges\r\n"), "#2 ok edges=3\r\n");
+}
+
+#[test]
+fn megabytes_without_a_newline_are_neither_kept_nor_answered_as_a_command() {
+    let mut dev = FakeDevice::new();
+    let chunk = vec![b'x'; 1 << 20];
+    for _ in 0..50 {
+        assert_eq!(dev.write(&chunk).unwrap(), chunk.len(), "taken: no reply waits");
+    }
+    assert!(dev.take_replies().is_empty(), "nothing answered before the line ends");
+    assert_eq!(
+        replies(&mut dev, b"\n#3 status\n").lines().next(),
+        Some("error: line too long (96 characters at most)")
+    );
+    assert_eq!(dev.received, vec!["#3 status"], "the long line never reached the console");
+}
+
+#[test]
+fn binary_bytes_stay_in_the_line_and_the_console_answers_them() {
+    let mut dev = FakeDevice::new();
+    assert_eq!(replies(&mut dev, b"#4 \xffstatus\r\n"), "#4 error: not text: commands are plain ASCII (try help)\r\n");
+    assert_eq!(replies(&mut dev, b"#5 stat\0us\r\n"), "#5 error: unknown command or wrong arguments (try help)\r\n");
+}
+
+#[test]
+fn cam_off_goes_to_the_cam_as_on_the_firmware() {
+    let mut dev = FakeDevice::new();
+    assert_eq!(replies(&mut dev, b"#6 cam off\r\n"), "#6 ok cam off (save to forget it)\r\n");
+    assert!(replies(&mut dev, b"#7 camera\r\n").starts_with("#7 error: usage: cam begin|data|end"));
+}
+
+#[test]
+fn replies_nobody_reads_stop_the_board_taking_input_at_a_bound() {
+    let mut dev = FakeDevice::new();
+    let lines = b"#8 help\r\n".repeat(100_000);
+    let taken = dev.write(&lines).unwrap();
+    assert!(taken < lines.len(), "not all taken");
+    assert!(dev.out.len() < OUT_MAX + 1024, "{} bytes waiting", dev.out.len());
+    assert_eq!(dev.write(b"#9 status\r\n").unwrap_err().kind(), ErrorKind::WouldBlock);
+    dev.take_replies();
+    // the packet taken last may have ended inside a line: end it first
+    assert!(replies(&mut dev, b"\r\n#9 status\r\n").contains("\r\n#9 ok state="));
+}
+
+#[test]
+fn a_watch_ends_at_the_next_packet_and_a_packet_of_line_ends_does_not_end_it() {
+    let mut dev = FakeDevice::new();
+    assert!(replies(&mut dev, b"watch\r\n").starts_with("ok state=idle"));
+    assert!(replies(&mut dev, b"\n").is_empty());
+    assert!(!dev.watch_line().is_empty(), "still watching");
+    // `watch` with the next command in its packet: the watch never starts
+    assert!(replies(&mut dev, b"#1 status\r\n").starts_with("#1 ok"));
+    assert!(dev.watch_line().is_empty());
+    replies(&mut dev, b"watch\r\n#2 get edges\r\n");
+    assert!(dev.watch_line().is_empty(), "bytes after watch in its packet end it before it starts");
+}
