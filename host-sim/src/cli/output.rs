@@ -86,7 +86,7 @@ impl Outputs {
         for o in &self.files {
             if let Target::File(path) = &o.target {
                 let tmp = temporary(path);
-                if let Err(e) = std::fs::write(&tmp, &o.bytes) {
+                if let Err(e) = std::fs::write(&tmp, &o.bytes).and_then(|()| keep_mode(path, &tmp)) {
                     let _ = std::fs::remove_file(&tmp);
                     return Err(fail(o, &staged, e));
                 }
@@ -163,6 +163,16 @@ fn unstage(staged: &[(PathBuf, &Path)]) {
 
 /// `dir/.name.polyturn-PID.tmp`: same directory, so the rename is atomic.
 #[cfg(not(target_family = "wasm"))]
+/// The file replaced keeps its permissions (a 0600 file stays private):
+/// the rename brings the temporary's, so it gets the old file's first.
+#[cfg(not(target_family = "wasm"))]
+fn keep_mode(path: &Path, tmp: &Path) -> std::io::Result<()> {
+    match std::fs::metadata(path) {
+        Ok(m) => std::fs::set_permissions(tmp, m.permissions()),
+        Err(_) => Ok(()), // a new file: the umask's
+    }
+}
+
 fn temporary(path: &Path) -> PathBuf {
     let name = path.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
     path.with_file_name(format!(".{name}.polyturn-{}.tmp", std::process::id()))

@@ -89,6 +89,12 @@ pub(super) fn write_refused(r: SelfTestRefusal, out: &mut Reply) {
         SelfTestRefusal::Rpm { max } => {
             write!(out, "error: selftest start rpm: 1..={max} (the generator, max-rpm and max-rate allow)")
         }
+        SelfTestRefusal::Checking => {
+            write!(
+                out,
+                "error: an encoder check is running: check-encoder stop first, then wire the self-test's jumpers"
+            )
+        }
     };
 }
 

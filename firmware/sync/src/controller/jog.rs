@@ -49,6 +49,10 @@ impl Controller {
             State::Engaging | State::Synced | State::Disengaging => return Err(Refusal::NotIdle),
             State::Idle => {}
         }
+        // the check has the chuck turned by hand: no cutter may move then
+        if self.encoder_check_running() {
+            return Err(Refusal::Checking);
+        }
         if self.config.drive == DriveKind::None {
             return Err(Refusal::NoCutter);
         }

@@ -28,6 +28,8 @@ pub enum SelfTestRefusal {
     Rpm {
         max: u32,
     },
+    /// an encoder check runs: the chuck is being turned by hand
+    Checking,
 }
 
 /// The run in progress (or the last one), and what it started from.
@@ -56,6 +58,10 @@ impl Controller {
     pub fn start_selftest_planned(&mut self, plan: Plan) -> Result<(), SelfTestRefusal> {
         if self.state != State::Idle {
             return Err(SelfTestRefusal::NotIdle);
+        }
+        // before anything changes: a refusal leaves the index as it was
+        if self.encoder_check_running() {
+            return Err(SelfTestRefusal::Checking);
         }
         if !self.lathe_at_rest() {
             return Err(SelfTestRefusal::LatheTurning);

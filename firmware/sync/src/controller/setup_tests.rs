@@ -257,3 +257,17 @@ fn engage_is_refused_while_an_encoder_check_runs_and_allowed_after_it() {
     assert!(!c.encoder_check_running());
     assert_eq!(c.engage(), Ok(()));
 }
+
+#[test]
+fn nothing_moves_the_cutter_while_an_encoder_check_has_the_chuck_turned_by_hand() {
+    let mut c = ctl(Config::default());
+    c.start_encoder_check().unwrap();
+    assert_eq!(c.jog(90_000).err(), Some(Refusal::Checking));
+    assert_eq!(c.state(), State::Idle);
+    let index_before = std::format!("{:?}", c.index);
+    assert_eq!(c.start_selftest(None).err(), Some(super::selftest::SelfTestRefusal::Checking));
+    assert_eq!(std::format!("{:?}", c.index), index_before, "a refused self-test changes nothing");
+    assert!(!c.selftest_running());
+    c.stop_encoder_check().unwrap();
+    assert!(c.jog(90_000).is_ok(), "after the check the jog goes");
+}

@@ -85,3 +85,18 @@ fn a_device_that_refuses_the_write_leaves_the_regular_files_as_they_were() {
     assert_eq!(std::fs::read_to_string(d.join("t.json")).unwrap(), "old");
     assert_eq!(std::fs::read_dir(&d).unwrap().count(), 1, "no temporary left behind");
 }
+
+#[cfg(unix)]
+#[test]
+fn a_replaced_file_keeps_its_permissions() {
+    use std::os::unix::fs::PermissionsExt;
+    let d = dir("mode");
+    let private = d.join("private.svg");
+    std::fs::write(&private, "old").unwrap();
+    std::fs::set_permissions(&private, std::fs::Permissions::from_mode(0o600)).unwrap();
+    let mut o = Outputs::default();
+    o.add("svg", &private, "<svg/>".into()).unwrap();
+    o.write().unwrap();
+    assert_eq!(std::fs::read_to_string(&private).unwrap(), "<svg/>");
+    assert_eq!(std::fs::metadata(&private).unwrap().permissions().mode() & 0o777, 0o600);
+}

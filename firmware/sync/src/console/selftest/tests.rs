@@ -99,6 +99,11 @@ fn it_is_refused_without_a_cutter_with_an_odd_cpr_or_a_turning_lathe() {
     }
     assert!(reply(&mut c, "selftest start").starts_with("error: the lathe input is moving"));
     assert_eq!(c.state(), State::Idle);
+    let mut c = ctl(Config::default());
+    assert!(reply(&mut c, "check-encoder start").starts_with("ok "));
+    assert!(reply(&mut c, "selftest start").starts_with("error: an encoder check is running: check-encoder stop first"));
+    assert!(reply(&mut c, "jog 90").starts_with("error: an encoder check is running"));
+    assert_eq!(c.state(), State::Idle);
 }
 
 #[test]
