@@ -134,13 +134,17 @@ fn candidate(setup: &Setup, req: &Request, f: Figures) -> Candidate {
     }
 }
 
+/// The largest cutter `min_cutter` tries, as a multiple of the stock
+/// radius (`setups` names it where it finds none).
+pub const MIN_CUTTER_SCAN: f64 = 100.0;
+
 /// Scans cutter radii from R2/2 to 100·R2 (geometric steps, then bisection).
 fn min_cutter(setup: &Setup, tol: f64) -> Option<f64> {
     let dev = |r1: f64| flatness(&Setup { cutter_radius_mm: r1, ..*setup }, 128).0.abs();
     // No smaller than the depth: a cutter whose radius does not exceed it
     // would have its axis inside the bar (`Setup::validate`).
     let lo0 = (setup.stock_radius_mm * 0.5).max(setup.depth_mm * 1.01);
-    let hi0 = setup.stock_radius_mm * 100.0;
+    let hi0 = setup.stock_radius_mm * MIN_CUTTER_SCAN;
     let mut prev = lo0;
     if dev(lo0) <= tol {
         return Some(lo0);

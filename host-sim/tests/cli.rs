@@ -295,3 +295,15 @@ fn cam_refuses_an_m_past_its_useful_range_at_once_saying_the_range() {
     assert_eq!(code, 2);
     assert!(err.starts_with("error: --m must be in 2..=128 for 360 sides: the table's 1024 points"), "{err}");
 }
+
+#[test]
+fn setups_warns_of_what_no_lathe_can_do_and_still_exits_0_with_its_table() {
+    let (code, out, err) = polyturn("setups --sides 6 --stock-diameter 40 --depth 3 --rpm 3000");
+    assert_eq!((code, err.as_str()), (0, ""), "{out}");
+    let warnings: Vec<&str> = out.lines().filter(|l| l.starts_with("warning: ")).collect();
+    assert_eq!(warnings.len(), 4, "tip speed, cutter speed, swing and the refused simulate line:\n{out}");
+    assert!(out.contains("\n2      3     same      1 "), "the table is still there:\n{out}");
+    let (code, out, _) = polyturn("setups --sides 6 --stock-radius 10 --depth 1.5 --cutter-radius 50 --rpm 300");
+    assert_eq!(code, 0);
+    assert!(!out.contains("warning:"), "{out}");
+}

@@ -43,6 +43,12 @@ fn cases() -> Vec<(String, Option<&'static str>)> {
             Some("--cutter-radius"),
         ),
         c(format!("geometry {HEX} --ratio -2"), Some("--ratio")),
+        c(format!("geometry {HEX} --ratio 2:1:1"), Some("--ratio")),
+        c(format!("geometry {HEX} --ratio 1:0"), Some("--ratio")),
+        // both of a pair: one sentence naming both, the first given first
+        c(format!("geometry {NO_DIR} --direction same --stock-diameter 20"), Some("--stock-radius cannot be given with --stock-diameter:")),
+        c(format!("geometry {NO_DIR} --direction same --across-flats 17"), Some("--depth cannot be given with --across-flats:")),
+        c("geometry --cutter-radius 50 --stock-diameter 20 --across-flats 20 --ratio 2 --edges 3 --direction same".into(), Some("--across-flats")),
         // compensate and simulate speeds
         c(format!("compensate {HEX} --rpm 1e-308 --x-max-speed 50 --x-max-accel 5000"), Some("--rpm")),
         c(format!("compensate {HEX} --rpm 600 --x-max-speed 0 --x-max-accel 5000"), Some("--x-max-speed")),
@@ -57,7 +63,15 @@ fn cases() -> Vec<(String, Option<&'static str>)> {
         c(format!("simulate {HEX} --rpm -inf --revolutions 1"), Some("--rpm")),
         c(format!("simulate {HEX} --rpm 600 --revolutions 1 --ripple -inf"), Some("--ripple")),
         // setups
-        c("setups --sides 6 --stock-radius 10".into(), Some("--across-flats")),
+        // a missing flag is a sentence naming it and its alternative (issue 29)
+        c("setups --sides 6 --stock-radius 10".into(), Some("setups needs --depth (or --across-flats)")),
+        c("setups --sides 6 --depth 1".into(), Some("setups needs --stock-radius (or --stock-diameter)")),
+        c("setups --sides 6 --stock-diameter 20 --stock-radius 10 --depth 1".into(), Some("--stock-diameter cannot be given with --stock-radius:")),
+        c("setups --sides 6 --stock-diameter 0 --depth 1".into(), Some("--stock-diameter")),
+        c("setups --sides 6 --stock-diameter 20 --across-flats 20".into(), Some("--across-flats")),
+        c("setups --sides 6 --stock-radius 10 --depth 1 --max-tip-speed 0".into(), Some("--max-tip-speed")),
+        c("setups --sides 6 --stock-radius 10 --depth 1 --max-cutter-rpm -inf".into(), Some("--max-cutter-rpm")),
+        c("setups --sides 6 --stock-radius 10 --depth 1 --max-ratio 2:0".into(), Some("--max-ratio")),
         c("setups --sides 6 --stock-radius 10 --depth 1 --across-flats 18".into(), Some("--depth")),
         c("setups --sides 6 --stock-radius 10 --depth 11".into(), Some("--depth")),
         c("setups --sides 6 --stock-radius 10 --depth 2 --cutter-radius 1".into(), Some("--cutter-radius")),
@@ -71,6 +85,12 @@ fn cases() -> Vec<(String, Option<&'static str>)> {
         c(format!("cam {OCT} --rpm 12 --x-max-accel 1e-9"), Some("--x-max-accel")),
         c(format!("cam {OCT} --rpm 12 --steps-per-mm 0.01"), Some("--steps-per-mm")),
         c(format!("cam {OCT} --rpm 12 --steps-per-mm 1e-308"), Some("--steps-per-mm")),
+        // a vanishing value is refused by its own flag, not blamed on another with 300 digits
+        c("geometry --cutter-radius 50 --stock-radius 1e-308 --depth 1.5 --ratio 2 --edges 3 --direction same".into(), Some("--stock-radius")),
+        c("simulate --cutter-radius 50 --stock-radius 10 --depth 1e-308 --ratio 2 --edges 3 --direction same --rpm 300".into(), Some("--depth")),
+        c("setups --sides 6 --stock-radius 10 --depth 1 --cutter-radius 1e-308".into(), Some("--cutter-radius")),
+        c("setups --sides 6 --stock-radius 10 --depth 1 --max-ratio 1e-308".into(), Some("--max-ratio")),
+        c("compensate --cutter-radius 50 --stock-radius 10 --depth 1.5 --ratio 2 --edges 3 --direction same --rpm 100 --x-max-speed 1e-308 --x-max-accel 100".into(), Some("--x-max-speed")),
         c(format!("cam {OCT} --rpm 12 --steps-per-mm 100001"), Some("--steps-per-mm")),
         // m past N cuts in m mod N's order, only slower and coarser
         c("cam --sides 7 --inscribed-radius 20 --rpm 12 --x-max-speed 15 --x-max-accel 2000 --m 999".into(), Some("--m")),
@@ -78,7 +98,9 @@ fn cases() -> Vec<(String, Option<&'static str>)> {
         c(format!("cam {OCT} --rpm -inf"), Some("--rpm")),
         c(format!("cam {OCT} --rpm 12 --x-max-accel -nan"), Some("--x-max-accel")),
         c(format!("cam {OCT} --rpm 12 --steps-per-mm 0.5"), Some("--steps-per-mm")),
-        c(format!("cam {OCT} --rpm 12 --encoder-counts 4"), Some("--encoder-counts")),
+        c(format!("cam {OCT} --rpm 12 --encoder-cpr 4"), Some("--encoder-cpr")),
+        // the old spelling, a hidden alias, is refused under the documented one
+        c(format!("cam {OCT} --rpm 12 --encoder-counts 4"), Some("--encoder-cpr")),
         c(format!("cam {OCT} --rpm 12 --m 2"), Some("--m")),
         c(format!("cam {OCT} --rpm 0"), Some("--rpm")),
         c(format!("cam {OCT} --rpm 12 --inscribed-radius 1500"), Some("--inscribed-radius")),
@@ -106,7 +128,7 @@ fn cases() -> Vec<(String, Option<&'static str>)> {
         c("image /dev/zero --bin /nonexistent/a.bin --hex /nonexistent/a.hex".into(), Some("ELF")),
         c("image Cargo.toml --bin /nonexistent/a.bin --hex /nonexistent/a.hex".into(), Some("ELF")),
         c("image Cargo.toml --bin \\n --hex a.hex".into(), Some("--bin")),
-        c("image Cargo.toml --bin a.bin".into(), Some("--hex")),
+        c("image Cargo.toml --bin a.bin".into(), Some("image needs --hex")),
         // anything else
         c("frobnicate".into(), None),
         c("completions tcsh".into(), Some("tcsh")),

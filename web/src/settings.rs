@@ -55,13 +55,18 @@ mod tests {
         let mut ctl = Controller::new(Config::default(), Timing::FIRMWARE);
         ctl.start(0, 0, 0);
         let settings = board_get(&mut ctl);
-        for (name, value) in [("cpr", "0"), ("ratio", "1/0"), ("max-rate", "abc"), ("nonsense", "1"), ("edges", "13")] {
+        for (name, value) in
+            [("cpr", "0"), ("ratio", "1/0"), ("ratio", "1:0"), ("max-rate", "abc"), ("nonsense", "1"), ("edges", "13")]
+        {
             let line = format!("set {name} {value}");
             let board = console::handle(line.as_bytes(), &mut ctl).0.to_string();
             assert!(board.starts_with("error"), "{board}");
             assert_eq!(setting_error(&settings, name, value), Some(board), "{line}");
         }
         assert_eq!(setting_error(&settings, "ratio", "5/2"), None);
+        // the shop's notation, as the console takes it (issue 29)
+        assert_eq!(setting_error(&settings, "ratio", "5:2"), None);
+        assert_eq!(setting_error(&settings, "ratio", "2:1"), None);
     }
 
     #[test]

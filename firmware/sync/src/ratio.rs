@@ -21,7 +21,7 @@ pub struct Ratio {
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub enum RatioError {
-    /// Not an integer, `p/q` or a plain decimal.
+    /// Not an integer, `p/q`, `p:q` or a plain decimal.
     Syntax,
     /// Zero or negative.
     NotPositive,
@@ -35,7 +35,7 @@ impl RatioError {
     /// One line for a machinist: what was wrong and what is allowed.
     pub fn describe(self) -> &'static str {
         match self {
-            RatioError::Syntax => "must be an integer, p/q or a decimal like 2.5",
+            RatioError::Syntax => "must be an integer, p/q, p:q or a decimal like 2.5",
             RatioError::NotPositive => "must be greater than 0",
             RatioError::ZeroDenominator => "has a zero denominator",
             RatioError::TooLarge => "needs numerator and denominator in 1..=1000 after reduction",
@@ -73,13 +73,15 @@ impl Ratio {
         Ok(Ratio { num: p as u16, den: q as u16 })
     }
 
-    /// Parses `2`, `11/3` or `2.5` (an exact decimal: 2.5 = 5/2).
+    /// Parses `2`, `11/3`, `11:3` or `2.5` (an exact decimal: 2.5 = 5/2).
+    /// `p:q` is the shop's way of writing p/q (issue 29); a second
+    /// separator of either kind lands in a term, which refuses it.
     pub fn parse(text: &str) -> Result<Ratio, RatioError> {
         let text = text.trim();
         if text.starts_with('-') {
             return Err(RatioError::NotPositive);
         }
-        if let Some((p, q)) = text.split_once('/') {
+        if let Some((p, q)) = text.split_once(['/', ':']) {
             return Ratio::new(parse_uint(p)?, parse_uint(q)?);
         }
         match text.split_once('.') {
@@ -147,6 +149,9 @@ impl core::fmt::Display for Ratio {
 mod limits_tests;
 
 #[cfg(test)]
+mod notation_tests;
+
+#[cfg(test)]
 mod tests {
     use super::*;
 
@@ -162,6 +167,9 @@ mod tests {
     fn refuses_bad_ratios_with_a_reason() {
         assert_eq!(Ratio::parse("0"), Err(RatioError::NotPositive));
         assert_eq!(Ratio::parse("-2"), Err(RatioError::NotPositive));
+        // a negative term after the separator is not positive either, not a syntax error
+        assert_eq!(Ratio::parse("2/-1"), Err(RatioError::NotPositive));
+        assert_eq!(Ratio::parse("2:-3"), Err(RatioError::NotPositive));
         assert_eq!(Ratio::parse("1/0"), Err(RatioError::ZeroDenominator));
         assert_eq!(Ratio::parse("abc"), Err(RatioError::Syntax));
         assert_eq!(Ratio::parse("NaN"), Err(RatioError::Syntax));

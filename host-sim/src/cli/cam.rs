@@ -5,7 +5,7 @@ mod request;
 
 use super::errors::{CliError, CliResult};
 use super::output::Outputs;
-use super::values::{above, out_file, rpm, whole32, within};
+use super::values::{out_file, rpm, whole32, within};
 use crate::geometry::svg::Drawing;
 use crate::noncircular::order;
 use crate::noncircular::path::ToolPath;
@@ -37,16 +37,16 @@ pub struct CamArgs {
     #[arg(long, value_name = "N", allow_hyphen_values = true, value_parser = whole32(3, MAX_SIDES))]
     pub sides: u32,
     /// Inscribed radius (half the across-flats), mm (> 0, <= 500)
-    #[arg(long, value_name = "MM", allow_hyphen_values = true, value_parser = above(0.0, 500.0, "mm"))]
+    #[arg(long, value_name = "MM", allow_hyphen_values = true, value_parser = within(0.001, 500.0, "mm"))]
     pub inscribed_radius: f64,
     /// Lathe speed while cutting, rpm (1..=3000)
     #[arg(long, value_name = "RPM", allow_hyphen_values = true, value_parser = rpm(3000.0))]
     pub rpm: f64,
     /// The X axis's top speed, mm/s (> 0, <= 10000; at most 12500 steps/s with --steps-per-mm)
-    #[arg(long, value_name = "MM/S", allow_hyphen_values = true, value_parser = above(0.0, 1e4, "mm/s"))]
+    #[arg(long, value_name = "MM/S", allow_hyphen_values = true, value_parser = within(0.001, 1e4, "mm/s"))]
     pub x_max_speed: f64,
     /// The X axis's top acceleration, mm/s^2 (> 0, <= 1000000)
-    #[arg(long, value_name = "MM/S^2", allow_hyphen_values = true, value_parser = above(0.0, 1e6, "mm/s^2"))]
+    #[arg(long, value_name = "MM/S^2", allow_hyphen_values = true, value_parser = within(0.001, 1e6, "mm/s^2"))]
     pub x_max_accel: f64,
     /// Lathe turns per pattern m: 2..=N-1 and at most 128, co-prime with N (seed 004, Theorem 2). The cuts set the top speed, not m: m + N cuts the sides in the same order in N more turns, and past 128 a cut gets under 8 of the table's 1024 points [default: the smallest valid]
     #[arg(long, value_name = "M", allow_hyphen_values = true, value_parser = turns)]
@@ -54,8 +54,8 @@ pub struct CamArgs {
     /// X axis steps per mm of tool radius (1..=100000: a 1 mm screw, 200-step motor at 256 microsteps is 51200; under 1 a step is more than ten times the 0.1 mm a table may be off)
     #[arg(long, value_name = "STEPS/MM", default_value = "800", allow_hyphen_values = true, value_parser = within(1.0, 1e5, "steps/mm"))]
     pub steps_per_mm: f64,
-    /// Lathe encoder counts per turn, after x4 quadrature (4..=1048576)
-    #[arg(long, value_name = "COUNTS", default_value = "2400", allow_hyphen_values = true, value_parser = whole32(4, 1 << 20))]
+    /// Lathe encoder counts per turn, after x4 quadrature (4..=1048576; the console's `cpr`)
+    #[arg(long = "encoder-cpr", alias = "encoder-counts", value_name = "COUNTS", default_value = "2400", allow_hyphen_values = true, value_parser = whole32(4, 1 << 20))]
     pub encoder_counts: u32,
     /// Write the cam table (JSON, for `polyturn device upload-cam`) to this file (- for stdout)
     #[arg(long, value_name = "FILE", value_parser = out_file)]
@@ -101,7 +101,7 @@ pub fn run(a: CamArgs) -> CliResult<String> {
 fn faithful(table: &CamFile, dev_mm: f64, r: &Request) -> CliResult<()> {
     Cam::check(&table.points, table.period_counts).map_err(|e| match e {
         CamError::Step => CliError::flag("steps-per-mm", format!("is too fine for this path: {}", e.describe())),
-        CamError::Points | CamError::Period => CliError::flag("encoder-counts", e.describe()),
+        CamError::Points | CamError::Period => CliError::flag("encoder-cpr", e.describe()),
     })?;
     if dev_mm <= TABLE_REFUSED_MM {
         return Ok(());
@@ -111,7 +111,7 @@ fn faithful(table: &CamFile, dev_mm: f64, r: &Request) -> CliResult<()> {
     if half_step * 2.0 > TABLE_REFUSED_MM {
         return Err(CliError::flag("steps-per-mm", format!("must be >= {:.0} steps/mm: the table would cut {dev_mm:.3} mm off its tool path (at most {TABLE_REFUSED_MM} mm)", 1.0 / TABLE_REFUSED_MM)));
     }
-    Err(CliError::flag("encoder-counts", format!("too coarse: the table, {} points over {} counts, would cut {dev_mm:.3} mm off its tool path (at most {TABLE_REFUSED_MM} mm)", table.points.len(), table.period_counts)))
+    Err(CliError::flag("encoder-cpr", format!("too coarse: the table, {} points over {} counts, would cut {dev_mm:.3} mm off its tool path (at most {TABLE_REFUSED_MM} mm)", table.points.len(), table.period_counts)))
 }
 
 /// What the corners will be.
@@ -149,7 +149,7 @@ fn report(
     }
     if table_dev > TABLE_COARSE_MM {
         warnings.push(format!(
-            "the table cuts {:.1} um off its tool path: raise --steps-per-mm or --encoder-counts for a finer one",
+            "the table cuts {:.1} um off its tool path: raise --steps-per-mm or --encoder-cpr for a finer one",
             table_dev * 1e3
         ));
     }

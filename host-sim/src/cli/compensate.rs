@@ -2,7 +2,7 @@
 
 use super::errors::{CliError, CliResult};
 use super::geometry::SetupArgs;
-use super::values::{above, rpm};
+use super::values::{rpm, within};
 use crate::compensate::{plan, section, Limit};
 use crate::geometry::Section;
 use serde_json::json;
@@ -15,10 +15,10 @@ pub struct CompensateArgs {
     #[arg(long, value_name = "RPM", value_parser = rpm(6000.0))]
     pub rpm: f64,
     /// The X axis's top speed, mm/s (> 0, <= 10000)
-    #[arg(long, value_name = "MM/S", value_parser = above(0.0, 1e4, "mm/s"))]
+    #[arg(long, value_name = "MM/S", value_parser = within(0.001, 1e4, "mm/s"))]
     pub x_max_speed: f64,
     /// The X axis's top acceleration, mm/s^2 (> 0, <= 1000000)
-    #[arg(long, value_name = "MM/S^2", value_parser = above(0.0, 1e6, "mm/s^2"))]
+    #[arg(long, value_name = "MM/S^2", value_parser = within(0.001, 1e6, "mm/s^2"))]
     pub x_max_accel: f64,
     /// Print the report as one JSON object
     #[arg(long)]

@@ -2,6 +2,8 @@
 //! (got 'value')`, exit status 2. clap's own errors are adapted to it, and
 //! every value echoed back is escaped so that no input can add a line.
 
+mod missing;
+
 use clap::error::{ContextKind, ContextValue, ErrorKind};
 
 /// A refused command line: one line, naming the flag where there is one.
@@ -57,12 +59,9 @@ fn one_line(e: &clap::Error) -> String {
         }
         ErrorKind::ArgumentConflict => {
             let prior = strings(e, ContextKind::PriorArg).iter().map(|p| name(p)).collect::<Vec<_>>().join(", ");
-            format!("{arg} cannot be given with {prior}")
+            format!("{arg} cannot be given with {prior}: give one of them")
         }
-        ErrorKind::MissingRequiredArgument => {
-            let missing: Vec<String> = strings(e, ContextKind::InvalidArg).iter().map(|a| name(a)).collect();
-            format!("{} is required", missing.join(" and "))
-        }
+        ErrorKind::MissingRequiredArgument => missing::sentence(e),
         ErrorKind::UnknownArgument if arg.starts_with("--") && arg.contains('=') => {
             format!("{} takes no value (got '{}')", name(&arg), escaped(&arg))
         }

@@ -1,60 +1,12 @@
 //! `polyturn geometry`: what polygon a setup cuts.
 
 use super::errors::{CliError, CliResult};
+use super::measure::{across_corners, calipers};
 use super::output::Outputs;
-use super::values::{direction, length_mm, ratio, whole32};
-use crate::geometry::{svg, Direction, Section, Setup};
-use polyturn_sync::Ratio;
+pub use super::setup_args::SetupArgs;
+use crate::geometry::{svg, Section, SectionSummary, Setup};
 use serde_json::json;
 use std::path::PathBuf;
-
-/// The six variables of a setup (Foale's R1, R2, DOC, GR, Z and sense),
-/// shared by geometry, simulate and compensate.
-#[derive(clap::Args, Debug)]
-pub struct SetupArgs {
-    /// Cutter radius R1: the cutting edge's distance from the cutter's axis, mm (> --depth)
-    #[arg(long, value_name = "MM", value_parser = length_mm())]
-    pub cutter_radius: f64,
-    /// Stock radius R2 before the cut, mm (<= 10000)
-    #[arg(long, value_name = "MM", value_parser = length_mm())]
-    pub stock_radius: f64,
-    /// Depth of cut DOC at the flats' middle, mm (> 0, < --stock-radius)
-    #[arg(long, value_name = "MM", value_parser = length_mm())]
-    pub depth: f64,
-    /// Gear ratio GR, cutter turns per lathe turn: 2, 5/2 or 2.5 (numerator and denominator 1..=1000)
-    #[arg(long, value_name = "GR", value_parser = ratio)]
-    pub ratio: Ratio,
-    /// Cutting edges Z on the cutter (1..=12)
-    #[arg(long, value_name = "Z", value_parser = whole32(1, 12))]
-    pub edges: u32,
-    /// The cutter's sense against the lathe's: same or opposite
-    #[arg(long, value_name = "same|opposite", value_parser = direction)]
-    pub direction: Direction,
-}
-
-impl SetupArgs {
-    /// The setup, checked as a whole (the depth against the stock, the
-    /// cutter against the depth, and that it cuts a polygon, not a circle).
-    pub fn setup(&self) -> CliResult<Setup> {
-        self.setup_and_section().map(|(setup, _)| setup)
-    }
-
-    /// `setup`, and the ideal section its roundness check computed.
-    pub fn setup_and_section(&self) -> CliResult<(Setup, Section)> {
-        let setup = Setup {
-            cutter_radius_mm: self.cutter_radius,
-            stock_radius_mm: self.stock_radius,
-            depth_mm: self.depth,
-            ratio: self.ratio,
-            edges: self.edges,
-            direction: self.direction,
-        };
-        setup.validate().map_err(|e| CliError::flag(e.field, e.allowed))?;
-        let section = Section::ideal(&setup, Section::default_bins(setup.sides()));
-        not_round(&section.summary())?;
-        Ok((setup, section))
-    }
-}
 
 #[derive(clap::Args, Debug)]
 pub struct GeometryArgs {
@@ -78,6 +30,7 @@ pub fn report(setup: &Setup, section: &Section) -> serde_json::Value {
         "inscribed_radius": s.inscribed_radius,
         "circumscribed_radius": s.circumscribed_radius,
         "across_flats": s.across_flats,
+        "across_corners": across_corners(&s),
         "flat_deviation": s.flat_deviation,
         "corners_sharp": s.corners_sharp,
         "ratio": setup.ratio.to_string(),
@@ -85,6 +38,7 @@ pub fn report(setup: &Setup, section: &Section) -> serde_json::Value {
         "direction": setup.direction.name(),
         "cutter_radius": setup.cutter_radius_mm,
         "stock_radius": setup.stock_radius_mm,
+        "stock_diameter": 2.0 * setup.stock_radius_mm,
         "depth": setup.depth_mm,
         "centre_distance": setup.centre_distance(),
     })
@@ -97,8 +51,8 @@ pub fn run(a: GeometryArgs) -> CliResult<String> {
         files.add("svg", path, draw(&setup, &section))?;
     }
     let written = files.write()?;
-    let r = report(&setup, &section);
-    Ok(written.report(if a.json { r.to_string() } else { human(&r) }))
+    let text = if a.json { report(&setup, &section).to_string() } else { human(&setup, &section.summary()) };
+    Ok(written.report(text))
 }
 
 /// A circle has N "flats" too, each bulging R(1 - cos(pi/N)) from its
@@ -107,7 +61,7 @@ pub fn run(a: GeometryArgs) -> CliResult<String> {
 /// cutter's shaved circle came out as 6 sharp sides).
 pub const ROUND_FRACTION: f64 = 0.5;
 
-fn not_round(s: &crate::geometry::SectionSummary) -> CliResult<()> {
+pub(super) fn not_round(s: &SectionSummary) -> CliResult<()> {
     let circle = s.circumscribed_radius * (1.0 - (std::f64::consts::PI / s.sides as f64).cos());
     let fraction = s.flat_deviation.abs() / circle;
     if fraction > ROUND_FRACTION {
@@ -119,25 +73,29 @@ fn not_round(s: &crate::geometry::SectionSummary) -> CliResult<()> {
     Ok(())
 }
 
-fn human(r: &serde_json::Value) -> String {
-    let af = match r["across_flats"].as_f64() {
-        Some(v) => format!("{v:.4} mm"),
-        None => "n/a (odd sides)".into(),
-    };
+/// The report for a machinist: the stock as calipers read it (its
+/// diameter), and the section as they will read it (across flats and
+/// across corners).
+fn human(setup: &Setup, s: &SectionSummary) -> String {
     format!(
         "{} sides over {} lathe turn(s): ratio {} x {} edges, {} sense\n\
-         inscribed radius {:.4} mm, circumscribed {:.4} mm, across flats {af}\n\
+         stock diameter {:.4} mm, depth {:.4} mm, cutter radius {:.4} mm\n\
+         inscribed radius {:.4} mm, circumscribed {:.4} mm, {}\n\
          flat deviation {:+.4} mm ({}), corners {}",
-        r["sides"],
-        r["revolutions"],
-        r["ratio"].as_str().unwrap_or(""),
-        r["edges"],
-        r["direction"].as_str().unwrap_or(""),
-        r["inscribed_radius"].as_f64().unwrap_or(0.0),
-        r["circumscribed_radius"].as_f64().unwrap_or(0.0),
-        r["flat_deviation"].as_f64().unwrap_or(0.0),
-        if r["flat_deviation"].as_f64().unwrap_or(0.0) >= 0.0 { "convex" } else { "concave" },
-        if r["corners_sharp"].as_bool() == Some(true) { "sharp" } else { "left round (stock at the corners)" },
+        s.sides,
+        setup.pattern().1,
+        setup.ratio,
+        setup.edges,
+        setup.direction.name(),
+        2.0 * setup.stock_radius_mm,
+        setup.depth_mm,
+        setup.cutter_radius_mm,
+        s.inscribed_radius,
+        s.circumscribed_radius,
+        calipers(s),
+        s.flat_deviation,
+        if s.flat_deviation >= 0.0 { "convex" } else { "concave" },
+        if s.corners_sharp { "sharp" } else { "left round (stock at the corners)" },
     )
 }
 

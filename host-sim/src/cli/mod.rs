@@ -13,8 +13,12 @@ pub mod figures;
 pub mod flash;
 pub mod geometry;
 pub mod image;
+pub mod measure;
+#[cfg(test)]
+mod names_tests;
 pub mod output;
 pub mod sequence;
+pub mod setup_args;
 pub mod setup_plan;
 pub mod setups;
 pub mod simulate;

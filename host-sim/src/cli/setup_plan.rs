@@ -18,7 +18,7 @@ pub struct SetupArgs {
     /// Encoder lines per turn, as on its label (counts = 4 x lines)
     #[arg(long, value_name = "N", value_parser = whole32(1, 250_000), conflicts_with = "encoder_cpr")]
     pub encoder_lines: Option<u32>,
-    /// Measured encoder counts per lathe turn (from check-encoder)
+    /// Measured encoder counts per lathe turn (from check-encoder; the console's `cpr`)
     #[arg(long, value_name = "N", value_parser = whole32(4, 1_000_000))]
     pub encoder_cpr: Option<u32>,
     /// Motor full steps per turn
@@ -27,20 +27,26 @@ pub struct SetupArgs {
     /// Driver microsteps per full step
     #[arg(long, value_name = "N", default_value = "16", value_parser = whole32(1, 512))]
     pub microsteps: u32,
-    /// Motor turns per cutter turn (belt or gears), e.g. 2 or 40/20
+    /// Motor turns per cutter turn (belt or gears), e.g. 2, 40/20 or 40:20
     #[arg(long, value_name = "RATIO", default_value = "1", value_parser = ratio)]
     pub reduction: Ratio,
     /// The lathe's fastest speed, rpm
     #[arg(long, value_name = "RPM", value_parser = whole32(1, 10_000))]
     pub max_lathe_rpm: Option<u32>,
-    /// The driver's shortest STEP pulse, microseconds (its datasheet)
-    #[arg(long, value_name = "US", value_parser = within(1.0, 1000.0, "us"))]
+    /// The driver's shortest STEP pulse, ns (its datasheet; 100..=100000, the console's `pulse`)
+    #[arg(long, value_name = "NS", value_parser = whole32(100, 100_000), conflicts_with = "pulse_us")]
+    pub pulse_ns: Option<u32>,
+    /// The same in microseconds: the old spelling, hidden, still taken
+    #[arg(long, value_name = "US", value_parser = within(1.0, 1000.0, "us"), hide = true)]
     pub pulse_us: Option<f64>,
-    /// The driver's DIR setup time before a STEP, microseconds
-    #[arg(long, value_name = "US", value_parser = within(0.0, 1000.0, "us"))]
+    /// The driver's DIR setup time before a STEP, ns (0..=100000, the console's `dir-setup`)
+    #[arg(long, value_name = "NS", value_parser = whole32(0, 100_000), conflicts_with = "dir_setup_us")]
+    pub dir_setup_ns: Option<u32>,
+    /// The same in microseconds: the old spelling, hidden, still taken
+    #[arg(long, value_name = "US", value_parser = within(0.0, 1000.0, "us"), hide = true)]
     pub dir_setup_us: Option<f64>,
-    /// The cutter's sense against the chuck's (seen from the same end)
-    #[arg(long, value_name = "SENSE", default_value = "same", value_parser = crate::cli::values::direction)]
+    /// The cutter's sense against the chuck's (seen from the same end): same or opposite (the console's `dir`)
+    #[arg(long = "direction", alias = "sense", value_name = "same|opposite", default_value = "same", value_parser = crate::cli::values::direction)]
     pub sense: Direction,
     /// Counts fall when the lathe turns forward (check-encoder said so)
     #[arg(long)]
@@ -77,12 +83,18 @@ pub fn from_flags(a: &SetupArgs) -> CliResult<Facts> {
         cpr,
         steps: motor_steps(a)?,
         max_rpm: a.max_lathe_rpm.ok_or_else(|| need("max-lathe-rpm"))?,
-        pulse_ns: a.pulse_us.map(|us| (us * 1000.0).ceil() as u32),
-        dir_setup_ns: a.dir_setup_us.map(|us| (us * 1000.0).ceil() as u32),
+        pulse_ns: a.pulse_ns.or(a.pulse_us.map(ns)),
+        dir_setup_ns: a.dir_setup_ns.or(a.dir_setup_us.map(ns)),
         sense: sense_of(a.sense),
         encoder_reversed: a.encoder_reversed,
         motor_reversed: a.motor_reversed,
     })
+}
+
+/// Microseconds (the old `--pulse-us`, `--dir-setup-us`) as the
+/// console's nanoseconds, rounded up: a driver's minimum is a minimum.
+fn ns(us: f64) -> u32 {
+    (us * 1000.0).ceil() as u32
 }
 
 pub fn sense_of(d: Direction) -> Sense {

@@ -1,31 +1,40 @@
-//! `polyturn setups`: which setups cut the polygon you want.
+//! `polyturn setups`: which setups cut the polygon you want, what it
+//! assumed, what to run next and what to beware of (issue 29).
+
+mod advice;
+#[cfg(test)]
+mod advice_tests;
+mod assumed;
+mod reproduce;
+mod table;
+#[cfg(test)]
+mod tests;
 
 use super::errors::{CliError, CliResult};
-use super::values::{above, length_mm, rpm, whole32};
-use crate::planner::{default_cutter, plan, Request};
+use super::measure::{Cut, Stock};
+use super::values::{length_mm, ratio_bound, rpm, whole32, within};
+use crate::planner::{plan, Request};
+use advice::Limits;
+use assumed::Cutter;
+use table::Report;
 
 #[derive(clap::Args, Debug)]
 pub struct SetupsArgs {
     /// Sides N of the polygon wanted (2..=1000)
     #[arg(long, value_name = "N", value_parser = whole32(2, 1000))]
     pub sides: u32,
-    /// Stock radius R2 before the cut, mm
-    #[arg(long, value_name = "MM", value_parser = length_mm())]
-    pub stock_radius: f64,
-    /// Across flats wanted, mm (< the stock diameter); or give --depth
-    #[arg(long, value_name = "MM", value_parser = length_mm(), conflicts_with = "depth", required_unless_present = "depth")]
-    pub across_flats: Option<f64>,
-    /// Depth of cut at the flats' middle, mm (< --stock-radius); or give --across-flats
-    #[arg(long, value_name = "MM", value_parser = length_mm())]
-    pub depth: Option<f64>,
-    /// Cutter radius R1, mm [default: a cutter suited to the stock]
+    #[command(flatten)]
+    pub stock: Stock,
+    #[command(flatten)]
+    pub cut: Cut,
+    /// Cutter radius R1, mm [default: 5 x the stock radius, said in the output]
     #[arg(long, value_name = "MM", value_parser = length_mm())]
     pub cutter_radius: Option<f64>,
     /// Most cutting edges Z to consider (1..=12)
     #[arg(long, value_name = "Z", default_value = "6", value_parser = whole32(1, 12))]
     pub max_edges: u32,
-    /// Largest gear ratio to consider (> 0, <= 1000)
-    #[arg(long, value_name = "GR", default_value = "8", value_parser = above(0.0, 1000.0, ""))]
+    /// Largest gear ratio to consider: 8, 8:1, 15/2 or 7.5 (> 0, <= 1000)
+    #[arg(long, value_name = "GR", default_value = "8", value_parser = ratio_bound(1000.0))]
     pub max_ratio: f64,
     /// Most lathe turns per pattern to consider (1..=12)
     #[arg(long, value_name = "TURNS", default_value = "1", value_parser = whole32(1, 12))]
@@ -34,34 +43,45 @@ pub struct SetupsArgs {
     #[arg(long, value_name = "RPM", value_parser = rpm(10_000.0))]
     pub rpm: Option<f64>,
     /// Flat deviation to size the smallest cutter for, mm (> 0, <= 10)
-    #[arg(long, value_name = "MM", default_value = "0.01", value_parser = above(0.0, 10.0, "mm"))]
+    #[arg(long, value_name = "MM", default_value = "0.01", value_parser = within(0.0001, 10.0, "mm"))]
     pub tolerance: f64,
+    /// Warn of setups whose cutter tip, with --rpm, cuts faster than this, m/s (> 0, <= 1000)
+    #[arg(long, value_name = "M/S", default_value_t = advice::DEFAULT_MAX_TIP_SPEED, value_parser = within(0.01, 1000.0, "m/s"))]
+    pub max_tip_speed: f64,
+    /// Warn of setups that, with --rpm, turn the cutter faster than this, rpm (> 0, <= 1000000; the default is the firmware's default motor's top speed, 200000 steps/s at 3200 steps a turn)
+    #[arg(long, value_name = "RPM", default_value_t = advice::default_max_cutter_rpm(), value_parser = within(1.0, 1e6, "rpm"))]
+    pub max_cutter_rpm: f64,
     /// Print the setups as JSON
     #[arg(long)]
     pub json: bool,
 }
 
 pub fn run(a: SetupsArgs) -> CliResult<String> {
-    let (sides, r2) = (a.sides, a.stock_radius);
-    let depth = match (a.across_flats, a.depth) {
-        (Some(af), None) if af < 2.0 * r2 => r2 - af / 2.0,
-        (Some(_), None) => {
-            return Err(CliError::flag("across-flats", format!("must be < the stock diameter ({} mm)", 2.0 * r2)))
-        }
-        (None, Some(d)) if d < r2 => d,
-        (None, Some(_)) => {
-            return Err(CliError::flag("depth", format!("must be > 0 and < the stock radius ({r2} mm)")))
-        }
-        _ => return Err(CliError("give exactly one of --across-flats AF or --depth DOC".into())),
-    };
+    let req = request(&a)?;
+    let found = plan(&req);
+    let limits = Limits { tip_speed: a.max_tip_speed, cutter_rpm: a.max_cutter_rpm };
+    let cutter = Cutter::of(&req);
+    let lines = found.first().map(|c| reproduce::lines(&a, cutter.radius, c));
+    let mut warnings = advice::warnings(&found, &req, &limits);
+    // a line that would be refused as printed is said so, with the reason
+    warnings.extend(lines.iter().flat_map(|l| l.refused.clone()));
+    let notes = assumed::notes(&found, &req);
+    let r = Report { req: &req, found: &found, cutter, lines, limits, notes, warnings };
+    Ok(if a.json { r.json().to_string() } else { r.human() })
+}
+
+/// The planner's request, each flag checked against the others.
+fn request(a: &SetupsArgs) -> CliResult<Request> {
+    let r2 = a.stock.radius()?;
+    let depth = a.cut.depth(r2)?;
     if let Some(r1) = a.cutter_radius.filter(|&r1| r1 <= depth) {
         return Err(CliError::flag(
             "cutter-radius",
             format!("must be > the depth ({depth} mm): {r1} mm puts the cutter's axis inside the bar"),
         ));
     }
-    let req = Request {
-        sides,
+    Ok(Request {
+        sides: a.sides,
         stock_radius: r2,
         depth,
         cutter_radius: a.cutter_radius,
@@ -70,40 +90,5 @@ pub fn run(a: SetupsArgs) -> CliResult<String> {
         max_revolutions: a.max_revolutions,
         rpm: a.rpm,
         tolerance: a.tolerance,
-    };
-    let found = plan(&req);
-    if a.json {
-        let r1 = req.cutter_radius.unwrap_or_else(|| default_cutter(r2));
-        return Ok(
-            serde_json::json!({"sides": sides, "depth": depth, "cutter_radius": r1, "setups": found}).to_string()
-        );
-    }
-    if found.is_empty() {
-        return Ok(format!(
-            "no setup cuts {sides} sides within --max-edges {} and --max-ratio {}",
-            req.max_edges, req.max_ratio
-        ));
-    }
-    let r1 = req.cutter_radius.unwrap_or_else(|| default_cutter(r2));
-    let mut s = format!(
-        "{} setups for {sides} sides, depth {depth:.3} mm, cutter radius {r1} mm (flattest first):\n",
-        found.len()
-    );
-    s += "ratio  edges dir       turns  flat dev mm  corners  cutter rpm  tip m/s  min R1 mm\n";
-    for c in &found {
-        let opt = |v: Option<f64>, p: usize| v.map(|x| format!("{x:.p$}")).unwrap_or_else(|| "-".into());
-        s += &format!(
-            "{:<6} {:<5} {:<9} {:<6} {:>+11.4}  {:<7}  {:>10}  {:>7}  {:>9}\n",
-            c.ratio,
-            c.edges,
-            c.direction,
-            c.revolutions,
-            c.flat_deviation,
-            if c.corners_sharp { "sharp" } else { "round" },
-            opt(c.cutter_rpm, 0),
-            opt(c.peak_tip_speed, 2),
-            opt(c.min_cutter_radius, 1)
-        );
-    }
-    Ok(s.trim_end().to_string())
+    })
 }

@@ -7,7 +7,7 @@ mod alive;
 use super::errors::{escaped, CliError, CliResult};
 use super::geometry::SetupArgs;
 use super::output::Outputs;
-use super::values::{above, drive, out_file, rpm, whole, whole32, within};
+use super::values::{drive, out_file, rpm, whole, whole32, within};
 use crate::geometry::{Direction, Setup};
 use crate::sim::{report, run, Scenario, Start};
 use polyturn_sync::{DriveKind, Ratio};
@@ -26,7 +26,7 @@ pub struct SimulateArgs {
     #[arg(long, value_name = "RPM", allow_hyphen_values = true, value_parser = rpm(6000.0))]
     pub rpm: f64,
     /// Lathe turns to cut (> 0, <= 10000; at most 600 s of cutting)
-    #[arg(long, value_name = "TURNS", allow_hyphen_values = true, value_parser = above(0.0, 10_000.0, "turns"))]
+    #[arg(long, value_name = "TURNS", allow_hyphen_values = true, value_parser = within(0.001, 10_000.0, "turns"))]
     pub revolutions: f64,
     /// Lathe speed ripple, a fraction of the speed (0..=0.5)
     #[arg(long, value_name = "FRACTION", default_value = "0", allow_hyphen_values = true, value_parser = within(0.0, 0.5, ""))]

@@ -26,9 +26,11 @@ pub fn within(lo: f64, hi: f64, unit: &'static str) -> impl Parser<f64> {
     }
 }
 
-/// A length in mm, > 0 and at most 10 m (a lathe, not a bridge).
+/// A length in mm, from a micron (finer is no lathe's, and a smaller one
+/// would only come back in another flag's error as a 300-digit number) to
+/// 10 m (a lathe, not a bridge).
 pub fn length_mm() -> impl Parser<f64> {
-    above(0.0, 10_000.0, "mm")
+    within(0.001, 10_000.0, "mm")
 }
 
 /// A lathe speed: at least 1 rpm (slower is no cut), at most `hi`.
@@ -56,6 +58,19 @@ pub fn whole32(lo: u32, hi: u32) -> impl Parser<u32> {
 /// A gear ratio as the console takes it (the core's own parser).
 pub fn ratio(s: &str) -> Result<Ratio, String> {
     Ratio::parse(s).map_err(|e| e.describe().to_string())
+}
+
+/// A bound on the ratio, in (0, hi]: a number (`7.5`, as before), or a
+/// ratio as `--ratio` takes it (`8:1`, `15/2`).
+pub fn ratio_bound(hi: f64) -> impl Parser<f64> {
+    let number = within(0.01, hi, "");
+    move |s: &str| {
+        match s.contains(['/', ':']) {
+            true => Ratio::parse(s).map(Ratio::to_f64).ok().filter(|&v| v <= hi),
+            false => number(s).ok(),
+        }
+        .ok_or_else(|| format!("must be a number >= 0.01 and <= {hi}, or p/q or p:q"))
+    }
 }
 
 /// `same` or `opposite`: the cutter's sense against the lathe's.
@@ -101,12 +116,23 @@ mod tests {
         assert_eq!(length_mm()(" 2.5 "), Ok(2.5));
         assert_eq!(direction(" same "), Ok(Direction::Same));
         assert_eq!(whole(1, 12)(" 12"), Ok(12));
-        assert_eq!(length_mm()("nan").unwrap_err(), "must be a finite number > 0 and <= 10000 mm");
+        assert_eq!(length_mm()("nan").unwrap_err(), "must be a finite number >= 0.001 and <= 10000 mm");
         assert!(length_mm()("0").is_err() && length_mm()("10000.1").is_err() && length_mm()("inf").is_err());
+        assert!(length_mm()("0.001").is_ok() && length_mm()("0.00099").is_err(), "a micron, not less");
         assert!(rpm(6000.0)("1e-308").unwrap_err().contains(">= 1"));
         assert_eq!(whole(1, 12)("13").unwrap_err(), "must be a whole number in 1..=12");
         assert!(within(0.0, 0.5, "")("0").is_ok() && within(0.0, 0.5, "")("-0.1").is_err());
         assert_eq!(ratio("1/0").unwrap_err(), "has a zero denominator");
         assert!(drive("servo").is_err() && out_file(" ").is_err());
+    }
+
+    #[test]
+    fn a_ratio_bound_is_a_number_or_a_ratio_as_the_shop_writes_it() {
+        let b = ratio_bound(1000.0);
+        assert_eq!((b("7.5"), b("15/2"), b(" 15:2 "), b("1000:1")), (Ok(7.5), Ok(7.5), Ok(7.5), Ok(1000.0)));
+        assert_eq!(b("0").unwrap_err(), "must be a number >= 0.01 and <= 1000, or p/q or p:q");
+        assert!(b("0.01").is_ok() && b("1e-308").is_err());
+        assert!(b("1001").is_err() && b("2:0").is_err() && b("nan").is_err() && ratio_bound(8.0)("17:2").is_err());
+        assert_eq!(ratio(" 11:3 ").map(|r| r.to_string()), Ok("11/3".into()));
     }
 }

@@ -31,15 +31,15 @@ pub fn json(sc: &Scenario, r: &SimResult) -> serde_json::Value {
 /// A few lines for a machinist.
 pub fn human(sc: &Scenario, r: &SimResult) -> String {
     let s = r.section.summary();
-    let af = s.across_flats.map(|v| format!("{v:.4} mm")).unwrap_or_else(|| "n/a (odd sides)".into());
+    let calipers = crate::cli::measure::calipers(&s);
     let faults = if r.faults.is_empty() {
         "none".to_string()
     } else {
         r.faults.iter().map(|(t, f)| format!("{} at tick {t}", f.name())).collect::<Vec<_>>().join(", ")
     };
     format!(
-        "setup: ratio {} x {} edges, {} sense, R1 {} R2 {} DOC {} mm\n\
-         cut: {} sides, across flats {af}, flat deviation {:+.4} mm\n\
+        "setup: ratio {} x {} edges, {} sense, R1 {} R2 {} (stock diameter {}) DOC {} mm\n\
+         cut: {} sides, {calipers}, flat deviation {:+.4} mm\n\
          worst phase error while synced: {:.2} steps ({:.4} deg of the work), while cutting: {:.2} steps\n\
          worst section deviation from the ideal: {:.2} um\n\
          final error at rest: {} steps; faults: {faults}; {} ticks, {} steps",
@@ -48,6 +48,7 @@ pub fn human(sc: &Scenario, r: &SimResult) -> String {
         sc.setup.direction.name(),
         sc.setup.cutter_radius_mm,
         sc.setup.stock_radius_mm,
+        2.0 * sc.setup.stock_radius_mm,
         sc.setup.depth_mm,
         s.sides,
         s.flat_deviation,

@@ -83,6 +83,20 @@ fn get_shows_every_setting_as_set() {
 }
 
 #[test]
+fn set_ratio_takes_the_shops_colon_and_get_shows_it_as_before() {
+    let mut c = ctl();
+    assert_eq!(say(&mut c, "set max-rpm 600").0, "ok max-rpm=600");
+    for (typed, shown) in [("11:3", "11/3"), ("2:1", "2"), ("5:2", "5/2"), ("2/1", "2"), ("2", "2")] {
+        assert_eq!(say(&mut c, &std::format!("set ratio {typed}")).0, std::format!("ok ratio={shown}"), "{typed}");
+        assert_eq!(say(&mut c, "get ratio").0, std::format!("ok ratio={shown}"), "{typed}");
+    }
+    let before = *c.config();
+    assert_eq!(say(&mut c, "set ratio 1:0").0, "error: ratio has a zero denominator");
+    assert_eq!(say(&mut c, "set ratio 2:1:1").0, "error: ratio must be an integer, p/q, p:q or a decimal like 2.5");
+    assert_eq!(*c.config(), before);
+}
+
+#[test]
 fn the_other_values_of_the_word_settings_read_back() {
     let mut c = ctl();
     for (name, value) in [("drive", "none"), ("drive", "stepper"), ("dir", "same"), ("enable", "low"), ("ratio", "2")] {

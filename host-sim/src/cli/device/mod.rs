@@ -13,7 +13,7 @@ pub mod setup;
 mod tests;
 
 use super::errors::{escaped, CliError, CliResult};
-use super::values::above;
+use super::values::within;
 use session::{ok_or_device_error, Session, Wait};
 use std::io::{Read, Write};
 use std::path::PathBuf;
@@ -32,7 +32,7 @@ pub struct DeviceArgs {
     #[arg(long, global = true, value_name = "PATH")]
     pub port: Option<String>,
     /// How long to wait for each reply, seconds (> 0, <= 60)
-    #[arg(long, global = true, value_name = "S", default_value = "3", allow_hyphen_values = true, value_parser = above(0.0, 60.0, "s"))]
+    #[arg(long, global = true, value_name = "S", default_value = "3", allow_hyphen_values = true, value_parser = within(0.01, 60.0, "s"))]
     pub timeout: f64,
     #[command(subcommand)]
     pub command: DeviceCommand,
@@ -82,7 +82,7 @@ pub enum DeviceCommand {
         #[arg(long, value_name = "N", allow_hyphen_values = true, value_parser = crate::cli::values::whole32(1, 100))]
         turns: Option<u32>,
         /// Measure for this long instead of until Enter, s (lathe running slowly)
-        #[arg(long, value_name = "S", allow_hyphen_values = true, value_parser = above(0.0, 600.0, "s"))]
+        #[arg(long, value_name = "S", allow_hyphen_values = true, value_parser = within(0.01, 600.0, "s"))]
         seconds: Option<f64>,
     },
     /// Turn the cutter by an angle, slowly (30 rpm), lathe at rest: check

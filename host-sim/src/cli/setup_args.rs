@@ -1,0 +1,56 @@
+//! The six variables of a setup as flags, shared by `geometry`,
+//! `simulate` and `compensate` (moved out of `geometry.rs` when the stock
+//! and the cut took their machinist's alternatives, issue 29).
+
+use super::errors::{CliError, CliResult};
+use super::geometry::not_round;
+use super::measure::{Cut, Stock};
+use super::values::{direction, length_mm, ratio, whole32};
+use crate::geometry::{Direction, Section, Setup};
+use polyturn_sync::Ratio;
+
+/// Foale's R1, R2, DOC, GR, Z and sense.
+#[derive(clap::Args, Debug)]
+pub struct SetupArgs {
+    /// Cutter radius R1: the cutting edge's distance from the cutter's axis, mm (> --depth)
+    #[arg(long, value_name = "MM", value_parser = length_mm())]
+    pub cutter_radius: f64,
+    #[command(flatten)]
+    pub stock: Stock,
+    #[command(flatten)]
+    pub cut: Cut,
+    /// Gear ratio GR, cutter turns per lathe turn: 2, 2:1, 5/2, 11:3 or 2.5 (numerator and denominator 1..=1000)
+    #[arg(long, value_name = "GR", value_parser = ratio)]
+    pub ratio: Ratio,
+    /// Cutting edges Z on the cutter (1..=12)
+    #[arg(long, value_name = "Z", value_parser = whole32(1, 12))]
+    pub edges: u32,
+    /// The cutter's sense against the lathe's: same or opposite (the console's `dir`)
+    #[arg(long, value_name = "same|opposite", value_parser = direction)]
+    pub direction: Direction,
+}
+
+impl SetupArgs {
+    /// The setup, checked as a whole (the depth against the stock, the
+    /// cutter against the depth, and that it cuts a polygon, not a circle).
+    pub fn setup(&self) -> CliResult<Setup> {
+        self.setup_and_section().map(|(setup, _)| setup)
+    }
+
+    /// `setup`, and the ideal section its roundness check computed.
+    pub fn setup_and_section(&self) -> CliResult<(Setup, Section)> {
+        let stock_radius_mm = self.stock.radius()?;
+        let setup = Setup {
+            cutter_radius_mm: self.cutter_radius,
+            stock_radius_mm,
+            depth_mm: self.cut.depth(stock_radius_mm)?,
+            ratio: self.ratio,
+            edges: self.edges,
+            direction: self.direction,
+        };
+        setup.validate().map_err(|e| CliError::flag(e.field, e.allowed))?;
+        let section = Section::ideal(&setup, Section::default_bins(setup.sides()));
+        not_round(&section.summary())?;
+        Ok((setup, section))
+    }
+}
