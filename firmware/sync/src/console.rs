@@ -4,8 +4,8 @@
 //! changes a setting.
 
 use crate::config::{Config, ConfigError, DriveKind, Sense, NAMES};
-use crate::controller::Controller;
-use crate::derived::{Derived, Timing};
+use crate::controller::{Controller, PreparedConfig};
+use crate::derived::Timing;
 use core::fmt::Write;
 
 mod checks;
@@ -123,8 +123,7 @@ pub struct Prepared {
     /// the settings' generation it was derived from: the lock checks it
     /// still holds (`Controller::config_generation`)
     generation: u32,
-    only_phase: bool,
-    next: Result<(Config, Derived), ConfigError>,
+    next: Result<PreparedConfig, ConfigError>,
     /// `selftest start`'s plan (it divides in 128 bits: not under the lock)
     selftest: Option<Result<crate::selftest::Plan, crate::controller::selftest::SelfTestRefusal>>,
 }
@@ -136,18 +135,13 @@ pub fn prepare(cmd: &Command<'_>, current: Config, generation: u32, timing: Timi
         Command::Set(name, value) => current.with(name, value),
         Command::Defaults => Ok(Config::default()),
         Command::SelfTest(SelfTestOp::Start(rpm)) => {
-            let d = Derived::new(&current, timing);
-            let plan = crate::controller::selftest::plan_selftest(&current, &d, rpm);
-            return Some(Prepared { generation, only_phase: false, next: Ok((current, d)), selftest: Some(plan) });
+            let p = PreparedConfig::prepare(current, &current, timing);
+            let plan = crate::controller::selftest::plan_selftest(&current, p.derived(), rpm);
+            return Some(Prepared { generation, next: Ok(p), selftest: Some(plan) });
         }
         _ => return None,
     };
-    Some(Prepared {
-        generation,
-        only_phase: next.as_ref().is_ok_and(|c| c.differs_only_in_phase(&current)),
-        next: next.map(|c| (c, Derived::new(&c, timing))),
-        selftest: None,
-    })
+    Some(Prepared { generation, next: next.map(|c| PreparedConfig::prepare(c, &current, timing)), selftest: None })
 }
 
 /// Applies a command to the controller (on the host, in one go).
@@ -164,9 +158,9 @@ pub fn apply_prepared(cmd: Command<'_>, pre: Option<Prepared>, ctl: &mut Control
         if p.generation != ctl.config_generation() {
             return Err(Outcome::Error("the settings changed meanwhile: nothing changed, send it again"));
         }
-        let (c, d) = p.next.map_err(|e| Outcome::FieldError(e.field, e.allowed))?;
-        ctl.install_config(c, d, p.only_phase).map_err(|r| Outcome::Error(r.describe()))?;
-        Ok(c)
+        let next = p.next.map_err(|e| Outcome::FieldError(e.field, e.allowed))?;
+        ctl.install_config(next).map_err(|r| Outcome::Error(r.describe()))?;
+        Ok(*next.config())
     };
     match cmd {
         Command::Help => Outcome::Text(HELP),

@@ -429,7 +429,7 @@ mod tracking_tests;
 mod turns_tests;
 #[cfg(test)]
 mod x_axis_tests;
-pub use commands::{check_table, prepare_cam, Status};
+pub use commands::{check_table, prepare_cam, PreparedConfig, Status};
 pub use jog::JogPlan;
 pub use stall::Stall;
 
