@@ -11,6 +11,7 @@ use core::fmt::Write;
 mod checks;
 pub mod number;
 mod selftest;
+mod status;
 
 pub use selftest::SelfTestOp;
 
@@ -32,7 +33,7 @@ pub enum Action {
     Dfu,
 }
 
-pub use crate::console_status::{write_status as status_line, Snapshot};
+pub use status::{write_status as status_line, Snapshot};
 
 pub const HELP: &str = "ok commands: get [name] | set <name> <value> | engage | stop | status | watch | save | defaults | clear | cam begin|data|end|off | check-encoder [start|stop] | jog <deg> | selftest [start [rpm]|stop] | dfu | help; names: cpr steps ratio dir edges max-rate max-accel ferror phase drive dir-setup pulse enable max-rpm";
 
