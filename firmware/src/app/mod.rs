@@ -13,6 +13,7 @@ mod priorities;
 mod report;
 mod safety;
 mod selftest;
+mod service;
 mod settings;
 mod tick;
 mod usb;
@@ -182,7 +183,7 @@ async fn main(spawner: Spawner) {
 
     let bench = selftest::init(p.PA2, p.PA3, p.PA4);
     let low = PLANNER.start(interrupt::USART6);
-    if let Ok(t) = tick::service(bench) {
+    if let Ok(t) = service::service(bench) {
         low.spawn(t);
     }
     let key_pins = keys::KeyPins { engage: p.PB12, stop: p.PB10, plus: p.PB9, minus: p.PA15 };

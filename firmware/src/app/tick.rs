@@ -167,27 +167,3 @@ pub fn take_cost() -> (u32, u32, u32) {
     let worst = COST_WORST.swap(0, Ordering::Relaxed);
     (ticks, sum / board::TICK_HZ, worst)
 }
-
-/// Low-priority planning: work the tick must not do (re-basing the gear),
-/// and the log of every change of state (the tick does not log).
-#[embassy_executor::task]
-pub async fn service(mut bench: super::selftest::Bench) {
-    let mut last = polyturn_sync::State::Idle;
-    loop {
-        bench.service();
-        if let Some(state) = with_core(|c| {
-            c.service();
-            c.state()
-        }) {
-            // (no log while the self-test plays: `report`)
-            if state != last && !super::selftest::playing() {
-                match state {
-                    polyturn_sync::State::Fault(f) => defmt::warn!("fault: {}: {}", f.name(), f.reason()),
-                    s => defmt::info!("{}", s.name()),
-                }
-                last = state;
-            }
-        }
-        embassy_time::Timer::after_millis(1).await;
-    }
-}
