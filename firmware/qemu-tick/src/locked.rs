@@ -4,7 +4,7 @@
 //! is the closure alone; `critical_section::with` adds its cpsid/cpsie and
 //! the RefCell borrow (about 12 instructions) around it.
 
-use crate::mcu::{measure, TIMING};
+use crate::meter::{measure, TIMING};
 use core::sync::atomic::{AtomicBool, Ordering};
 use cortex_m::peripheral::SYST;
 use cortex_m_semihosting::hprintln;
