@@ -213,70 +213,64 @@ pub fn apply_prepared(cmd: Command<'_>, pre: Option<Prepared>, ctl: &mut Control
 /// The reply line, and what the firmware must do besides sending it.
 pub fn render(outcome: &Outcome) -> (Reply, Action) {
     let mut out = Reply::new();
-    let action = match outcome {
+    write_reply(outcome, &mut out);
+    (out, action(outcome))
+}
+
+/// What the firmware must do besides sending the reply.
+fn action(outcome: &Outcome) -> Action {
+    match outcome {
+        Outcome::Watch(_) => Action::Watch,
+        Outcome::Save => Action::Save,
+        Outcome::Dfu => Action::Dfu,
+        Outcome::Text(_)
+        | Outcome::Error(_)
+        | Outcome::FieldError(..)
+        | Outcome::Value(..)
+        | Outcome::All(_)
+        | Outcome::State(_)
+        | Outcome::Status(_)
+        | Outcome::Encoder(..)
+        | Outcome::Jog(..)
+        | Outcome::SelfTestStarted(..)
+        | Outcome::SelfTestRefused(_)
+        | Outcome::SelfTest(_) => Action::None,
+    }
+}
+
+/// The reply line itself.
+fn write_reply(outcome: &Outcome, out: &mut Reply) {
+    match outcome {
         Outcome::Text(t) => {
             let _ = out.push_str(t);
-            Action::None
         }
         Outcome::Error(msg) => {
             let _ = write!(out, "error: {msg}");
-            Action::None
         }
         Outcome::FieldError(field, allowed) => {
             let _ = write!(out, "error: {field} {allowed}");
-            Action::None
         }
         Outcome::Value(c, name) => {
             let _ = out.push_str("ok ");
-            value_of(c, name, &mut out);
-            Action::None
+            value_of(c, name, out);
         }
-        Outcome::All(c) => {
-            get_all(c, &mut out);
-            Action::None
-        }
+        Outcome::All(c) => get_all(c, out),
         Outcome::State(name) => {
             let _ = write!(out, "ok {name}");
-            Action::None
         }
-        Outcome::Status(s) => {
-            s.write(&mut out);
-            Action::None
-        }
-        Outcome::Watch(s) => {
-            s.write(&mut out);
-            Action::Watch
-        }
+        Outcome::Status(s) | Outcome::Watch(s) => s.write(out),
         Outcome::Save => {
             let _ = out.push_str("ok saving");
-            Action::Save
         }
-        Outcome::Encoder(r, op) => {
-            checks::write_encoder(r, *op, &mut out);
-            Action::None
-        }
-        Outcome::Jog(plan, mdeg) => {
-            checks::write_jog(plan, *mdeg, &mut out);
-            Action::None
-        }
-        Outcome::SelfTestStarted(rpm, cpr, ms) => {
-            selftest::write_started(*rpm, *cpr, *ms, &mut out);
-            Action::None
-        }
-        Outcome::SelfTestRefused(r) => {
-            selftest::write_refused(*r, &mut out);
-            Action::None
-        }
-        Outcome::SelfTest(r) => {
-            selftest::write_report(r, &mut out);
-            Action::None
-        }
+        Outcome::Encoder(r, op) => checks::write_encoder(r, *op, out),
+        Outcome::Jog(plan, mdeg) => checks::write_jog(plan, *mdeg, out),
+        Outcome::SelfTestStarted(rpm, cpr, ms) => selftest::write_started(*rpm, *cpr, *ms, out),
+        Outcome::SelfTestRefused(r) => selftest::write_refused(*r, out),
+        Outcome::SelfTest(r) => selftest::write_report(r, out),
         Outcome::Dfu => {
             let _ = out.push_str(checks::DFU_REPLY);
-            Action::Dfu
         }
-    };
-    (out, action)
+    }
 }
 
 /// Handles one line (without its line ending): parse, apply, render.
