@@ -6,8 +6,8 @@
 
 use dfu_core::DfuIo;
 use polyturn_host::flash::fake::{FakeRom, Faults};
-use polyturn_host::flash::image;
 use polyturn_host::flash::plan::plan_for_web;
+use polyturn_host::flash::{image, Refusal};
 use std::path::Path;
 use wasm_bindgen::prelude::*;
 
@@ -28,7 +28,7 @@ pub struct FlashPlan {
 /// `functional` (its 9 bytes); the error says which rule failed.
 #[wasm_bindgen(js_name = flash_plan)]
 pub fn plan_image(name: &str, file: &[u8], interface: &str, functional: &[u8]) -> Result<FlashPlan, String> {
-    let refused = |r: image::Refusal| format!("{name} {} ({})", r.rule, r.found);
+    let refused = |r: Refusal| format!("{name} {} ({})", r.rule, r.found);
     let format = image::format_of(Path::new(name), file).map_err(refused)?;
     let img = image::from_bytes(file, format, false).map_err(refused)?;
     let plan = plan_for_web(interface, functional, &img)?;

@@ -4,7 +4,7 @@
 //! is the closure alone; `critical_section::with` adds its cpsid/cpsie and
 //! the RefCell borrow (about 12 instructions) around it.
 
-use crate::mcu::{measure, TIMING};
+use crate::meter::{measure, TIMING};
 use core::sync::atomic::{AtomicBool, Ordering};
 use cortex_m::peripheral::SYST;
 use cortex_m_semihosting::hprintln;
@@ -83,21 +83,47 @@ fn stalled() -> Controller {
     c
 }
 
+/// A console line prepared outside the lock from the settings of `from`'s
+/// controller (as the firmware prepares it), applied under it.
+fn set(line: &'static [u8], from: fn() -> Controller) -> impl Fn(&mut Controller) {
+    let cmd = console::parse(line);
+    let c = from();
+    let pre = console::prepare(&cmd, *c.config(), c.config_generation(), TIMING);
+    move |c: &mut Controller| {
+        let o = console::apply_prepared(cmd, pre, c);
+        refused_if(matches!(
+            o,
+            console::Outcome::Error(_) | console::Outcome::FieldError(..) | console::Outcome::SelfTestRefused(_)
+        ));
+    }
+}
+
+/// A console line with nothing to prepare.
+fn cmd(line: &'static [u8]) -> impl Fn(&mut Controller) {
+    let cmd = console::parse(line);
+    move |c: &mut Controller| {
+        let o = console::apply_prepared(cmd, None, c);
+        refused_if(matches!(
+            o,
+            console::Outcome::Error(_) | console::Outcome::FieldError(..) | console::Outcome::SelfTestRefused(_)
+        ));
+    }
+}
+
+/// The judge's verdict that ends a test (the generator stopped early),
+/// judged outside the lock as the firmware does.
+fn ended() -> Option<polyturn_sync::controller::selftest::Pending> {
+    let c = selftesting();
+    let mut p = c.selftest_pending();
+    if let Some(p) = &mut p {
+        p.judge(&polyturn_sync::selftest::Books::default());
+    }
+    p
+}
+
 /// Prints each section and the longest; `None` if a measured command was
 /// refused (then the figures are not what they claim).
 pub fn report(syst: &SYST, per_1201: u32) -> Option<u32> {
-    let set = |line: &'static [u8], from: fn() -> Controller| {
-        let cmd = console::parse(line);
-        let c = from();
-        let pre = console::prepare(&cmd, *c.config(), c.config_generation(), TIMING);
-        move |c: &mut Controller| {
-            let o = console::apply_prepared(cmd, pre, c);
-            refused_if(matches!(
-                o,
-                console::Outcome::Error(_) | console::Outcome::FieldError(..) | console::Outcome::SelfTestRefused(_)
-            ));
-        }
-    };
     let head =
         CamHeader { points: 64, period_counts: 2400, counts_per_rev: 2400, max_rate_hz: 10_000, max_accel: 2_000_000 };
     let x = prepare_cam(&head, &CAM, TIMING).ok();
@@ -105,26 +131,7 @@ pub fn report(syst: &SYST, per_1201: u32) -> Option<u32> {
     let ratio = set(b"set ratio 3/2", idle);
     let defaults = set(b"defaults", idle);
     let selftest_start = set(b"selftest start", rested);
-    let cmd = |line: &'static [u8]| {
-        let cmd = console::parse(line);
-        move |c: &mut Controller| {
-            let o = console::apply_prepared(cmd, None, c);
-            refused_if(matches!(
-                o,
-                console::Outcome::Error(_) | console::Outcome::FieldError(..) | console::Outcome::SelfTestRefused(_)
-            ));
-        }
-    };
-    // the judge's verdict that ends a test (the generator stopped early),
-    // judged outside the lock as the firmware does
-    let ended = {
-        let c = selftesting();
-        let mut p = c.selftest_pending();
-        if let Some(p) = &mut p {
-            p.judge(&polyturn_sync::selftest::Books::default());
-        }
-        p
-    };
+    let ended = ended();
     refused_if(ended.is_none());
     let sections: [(&str, &dyn Fn() -> Controller, &dyn Fn(&mut Controller)); 15] = [
         ("copy of the settings", &idle, &|c| {

@@ -16,6 +16,8 @@
 mod locked;
 #[cfg(target_os = "none")]
 mod mcu;
+#[cfg(target_os = "none")]
+mod meter;
 
 #[cfg(not(target_os = "none"))]
 fn main() {

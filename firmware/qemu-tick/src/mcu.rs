@@ -1,10 +1,10 @@
-use core::arch::asm;
+use crate::meter::{calibration_loop, measure, TIMING};
 use cortex_m::peripheral::{syst::SystClkSource, SYST};
 use cortex_m_rt::entry;
 use cortex_m_semihosting::{debug, hprintln};
 use polyturn_sync::gear::Scale;
 use polyturn_sync::steps::Dir;
-use polyturn_sync::{Config, Controller, State, TickInput, TickOutput, Timing};
+use polyturn_sync::{Config, Controller, State, TickInput, TickOutput};
 
 #[panic_handler]
 fn panic(info: &core::panic::PanicInfo) -> ! {
@@ -13,40 +13,11 @@ fn panic(info: &core::panic::PanicInfo) -> ! {
     loop {}
 }
 
-pub(crate) const TIMING: Timing = Timing::FIRMWARE;
-
 /// The tick under test, kept out of line so its cost is measured alone.
 #[inline(never)]
 #[no_mangle]
 pub fn polyturn_tick(ctl: &mut Controller, input: &TickInput) -> TickOutput {
     ctl.tick(input)
-}
-
-fn now(syst: &SYST) -> u32 {
-    let _ = syst;
-    SYST::get_current()
-}
-
-/// SysTick counts elapsed over `f` (it counts down, 24 bits).
-pub(crate) fn measure(syst: &SYST, f: impl FnOnce()) -> u32 {
-    let a = now(syst);
-    f();
-    let b = now(syst);
-    a.wrapping_sub(b) & 0x00FF_FFFF
-}
-
-/// 100 iterations of 10 nops + subs + bne: 1 200 instructions, plus 1 mov.
-fn calibration_loop() {
-    unsafe {
-        asm!(
-            "movs {n}, #100",
-            "2:",
-            "nop", "nop", "nop", "nop", "nop", "nop", "nop", "nop", "nop", "nop",
-            "subs {n}, #1",
-            "bne 2b",
-            n = out(reg) _,
-        );
-    }
 }
 
 /// Cost of the tick's building blocks alone (instructions, common path).

@@ -1,5 +1,5 @@
-//! Register-level drivers behind the sync core's seams (read a 16-bit
-//! counter, emit a step plan, read the pulses emitted). Only register
+//! Register-level drivers behind the sync core's seams (emit a step plan,
+//! read the pulses emitted; the tick reads the encoder counters itself). Only register
 //! writes live here; their values come from host-tested code.
 
 use embassy_stm32::gpio::{Level, Output, OutputType, Speed};
@@ -11,7 +11,6 @@ use embassy_stm32::timer::simple_pwm::PwmPin;
 use embassy_stm32::Peri;
 use polyturn_firmware::stepgen;
 use polyturn_firmware::stepgen::program::Bus;
-use polyturn_sync::encoder::Counter16;
 use polyturn_sync::steps::Dir;
 
 /// Timer clock (APB1 ×2 and APB2 ×1 both give the system clock: `clocks`).
@@ -135,20 +134,6 @@ pub fn cutter_encoder(tim: Peri<'static, P::TIM4>, a: Peri<'static, P::PB6>, b: 
     let cfg = embassy_stm32::timer::qei::Config { mode: QeiMode::Mode3, ..Default::default() };
     core::mem::forget(Qei::new(tim, a, b, cfg));
     encoder_filter(pac::TIM4);
-}
-
-/// The counter seams.
-pub struct LatheCounter;
-impl Counter16 for LatheCounter {
-    fn read(&mut self) -> u16 {
-        pac::TIM3.cnt().read().cnt()
-    }
-}
-pub struct CutterCounter;
-impl Counter16 for CutterCounter {
-    fn read(&mut self) -> u16 {
-        pac::TIM4.cnt().read().cnt()
-    }
 }
 
 /// The step output's registers and RAM, as the MCU sees them: the only

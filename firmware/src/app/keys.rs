@@ -8,7 +8,7 @@ use embassy_stm32::gpio::{Input, Pull};
 use embassy_stm32::peripherals as P;
 use embassy_stm32::Peri;
 use polyturn_firmware::keys::{nudged_phase, Events, Keys};
-use polyturn_sync::derived::Derived;
+use polyturn_sync::controller::PreparedConfig;
 
 /// When (ms since boot, +1; 0 = never) a key press was last refused: the
 /// LED flickers (`led::lit`).
@@ -70,7 +70,7 @@ fn nudge(dir: i8) -> bool {
     let Some((c, generation)) = tick::with_core(|c| (*c.config(), c.config_generation())) else { return false };
     let Some(phase) = nudged_phase(c.phase_offset_mdeg, dir) else { return false };
     let next = polyturn_sync::Config { phase_offset_mdeg: phase, ..c };
-    let d = Derived::new(&next, tick::TIMING);
-    let done = tick::with_core(|c| c.config_generation() == generation && c.install_config(next, d, true).is_ok());
+    let p = PreparedConfig::prepare(next, &c, tick::TIMING);
+    let done = tick::with_core(|c| c.config_generation() == generation && c.install_config(p).is_ok());
     done == Some(true)
 }

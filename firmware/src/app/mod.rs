@@ -8,11 +8,13 @@
 mod cs;
 mod dfu;
 mod drivers;
+mod heartbeat;
 mod keys;
 mod priorities;
 mod report;
 mod safety;
 mod selftest;
+mod service;
 mod settings;
 mod tick;
 mod usb;
@@ -20,11 +22,9 @@ mod usb;
 use defmt::{info, warn};
 use defmt_rtt as _;
 use embassy_executor::{InterruptExecutor, Spawner};
-use embassy_stm32::gpio::Level;
 use embassy_stm32::interrupt;
 use embassy_stm32::time::Hertz;
 use embassy_stm32::wdg::IndependentWatchdog;
-use embassy_time::Timer;
 use polyturn_firmware::board;
 
 /// A panic stops the cutter at once (no steps, ENABLE inactive), logs, and
@@ -182,7 +182,7 @@ async fn main(spawner: Spawner) {
 
     let bench = selftest::init(p.PA2, p.PA3, p.PA4);
     let low = PLANNER.start(interrupt::USART6);
-    if let Ok(t) = tick::service(bench) {
+    if let Ok(t) = service::service(bench) {
         low.spawn(t);
     }
     let key_pins = keys::KeyPins { engage: p.PB12, stop: p.PB10, plus: p.PB9, minus: p.PA15 };
@@ -200,30 +200,11 @@ async fn main(spawner: Spawner) {
     }
     // PC13's LED is active low, an external one on PA10 active high;
     // `led::lit` says what they show
-    let mut led =
+    let led =
         embassy_stm32::gpio::Output::new(p.PC13, embassy_stm32::gpio::Level::High, embassy_stm32::gpio::Speed::Low);
-    let mut ext_led =
+    let ext_led =
         embassy_stm32::gpio::Output::new(p.PA10, embassy_stm32::gpio::Level::Low, embassy_stm32::gpio::Speed::Low);
-    let mut loops = 0u32;
-    loop {
-        // The watchdog is fed only while the tick runs: a hung tick resets
-        // the MCU, and reset leaves every output inactive.
-        let alive = tick::alive();
-        if alive {
-            dog.pet();
-        }
-        let state = tick::with_core(|c| c.state()).unwrap_or(polyturn_sync::State::Idle);
-        let ms = embassy_time::Instant::now().as_millis() as u32;
-        let lit = polyturn_firmware::led::lit(state, alive, ms, keys::refused_at());
-        led.set_level(if lit { Level::Low } else { Level::High });
-        ext_led.set_level(if lit { Level::High } else { Level::Low });
-        if loops == 4 {
-            // 100 ms in: every driver has enabled its interrupts
-            if priorities::check() {
-                info!("interrupt priorities as in board::PRIORITIES");
-            }
-        }
-        loops = loops.saturating_add(1);
-        Timer::after_millis(25).await;
+    if let Ok(t) = heartbeat::run(dog, led, ext_led) {
+        spawner.spawn(t);
     }
 }

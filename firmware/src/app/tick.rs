@@ -3,7 +3,7 @@
 //! is shared with lower priorities under PRIMASK (`locked`), not the
 //! global critical section (`cs.rs`: BASEPRI, which the tick outranks).
 
-use super::drivers::{self, CutterCounter, LatheCounter, Mmio, OutputPins, TIMER_HZ};
+use super::drivers::{self, Mmio, OutputPins, TIMER_HZ};
 use super::safety;
 use core::cell::RefCell;
 use core::sync::atomic::{AtomicU32, Ordering};
@@ -14,7 +14,6 @@ use embassy_stm32::pac;
 use polyturn_firmware::stepgen::Generator;
 use polyturn_firmware::xsteps::XSteps;
 use polyturn_firmware::{board, esc};
-use polyturn_sync::encoder::Counter16;
 use polyturn_sync::{Config, Controller, DriveKind, TickInput, Timing};
 
 struct Io {
@@ -54,7 +53,7 @@ pub fn start(config: Config, mut pins: OutputPins) {
     // STEP/DIR driven quietly from now on, the ring silent: before any tick
     steps.prepare(core.derived().steps.tick_len, &mut Mmio);
     drivers::set_halt_pulse(core.derived().steps.pulse);
-    core.start(LatheCounter.read(), drivers::steps_counted(), CutterCounter.read());
+    core.start(pac::TIM3.cnt().read().cnt(), drivers::steps_counted(), pac::TIM4.cnt().read().cnt());
     locked(|cs| IO.borrow(cs).replace(Some(Io { core, steps, pins, x: XSteps::default() })));
     // SAFETY: DWT is only used here, for the tick's cycle count.
     let mut cp = unsafe { cortex_m::Peripherals::steal() };
@@ -81,11 +80,13 @@ fn TIM1_TRG_COM_TIM11() {
         // the tick keeps no panic path)
         let Ok(mut io) = IO.borrow(cs).try_borrow_mut() else { return };
         let Some(io) = io.as_mut() else { return };
+        // the encoder counters (lathe TIM3, cutter TIM4) read straight
+        // into the core's seam
         let input = TickInput {
-            lathe: LatheCounter.read(),
+            lathe: pac::TIM3.cnt().read().cnt(),
             index: drivers::take_index(),
             emitted: drivers::steps_counted(),
-            cutter: CutterCounter.read(),
+            cutter: pac::TIM4.cnt().read().cnt(),
             estop_open: safety::estop_open(),
             alarm: safety::alarm(),
             x_emitted: io.x.emitted,
@@ -165,28 +166,4 @@ pub fn take_cost() -> (u32, u32, u32) {
     let sum = COST_SUM.swap(0, Ordering::Relaxed);
     let worst = COST_WORST.swap(0, Ordering::Relaxed);
     (ticks, sum / board::TICK_HZ, worst)
-}
-
-/// Low-priority planning: work the tick must not do (re-basing the gear),
-/// and the log of every change of state (the tick does not log).
-#[embassy_executor::task]
-pub async fn service(mut bench: super::selftest::Bench) {
-    let mut last = polyturn_sync::State::Idle;
-    loop {
-        bench.service();
-        if let Some(state) = with_core(|c| {
-            c.service();
-            c.state()
-        }) {
-            // (no log while the self-test plays: `report`)
-            if state != last && !super::selftest::playing() {
-                match state {
-                    polyturn_sync::State::Fault(f) => defmt::warn!("fault: {}: {}", f.name(), f.reason()),
-                    s => defmt::info!("{}", s.name()),
-                }
-                last = state;
-            }
-        }
-        embassy_time::Timer::after_millis(1).await;
-    }
 }

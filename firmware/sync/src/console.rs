@@ -4,13 +4,14 @@
 //! changes a setting.
 
 use crate::config::{Config, ConfigError, DriveKind, Sense, NAMES};
-use crate::controller::Controller;
-use crate::derived::{Derived, Timing};
+use crate::controller::{Controller, PreparedConfig};
+use crate::derived::Timing;
 use core::fmt::Write;
 
 mod checks;
 pub mod number;
 mod selftest;
+mod status;
 
 pub use selftest::SelfTestOp;
 
@@ -32,7 +33,7 @@ pub enum Action {
     Dfu,
 }
 
-pub use crate::console_status::{write_status as status_line, Snapshot};
+pub use status::{write_status as status_line, Snapshot};
 
 pub const HELP: &str = "ok commands: get [name] | set <name> <value> | engage | stop | status | watch | save | defaults | clear | cam begin|data|end|off | check-encoder [start|stop] | jog <deg> | selftest [start [rpm]|stop] | dfu | help; names: cpr steps ratio dir edges max-rate max-accel ferror phase drive dir-setup pulse enable max-rpm";
 
@@ -123,8 +124,7 @@ pub struct Prepared {
     /// the settings' generation it was derived from: the lock checks it
     /// still holds (`Controller::config_generation`)
     generation: u32,
-    only_phase: bool,
-    next: Result<(Config, Derived), ConfigError>,
+    next: Result<PreparedConfig, ConfigError>,
     /// `selftest start`'s plan (it divides in 128 bits: not under the lock)
     selftest: Option<Result<crate::selftest::Plan, crate::controller::selftest::SelfTestRefusal>>,
 }
@@ -136,18 +136,13 @@ pub fn prepare(cmd: &Command<'_>, current: Config, generation: u32, timing: Timi
         Command::Set(name, value) => current.with(name, value),
         Command::Defaults => Ok(Config::default()),
         Command::SelfTest(SelfTestOp::Start(rpm)) => {
-            let d = Derived::new(&current, timing);
-            let plan = crate::controller::selftest::plan_selftest(&current, &d, rpm);
-            return Some(Prepared { generation, only_phase: false, next: Ok((current, d)), selftest: Some(plan) });
+            let p = PreparedConfig::prepare(current, &current, timing);
+            let plan = crate::controller::selftest::plan_selftest(&current, p.derived(), rpm);
+            return Some(Prepared { generation, next: Ok(p), selftest: Some(plan) });
         }
         _ => return None,
     };
-    Some(Prepared {
-        generation,
-        only_phase: next.as_ref().is_ok_and(|c| c.differs_only_in_phase(&current)),
-        next: next.map(|c| (c, Derived::new(&c, timing))),
-        selftest: None,
-    })
+    Some(Prepared { generation, next: next.map(|c| PreparedConfig::prepare(c, &current, timing)), selftest: None })
 }
 
 /// Applies a command to the controller (on the host, in one go).
@@ -164,9 +159,9 @@ pub fn apply_prepared(cmd: Command<'_>, pre: Option<Prepared>, ctl: &mut Control
         if p.generation != ctl.config_generation() {
             return Err(Outcome::Error("the settings changed meanwhile: nothing changed, send it again"));
         }
-        let (c, d) = p.next.map_err(|e| Outcome::FieldError(e.field, e.allowed))?;
-        ctl.install_config(c, d, p.only_phase).map_err(|r| Outcome::Error(r.describe()))?;
-        Ok(c)
+        let next = p.next.map_err(|e| Outcome::FieldError(e.field, e.allowed))?;
+        ctl.install_config(next).map_err(|r| Outcome::Error(r.describe()))?;
+        Ok(*next.config())
     };
     match cmd {
         Command::Help => Outcome::Text(HELP),
@@ -218,70 +213,64 @@ pub fn apply_prepared(cmd: Command<'_>, pre: Option<Prepared>, ctl: &mut Control
 /// The reply line, and what the firmware must do besides sending it.
 pub fn render(outcome: &Outcome) -> (Reply, Action) {
     let mut out = Reply::new();
-    let action = match outcome {
+    write_reply(outcome, &mut out);
+    (out, action(outcome))
+}
+
+/// What the firmware must do besides sending the reply.
+fn action(outcome: &Outcome) -> Action {
+    match outcome {
+        Outcome::Watch(_) => Action::Watch,
+        Outcome::Save => Action::Save,
+        Outcome::Dfu => Action::Dfu,
+        Outcome::Text(_)
+        | Outcome::Error(_)
+        | Outcome::FieldError(..)
+        | Outcome::Value(..)
+        | Outcome::All(_)
+        | Outcome::State(_)
+        | Outcome::Status(_)
+        | Outcome::Encoder(..)
+        | Outcome::Jog(..)
+        | Outcome::SelfTestStarted(..)
+        | Outcome::SelfTestRefused(_)
+        | Outcome::SelfTest(_) => Action::None,
+    }
+}
+
+/// The reply line itself.
+fn write_reply(outcome: &Outcome, out: &mut Reply) {
+    match outcome {
         Outcome::Text(t) => {
             let _ = out.push_str(t);
-            Action::None
         }
         Outcome::Error(msg) => {
             let _ = write!(out, "error: {msg}");
-            Action::None
         }
         Outcome::FieldError(field, allowed) => {
             let _ = write!(out, "error: {field} {allowed}");
-            Action::None
         }
         Outcome::Value(c, name) => {
             let _ = out.push_str("ok ");
-            value_of(c, name, &mut out);
-            Action::None
+            value_of(c, name, out);
         }
-        Outcome::All(c) => {
-            get_all(c, &mut out);
-            Action::None
-        }
+        Outcome::All(c) => get_all(c, out),
         Outcome::State(name) => {
             let _ = write!(out, "ok {name}");
-            Action::None
         }
-        Outcome::Status(s) => {
-            s.write(&mut out);
-            Action::None
-        }
-        Outcome::Watch(s) => {
-            s.write(&mut out);
-            Action::Watch
-        }
+        Outcome::Status(s) | Outcome::Watch(s) => s.write(out),
         Outcome::Save => {
             let _ = out.push_str("ok saving");
-            Action::Save
         }
-        Outcome::Encoder(r, op) => {
-            checks::write_encoder(r, *op, &mut out);
-            Action::None
-        }
-        Outcome::Jog(plan, mdeg) => {
-            checks::write_jog(plan, *mdeg, &mut out);
-            Action::None
-        }
-        Outcome::SelfTestStarted(rpm, cpr, ms) => {
-            selftest::write_started(*rpm, *cpr, *ms, &mut out);
-            Action::None
-        }
-        Outcome::SelfTestRefused(r) => {
-            selftest::write_refused(*r, &mut out);
-            Action::None
-        }
-        Outcome::SelfTest(r) => {
-            selftest::write_report(r, &mut out);
-            Action::None
-        }
+        Outcome::Encoder(r, op) => checks::write_encoder(r, *op, out),
+        Outcome::Jog(plan, mdeg) => checks::write_jog(plan, *mdeg, out),
+        Outcome::SelfTestStarted(rpm, cpr, ms) => selftest::write_started(*rpm, *cpr, *ms, out),
+        Outcome::SelfTestRefused(r) => selftest::write_refused(*r, out),
+        Outcome::SelfTest(r) => selftest::write_report(r, out),
         Outcome::Dfu => {
             let _ = out.push_str(checks::DFU_REPLY);
-            Action::Dfu
         }
-    };
-    (out, action)
+    }
 }
 
 /// Handles one line (without its line ending): parse, apply, render.

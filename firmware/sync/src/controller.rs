@@ -5,7 +5,7 @@
 use crate::cam::Cam;
 use crate::config::{Config, DriveKind};
 use crate::derived::{Derived, Timing};
-use crate::drive::{Bldc, StepBook};
+use crate::drive::Bldc;
 use crate::encoder::{Extender, IndexEvent, IndexTracker};
 use crate::estimator::Estimator;
 use crate::follower::Follower;
@@ -13,6 +13,7 @@ use crate::follower::Limits;
 use crate::gear::Gear;
 use crate::state::{Fault, State};
 use crate::steps::pipe::{StepPipe, LEAD_TICKS};
+use crate::steps::StepBook;
 use crate::steps::StepPlan;
 
 /// What the hardware reports at the start of a tick.
@@ -429,7 +430,7 @@ mod tracking_tests;
 mod turns_tests;
 #[cfg(test)]
 mod x_axis_tests;
-pub use commands::{check_table, prepare_cam, Status};
+pub use commands::{check_table, prepare_cam, PreparedConfig, Status};
 pub use jog::JogPlan;
 pub use stall::Stall;
 

@@ -1,13 +1,8 @@
 //! Quadrature counters: a 16-bit hardware counter extended to 64 bits, the
 //! index pulse latched for absolute phase, and implausible jumps flagged.
 //!
-//! Like embassy-stm32's DMA ring buffer, the register read sits behind a tiny
-//! trait and the wrap-around logic lives here, property-tested on the host.
-
-/// The hardware seam: read a free-running, wrapping 16-bit counter.
-pub trait Counter16 {
-    fn read(&mut self) -> u16;
-}
+//! The hardware seam is `TickInput`: the tick reads the counter registers
+//! into it, and the wrap-around logic lives here, property-tested on the host.
 
 /// A 16-bit counter seen as a 64-bit position. Sampled every tick, so one
 /// tick never moves half the range (the plausibility limit is far below it).

@@ -15,7 +15,6 @@ pub mod check;
 pub mod codec;
 pub mod config;
 pub mod console;
-mod console_status;
 pub mod controller;
 pub mod derived;
 pub mod drive;

@@ -8,7 +8,7 @@
 //! a pulse high and a pulse low after the step before (across ticks too),
 //! and after a reversal DIR's setup time after DIR turned (`Prev`). The
 //! X axis, stepped from the tick, closes on the steps it really emitted
-//! (`drive::StepBook`); the cutter's hardware-timed output runs each plan
+//! (`book::StepBook`); the cutter's hardware-timed output runs each plan
 //! two ticks later and its books check the pulse count (`pipe`).
 
 /// Which way DIR points.
@@ -185,7 +185,10 @@ pub fn plan(from: i64, to: i64, emitted: i64, prev: &Prev, t: &StepTiming) -> St
     p
 }
 
+pub mod book;
 pub mod pipe;
+
+pub use book::StepBook;
 
 /// `num / den` as a whole part and a fraction in 1/256, rounded: 32-bit
 /// UDIVs only (the fraction needs `den` < 2^24, else it is 0).

@@ -7,7 +7,7 @@ use super::errors::{escaped, CliError, CliResult};
 use super::image::{load, summary};
 use super::values::within;
 use crate::flash::dfuse::{self, FlashError, Io, Left, Limits, Progress, Report};
-use crate::flash::image::Image;
+use crate::flash::Image;
 use crate::flash::{usb, BUILT_ELF};
 use std::io::Write;
 use std::path::PathBuf;

@@ -5,8 +5,9 @@
 use super::errors::{escaped, CliError, CliResult};
 use super::output::Outputs;
 use super::values::out_file;
-use crate::flash::image::{self, Format, Image, Refusal};
+use crate::flash::image::{self, Format};
 use crate::flash::{hex, last_sector, CHIP};
+use crate::flash::{Image, Refusal};
 use serde_json::json;
 use std::path::{Path, PathBuf};
 

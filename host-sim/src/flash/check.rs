@@ -4,7 +4,7 @@
 //! chip, so that a file for another board, or no firmware at all, is
 //! refused before the bootloader erases anything.
 
-use super::image::Refusal;
+use super::Refusal;
 use super::{CHIP, MARKER, RAM_END, RAM_START, VECTOR_TABLE_BYTES};
 
 /// A marker's chip and version are short: a longer one is no marker.

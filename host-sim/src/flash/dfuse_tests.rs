@@ -1,11 +1,13 @@
 //! The flash procedure against the fake ROM bootloader: what lands in
 //! flash, what is never touched, and what a fault becomes.
 
+use super::dfuse::io as dfuse_io;
 use super::dfuse::{flash, FlashError, Left, Limits, Report};
 use super::fake::{Event, FakeRom, Faults, INTERFACE};
-use super::image::{from_bytes, Format, Image};
+use super::image::{from_bytes, Format};
 use super::testkit::good;
-use super::{dfuse_io, sector_start, APP_END, FLASH_BASE};
+use super::Image;
+use super::{sector_start, APP_END, FLASH_BASE};
 use std::time::{Duration, Instant};
 
 const SETTINGS: u32 = APP_END;

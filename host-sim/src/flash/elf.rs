@@ -4,7 +4,7 @@
 //! after `.rodata` (AT> FLASH in cortex-m-rt's link.x), and `.bss` has no
 //! file bytes. This is what `objcopy -O binary` takes.
 
-use super::image::{Canvas, Refusal};
+use super::{Canvas, Refusal};
 use object::elf::{FileHeader32, FileType, ELFCLASS32, ELFDATA2LSB, EM_ARM, ET_CORE, ET_DYN, ET_EXEC, ET_REL, PT_LOAD};
 use object::read::elf::{FileHeader, ProgramHeader};
 use object::Endianness;

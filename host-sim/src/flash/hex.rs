@@ -6,7 +6,7 @@
 //! or pasted by hand) is refused, and so is a start address that is not
 //! the reset address the bootloader will jump through.
 
-use super::image::{Canvas, Image, Refusal};
+use super::{Canvas, Image, Refusal};
 use ihex::Record;
 
 const HEX_RULE: &str = "must be Intel HEX: data, end-of-file and extended/start linear address records";

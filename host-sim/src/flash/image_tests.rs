@@ -1,7 +1,8 @@
 //! The image checks: what is flashed, and every way a file is refused.
 
-use super::image::{format_of, from_bytes, load, read_bounded, Format, Refusal, FILE_MAX_BYTES};
+use super::image::{format_of, from_bytes, load, read_bounded, Format, FILE_MAX_BYTES};
 use super::testkit::{elf, elf_for, good, image_with, record, RESET, SP};
+use super::Refusal;
 use super::{hex, FLASH_BASE};
 use std::path::Path;
 

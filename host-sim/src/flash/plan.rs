@@ -4,7 +4,7 @@
 //! erase takes. Shared by `polyturn flash` (`dfuse.rs`) and the web page,
 //! which runs the same requests over WebUSB.
 
-use super::image::Image;
+use super::Image;
 use super::{APP_END, FLASH_BASE};
 use dfu_core::functional_descriptor::FunctionalDescriptor;
 use dfu_core::memory_layout::mem;

@@ -32,6 +32,17 @@ fn fit_x(ctl: &mut Controller, sc: &Scenario) -> Result<(), String> {
 
 /// Runs a scenario to the end (lathe at rest, everything settled).
 pub fn run(sc: &Scenario) -> Result<SimResult, String> {
+    let mut ctl = Controller::new(core_config(sc)?, Timing { tick_hz: sc.tick_hz, step_timer_hz: TIMER_HZ });
+    ctl.start(0, 0, 0);
+    fit_x(&mut ctl, sc)?;
+    let mut p = Plants::new(sc);
+    let bins = Section::default_bins(sc.setup.sides()).min(2048);
+    let ran = event_loop(sc, &mut ctl, &mut p, bins);
+    result(sc, &ctl, &mut p, bins, ran)
+}
+
+/// The scenario's settings, checked, with its sabotage applied.
+fn core_config(sc: &Scenario) -> Result<polyturn_sync::Config, String> {
     sc.core.validate().map_err(|e| format!("--{} {}", e.field, e.allowed))?;
     let mut core_cfg = sc.core;
     if sc.sabotage_ratio_num != 0 {
@@ -39,52 +50,82 @@ pub fn run(sc: &Scenario) -> Result<SimResult, String> {
         core_cfg.ratio =
             polyturn_sync::Ratio::new(num, core_cfg.ratio.den() as u64).map_err(|e| e.describe().to_string())?;
     }
-    let mut ctl = Controller::new(core_cfg, Timing { tick_hz: sc.tick_hz, step_timer_hz: TIMER_HZ });
-    ctl.start(0, 0, 0);
-    fit_x(&mut ctl, sc)?;
-    let dt = 1.0 / sc.tick_hz as f64;
-    let mut p = Plants {
-        lathe: Lathe::new(sc.lathe.clone(), sc.seed),
-        encoder: Encoder::new(sc.core.encoder_counts_per_rev),
-        stepper: Stepper::new(
-            sc.motor_max_rate_hz,
-            sc.motor_max_accel,
-            0.0,
-            polyturn_sync::steps::pipe::LEAD_TICKS as usize,
-        ),
-        bldc: Bldc::new(sc.core.motor_steps_per_rev),
-        x: Stepper::new(1e9, 1e12, 2e-6, 0),
-    };
-    p.bldc.max_torque = sc.bldc_max_torque;
-    p.bldc.cut_torque = sc.bldc_cut_torque;
-    for e in &sc.events {
-        if let Event::Glitch(t, n) = *e {
-            p.encoder.glitches.push((t, n));
+    Ok(core_cfg)
+}
+
+impl Plants {
+    fn new(sc: &Scenario) -> Plants {
+        let mut p = Plants {
+            lathe: Lathe::new(sc.lathe.clone(), sc.seed),
+            encoder: Encoder::new(sc.core.encoder_counts_per_rev),
+            stepper: Stepper::new(
+                sc.motor_max_rate_hz,
+                sc.motor_max_accel,
+                0.0,
+                polyturn_sync::steps::pipe::LEAD_TICKS as usize,
+            ),
+            bldc: Bldc::new(sc.core.motor_steps_per_rev),
+            x: Stepper::new(1e9, 1e12, 2e-6, 0),
+        };
+        p.bldc.max_torque = sc.bldc_max_torque;
+        p.bldc.cut_torque = sc.bldc_cut_torque;
+        for e in &sc.events {
+            if let Event::Glitch(t, n) = *e {
+                p.encoder.glitches.push((t, n));
+            }
+        }
+        p
+    }
+}
+
+/// The gear as the scenario sets it, in floating point: motor steps and
+/// encoder counts a turn, the sense's sign and the ratio.
+struct Gearing {
+    m: f64,
+    e: f64,
+    sense: f64,
+    gr: f64,
+}
+
+impl Gearing {
+    fn of(sc: &Scenario) -> Gearing {
+        Gearing {
+            m: sc.core.motor_steps_per_rev as f64,
+            e: sc.core.encoder_counts_per_rev as f64,
+            sense: if sc.core.sense == polyturn_sync::Sense::Same { 1.0 } else { -1.0 },
+            gr: sc.core.ratio.to_f64(),
         }
     }
-    let bins = Section::default_bins(sc.setup.sides()).min(2048);
+}
+
+/// What the loop leaves: one recorder per engagement, the error tally and
+/// the ticks run.
+struct Ran {
+    passes: Vec<CutRecorder>,
+    out: Tally,
+    tick: u64,
+}
+
+/// The machinist's part: where the cut stands, in lathe angle.
+#[derive(Default)]
+struct Machinist {
+    cut_angle: Option<f64>,
+    cut_done: f64,
+}
+
+/// Ticks until the lathe has finished its profile and everything rests.
+fn event_loop(sc: &Scenario, ctl: &mut Controller, p: &mut Plants, bins: usize) -> Ran {
+    let dt = 1.0 / sc.tick_hz as f64;
+    let Gearing { m, e, sense, gr } = Gearing::of(sc);
     // One recorder per engagement; the whole run's section is their minimum.
     let mut passes: Vec<CutRecorder> = Vec::new();
-    let m = sc.core.motor_steps_per_rev as f64;
-    let e = sc.core.encoder_counts_per_rev as f64;
-    let sense = if sc.core.sense == polyturn_sync::Sense::Same { 1.0 } else { -1.0 };
-    let gr = sc.core.ratio.to_f64();
     let mut out = Tally::default();
     let (mut estop, mut tick, mut settle) = (false, 0u64, 0u32);
     let mut last_state = ctl.state();
-    let (mut cut_angle, mut cut_done) = (None::<f64>, 0.0);
+    let mut machinist = Machinist::default();
     loop {
         let t = tick as f64 * dt;
-        for ev in &sc.events {
-            match *ev {
-                Event::Engage(at) if at <= t && at > t - dt && ctl.engage().is_ok() => {
-                    passes.push(CutRecorder::new(&sc.setup, bins));
-                }
-                Event::Disengage(at) if at <= t && at > t - dt => ctl.disengage(),
-                Event::EStop(at) if at <= t => estop = true,
-                _ => {}
-            }
-        }
+        scheduled(sc, t, dt, ctl, &mut passes, bins, &mut estop);
         let a = p.lathe.angle;
         let count = p.encoder.count(a, tick);
         let index = p.encoder.index(a);
@@ -125,22 +166,7 @@ pub fn run(sc: &Scenario) -> Result<SimResult, String> {
             let ideal = sense * gr * m * (a / TAU * e - ctl.gear_origin() as f64) / e + ctl.turn_offset_steps() as f64;
             out.error(t, ideal - steps_now, cutting);
         }
-        if cutting {
-            if let Some(last) = cut_angle.replace(a) {
-                cut_done += (a - last).abs();
-            }
-            if sc.cut_revolutions.is_some_and(|n| cut_done >= n * TAU) {
-                p.lathe.end_hold();
-            }
-            if let Some(pass) = passes.last_mut() {
-                pass.record(a, theta, dx);
-            }
-        } else {
-            cut_angle = None;
-            if let Some(pass) = passes.last_mut() {
-                pass.pause();
-            }
-        }
+        machinist.cut(sc, cutting, &mut p.lathe, passes.last_mut(), (a, theta, dx));
         if sc.core.drive == DriveKind::Bldc {
             let cmd = o.speed_q16 as f64 / 65536.0 * sc.tick_hz as f64 * TAU / m;
             let load = cutting && tip_in_stock(&sc.setup, p.bldc.angle);
@@ -155,6 +181,68 @@ pub fn run(sc: &Scenario) -> Result<SimResult, String> {
             break;
         }
     }
+    Ran { passes, out, tick }
+}
+
+/// The scenario's events due in the tick starting at `t`: an engagement
+/// that the core takes starts a new pass.
+fn scheduled(
+    sc: &Scenario,
+    t: f64,
+    dt: f64,
+    ctl: &mut Controller,
+    passes: &mut Vec<CutRecorder>,
+    bins: usize,
+    estop: &mut bool,
+) {
+    for ev in &sc.events {
+        match *ev {
+            Event::Engage(at) if at <= t && at > t - dt && ctl.engage().is_ok() => {
+                passes.push(CutRecorder::new(&sc.setup, bins));
+            }
+            Event::Disengage(at) if at <= t && at > t - dt => ctl.disengage(),
+            Event::EStop(at) if at <= t => *estop = true,
+            _ => {}
+        }
+    }
+}
+
+impl Machinist {
+    /// Records the cut while `cutting` (the lathe at `a`, the cutter at
+    /// `theta`, X at `dx`), and stops the lathe after the scenario's
+    /// revolutions of cutting.
+    fn cut(
+        &mut self,
+        sc: &Scenario,
+        cutting: bool,
+        lathe: &mut Lathe,
+        pass: Option<&mut CutRecorder>,
+        (a, theta, dx): (f64, f64, f64),
+    ) {
+        if cutting {
+            if let Some(last) = self.cut_angle.replace(a) {
+                self.cut_done += (a - last).abs();
+            }
+            if sc.cut_revolutions.is_some_and(|n| self.cut_done >= n * TAU) {
+                lathe.end_hold();
+            }
+            if let Some(pass) = pass {
+                pass.record(a, theta, dx);
+            }
+        } else {
+            self.cut_angle = None;
+            if let Some(pass) = pass {
+                pass.pause();
+            }
+        }
+    }
+}
+
+/// The figures of a finished run: the final error against the exact gear,
+/// the section cut (the minimum of the passes) against the ideal.
+fn result(sc: &Scenario, ctl: &Controller, p: &mut Plants, bins: usize, ran: Ran) -> Result<SimResult, String> {
+    let Ran { passes, out, tick } = ran;
+    let Gearing { m, sense, gr, .. } = Gearing::of(sc);
     let a = p.lathe.angle;
     let count = p.encoder.count(a, tick);
     let scale = Scale::new(

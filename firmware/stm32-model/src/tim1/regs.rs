@@ -20,34 +20,8 @@ impl Tim1 {
     pub fn write(&mut self, o: u32, v: u32) {
         let (cnt, arr, pol) = (self.tb.cnt, self.tb.arr_active, self.policy);
         match o {
-            off::CR1 => {
-                if cr1::DIR.on(v) || cr1::CMS.get(v) != 0 {
-                    unmodelled("TIM1_CR1 (0x40010000): only edge-aligned up-counting is modelled (DIR = 0, CMS = 00)");
-                }
-                only(
-                    o,
-                    "CR1",
-                    v,
-                    cr1::CEN.mask()
-                        | cr1::UDIS.mask()
-                        | cr1::URS.mask()
-                        | cr1::OPM.mask()
-                        | cr1::ARPE.mask()
-                        | cr1::CKD.mask(),
-                );
-                self.tb.write_cr1(v);
-                self.ckd = cr1::CKD.get(v);
-                self.reeval();
-            }
-            off::CR2 => {
-                let ois =
-                    (0..4).fold(0, |m, c| m | cr2::ois(c).mask()) | (0..3).fold(0, |m, c| m | cr2::oisn(c).mask());
-                only(o, "CR2", v, cr2::MMS.mask() | cr2::CCDS.mask() | ois);
-                if cr2::MMS.get(v) > cr2::MMS_OC2REF {
-                    unmodelled("TIM1_CR2.MMS (0x40010004): OC3REF/OC4REF as TRGO");
-                }
-                self.cr2 = v;
-            }
+            off::CR1 => self.write_cr1(o, v),
+            off::CR2 => self.write_cr2(o, v),
             off::SMCR => only(o, "SMCR (slave mode controller)", v, 0),
             off::DIER => {
                 // Interrupt enables are stored (SR flags are modelled, the NVIC is not);
@@ -70,33 +44,9 @@ impl Tim1 {
                     self.ug();
                 }
             }
-            off::CCMR1 => {
-                let mut allowed = 0;
-                for c in 0..2 {
-                    allowed |= ccmr::ocfe(c).mask() | ccmr::ocpe(c).mask() | ccmr::ocm(c).mask();
-                }
-                if ccmr::ccs(0).get(v) != 0 || ccmr::ccs(1).get(v) != 0 {
-                    unmodelled("TIM1_CCMR1.CCxS (0x40010018): input capture");
-                }
-                only(o, "CCMR1 (OCxCE is not modelled)", v, allowed);
-                self.ccmr1_fe = v & (ccmr::ocfe(0).mask() | ccmr::ocfe(1).mask());
-                for (c, ch) in self.ch.iter_mut().enumerate() {
-                    let c = c as u32;
-                    ch.set_preload(ccmr::ocpe(c).on(v), cnt, arr, pol);
-                    ch.set_mode(ccmr::ocm(c).get(v), cnt, arr, pol);
-                }
-                self.refresh_pins();
-            }
+            off::CCMR1 => self.write_ccmr1(o, v),
             off::CCMR2 => only(o, "CCMR2 (channels 3 and 4)", v, 0),
-            off::CCER => {
-                let mut allowed = 0;
-                for c in 0..2 {
-                    allowed |= ccer::cce(c).mask() | ccer::ccp(c).mask() | ccer::ccnp(c).mask();
-                }
-                only(o, "CCER (complementary outputs and channels 3-4)", v, allowed);
-                self.ccer = v;
-                self.refresh_pins();
-            }
+            off::CCER => self.write_ccer(o, v),
             off::CNT => {
                 only(o, "CNT", v, 0xFFFF);
                 self.tb.cnt = v;
@@ -140,6 +90,60 @@ impl Tim1 {
             }
             _ => unknown(o),
         }
+    }
+
+    fn write_cr1(&mut self, o: u32, v: u32) {
+        if cr1::DIR.on(v) || cr1::CMS.get(v) != 0 {
+            unmodelled("TIM1_CR1 (0x40010000): only edge-aligned up-counting is modelled (DIR = 0, CMS = 00)");
+        }
+        only(
+            o,
+            "CR1",
+            v,
+            cr1::CEN.mask() | cr1::UDIS.mask() | cr1::URS.mask() | cr1::OPM.mask() | cr1::ARPE.mask() | cr1::CKD.mask(),
+        );
+        self.tb.write_cr1(v);
+        self.ckd = cr1::CKD.get(v);
+        self.reeval();
+    }
+
+    fn write_cr2(&mut self, o: u32, v: u32) {
+        let ois = (0..4).fold(0, |m, c| m | cr2::ois(c).mask()) | (0..3).fold(0, |m, c| m | cr2::oisn(c).mask());
+        only(o, "CR2", v, cr2::MMS.mask() | cr2::CCDS.mask() | ois);
+        if cr2::MMS.get(v) > cr2::MMS_OC2REF {
+            unmodelled("TIM1_CR2.MMS (0x40010004): OC3REF/OC4REF as TRGO");
+        }
+        self.cr2 = v;
+    }
+
+    /// Channels 1 and 2's output compare modes and preload.
+    fn write_ccmr1(&mut self, o: u32, v: u32) {
+        let (cnt, arr, pol) = (self.tb.cnt, self.tb.arr_active, self.policy);
+        let mut allowed = 0;
+        for c in 0..2 {
+            allowed |= ccmr::ocfe(c).mask() | ccmr::ocpe(c).mask() | ccmr::ocm(c).mask();
+        }
+        if ccmr::ccs(0).get(v) != 0 || ccmr::ccs(1).get(v) != 0 {
+            unmodelled("TIM1_CCMR1.CCxS (0x40010018): input capture");
+        }
+        only(o, "CCMR1 (OCxCE is not modelled)", v, allowed);
+        self.ccmr1_fe = v & (ccmr::ocfe(0).mask() | ccmr::ocfe(1).mask());
+        for (c, ch) in self.ch.iter_mut().enumerate() {
+            let c = c as u32;
+            ch.set_preload(ccmr::ocpe(c).on(v), cnt, arr, pol);
+            ch.set_mode(ccmr::ocm(c).get(v), cnt, arr, pol);
+        }
+        self.refresh_pins();
+    }
+
+    fn write_ccer(&mut self, o: u32, v: u32) {
+        let mut allowed = 0;
+        for c in 0..2 {
+            allowed |= ccer::cce(c).mask() | ccer::ccp(c).mask() | ccer::ccnp(c).mask();
+        }
+        only(o, "CCER (complementary outputs and channels 3-4)", v, allowed);
+        self.ccer = v;
+        self.refresh_pins();
     }
 
     pub fn read(&mut self, o: u32) -> u32 {

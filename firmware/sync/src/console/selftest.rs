@@ -2,8 +2,8 @@
 //! One reply line of `name=value` figures; a failed test is reported as
 //! such (`ok selftest fail ...`: the command worked, the board did not).
 
+use super::status::Milli;
 use super::{Command, Outcome, Reply};
-use crate::console_status::Milli;
 use crate::controller::selftest::SelfTestRefusal;
 use crate::controller::Controller;
 use crate::selftest::{Failure, Kind, Plan, Report, Verdict};

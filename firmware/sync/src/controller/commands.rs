@@ -205,17 +205,15 @@ impl Controller {
     /// Replaces the settings. While running only the phase offset may
     /// change (a nudge, smoothed by the follower's limits).
     pub fn set_config(&mut self, c: Config) -> Result<(), Refusal> {
-        let only_phase = c.differs_only_in_phase(&self.config);
-        self.install_config(c, Derived::new(&c, self.timing), only_phase)
+        self.install_config(PreparedConfig::prepare(c, &self.config, self.timing))
     }
 
     /// `set_config` with its figures derived beforehand, outside the tick's
     /// lock (`Derived::new` costs about 1 400 instructions; the swap here is
-    /// short). `d` must be `Derived::new(&c, self.timing())` and
-    /// `only_phase` whether `c` differs from the settings in force only in
-    /// its phase; the caller checks `config_generation` is the one it
-    /// prepared from.
-    pub fn install_config(&mut self, c: Config, d: Derived, only_phase: bool) -> Result<(), Refusal> {
+    /// short). `p` was prepared from the settings in force: the caller
+    /// checks `config_generation` is the one it prepared from.
+    pub fn install_config(&mut self, p: PreparedConfig) -> Result<(), Refusal> {
+        let PreparedConfig { config: c, derived: d, only_phase } = p;
         let running = !matches!(self.state, State::Idle | State::Fault(_));
         if running && !only_phase {
             return Err(Refusal::NotIdle);
@@ -258,6 +256,38 @@ impl Controller {
             State::Fault(f) => Some(f),
             _ => None,
         }
+    }
+}
+
+/// New settings with their figures derived (`Derived::new`, the long part),
+/// outside the tick's lock, for `Controller::install_config`. Only
+/// `prepare` builds one, so the figures are always those of the settings.
+#[derive(Clone, Copy, Debug)]
+pub struct PreparedConfig {
+    config: Config,
+    derived: Derived,
+    /// whether `config` differs from the settings it was prepared from only
+    /// in its phase (all that may change while running)
+    only_phase: bool,
+}
+
+impl PreparedConfig {
+    /// `next` to replace `current` (a short copy of the settings in force),
+    /// with the figures for `timing` (the controller's).
+    pub fn prepare(next: Config, current: &Config, timing: Timing) -> PreparedConfig {
+        PreparedConfig {
+            config: next,
+            derived: Derived::new(&next, timing),
+            only_phase: next.differs_only_in_phase(current),
+        }
+    }
+
+    pub fn config(&self) -> &Config {
+        &self.config
+    }
+
+    pub fn derived(&self) -> &Derived {
+        &self.derived
     }
 }
 

@@ -9,8 +9,7 @@ use crate::follower::Limits;
 
 fn install(r: &mut Rig, name: &str, value: &str) -> Result<(), Refusal> {
     let c = r.c.config().with(name, value).unwrap();
-    let only_phase = c.differs_only_in_phase(r.c.config());
-    r.c.install_config(c, Derived::new(&c, Timing::FIRMWARE), only_phase)
+    r.c.install_config(PreparedConfig::prepare(c, r.c.config(), Timing::FIRMWARE))
 }
 
 #[test]

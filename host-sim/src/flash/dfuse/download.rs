@@ -3,11 +3,11 @@
 //! DNLOAD that makes the ROM leave DFU (AN3156 §5.5) before any read-back;
 //! and it polls as long as the device says busy, sleeping whatever
 //! bwPollTimeout the device asks. Here the last block is not sent, and
-//! every wait is bounded (`dfuse_io::wait`).
+//! every wait is bounded (`io::wait`).
 
-use super::super::dfuse_io::{self as req, Io};
 use super::super::FLASH_BASE;
-use super::{FlashError, Limits, Plan, Progress};
+use super::io::{self as req, FlashError, Io, Limits};
+use super::{Plan, Progress};
 use dfu_core::download::Step;
 use dfu_core::DfuSansIo;
 

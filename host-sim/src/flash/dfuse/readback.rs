@@ -1,9 +1,9 @@
 //! After the download: the read-back that verifies it, and the request
 //! that leaves DFU and starts the application (AN3156 §4.1, §5.5).
 
-use super::super::dfuse_io::{self as req, Io, IN, SET_ADDRESS, UPLOAD};
 use super::super::FLASH_BASE;
-use super::{FlashError, Left, Limits, Plan, Progress};
+use super::io::{self as req, FlashError, Io, Limits, IN, SET_ADDRESS, UPLOAD};
+use super::{Left, Plan, Progress};
 
 /// Reads the written range back: the address pointer set, then dfuIDLE
 /// (DFU_ABORT, as dfu-util does) and UPLOAD blocks 2, 3, ... (AN3156 §4.1).

@@ -1,8 +1,8 @@
 //! The `status` line: state, fault, speeds and phase error, in units a
 //! machinist reads (rpm, steps), computed at low priority.
 
+use super::Reply;
 use crate::config::{Config, Sense};
-use crate::console::Reply;
 use crate::controller::{Controller, Status};
 use crate::state::Fault;
 use core::fmt::Write;

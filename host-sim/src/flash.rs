@@ -12,8 +12,6 @@
 pub mod check;
 #[cfg(feature = "device")]
 pub mod dfuse;
-#[cfg(feature = "device")]
-mod dfuse_io;
 pub mod elf;
 pub mod hex;
 pub mod image;
@@ -64,6 +62,98 @@ pub fn sector_start(n: usize) -> u32 {
 pub fn last_sector(len_bytes: u32) -> usize {
     let end = FLASH_BASE.saturating_add(len_bytes.max(1));
     (0..SECTOR_KIB.len()).find(|&n| sector_start(n + 1) >= end).unwrap_or(SECTOR_KIB.len() - 1)
+}
+
+/// The image's largest size: sectors 0-5 (memory.x FLASH LENGTH).
+pub const IMAGE_MAX_BYTES: u32 = APP_END - FLASH_BASE;
+
+/// A checked image, ready to flash at `base`.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Image {
+    pub base: u32,
+    pub bytes: Vec<u8>,
+    /// From the image's marker; `None` only with `--any-image`.
+    pub version: Option<String>,
+    /// SHA-256 of `bytes` (the `.bin`), lower-case hex.
+    pub sha256: String,
+}
+
+/// Why a file is no image to flash: the rule it breaks, and what it has.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Refusal {
+    pub rule: String,
+    pub found: String,
+}
+
+impl Refusal {
+    pub fn new(rule: impl Into<String>, found: impl Into<String>) -> Refusal {
+        Refusal { rule: rule.into(), found: found.into() }
+    }
+}
+
+/// Sectors 0-5 as the pieces of a .hex or an ELF fill them: each byte
+/// placed at most once, nothing outside FLASH_BASE..APP_END.
+pub struct Canvas {
+    bytes: Vec<u8>,
+    placed: Vec<bool>,
+    lowest: u32,
+    end: u32,
+}
+
+impl Canvas {
+    pub fn new() -> Canvas {
+        let n = IMAGE_MAX_BYTES as usize;
+        Canvas { bytes: vec![0xFF; n], placed: vec![false; n], lowest: APP_END, end: FLASH_BASE }
+    }
+
+    /// `what` names the piece in a refusal ("line 12", "segment 2").
+    pub fn place(&mut self, address: u32, data: &[u8], what: &str) -> Result<(), Refusal> {
+        let end = u64::from(address) + data.len() as u64;
+        if address < FLASH_BASE || address >= sector_start(SECTOR_KIB.len()) {
+            let rule = format!("must lie in flash, 0x{FLASH_BASE:08x}..0x{APP_END:08x} (sectors 0-5)");
+            return Err(Refusal::new(rule, format!("{what} at 0x{address:08x}")));
+        }
+        if end > u64::from(APP_END) {
+            let rule = format!(
+                "must fit in sectors 0-5, 0x{FLASH_BASE:08x}..0x{APP_END:08x}, 1..={IMAGE_MAX_BYTES} bytes (sectors 6-7 keep the saved settings and cam tables)"
+            );
+            return Err(Refusal::new(
+                rule,
+                format!("{what} reaches 0x{end:08x}, {} bytes", end - u64::from(FLASH_BASE)),
+            ));
+        }
+        let at = (address - FLASH_BASE) as usize;
+        if let Some(i) = self.placed[at..at + data.len()].iter().position(|&p| p) {
+            let twice = address as usize + i;
+            return Err(Refusal::new("must give each byte once", format!("{what} writes 0x{twice:08x} again")));
+        }
+        self.bytes[at..at + data.len()].copy_from_slice(data);
+        self.placed[at..at + data.len()].iter_mut().for_each(|p| *p = true);
+        if !data.is_empty() {
+            self.lowest = self.lowest.min(address);
+            self.end = self.end.max(end as u32);
+        }
+        Ok(())
+    }
+
+    /// The image from FLASH_BASE to its last byte.
+    pub fn finish(mut self) -> Result<(u32, Vec<u8>), Refusal> {
+        if self.end == FLASH_BASE {
+            return Err(Refusal::new(format!("must not be empty (1..={IMAGE_MAX_BYTES} bytes)"), "no data"));
+        }
+        if self.lowest != FLASH_BASE {
+            let rule = format!("must start at 0x{FLASH_BASE:08x}, with the vector table (sector 0)");
+            return Err(Refusal::new(rule, format!("starts at 0x{:08x}", self.lowest)));
+        }
+        self.bytes.truncate((self.end - FLASH_BASE) as usize);
+        Ok((FLASH_BASE, self.bytes))
+    }
+}
+
+impl Default for Canvas {
+    fn default() -> Canvas {
+        Canvas::new()
+    }
 }
 
 #[cfg(test)]

@@ -2,10 +2,69 @@
 //! STM32 ROM does with them), each one control transfer, every wait for
 //! the device bounded by `Limits::step`.
 
-use super::dfuse::{FlashError, Limits};
 use dfu_core::get_status::{Step, WaitState};
 use dfu_core::{DfuIo, State, Status};
-use std::time::Instant;
+use std::time::{Duration, Instant};
+
+/// How long the device may take: one step (a sector erase, a block's
+/// write) and one poll. A 128 KiB sector erases in at most 4 s at x8
+/// parallelism (DS10314 t_ERASE128KB; the ROM's own choice is not
+/// documented), so 10 s per step.
+#[derive(Clone, Debug)]
+pub struct Limits {
+    pub step: Duration,
+    pub poll_max: Duration,
+}
+
+impl Default for Limits {
+    fn default() -> Limits {
+        Limits { step: Duration::from_secs(10), poll_max: Duration::from_secs(1) }
+    }
+}
+
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum FlashError {
+    Usb {
+        step: String,
+        error: String,
+    },
+    Device {
+        step: String,
+        status: String,
+    },
+    Protocol {
+        step: String,
+        what: String,
+    },
+    Timeout {
+        step: String,
+        waited_ms: u64,
+    },
+    /// The device is not one this may write (layout, descriptor).
+    Refused(String),
+    Verify {
+        address: u32,
+        wrote: u8,
+        read: u8,
+    },
+}
+
+impl std::fmt::Display for FlashError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            FlashError::Usb { step, error } => write!(f, "USB transfer failed during {step}: {error}"),
+            FlashError::Device { step, status } => write!(f, "the bootloader refused {step}: {status}"),
+            FlashError::Protocol { step, what } => write!(f, "{step}: {what}"),
+            FlashError::Timeout { step, waited_ms } => {
+                write!(f, "{step}: the bootloader was still busy after {waited_ms} ms")
+            }
+            FlashError::Refused(why) => write!(f, "{why}"),
+            FlashError::Verify { address, wrote, read } => {
+                write!(f, "verify failed at 0x{address:08x}: wrote 0x{wrote:02x}, read back 0x{read:02x}")
+            }
+        }
+    }
+}
 
 /// Class request to the interface; bit 7 set for device-to-host.
 pub const OUT: u8 = 0x21;
