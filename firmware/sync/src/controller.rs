@@ -211,7 +211,7 @@ impl Controller {
         // the X cam take the bounded count. The estimator takes no count
         // from a jump no lathe can make (a stall's, or a fault's): it is
         // not speed, and a stopped lathe would read thousands of rpm after
-        // it (found by fuzzing, issue 13).
+        // it.
         let clamped = crate::bound(delta as i64, self.d.max_counts_per_tick as i64) as i32;
         let sign = |v: i32| if self.d.sense_positive { v } else { -v };
         self.gear.advance(sign(clamped));

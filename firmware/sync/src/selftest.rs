@@ -1,4 +1,4 @@
-//! The bench self-test's judge (issue 14, part 6). The board's TIM9 plays
+//! The bench self-test's judge. The board's TIM9 plays
 //! a lathe (`polyturn_firmware::quadgen`) into its own lathe-encoder
 //! inputs through jumper wires, and the real gearbox runs against it. The
 //! generator keeps exact books: the counts and index pulses it made, and

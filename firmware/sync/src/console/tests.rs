@@ -166,7 +166,7 @@ fn dfu_only_while_idle_and_the_reply_comes_first() {
     assert_eq!(action, Action::None);
 }
 
-/// What `polyturn device` takes as a reply (issue 27, item 3): `ok`, `ok `
+/// What `polyturn device` takes as a reply: `ok`, `ok `
 /// and more, or `error: ` and more; no command starts so, so the echo of
 /// one is never taken for its reply.
 fn is_reply(r: &str) -> bool {

@@ -72,8 +72,8 @@ impl Controller {
         let limits = Limits::from_rates(rate_hz as u64, self.config.max_accel_steps_per_s2 as u64, tick_hz);
         // From whole steps: idle re-seats the follower on the measured
         // cutter each tick, but the tick that ended a ramp leaves it where
-        // the ramp did (found by review: a fractional target never matches
-        // the steps counted, and the jog would never end).
+        // the ramp did (a fractional target never matches the steps
+        // counted, and the jog would never end).
         let start = self.follower.whole_steps() << 16;
         self.follower = Follower { position: start, velocity: 0 };
         let ticks = steps.unsigned_abs() * tick_hz / rate_hz as u64;

@@ -1,4 +1,4 @@
-//! The setup checks through the controller (issue 14): `jog`, and the
+//! The setup checks through the controller: `jog`, and the
 //! index pulses the encoder check counts.
 
 use super::*;
