@@ -46,7 +46,7 @@ pub const STEP_FLOOR_NS: u32 = 1_000;
 /// The gear's remainder in Q16 steps is rem2 / (2·den) · 2^16, that is
 /// rem2 · 2^15 / den. `rem_inv` holds 2^15 / den with `REM_FRAC` more
 /// fraction bits, so a den past 2^15 keeps its precision and the tick
-/// multiplies and shifts (|rem2| ≤ den: the product stays under 2^40).
+/// multiplies and shifts (|rem2| ≤ den: the product is at most 2^39).
 const REM_FRAC: u32 = 24;
 
 fn ceil_div(a: u64, b: u64) -> u64 {

@@ -7,11 +7,12 @@
 //! ω_n = 2^−5.5·f ≈ 550 rad/s, ζ ≈ 0.7; the acceleration error a/ω_n² is
 //! ≈ 0.06 count for 5 % once-per-rev ripple at 300 rpm on 2400 counts.
 
+use fixed::types::I32F32;
+
 /// Proportional shift (K1·T = 2^−5).
 const KP: u32 = 4;
 /// Integral shift (K2·T² = 2^−11).
 const KI: u32 = 9;
-use fixed::types::I32F32;
 
 #[derive(Clone, Copy, Debug, Default)]
 pub struct Estimator {
