@@ -1,4 +1,5 @@
-//! Noncircular turning end to end (seed 004): the real core runs the cam
+//! Noncircular turning end to end (the noncircular turning note,
+//! "Noncircular Turning of Workpieces With Sharp Corners"): the real core runs the cam
 //! table `polyturn cam` makes, a single-point tool on the X axis, and the
 //! section it cuts is compared with the ideal octagon.
 

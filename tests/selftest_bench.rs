@@ -1,4 +1,4 @@
-//! The bench self-test end to end on the host (issue 14, part 6): the
+//! The bench self-test end to end on the host: the
 //! console's `selftest start`, the firmware's generator playing the plan
 //! (`quadgen::bench`, its periods' edges at their exact TIM9 cycles), TIM3
 //! counting them and latching the index, the real controller engaging and

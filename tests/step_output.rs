@@ -1,5 +1,5 @@
 //! The cutter's step output on the model of TIM1, TIM2, TIM11 and DMA2
-//! written from RM0383 (issue 11), with the real core and the firmware's
+//! written from RM0383, with the real core and the firmware's
 //! own register programs: what a driver receives, against what the core
 //! believes and the exact target.
 

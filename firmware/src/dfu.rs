@@ -1,4 +1,4 @@
-//! Restarting into the ROM's USB DFU bootloader (issue 14), so a machinist
+//! Restarting into the ROM's USB DFU bootloader, so a machinist
 //! flashes a new image with a USB cable and no probe (`polyturn flash`).
 //!
 //! The console's `dfu` leaves a word in RAM that the startup code does not

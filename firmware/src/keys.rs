@@ -1,4 +1,4 @@
-//! The push-buttons at the lathe (issue 14): ENGAGE, STOP, PHASE+ and
+//! The push-buttons at the lathe: ENGAGE, STOP, PHASE+ and
 //! PHASE−, each a switch to GND on a pin with its pull-up (pressed = low,
 //! `board::PINS`). Sampled every millisecond at low priority (the planning
 //! executor, `app/keys.rs`), never by an interrupt: a chattering key costs
@@ -131,7 +131,7 @@ impl Keys {
 /// The phase after a nudge of `dir` (+1/−1), or None past ±360 degrees
 /// (the press is refused). Not wrapped: the phase offset is linear in
 /// degrees, so 359.5 → 0.5 would swing the cutter a whole turn back while
-/// it cuts (found by review).
+/// it cuts.
 pub fn nudged_phase(mdeg: i32, dir: i8) -> Option<i32> {
     let next = mdeg + dir as i32 * PHASE_STEP_MDEG;
     (next.abs() <= 360_000).then_some(next)

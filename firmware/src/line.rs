@@ -35,7 +35,7 @@ pub fn route(line: &[u8]) -> Result<(Option<&[u8]>, Route<'_>), &'static str> {
 }
 
 /// True if `bytes` hold nothing but line ends. `watch` starts only when
-/// the rest of its packet is this (the LF of its CRLF, issue 13 review),
+/// the rest of its packet is this (the LF of its CRLF),
 /// and a packet of only line ends does not end a watch (the LF of a CRLF
 /// split across packets): any other byte is the next input.
 pub fn only_line_ends(bytes: &[u8]) -> bool {

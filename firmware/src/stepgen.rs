@@ -1,7 +1,7 @@
 //! The cutter's STEP/DIR output: TIM1 fed by DMA, one tick's plan two ticks
 //! after it was made (`polyturn_sync::steps::pipe`).
 //!
-//! Why this shape (issue 11): TIM1 only takes new ARR/CCR values at an
+//! Why this shape: TIM1 only takes new ARR/CCR values at an
 //! update event, and with a repetition counter that event comes once per
 //! train (RM0383 §12.3.3), so a train cannot change its period after its
 //! first pulse, and software that re-arms the timer each tick starts it at

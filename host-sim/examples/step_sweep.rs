@@ -1,4 +1,4 @@
-//! Issue 11's sweep of the step output on the peripheral model, as a
+//! The sweep of the step output on the peripheral model, as a
 //! Markdown table: `cargo run --release -p polyturn-host --example step_sweep`
 //! (`-- --all` for four interrupt-latency ranges instead of one).
 use polyturn_host::hwsim::scenarios::{lathe, ramp, rocking, steady, Outcome};

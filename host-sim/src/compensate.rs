@@ -1,4 +1,5 @@
-//! Flat sides whatever the ratio and cutter (Foale, seed 000: "a CNC lathe
+//! Flat sides whatever the ratio and cutter (Foale, "Turning polygons on a
+//! lathe", 2022: "a CNC lathe
 //! can make the flats perfectly flat by moving the X axis in step"). The
 //! cross-slide sets the centre distance X so that each tip moves along its
 //! flat's straight line while it cuts, and links passes smoothly between.

@@ -3,7 +3,7 @@
 //!
 //! # Derivation (from the physics, not from the documents' labels)
 //! Work centre at the origin, cutter centre at (X0, 0), X0 = R1 + R2 − DOC
-//! (Foale, seed 000, appendix). The work turns by `a` (counter-clockwise
+//! (Foale, "Turning polygons on a lathe", 2022, appendix). The work turns by `a` (counter-clockwise
 //! positive) and the cutter by θ = s·GR·a, with s = +1 for "same" (both
 //! spindles turn the same way seen from the same end) and s = −1 for
 //! "opposite". Tip 0 points at the work when θ = 0, so in the lab frame it is

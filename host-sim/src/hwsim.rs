@@ -1,9 +1,11 @@
 //! The firmware's step output on the peripheral model: the real sync core,
 //! the firmware's `stepgen` (its register programs and DMA ring, byte for
-//! byte) and `polyturn-stm32-model`, the model of TIM1, TIM2, TIM11 and
-//! DMA2 written from RM0383. A control tick runs at TIM11's update plus an
-//! interrupt latency drawn from a range; the pins' edges are judged by a
-//! stepper driver's rules (`driver`). Issue 11's sweep (`scenarios`).
+//! byte) and `polyturn-stm32-model`, the model written from RM0383 (TIM1,
+//! TIM2, TIM9, TIM11, DMA2, TIM3's encoder interface and the flash's sector
+//! erase; the step output uses TIM1, TIM2, TIM11 and DMA2). A control tick
+//! runs at TIM11's update plus an interrupt latency drawn from a range; the
+//! pins' edges are judged by a stepper driver's rules (`driver`). The sweep
+//! of steady rates and lathe motions is `scenarios`.
 
 pub mod driver;
 pub mod scenarios;

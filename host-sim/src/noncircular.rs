@@ -1,4 +1,5 @@
-//! Noncircular turning with sharp corners (seed 004, Theorem 2): a polygon's
+//! Noncircular turning with sharp corners (Theorem 2 of the noncircular
+//! turning note, "Noncircular Turning of Workpieces With Sharp Corners"): a polygon's
 //! N sides are cut in m workpiece revolutions in the order i·m mod N, with
 //! m > 1 co-prime with N. After cutting side k the tool reaches corner
 //! k|k+1; the next cut, side k+m, never starts there (m ≢ 1 mod N), so each

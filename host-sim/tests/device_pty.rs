@@ -1,6 +1,6 @@
 //! `polyturn device` against a fake serial port (a pseudo-terminal): the
 //! real sync-core console behind the firmware's framing, and boards that
-//! misbehave in each way the hostile-input review found.
+//! misbehave (each test names the way).
 #![cfg(unix)]
 
 use polyturn_sync::console::{self, tag, Action};

@@ -1,4 +1,4 @@
-//! The bench self-test's generator in the app (issue 14, part 6): TIM9
+//! The bench self-test's generator in the app: TIM9
 //! plays the plan the controller judges (`polyturn_sync::selftest`), its
 //! update interrupt applies `quadgen`'s programs verbatim, and the planning
 //! executor copies its books to the controller every millisecond.

@@ -93,7 +93,7 @@ async fn session(class: &mut Class, store: &mut Store) -> Result<(), EndpointErr
             watching = action == Action::Watch && only_line_ends(&packet[i + 1..n]);
         }
         // The packet that ends a watch is the next command: handled, not
-        // dropped (issue 13: the reply to it was lost).
+        // dropped (dropped, its reply would never come).
         n = if watching { watch(class, &mut packet).await? } else { class.read_packet(&mut packet).await? };
     }
 }

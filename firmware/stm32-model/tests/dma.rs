@@ -225,8 +225,8 @@ fn update_requests_while_the_stream_is_disabled_are_lost() {
 // §9.3.12 direct mode: "the DMA preloads only one data from the memory to the internal
 // FIFO to ensure an immediate data transfer as soon as a DMA request is triggered". The
 // item is read from RAM when the stream is enabled and after each transfer, so a later
-// write to that word does not reach the peripheral (the stepgen bug an independent review
-// found: a burst's first word read before the tick wrote it).
+// write to that word does not reach the peripheral (firmware that writes a burst's first
+// word after enabling the stream sends the word that was there before).
 #[test]
 fn direct_mode_reads_the_next_item_before_its_request() {
     let mut m = mcu();

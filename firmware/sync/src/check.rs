@@ -1,4 +1,4 @@
-//! The encoder check (issue 14): what the lathe encoder really counts,
+//! The encoder check: what the lathe encoder really counts,
 //! measured while the machinist turns the chuck by hand (or runs the lathe
 //! slowly). Encoders are often not what the label says (a "1024" that is
 //! 1000, ×4 decoding forgotten, counts lost to noise), and a wrong `cpr`

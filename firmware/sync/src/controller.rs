@@ -212,8 +212,8 @@ impl Controller {
         // the X cam take the bounded count. The estimator takes no count
         // from a jump no lathe can make (a stall's, or a fault's): it is
         // not speed, and a stopped lathe would read thousands of rpm after
-        // it (found by fuzzing, issue 13).
-        let clamped = crate::bound(delta as i64, self.d.max_counts_per_tick as i64) as i32;
+        // it.
+        let clamped = crate::q16::bound(delta as i64, self.d.max_counts_per_tick as i64) as i32;
         let sign = |v: i32| if self.d.sense_positive { v } else { -v };
         self.gear.advance(sign(clamped));
         self.est.update(sign(if implausible { 0 } else { delta }));
@@ -306,11 +306,11 @@ impl Controller {
     /// tick plans (the stepper's plan runs two ticks later: `steps::pipe`).
     fn update_target(&mut self) {
         let d = &self.d;
-        let exact = (self.gear.steps() << 16) + ((self.gear.rem2() * d.rem_inv) >> 24);
-        let interp = (self.est.offset_q16() as i64 * d.steps_per_count_q16) >> 16;
+        let exact = crate::q16::from_steps(self.gear.steps()) + d.remainder_q16(self.gear.rem2());
+        let interp = crate::q16::mul(self.est.offset_q16() as i64, d.steps_per_count_q16);
         let limit = (d.max_counts_per_tick as i64) << 16;
-        let v_counts = crate::bound(self.est.velocity_q32() >> 16, limit);
-        self.target_velocity = (v_counts * d.steps_per_count_q16) >> 16;
+        let v_counts = crate::q16::bound(self.est.velocity_q32() >> 16, limit);
+        self.target_velocity = crate::q16::mul(v_counts, d.steps_per_count_q16);
         let ahead = self.target_velocity * self.ahead();
         self.target = exact + interp + d.phase_offset_q16 + (self.turns << 16) + ahead;
     }

@@ -26,7 +26,7 @@ pub struct Derived {
     pub sense_positive: bool,
     /// motor steps per lathe count, Q16
     pub steps_per_count_q16: i64,
-    /// (rem2 · inv) >> 24 is the gear's rounding remainder in Q16 steps
+    /// 2^(15 + REM_FRAC) / den: see `remainder_q16`
     pub rem_inv: i64,
     pub max_counts_per_tick: i32,
     pub limits: Limits,
@@ -42,6 +42,12 @@ pub struct Derived {
 /// stretched to it (drivers take longer pulses; the limit is the DMA's
 /// reload time, see `polyturn_firmware::stepgen`).
 pub const STEP_FLOOR_NS: u32 = 1_000;
+
+/// The gear's remainder in Q16 steps is rem2 / (2·den) · 2^16, that is
+/// rem2 · 2^15 / den. `rem_inv` holds 2^15 / den with `REM_FRAC` more
+/// fraction bits, so a den past 2^15 keeps its precision and the tick
+/// multiplies and shifts (|rem2| ≤ den: the product is at most 2^39).
+const REM_FRAC: u32 = 24;
 
 fn ceil_div(a: u64, b: u64) -> u64 {
     a.div_ceil(b.max(1))
@@ -64,7 +70,7 @@ impl Derived {
             scale,
             sense_positive: c.sense == Sense::Same,
             steps_per_count_q16: ((scale.num << 16) / scale.den) as i64,
-            rem_inv: ((1u64 << 39) / scale.den) as i64,
+            rem_inv: ((1u64 << (15 + REM_FRAC)) / scale.den) as i64,
             max_counts_per_tick: counts.min(16_000) as i32,
             limits: Limits::from_rates(c.max_step_rate_hz as u64, c.max_accel_steps_per_s2 as u64, hz),
             following_limit_q16: (c.following_error_limit_steps as i64) << 16,
@@ -80,5 +86,12 @@ impl Derived {
             stall_ticks: (hz / 5) as u32,
             tick_hz: t.tick_hz,
         }
+    }
+
+    /// The gear's rounding remainder (`Gear::rem2`) in Q16 steps, within
+    /// half a step.
+    #[inline(always)]
+    pub fn remainder_q16(&self, rem2: i64) -> i64 {
+        (rem2 * self.rem_inv) >> REM_FRAC
     }
 }

@@ -50,9 +50,9 @@ impl Bldc {
         // Shifts, not `/`: a size-optimised build would call __aeabi_ldivmod.
         let umax = d.limits.max_velocity + (d.limits.max_velocity >> 1);
         let step = error >> KI_SHIFT;
-        let integral = crate::bound(self.integral + step, umax);
+        let integral = crate::q16::bound(self.integral + step, umax);
         let raw = f.velocity + (error >> KP_SHIFT) + integral;
-        let u = crate::bound(raw, umax);
+        let u = crate::q16::bound(raw, umax);
         // Anti-windup: integrate only while the output is not saturated
         // in the direction the error pushes.
         if u == raw || (raw > umax) != (step > 0) {

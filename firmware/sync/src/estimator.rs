@@ -7,18 +7,19 @@
 //! ω_n = 2^−5.5·f ≈ 550 rad/s, ζ ≈ 0.7; the acceleration error a/ω_n² is
 //! ≈ 0.06 count for 5 % once-per-rev ripple at 300 rpm on 2400 counts.
 
+use fixed::types::I32F32;
+
 /// Proportional shift (K1·T = 2^−5).
 const KP: u32 = 4;
 /// Integral shift (K2·T² = 2^−11).
 const KI: u32 = 9;
-const ONE: i64 = 1 << 32;
 
 #[derive(Clone, Copy, Debug, Default)]
 pub struct Estimator {
     /// estimate − measured count, Q32 counts, within ±1 count
-    offset: i64,
+    offset: I32F32,
     /// Q32 counts per tick
-    velocity: i64,
+    velocity: I32F32,
     still_ticks: u32,
     still_limit: u32,
 }
@@ -35,26 +36,26 @@ impl Estimator {
         if delta == 0 {
             self.still_ticks = self.still_ticks.saturating_add(1);
             if self.still_ticks >= self.still_limit {
-                self.offset = 0;
-                self.velocity = 0;
+                self.offset = I32F32::ZERO;
+                self.velocity = I32F32::ZERO;
                 return;
             }
         } else {
             self.still_ticks = 0;
         }
         // predict, then correct on the error (measured − estimate = −offset)
-        let predicted = self.offset + self.velocity - ((delta as i64) << 32);
+        let predicted = self.offset + self.velocity - I32F32::from(delta);
         self.velocity -= predicted >> KI;
-        self.offset = crate::bound(predicted - (predicted >> KP), ONE);
+        self.offset = (predicted - (predicted >> KP)).max(-I32F32::ONE).min(I32F32::ONE);
     }
 
     /// Sub-count offset of the estimate from the measured count, Q16 counts.
     pub fn offset_q16(&self) -> i32 {
-        (self.offset >> 16) as i32
+        (self.offset.to_bits() >> 16) as i32
     }
     /// Q32 counts per tick.
     pub fn velocity_q32(&self) -> i64 {
-        self.velocity
+        self.velocity.to_bits()
     }
     pub fn at_rest(&self) -> bool {
         self.still_ticks >= self.still_limit

@@ -44,7 +44,7 @@ impl Follower {
     pub fn track(&mut self, target: i64, target_velocity: i64, lim: &Limits) {
         let error = target - self.position - target_velocity;
         let relative = self.velocity - target_velocity;
-        let mut dv = crate::bound(target_velocity + (error >> KF_SHIFT) - self.velocity, lim.max_accel);
+        let mut dv = crate::q16::bound(target_velocity + (error >> KF_SHIFT) - self.velocity, lim.max_accel);
         // Closing in faster than we can brake: brake at the limit.
         if relative != 0 && (relative > 0) == (error > 0) {
             // Q16 units on both sides: v² and 2·a·e both carry 2^32. With
@@ -66,12 +66,12 @@ impl Follower {
     /// Ramps the speed to zero at the acceleration limit.
     #[inline]
     pub fn ramp_down(&mut self, lim: &Limits) {
-        let dv = crate::bound(-self.velocity, lim.max_accel);
+        let dv = crate::q16::bound(-self.velocity, lim.max_accel);
         self.step(dv, lim);
     }
 
     fn step(&mut self, dv: i64, lim: &Limits) {
-        self.velocity = crate::bound(self.velocity + dv, lim.max_velocity);
+        self.velocity = crate::q16::bound(self.velocity + dv, lim.max_velocity);
         self.position += self.velocity;
     }
 
@@ -80,12 +80,13 @@ impl Follower {
     /// on its target for the controller to call itself synchronised.
     #[inline]
     pub fn arrived(&self, target: i64, target_velocity: i64, lim: &Limits) -> bool {
-        (target - self.position).abs() < 1 << 15 && (self.velocity - target_velocity).abs() <= 4 * lim.max_accel
+        (target - self.position).abs() < crate::q16::HALF
+            && (self.velocity - target_velocity).abs() <= 4 * lim.max_accel
     }
 
     /// Whole steps (rounded) of the commanded position.
     pub fn whole_steps(&self) -> i64 {
-        (self.position + (1 << 15)) >> 16
+        crate::q16::round(self.position)
     }
 }
 

@@ -1,6 +1,6 @@
 //! The exact gear: lathe counts → motor steps, rounded, with no drift ever.
 //!
-//! motor target = count × p·M / (q·E)  (issue 4, part 1). Kept as a
+//! motor target = count × p·M / (q·E). Kept as a
 //! Bresenham/DDA pair (steps, rem2) with the invariant
 //!
 //!   2·count·num = 2·steps·den + rem2,   −den ≤ rem2 < den,

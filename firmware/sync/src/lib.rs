@@ -22,17 +22,11 @@ pub mod encoder;
 pub mod estimator;
 pub mod follower;
 pub mod gear;
+pub mod q16;
 pub mod ratio;
 pub mod selftest;
 pub mod state;
 pub mod steps;
-
-/// Limits `x` to ±`limit` without the panic path of `clamp` (which
-/// asserts min ≤ max): the control tick has no reachable panic.
-#[inline(always)]
-pub(crate) fn bound(x: i64, limit: i64) -> i64 {
-    x.max(-limit).min(limit)
-}
 
 pub use config::{Config, ConfigError, DriveKind, Sense};
 pub use controller::{Controller, Refusal, Stall, Status, TickInput, TickOutput, XAxis};

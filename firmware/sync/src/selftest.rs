@@ -1,4 +1,4 @@
-//! The bench self-test's judge (issue 14, part 6). The board's TIM9 plays
+//! The bench self-test's judge. The board's TIM9 plays
 //! a lathe (`polyturn_firmware::quadgen`) into its own lathe-encoder
 //! inputs through jumper wires, and the real gearbox runs against it. The
 //! generator keeps exact books: the counts and index pulses it made, and
@@ -37,7 +37,7 @@ pub const DEFAULT_RPM: u32 = 300;
 /// The rests with checks: the profile's legs 0, 4 and 8.
 pub const RESTS: [usize; 3] = [0, 4, 8];
 /// At rest the cutter must stand within half a step of the exact target.
-pub const REST_TOLERANCE_Q16: i64 = 1 << 15;
+pub const REST_TOLERANCE_Q16: i64 = crate::q16::HALF;
 
 /// Most rpm the generator plays at `cpr` counts per revolution.
 pub const fn generator_max_rpm(cpr: u32) -> u32 {

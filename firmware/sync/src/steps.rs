@@ -119,7 +119,7 @@ impl Prev {
 /// Uses two 32-bit divisions (UDIV on Cortex-M4) per tick with steps.
 #[inline]
 pub fn plan(from: i64, to: i64, emitted: i64, prev: &Prev, t: &StepTiming) -> StepPlan {
-    let whole = (to + (1 << 15)) >> 16;
+    let whole = crate::q16::round(to);
     let wanted = whole - emitted;
     if wanted == 0 {
         return StepPlan { dir: prev.dir, ..StepPlan::default() };
@@ -140,13 +140,13 @@ pub fn plan(from: i64, to: i64, emitted: i64, prev: &Prev, t: &StepTiming) -> St
     let max_fit = 1 + (room - earliest) / min_period;
     let count = (wanted.unsigned_abs()).min(max_fit as u64) as u32;
     let travel = (to - from).unsigned_abs();
-    let on_schedule = emitted == (from + (1 << 15)) >> 16;
+    let on_schedule = emitted == crate::q16::round(from);
     let (first, first_frac, period, frac) = if on_schedule && travel > 0 && travel < 1 << 31 {
         // The first half-step boundary after `from` in the direction of motion.
         let boundary = if dir == Dir::Forward {
-            ((emitted << 16) + (1 << 15)) - from
+            (crate::q16::from_steps(emitted) + crate::q16::HALF) - from
         } else {
-            from - ((emitted << 16) - (1 << 15))
+            from - (crate::q16::from_steps(emitted) - crate::q16::HALF)
         };
         // The first step rounded to the nearest timer tick, the period to
         // 1/256 tick (so every step of the tick is within half a tick of

@@ -1,4 +1,4 @@
-//! The fake board frames lines as the firmware does (issue 27, item 18):
+//! The fake board frames lines as the firmware does:
 //! the same bound, the same untagged refusal of an over-long line, every
 //! byte kept, `cam` lines to the upload, and no unbounded buffer.
 

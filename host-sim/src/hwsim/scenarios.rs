@@ -1,4 +1,4 @@
-//! Issue 11's sweep: steady rates through the real planner and books, and
+//! The step output's sweep: steady rates through the real planner and books, and
 //! lathe motions through the whole controller, each on the peripheral
 //! model with the interrupt's latency drawn from a range.
 

@@ -1,5 +1,6 @@
-//! Smooth tool paths whose minimum is a sharp-cornered polygon (seed 004,
-//! eq. (1): the section is min over the m revolutions of f_i(θ)).
+//! Smooth tool paths whose minimum is a sharp-cornered polygon (the
+//! noncircular turning note, "Noncircular Turning of Workpieces With Sharp
+//! Corners", eq. (1): the section is min over the m revolutions of f_i(θ)).
 //!
 //! The tool's radius g(Φ) is a function of the unwrapped lathe angle Φ over
 //! m revolutions. Cut j follows side s_j = j·m mod N (Theorem 2) along the
@@ -48,7 +49,7 @@ pub trait ToolPath {
     /// where pieces of the path meet (velocity must be continuous there)
     fn junctions(&self) -> Vec<f64>;
     /// The section the path leaves at workpiece angle `phi`: the minimum
-    /// over the revolutions (seed 004, eq. (1)).
+    /// over the revolutions (the noncircular turning note, eq. (1)).
     fn section(&self, phi: f64) -> f64 {
         (0..self.revolutions()).map(|i| self.at(phi + TAU * i as f64)[0]).fold(f64::INFINITY, f64::min)
     }

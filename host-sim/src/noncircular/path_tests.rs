@@ -1,4 +1,4 @@
-//! The smooth paths against seed 004's claims: the minimum over the
+//! The smooth paths against the noncircular turning note's claims: the minimum over the
 //! revolutions is the polygon, velocity is continuous at every junction,
 //! the sides are cut in Theorem 2's order; and the fallback's fillets.
 
@@ -15,7 +15,7 @@ fn sharp(n: u32, r: f64) -> (Path, super::plan::Evaluation) {
     best_link(Polygon { sides: n, apothem_mm: r }, smallest_m(n).unwrap(), SLOW)
 }
 
-/// Tracking the polygon directly (seed 004, Fig. 3): the velocity steps
+/// Tracking the polygon directly (the noncircular turning note, Fig. 3): the velocity steps
 /// at every corner. A path the continuity check must reject.
 struct Direct(Polygon);
 

@@ -132,9 +132,9 @@ const LINK_CHOICES: u32 = 24;
 /// The sharp-cornered path whose links allow the highest lathe speed
 /// without gouging (ties: the least X travel). The links' end acceleration
 /// runs from the line's curvature (C2) down to −2× it: less lets a link
-/// turn back sooner, so it rises less and moves slower (seed 004 asks for
-/// continuous position and velocity; the acceleration may step, within
-/// the limit).
+/// turn back sooner, so it rises less and moves slower (the noncircular
+/// turning note asks for continuous position and velocity; the
+/// acceleration may step, within the limit).
 pub fn best_link(polygon: Polygon, m: u32, axis: Axis) -> (Path, Evaluation) {
     let h = polygon.half_side();
     let curvature = line(polygon.apothem_mm, h)[2];

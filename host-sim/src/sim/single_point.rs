@@ -1,4 +1,5 @@
-//! Noncircular turning in the simulator (seed 004): a single-point tool on
+//! Noncircular turning in the simulator (the noncircular turning note,
+//! "Noncircular Turning of Workpieces With Sharp Corners"): a single-point tool on
 //! the X cam, the real core with `drive=none`, the section recorded as the
 //! lowest tool radius at each workpiece angle over every revolution cut.
 

@@ -1,4 +1,4 @@
-//! The setup checks' commands (issue 14): `check-encoder`, `jog` and
+//! The setup checks' commands: `check-encoder`, `jog` and
 //! `dfu`. Replies are one line of `name=value` figures that a machinist
 //! reads and `polyturn device` parses.
 

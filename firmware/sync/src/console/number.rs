@@ -1,5 +1,5 @@
-//! The console's numbers, in the one syntax the help and the README give
-//! (issue 27, item 17): ASCII digits with no sign and no leading zero (`0`
+//! The console's numbers, in the one syntax the help and the README give:
+//! ASCII digits with no sign and no leading zero (`0`
 //! itself is fine), a `-` before them for a signed value, hex digits for a
 //! checksum. Rust's own parsers also take `+5` and `00004`, which no
 //! document shows: every field parses its numbers here instead.

@@ -1,4 +1,4 @@
-//! `selftest [start [rpm]|stop]`: the bench self-test (issue 14, part 6).
+//! `selftest [start [rpm]|stop]`: the bench self-test.
 //! One reply line of `name=value` figures; a failed test is reported as
 //! such (`ok selftest fail ...`: the command worked, the board did not).
 

@@ -35,6 +35,17 @@ fn errors_name_the_field_and_change_nothing() {
     assert_eq!(*c.config(), before);
 }
 
+/// A negative term is a ratio not greater than 0, whichever term it is,
+/// not a syntax error.
+#[test]
+fn a_negative_ratio_term_is_refused_as_not_positive() {
+    let mut c = ctl();
+    for ratio in ["-3/2", "3/-2", "-1.5"] {
+        assert_eq!(say(&mut c, &std::format!("set ratio {ratio}")).0, "error: ratio must be greater than 0", "{ratio}");
+    }
+    assert!(!say(&mut c, "set ratio 3/+2").0.contains("greater than 0"), "a plus sign is a syntax error");
+}
+
 #[test]
 fn save_only_while_idle_and_engage_refuses_while_faulted() {
     let mut c = ctl();
@@ -166,7 +177,7 @@ fn dfu_only_while_idle_and_the_reply_comes_first() {
     assert_eq!(action, Action::None);
 }
 
-/// What `polyturn device` takes as a reply (issue 27, item 3): `ok`, `ok `
+/// What `polyturn device` takes as a reply: `ok`, `ok `
 /// and more, or `error: ` and more; no command starts so, so the echo of
 /// one is never taken for its reply.
 fn is_reply(r: &str) -> bool {

@@ -300,8 +300,8 @@ pub fn check_table(h: &crate::cam_upload::CamHeader, points: &[i32]) -> Result<(
 
 /// The long half of `Controller::fit_cam`, which needs no controller: the
 /// table's points are checked (`Cam::new`, one pass over them) and the
-/// limits derived. Runs outside the tick's lock (issue 12: at boot it took
-/// about 30 000 instructions under it, eight ticks).
+/// limits derived. Runs outside the tick's lock: the check is about
+/// 30 000 instructions, eight ticks, too long to hold the tick off.
 pub fn prepare_cam(
     h: &crate::cam_upload::CamHeader,
     table: &'static [i32],

@@ -72,13 +72,14 @@ impl Controller {
         let limits = Limits::from_rates(rate_hz as u64, self.config.max_accel_steps_per_s2 as u64, tick_hz);
         // From whole steps: idle re-seats the follower on the measured
         // cutter each tick, but the tick that ended a ramp leaves it where
-        // the ramp did (found by review: a fractional target never matches
-        // the steps counted, and the jog would never end).
-        let start = self.follower.whole_steps() << 16;
+        // the ramp did (a fractional target never matches the steps
+        // counted, and the jog would never end).
+        let start = crate::q16::from_steps(self.follower.whole_steps());
         self.follower = Follower { position: start, velocity: 0 };
         let ticks = steps.unsigned_abs() * tick_hz / rate_hz as u64;
         let deadline = self.ticks + 2 * ticks + tick_hz;
-        self.jog = Some(Jog { target: start + (steps << 16), limits, deadline, lathe: self.lathe.position() });
+        let target = start + crate::q16::from_steps(steps);
+        self.jog = Some(Jog { target, limits, deadline, lathe: self.lathe.position() });
         self.state = State::Jogging;
         Ok(JogPlan { steps, rate_hz })
     }
@@ -99,7 +100,7 @@ impl Controller {
             return self.follower.ramp_down(&self.d.limits);
         }
         self.follower.track(j.target, 0, &j.limits);
-        let close = (j.target - self.follower.position).abs() < 1 << 15;
+        let close = (j.target - self.follower.position).abs() < crate::q16::HALF;
         if close && self.follower.velocity.abs() <= j.limits.max_accel {
             // within half a step and all but stopped: there
             self.follower = Follower { position: j.target, velocity: 0 };

@@ -1,4 +1,4 @@
-//! The bench self-test's hooks in the controller (issue 14, part 6): the
+//! The bench self-test's hooks in the controller: the
 //! console starts it (the firmware then starts the generator), the
 //! firmware's sampler feeds it the generator's books, and it engages the
 //! real gearbox and judges it (`crate::selftest`).

@@ -1,4 +1,4 @@
-//! The setup checks through the controller (issue 14): `jog`, and the
+//! The setup checks through the controller: `jog`, and the
 //! index pulses the encoder check counts.
 
 use super::*;
@@ -127,6 +127,23 @@ fn a_jog_stops_if_the_lathe_starts_turning() {
     // the lathe moves 5 counts (more than the slack)
     c.tick(&TickInput { lathe: 5, emitted: o.emitted, ..TickInput::default() });
     assert_eq!(c.state(), State::Disengaging);
+}
+
+/// A jog is there within half a step of its target, not at half a step:
+/// a follower that a tick leaves exactly half a step short goes on.
+#[test]
+fn a_jog_exactly_half_a_step_short_is_not_there_yet() {
+    let mut c = ctl(Config::default());
+    let target = crate::q16::from_steps(c.jog(360_000).unwrap().steps);
+    let rate = (c.config.motor_steps_per_rev / JOG_SECONDS_PER_TURN).max(1).min(c.config.max_step_rate_hz);
+    let a = Limits::from_rates(rate as u64, c.config.max_accel_steps_per_s2 as u64, c.timing.tick_hz as u64).max_accel;
+    assert!(a < 1024, "the pull is wider than an acceleration step: {a}");
+    // at rest, half a step and one acceleration step short: the tick's
+    // track moves it by that step, to exactly half a step short
+    c.follower = Follower { position: target - crate::q16::HALF - a, velocity: 0 };
+    c.step_jog(target);
+    assert_eq!((c.follower.position, c.follower.velocity), (target - crate::q16::HALF, a));
+    assert_eq!(c.state(), State::Jogging, "half a step short is not there");
 }
 
 #[test]

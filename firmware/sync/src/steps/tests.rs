@@ -85,8 +85,8 @@ proptest! {
 }
 
 /// The step after a tick boundary keeps the minimum spacing from the last
-/// step of the tick before (issue 11: a late plan once started at once,
-/// 30 timer cycles after the previous pulse).
+/// step of the tick before (a late plan started at once would put it 30
+/// timer cycles after the previous pulse).
 #[test]
 fn a_late_step_keeps_its_spacing_from_the_previous_tick() {
     // the previous tick's last step rose 100 ticks before this tick began
