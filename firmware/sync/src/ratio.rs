@@ -170,6 +170,7 @@ mod tests {
         // a negative term after the separator is not positive either, not a syntax error
         assert_eq!(Ratio::parse("2/-1"), Err(RatioError::NotPositive));
         assert_eq!(Ratio::parse("2:-3"), Err(RatioError::NotPositive));
+        assert_eq!(Ratio::parse("3/ -2"), Err(RatioError::NotPositive));
         assert_eq!(Ratio::parse("1/0"), Err(RatioError::ZeroDenominator));
         assert_eq!(Ratio::parse("abc"), Err(RatioError::Syntax));
         assert_eq!(Ratio::parse("NaN"), Err(RatioError::Syntax));

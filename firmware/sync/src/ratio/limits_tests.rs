@@ -65,9 +65,3 @@ fn a_term_is_written_as_the_documents_write_it_without_sign_or_leading_zero() {
     assert_eq!(Ratio::parse("10/20"), Ok(Ratio::new(1, 2).unwrap()), "zeros that are not leading");
     assert_eq!(Ratio::parse("0.5"), Ok(Ratio::new(1, 2).unwrap()));
 }
-
-#[test]
-fn a_negative_term_after_the_slash_is_refused_as_not_positive_not_as_syntax() {
-    assert_eq!(Ratio::parse("3/-2"), Err(RatioError::NotPositive));
-    assert_eq!(Ratio::parse("3/ -2"), Err(RatioError::NotPositive));
-}
