@@ -5,6 +5,8 @@
 //! step output (`stepgen::program`) and the settings' sector erase
 //! (`flashprog`).
 
+pub mod fields;
+
 /// One bus operation.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Op {

@@ -63,7 +63,7 @@ fn cases() -> Vec<(String, Option<&'static str>)> {
         c(format!("simulate {HEX} --rpm -inf --revolutions 1"), Some("--rpm")),
         c(format!("simulate {HEX} --rpm 600 --revolutions 1 --ripple -inf"), Some("--ripple")),
         // setups
-        // a missing flag is a sentence naming it and its alternative (issue 29)
+        // a missing flag is a sentence naming it and its alternative
         c("setups --sides 6 --stock-radius 10".into(), Some("setups needs --depth (or --across-flats)")),
         c("setups --sides 6 --depth 1".into(), Some("setups needs --stock-radius (or --stock-diameter)")),
         c("setups --sides 6 --stock-diameter 20 --stock-radius 10 --depth 1".into(), Some("--stock-diameter cannot be given with --stock-radius:")),

@@ -64,7 +64,7 @@ mod tests {
             assert_eq!(setting_error(&settings, name, value), Some(board), "{line}");
         }
         assert_eq!(setting_error(&settings, "ratio", "5/2"), None);
-        // the shop's notation, as the console takes it (issue 29)
+        // the shop's notation, as the console takes it
         assert_eq!(setting_error(&settings, "ratio", "5:2"), None);
         assert_eq!(setting_error(&settings, "ratio", "2:1"), None);
     }

@@ -6,6 +6,7 @@
 //! against ST's SVD (stm32-metapac).
 
 use super::period::Period;
+use crate::regs::fields::{ccer, ccmr1, cr1, dier, egr, sr};
 pub use crate::regs::{apply, Bus, Op};
 
 pub const TIM9: u32 = 0x4001_4000;
@@ -30,31 +31,31 @@ pub const INDEX_PIN: u32 = 4;
 // generates an update interrupt", so the UG below raises none. OPM: "counter
 // stops counting at the next update event (clearing the bit CEN)". ARPE:
 // "TIMx_ARR register is buffered": the new ARR is taken at the update event.
-const CEN: u32 = 1 << 0;
-const URS: u32 = 1 << 2;
-const OPM: u32 = 1 << 3;
-const ARPE: u32 = 1 << 7;
+const CEN: u32 = cr1::CEN.mask();
+const URS: u32 = cr1::URS.mask();
+const OPM: u32 = cr1::OPM.mask();
+const ARPE: u32 = cr1::ARPE.mask();
 const CR1_STOPPED: u32 = ARPE | URS;
 // TIM9_DIER.UIE (§14.4.3): the update interrupt (vector TIM1_BRK_TIM9).
-const UIE: u32 = 1 << 0;
+const UIE: u32 = dier::UIE.mask();
 // TIM9_EGR.UG (§14.4.5): "re-initialize the counter and generates an update
 // of the registers": PSC, ARR and (with OCxPE) CCRx shadows loaded, CNT = 0.
-const UG: u32 = 1 << 0;
+const UG: u32 = egr::UG.mask();
 // TIM9_CCMR1, output mode (§14.4.6): OC1M bits 6:4, OC1PE bit 3, OC2M bits
 // 14:12, OC2PE bit 11; CCxS = 00, output. OCxM = 011 toggle ("OC1REF toggles
 // when TIMx_CNT = TIMx_CCR1"), 100 force inactive ("OC1REF is forced low").
 // OCxPE: "TIMx_CCR1 preload value is loaded in the active register at each
 // update event".
-const OC1_TOGGLE: u32 = 0b011 << 4;
-const OC2_TOGGLE: u32 = 0b011 << 12;
-const OC1_LOW: u32 = 0b100 << 4;
-const OC2_LOW: u32 = 0b100 << 12;
-const PRELOADS: u32 = (1 << 3) | (1 << 11);
+const OC1_TOGGLE: u32 = ccmr1::OC1M.val(ccmr1::TOGGLE);
+const OC2_TOGGLE: u32 = ccmr1::OC2M.val(ccmr1::TOGGLE);
+const OC1_LOW: u32 = ccmr1::OC1M.val(ccmr1::FORCE_INACTIVE);
+const OC2_LOW: u32 = ccmr1::OC2M.val(ccmr1::FORCE_INACTIVE);
+const PRELOADS: u32 = ccmr1::OC1PE.mask() | ccmr1::OC2PE.mask();
 pub const CCMR1_LOW: u32 = OC1_LOW | OC2_LOW | PRELOADS;
 pub const CCMR1_TOGGLE: u32 = OC1_TOGGLE | OC2_TOGGLE | PRELOADS;
 // TIM9_CCER (§14.4.7): CC1E bit 0, CC2E bit 4 ("OC1 signal is output on the
 // corresponding output pin"); CCxP = 0, active high.
-const CC1E_CC2E: u32 = (1 << 0) | (1 << 4);
+const CC1E_CC2E: u32 = ccer::CC1E.mask() | ccer::CC2E.mask();
 
 /// The index level for the period that just started.
 pub const fn index(high: bool) -> Op {
@@ -62,7 +63,7 @@ pub const fn index(high: bool) -> Op {
 }
 
 /// TIM9_SR.UIF (§14.4.4): "set by hardware on an update event".
-pub const UIF: u32 = 1 << 0;
+pub const UIF: u32 = sr::UIF.mask();
 
 /// Clears UIF (SR is rc_w0, §14.4.4: writing 0 clears every flag, and no
 /// other flag is used).

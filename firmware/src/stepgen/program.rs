@@ -8,6 +8,7 @@
 //! register descriptions of the same chapters; the model's tests check
 //! them against ST's SVD (stm32-metapac).
 
+use crate::regs::fields::{bdtr, ccer, ccmr1, cr1, cr2, dcr, dier, dma_cr, egr, hifcr, smcr, sr};
 pub use crate::regs::{apply, Bus, Op};
 
 pub const TIM1: u32 = 0x4001_0000;
@@ -45,46 +46,52 @@ pub const S5FCR: u32 = DMA2 + 0x24 + 0x18 * 5;
 // TIMx_CR1 (§12.4.1). URS: only an overflow sets UIF and requests DMA, so
 // a UG never starts a burst (UIF set by a UG could otherwise request one
 // the moment UDE is set)
-const CEN: u32 = 1 << 0;
+const CEN: u32 = cr1::CEN.mask();
 /// TIMx_SR.UIF (§12.4.5): set by every update event the counter makes
-pub const UIF: u32 = 1 << 0;
-const URS: u32 = 1 << 2;
-const ARPE: u32 = 1 << 7;
+pub const UIF: u32 = sr::UIF.mask();
+const URS: u32 = cr1::URS.mask();
+const ARPE: u32 = cr1::ARPE.mask();
 const CR1_STOPPED: u32 = ARPE | URS;
 // TIMx_CR2.MMS = 100: OC1REF is TRGO (§12.4.2), TIM2 counts it
-const MMS_OC1REF: u32 = 0b100 << 4;
+const MMS_OC1REF: u32 = cr2::MMS.val(cr2::MMS_OC1REF);
 // TIMx_SMCR (§13.4.3): SMS = 111 external clock mode 1, TS = 000 ITR0 (TIM1)
-const SMS_ECM1: u32 = 0b111;
+const SMS_ECM1: u32 = smcr::SMS.val(smcr::SMS_EXT_CLOCK_1) | smcr::TS.val(0);
 // TIMx_DIER.UDE (§12.4.4)
-const UDE: u32 = 1 << 8;
+const UDE: u32 = dier::UDE.mask();
 // TIMx_EGR.UG (§12.4.6)
-const UG: u32 = 1 << 0;
+const UG: u32 = egr::UG.mask();
 // TIMx_CCMR1 output (§12.4.7): OC1M bits 6:4, OC1PE bit 3, OC2M 14:12, OC2PE 11
-const OC1_PWM2: u32 = 0b111 << 4;
-const OC1_FORCE_LOW: u32 = 0b100 << 4;
-const OC2_PWM1: u32 = 0b110 << 12;
-const PRELOADS: u32 = (1 << 3) | (1 << 11);
+const OC1_PWM2: u32 = ccmr1::OC1M.val(ccmr1::PWM2);
+const OC1_FORCE_LOW: u32 = ccmr1::OC1M.val(ccmr1::FORCE_INACTIVE);
+const OC2_PWM1: u32 = ccmr1::OC2M.val(ccmr1::PWM1);
+const PRELOADS: u32 = ccmr1::OC1PE.mask() | ccmr1::OC2PE.mask();
 /// STEP in PWM mode 2 (low until CCR1, then high to the end of the
 /// segment); DIR in PWM mode 1 (high while CNT < CCR2)
 pub const CCMR1_RUN: u32 = OC1_PWM2 | OC2_PWM1 | PRELOADS;
 /// STEP forced low at once; DIR unchanged
 pub const CCMR1_HALT: u32 = OC1_FORCE_LOW | OC2_PWM1 | PRELOADS;
 // TIMx_CCER (§12.4.9): CC1E bit 0, CC2E bit 4, active high
-const CC1E_CC2E: u32 = (1 << 0) | (1 << 4);
+const CC1E_CC2E: u32 = ccer::CC1E.mask() | ccer::CC2E.mask();
 // TIMx_BDTR.MOE (§12.4.18): an advanced timer's outputs need it
-const MOE: u32 = 1 << 15;
+const MOE: u32 = bdtr::MOE.mask();
 /// TIMx_DCR (§12.4.19): DMA bursts start at PSC (offset 0x28 / 4 = 10) and
 /// write 5 registers: PSC, ARR, RCR, CCR1, CCR2 (`entries::Entry::words`)
-pub const DCR_BURST: u32 = (4 << 8) | (PSC / 4);
+pub const DCR_BURST: u32 = dcr::DBL.val(BURST_WORDS - 1) | dcr::DBA.val(PSC / 4);
 pub const BURST_WORDS: u32 = 5;
 
 /// DMA2_S5CR (§9.5.5): channel 6 (TIM1_UP on stream 5, table 28), very
 /// high priority, words from memory (incremented) to the peripheral,
 /// circular.
-pub const S5CR_RUN: u32 = (6 << 25) | (0b11 << 16) | (0b10 << 13) | (0b10 << 11) | (1 << 10) | (1 << 8) | (0b01 << 6);
-pub const DMA_EN: u32 = 1 << 0;
+pub const S5CR_RUN: u32 = dma_cr::CHSEL.val(6)
+    | dma_cr::PL.val(dma_cr::PL_VERY_HIGH)
+    | dma_cr::MSIZE.val(dma_cr::SIZE_WORD)
+    | dma_cr::PSIZE.val(dma_cr::SIZE_WORD)
+    | dma_cr::MINC.mask()
+    | dma_cr::CIRC.mask()
+    | dma_cr::DIR.val(dma_cr::DIR_M2P);
+pub const DMA_EN: u32 = dma_cr::EN.mask();
 /// HIFCR: clear every flag of stream 5 (bits 6, 8–11)
-const STREAM5_FLAGS: u32 = 0b1111 << 8 | 1 << 6;
+const STREAM5_FLAGS: u32 = hifcr::CDMEIF5_TO_CTCIF5.mask() | hifcr::CFEIF5.mask();
 
 /// TIM2 counts TIM1's OC1REF rising edges: every STEP pulse.
 pub const COUNTER_INIT: [Op; 3] =

@@ -22,7 +22,7 @@ pub enum DriveKind {
     Stepper,
     /// a velocity-driven spindle with its own encoder
     Bldc,
-    /// no rotating cutter: a single-point tool on the X cam (seed 004's
+    /// no rotating cutter: a single-point tool on the X cam (the note on
     /// noncircular turning); the gear still runs, its output stays off
     None,
 }

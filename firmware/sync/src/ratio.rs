@@ -1,7 +1,7 @@
 //! An exact gear ratio GR = p/q between the cutter and the lathe.
 //!
-//! Foale (seed 000, "five basic variables", item 2) and Ghionea (seed 003,
-//! eq. 1: i = n_T/n_p = z_p/z_T) both define the ratio as cutter turns per
+//! Foale ("Turning polygons on a lathe", 2022: "five basic variables", item
+//! 2) and Ghionea et al. (eq. 1: i = n_T/n_p = z_p/z_T) both define the ratio as cutter turns per
 //! lathe turn. It may be fractional: the work gets N = numerator(GR·Z) flats.
 
 /// Largest numerator or denominator accepted after reduction.
@@ -74,7 +74,7 @@ impl Ratio {
     }
 
     /// Parses `2`, `11/3`, `11:3` or `2.5` (an exact decimal: 2.5 = 5/2).
-    /// `p:q` is the shop's way of writing p/q (issue 29); a second
+    /// `p:q` is the shop's way of writing p/q (`2:1`); a second
     /// separator of either kind lands in a term, which refuses it.
     pub fn parse(text: &str) -> Result<Ratio, RatioError> {
         let text = text.trim();

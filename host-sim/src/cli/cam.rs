@@ -1,5 +1,5 @@
 //! `polyturn cam`: smooth single-point tool paths for a sharp-cornered
-//! polygon (seed 004), checked against the X axis, and the cam table.
+//! polygon (the noncircular turning note), checked against the X axis, and the cam table.
 
 mod request;
 
@@ -48,7 +48,7 @@ pub struct CamArgs {
     /// The X axis's top acceleration, mm/s^2 (> 0, <= 1000000)
     #[arg(long, value_name = "MM/S^2", allow_hyphen_values = true, value_parser = within(0.001, 1e6, "mm/s^2"))]
     pub x_max_accel: f64,
-    /// Lathe turns per pattern m: 2..=N-1 and at most 128, co-prime with N (seed 004, Theorem 2). The cuts set the top speed, not m: m + N cuts the sides in the same order in N more turns, and past 128 a cut gets under 8 of the table's 1024 points [default: the smallest valid]
+    /// Lathe turns per pattern m: 2..=N-1 and at most 128, co-prime with N (the noncircular turning note's Theorem 2). The cuts set the top speed, not m: m + N cuts the sides in the same order in N more turns, and past 128 a cut gets under 8 of the table's 1024 points [default: the smallest valid]
     #[arg(long, value_name = "M", allow_hyphen_values = true, value_parser = turns)]
     pub m: Option<u32>,
     /// X axis steps per mm of tool radius (1..=100000: a 1 mm screw, 200-step motor at 256 microsteps is 51200; under 1 a step is more than ten times the 0.1 mm a table may be off)

@@ -1,4 +1,4 @@
-//! The setup's arithmetic (issue 14), apart from any port or prompt: the
+//! The setup's arithmetic, apart from any port or prompt: the
 //! encoder check's reply, the proposals made from it, the motor's steps
 //! per cutter turn, the sense setting, and the fastest lathe speed each
 //! ratio allows. Everything exact (integers and reduced fractions).

@@ -57,8 +57,8 @@ pub fn run(a: GeometryArgs) -> CliResult<String> {
 
 /// A circle has N "flats" too, each bulging R(1 - cos(pi/N)) from its
 /// chord. A section whose flats bulge more than half that is round to the
-/// eye and the finger: not reported as a polygon (issue 13: a 0.002 mm
-/// cutter's shaved circle came out as 6 sharp sides).
+/// eye and the finger: not reported as a polygon (else a 0.002 mm
+/// cutter's shaved circle would come out as 6 sharp sides).
 pub const ROUND_FRACTION: f64 = 0.5;
 
 pub(super) fn not_round(s: &SectionSummary) -> CliResult<()> {

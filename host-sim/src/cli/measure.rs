@@ -1,4 +1,4 @@
-//! The stock and the cut as a machinist measures them (issue 29): calipers
+//! The stock and the cut as a machinist measures them: calipers
 //! read diameters and across-flats, so the stock is given by its radius or
 //! its diameter, and the cut by its depth or the across-flats wanted,
 //! exactly one of each. `geometry`, `simulate`, `compensate` and `setups`

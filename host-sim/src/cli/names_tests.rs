@@ -1,4 +1,4 @@
-//! One name per idea across the commands (issue 29): `--direction` (the
+//! One name per idea across the commands: `--direction` (the
 //! console's `dir`), `--encoder-cpr` (the console's `cpr`), pulse widths
 //! in ns (the console's `pulse` and `dir-setup`), and ratios as the shop
 //! writes them. The old spellings are hidden aliases that still work.

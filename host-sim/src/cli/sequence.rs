@@ -1,5 +1,5 @@
 //! `polyturn sequence`: the order in which a single-point tool cuts the
-//! sides of a sharp-cornered polygon (seed 004, Theorem 2).
+//! sides of a sharp-cornered polygon (the noncircular turning note, Theorem 2).
 
 use super::errors::{CliError, CliResult};
 use super::values::whole32;
@@ -11,7 +11,7 @@ pub struct SequenceArgs {
     /// Sides N of the polygon (3..=10000)
     #[arg(long, value_name = "N", value_parser = whole32(3, 10_000))]
     pub sides: u32,
-    /// Lathe turns per pattern m: >= 2, coprime with --sides, not 1 more than a multiple of it (seed 004, Theorem 2) [default: the smallest]
+    /// Lathe turns per pattern m: >= 2, coprime with --sides, not 1 more than a multiple of it (the noncircular turning note, Theorem 2) [default: the smallest]
     #[arg(long, value_name = "M", value_parser = whole32(0, 1_000_000))]
     pub m: Option<u32>,
     /// Print the order as JSON

@@ -1,6 +1,6 @@
 //! The six variables of a setup as flags, shared by `geometry`,
 //! `simulate` and `compensate` (moved out of `geometry.rs` when the stock
-//! and the cut took their machinist's alternatives, issue 29).
+//! and the cut took their machinist's alternatives).
 
 use super::errors::{CliError, CliResult};
 use super::geometry::not_round;

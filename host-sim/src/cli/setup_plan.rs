@@ -1,4 +1,4 @@
-//! The guided setup's arithmetic (issue 14): the physical facts a
+//! The guided setup's arithmetic: the physical facts a
 //! machinist knows (encoder lines, motor steps, microsteps, belt, top
 //! speed), the settings they make and what those mean. No board here:
 //! `polyturn device setup` asks and sends, and the web page's form sends

@@ -1,5 +1,5 @@
 //! `polyturn setups`: which setups cut the polygon you want, what it
-//! assumed, what to run next and what to beware of (issue 29).
+//! assumed, what to run next and what to beware of.
 
 mod advice;
 #[cfg(test)]

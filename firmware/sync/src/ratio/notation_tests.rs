@@ -1,4 +1,4 @@
-//! The shop's notation (issue 29): `2:1` and `11:3` are the same ratios as
+//! The shop's notation: `2:1` and `11:3` are the same ratios as
 //! `2/1` and `11/3`, and `:` is refused wherever `/` is.
 
 use super::*;

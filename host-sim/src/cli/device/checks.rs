@@ -1,5 +1,5 @@
 //! `polyturn device check-encoder` and `jog`: the board's checks, with the
-//! machinist's part asked for and the result explained (issue 14).
+//! machinist's part asked for and the result explained.
 
 use super::figures::{self, EncoderFigures};
 use super::prompt::Ask;

@@ -1,4 +1,4 @@
-//! `polyturn device setup`: the guided setup (issue 14). It asks only
+//! `polyturn device setup`: the guided setup. It asks only
 //! physical facts (the encoder, the motor and its driver, the belt, the
 //! lathe's top speed), runs the encoder check and a jog on the board,
 //! derives the settings, sends them in an order the board accepts, shows

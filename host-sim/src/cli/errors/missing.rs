@@ -1,4 +1,4 @@
-//! Missing flags as a sentence (issue 29): `geometry needs --cutter-radius,
+//! Missing flags as a sentence: `geometry needs --cutter-radius,
 //! --stock-radius (or --stock-diameter) and --ratio`, in the order `--help`
 //! lists them, each with its alternatives, where clap says `--a and --b is
 //! required` and names only the first flag of a group.

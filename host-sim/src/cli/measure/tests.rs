@@ -1,4 +1,4 @@
-//! The stock and the cut as measured (issue 29): a diameter is the same
+//! The stock and the cut as measured: a diameter is the same
 //! stock as half its radius, an across-flats the same cut as its depth,
 //! on every command that takes them, and exactly one of each is taken.
 

@@ -1,4 +1,4 @@
-//! What `setups` warns of (issue 29, item 4): figures a machinist should
+//! What `setups` warns of: figures a machinist should
 //! not take as a setup. A warning is a line, not a refusal: the table is
 //! still the truth about the geometry, and exit status stays 0.
 
@@ -9,7 +9,7 @@ use polyturn_sync::Config;
 /// turns in the space the lathe swings the work in, so its diameter is
 /// bounded by the swing over the bed: 500 mm is a 20-inch lathe's, larger
 /// than any home lathe (their swings are about 180 to 360 mm). A smallest
-/// R1 past it (1470 mm, issue 29) is a wheel no lathe here can turn.
+/// R1 past it (1470 mm for some setups) is a wheel no lathe here can turn.
 pub const MAX_CUTTER_RADIUS_MM: f64 = 250.0;
 
 /// `--max-tip-speed`'s default, m/s (the issue's figure): 1200 m/min is

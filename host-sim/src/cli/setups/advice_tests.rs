@@ -1,4 +1,4 @@
-//! `setups` warns of figures no lathe here can take (issue 29, item 4):
+//! `setups` warns of figures no lathe here can take:
 //! tip speeds, cutter speeds and cutters past what a lathe swings, each a
 //! `warning:` line with exit 0, and each row's own in the JSON.
 

@@ -1,4 +1,4 @@
-//! What the planner assumed, said (issue 29, item 4): the cutter radius
+//! What the planner assumed, said: the cutter radius
 //! the figures are for and why, and what each "-" in the table means.
 
 use crate::planner::{default_cutter, Candidate, Request, MIN_CUTTER_SCAN as MIN_R1_SCAN};

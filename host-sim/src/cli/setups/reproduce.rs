@@ -1,4 +1,4 @@
-//! The command lines that reproduce a row (issue 29): a machinist's next
+//! The command lines that reproduce a row: a machinist's next
 //! steps are `geometry` to see the section and `simulate` to prove it.
 //! Each line is checked as the CLI would take it, so a line that would be
 //! refused is never printed as if it would run.

@@ -1,5 +1,5 @@
 //! `setups` says what it assumed, what to run next and what to beware of
-//! (issue 29), and still exits 0 with its table.
+//!, and still exits 0 with its table.
 
 use crate::cli::dispatch;
 use serde_json::Value;
