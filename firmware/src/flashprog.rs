@@ -8,6 +8,7 @@
 //! the flash interface (`polyturn_stm32_model::flash`, tests/flash_erase.rs).
 
 use crate::board::SYSCLK_HZ;
+use crate::regs::fields::{flash_cr, flash_sr};
 use crate::regs::Op;
 
 /// FLASH interface registers (RM0383 §2.3 Table 1, §3.8.7 register map;
@@ -21,15 +22,20 @@ pub const KEY1: u32 = 0x4567_0123;
 pub const KEY2: u32 = 0xCDEF_89AB;
 /// FLASH_SR (§3.8.4): EOP, the error flags (OPERR, WRPERR, PGAERR, PGPERR,
 /// PGSERR, RDERR), BSY.
-pub const SR_EOP: u32 = 1 << 0;
-pub const SR_ERRORS: u32 = 0b1_1111_0010;
-pub const SR_BSY: u32 = 1 << 16;
+pub const SR_EOP: u32 = flash_sr::EOP.mask();
+pub const SR_ERRORS: u32 = flash_sr::OPERR.mask()
+    | flash_sr::WRPERR.mask()
+    | flash_sr::PGAERR.mask()
+    | flash_sr::PGPERR.mask()
+    | flash_sr::PGSERR.mask()
+    | flash_sr::RDERR.mask();
+pub const SR_BSY: u32 = flash_sr::BSY.mask();
 /// FLASH_CR (§3.8.5).
-pub const CR_SER: u32 = 1 << 1;
-pub const CR_SNB_SHIFT: u32 = 3;
-pub const CR_PSIZE_X32: u32 = 0b10 << 8;
-pub const CR_STRT: u32 = 1 << 16;
-pub const CR_LOCK: u32 = 1 << 31;
+pub const CR_SER: u32 = flash_cr::SER.mask();
+pub const CR_SNB_SHIFT: u32 = flash_cr::SNB.shift;
+pub const CR_PSIZE_X32: u32 = flash_cr::PSIZE.val(flash_cr::PSIZE_X32);
+pub const CR_STRT: u32 = flash_cr::STRT.mask();
+pub const CR_LOCK: u32 = flash_cr::LOCK.mask();
 
 /// The sectors a program may erase: the settings' two (§3.3 Table 4;
 /// `memory.x` keeps the code in sectors 0 to 5).
@@ -66,7 +72,15 @@ pub const LOCK: [Op; 1] = [Op::Write(CR, CR_LOCK)];
 /// `regs::apply` names the step that failed: a BSY wait (index 3 or 7) or
 /// the final error check (index 9); then apply `LOCK`.
 pub fn erase_sector(sector: SettingsSector) -> [Op; 10] {
-    let cr = CR_PSIZE_X32 | CR_SER | (sector as u32) << CR_SNB_SHIFT;
+    // the sector's number in SNB, as constants (a field's `val` checks its
+    // width at compile time; nothing here can panic at run time)
+    const SNB_6: u32 = flash_cr::SNB.val(6);
+    const SNB_7: u32 = flash_cr::SNB.val(7);
+    let snb = match sector {
+        SettingsSector::Six => SNB_6,
+        SettingsSector::Seven => SNB_7,
+    };
+    let cr = CR_PSIZE_X32 | CR_SER | snb;
     [
         // Locked first: keys written to an unlocked FLASH_CR are a wrong
         // sequence, a bus error that locks it until reset (§3.5.1); setting

@@ -128,3 +128,28 @@ pub mod hifcr {
     pub const CFEIF5: Field = Field::bit(6);
     pub const CDMEIF5_TO_CTCIF5: Field = Field::new(8, 4);
 }
+
+/// FLASH_SR (§3.8.4): end of operation, the error flags, busy
+pub mod flash_sr {
+    use super::Field;
+    pub const EOP: Field = Field::bit(0);
+    pub const OPERR: Field = Field::bit(1);
+    pub const WRPERR: Field = Field::bit(4);
+    pub const PGAERR: Field = Field::bit(5);
+    pub const PGPERR: Field = Field::bit(6);
+    pub const PGSERR: Field = Field::bit(7);
+    /// PCROP read error (RM0383 §3.8.4; not in the SVD the tests check against)
+    pub const RDERR: Field = Field::bit(8);
+    pub const BSY: Field = Field::bit(16);
+}
+
+/// FLASH_CR (§3.8.5): sector erase, its sector, the program size, start, lock
+pub mod flash_cr {
+    use super::Field;
+    pub const SER: Field = Field::bit(1);
+    pub const SNB: Field = Field::new(3, 4);
+    pub const PSIZE: Field = Field::new(8, 2);
+    pub const PSIZE_X32: u32 = 0b10;
+    pub const STRT: Field = Field::bit(16);
+    pub const LOCK: Field = Field::bit(31);
+}
