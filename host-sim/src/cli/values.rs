@@ -10,14 +10,6 @@ use polyturn_sync::{DriveKind, Ratio};
 pub trait Parser<T>: Fn(&str) -> Result<T, String> + Clone + Send + Sync + 'static {}
 impl<T, F: Fn(&str) -> Result<T, String> + Clone + Send + Sync + 'static> Parser<T> for F {}
 
-/// A finite number in (lo, hi] with its unit.
-pub fn above(lo: f64, hi: f64, unit: &'static str) -> impl Parser<f64> {
-    move |s: &str| match s.trim().parse::<f64>() {
-        Ok(v) if v.is_finite() && v > lo && v <= hi => Ok(v),
-        _ => Err(format!("must be a finite number > {lo} and <= {hi}{}", spaced(unit))),
-    }
-}
-
 /// A finite number in [lo, hi] with its unit.
 pub fn within(lo: f64, hi: f64, unit: &'static str) -> impl Parser<f64> {
     move |s: &str| match s.trim().parse::<f64>() {
