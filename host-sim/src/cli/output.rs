@@ -173,6 +173,7 @@ fn keep_mode(path: &Path, tmp: &Path) -> std::io::Result<()> {
     }
 }
 
+#[cfg(not(target_family = "wasm"))]
 fn temporary(path: &Path) -> PathBuf {
     let name = path.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
     path.with_file_name(format!(".{name}.polyturn-{}.tmp", std::process::id()))
