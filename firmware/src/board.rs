@@ -6,7 +6,7 @@
 
 /// One pin assignment: the signal, the MCU pin, its role, and how the
 /// firmware configures it (checked against the registers the real image
-/// writes by `.ci/emu`, through `examples/expected_registers.rs`).
+/// writes by `.ci/emu`: `emu/src/checks.rs` reads this table).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct Pin {
     pub signal: &'static str,

@@ -5,7 +5,7 @@
 
 mod bldc;
 mod cut;
-mod encoder;
+pub mod encoder;
 pub mod lathe;
 pub mod report;
 mod rng;

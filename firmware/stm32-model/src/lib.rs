@@ -37,6 +37,7 @@
 
 pub mod addr;
 pub mod bits;
+pub mod chip;
 mod dma;
 pub mod encoder;
 pub mod flash;

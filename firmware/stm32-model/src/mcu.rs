@@ -187,17 +187,28 @@ impl Mcu {
             && self.tim2.idle(self.tim1.quiet_trgo());
     }
 
+    /// Cycles from now in which only counters advance: no flag, request, transfer or
+    /// pin edge. An emulator runs the CPU that long before it looks at the
+    /// interrupt lines again (`emu/`).
+    pub fn quiet_cycles(&self) -> u64 {
+        self.tim1
+            .quiet_cycles()
+            .min(self.tim2.quiet_cycles(self.tim1.quiet_trgo()))
+            .min(self.tim11.quiet_cycles())
+            .min(self.tim9.quiet_cycles())
+            .min(self.dma.quiet_cycles(self.cycle))
+    }
+
+    /// The SRAM the DMA reads, for an emulator to map as the CPU's RAM. The buffer
+    /// never moves (it is allocated once, in `new`).
+    pub fn sram_mut_ptr(&mut self) -> *mut u8 {
+        self.sram.as_mut_ptr()
+    }
+
     /// Step to `cycle`, skipping stretches where only counters advance.
     pub fn run_until(&mut self, cycle: u64) {
         while self.cycle < cycle {
-            let quiet = self
-                .tim1
-                .quiet_cycles()
-                .min(self.tim2.quiet_cycles(self.tim1.quiet_trgo()))
-                .min(self.tim11.quiet_cycles())
-                .min(self.tim9.quiet_cycles())
-                .min(self.dma.quiet_cycles(self.cycle))
-                .min(cycle - self.cycle);
+            let quiet = self.quiet_cycles().min(cycle - self.cycle);
             if quiet == 0 {
                 self.step();
             } else {

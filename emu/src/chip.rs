@@ -1,0 +1,203 @@
+//! The STM32F411CE as the firmware sees it: every model at its SVD base address.
+//! TIM1, TIM2, TIM9, TIM11 and DMA2 stream 5 are the cycle-exact [`Mcu`]; the rest
+//! are `polyturn_stm32_model::chip`'s event-driven models. An access to an address
+//! no model claims stops the run with its address and the function it came from,
+//! except the short list in [`ZERO_READS`].
+
+mod bus;
+mod lines;
+pub mod pins;
+mod usb;
+
+use crate::svd;
+use polyturn_stm32_model::chip::{exti, gpio::Port, gptimer::GpTimer, iwdg::Iwdg, nvic::Nvic, rcc, RegFile};
+use polyturn_stm32_model::flash::{EraseTime, Flash};
+use polyturn_stm32_model::{Mcu, Params};
+
+/// Reads that answer 0 without a model, each with why it is harmless: the ROM's
+/// unique ID and flash-size words (RM0383 §24.1, §24.2), which only name the board.
+pub const ZERO_READS: &[(u32, u32, &str)] = &[(0x1FFF_7A10, 0x1FFF_7A24, "unique ID and flash size (§24)")];
+
+/// The peripherals on the bus, in the order of `Chip::map`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Periph {
+    Mcu,
+    Rcc,
+    Pwr,
+    FlashIf,
+    Syscfg,
+    Exti,
+    Gpio(usize),
+    Gp(usize),
+    Iwdg,
+    Usb,
+    Ppb,
+}
+
+pub struct Chip {
+    pub mcu: Mcu,
+    pub rcc: rcc::Rcc,
+    pub pwr: RegFile,
+    pub flash_regs: RegFile,
+    pub flash: Flash,
+    flash_ns: (u64, u64),
+    pub syscfg: exti::Syscfg,
+    pub exti: exti::Exti,
+    /// GPIOA, GPIOB, GPIOC
+    pub gpio: [Port; 3],
+    /// TIM3, TIM4, TIM5, TIM10
+    pub gp: [GpTimer; 4],
+    pub iwdg: Iwdg,
+    pub usb: usb::UsbStub,
+    pub nvic: Nvic,
+    map: Vec<(u32, u32, Periph)>,
+    /// CPU cycles (= instructions, see `machine`) so far, and at the start of the
+    /// block running now (what an MMIO access sees)
+    pub now: u64,
+    pub blk: u64,
+    pub faults: Vec<(u64, String)>,
+    /// exceptions being handled, outermost first
+    pub active: Vec<usize>,
+    /// the function the current block is in (for messages), set by the machine
+    pub pc: u32,
+    /// the run stops at the first block boundary at or after this cycle
+    pub deadline: u64,
+    /// where to resume after a stop at a block boundary
+    pub resume: Option<u32>,
+    /// the flash's bytes as mapped, and the instruction count of each block seen
+    pub code: Vec<u8>,
+    blocks: std::collections::HashMap<(u32, u32), u64>,
+    /// times each exception was entered, by number
+    pub entries: std::collections::HashMap<usize, u64>,
+    pub probe: crate::probe::Probe,
+    pub primask: crate::primask::PrimaskLog,
+}
+
+pub const GP_NAMES: [&str; 4] = ["TIM3", "TIM4", "TIM5", "TIM10"];
+
+impl Chip {
+    pub fn new(params: Params) -> Chip {
+        let mut map = vec![
+            (polyturn_stm32_model::addr::TIM1, 0x400, Periph::Mcu),
+            (polyturn_stm32_model::addr::TIM2, 0x400, Periph::Mcu),
+            (polyturn_stm32_model::addr::TIM9, 0x400, Periph::Mcu),
+            (polyturn_stm32_model::addr::TIM11, 0x400, Periph::Mcu),
+            (polyturn_stm32_model::addr::DMA2, 0x400, Periph::Mcu),
+            (svd::base("RCC"), 0x400, Periph::Rcc),
+            (svd::base("PWR"), 0x400, Periph::Pwr),
+            (svd::base("FLASH"), 0x400, Periph::FlashIf),
+            (svd::base("SYSCFG"), 0x400, Periph::Syscfg),
+            (svd::base("EXTI"), 0x400, Periph::Exti),
+            (svd::base("IWDG"), 0x400, Periph::Iwdg),
+            (svd::base("USB_OTG_FS"), 0x4_0000, Periph::Usb),
+            (0xE000_0000, 0x10_0000, Periph::Ppb),
+        ];
+        for (i, p) in ["GPIOA", "GPIOB", "GPIOC"].iter().enumerate() {
+            map.push((svd::base(p), 0x400, Periph::Gpio(i)));
+        }
+        for (i, t) in GP_NAMES.iter().enumerate() {
+            map.push((svd::base(t), 0x400, Periph::Gp(i)));
+        }
+        map.sort_by_key(|m| m.0);
+        Chip {
+            mcu: Mcu::new(params),
+            rcc: rcc::Rcc::default(),
+            pwr: rcc::pwr_reset(),
+            // §3.8.7: FLASH_OPTCR resets to 0x0FFF_AAED
+            flash_regs: RegFile::new(&[(0x14, 0x0FFF_AAED)]),
+            flash: Flash::new(EraseTime::Typical),
+            flash_ns: (0, 0),
+            syscfg: exti::Syscfg::default(),
+            exti: exti::Exti::default(),
+            gpio: [Port::new('A'), Port::new('B'), Port::new('C')],
+            // TIM3/TIM4 16-bit, TIM5 32-bit (§13.1), TIM10 one channel (§14.1)
+            gp: [GpTimer::new(16, 4), GpTimer::new(16, 4), GpTimer::new(32, 4), GpTimer::new(16, 1)],
+            iwdg: Iwdg::default(),
+            usb: usb::UsbStub::default(),
+            nvic: Nvic::default(),
+            map,
+            now: 0,
+            blk: 0,
+            faults: Vec::new(),
+            active: Vec::new(),
+            pc: 0,
+            deadline: 0,
+            resume: None,
+            code: Vec::new(),
+            blocks: Default::default(),
+            entries: Default::default(),
+            probe: Default::default(),
+            primask: Default::default(),
+        }
+    }
+
+    pub fn sysclk(&self) -> u64 {
+        self.rcc.sysclk()
+    }
+
+    /// The kernel clock of general-purpose timer `i`: TIM3/4/5 on APB1, TIM10 on APB2.
+    fn gp_clk(&self, i: usize) -> u64 {
+        if i == 3 {
+            self.rcc.apb2().1
+        } else {
+            self.rcc.apb1().1
+        }
+    }
+
+    /// Every time-dependent model brought to the time an access in this block sees.
+    pub fn sync(&mut self) {
+        let t = self.blk;
+        let sysclk = self.sysclk();
+        for i in 0..4 {
+            let clk = self.gp_clk(i);
+            self.gp[i].advance(t, sysclk, clk);
+        }
+        self.mcu_run(t);
+        // the flash interface keeps nanoseconds: cycles at the clock of the moment
+        let (at, ns) = self.flash_ns;
+        let ns = ns + (t - at) * 1_000_000_000 / sysclk;
+        self.flash_ns = (t, ns);
+        let d = ns.saturating_sub(self.flash.now_ns());
+        self.flash.advance_ns(d);
+    }
+
+    /// The next CPU cycle at which a model raises a flag, if any.
+    pub fn next_event(&self) -> Option<u64> {
+        let sysclk = self.sysclk();
+        let gp = (0..4).filter_map(|i| self.gp[i].next_event(sysclk, self.gp_clk(i)));
+        let quiet = self.mcu.quiet_cycles();
+        let mcu = (quiet < u64::MAX / 2).then(|| self.mcu.cycle() + quiet.max(1));
+        gp.chain(mcu).min()
+    }
+
+    pub fn fault(&mut self, text: String) {
+        self.faults.push((self.now, text));
+        self.deadline = 0;
+    }
+
+    /// Models brought to the end of the last block (between runs).
+    pub fn sync_to_now(&mut self) {
+        self.blk = self.now;
+        self.sync();
+    }
+
+    /// Instructions in the block of `size` bytes at `addr` (cached per block).
+    pub fn block_insns(&mut self, addr: u32, size: u32) -> u64 {
+        if let Some(&n) = self.blocks.get(&(addr, size)) {
+            return n;
+        }
+        let off = (addr & 0x00FF_FFFF) as usize; // flash or its alias at 0
+        let n = match self.code.get(off..off + size as usize) {
+            Some(code) if addr < 0x2000_0000 => crate::machine::insn_count(code),
+            _ => size as u64 / 2, // code in RAM: not expected; counted as 16-bit
+        };
+        self.blocks.insert((addr, size), n);
+        n
+    }
+
+    pub fn find(&self, addr: u32) -> Option<(u32, Periph)> {
+        let i = self.map.partition_point(|m| m.0 <= addr);
+        let (base, size, p) = *self.map.get(i.checked_sub(1)?)?;
+        (addr < base + size).then_some((base, p))
+    }
+}

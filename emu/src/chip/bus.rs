@@ -1,0 +1,176 @@
+//! Bus accesses dispatched to the models. A byte or halfword access is a masked
+//! access to its word (RM0383 §2.1: the APB peripherals take 8/16/32-bit accesses;
+//! the timers, DMA and flash interface of [`Mcu`] only take words here).
+
+use super::{Chip, Periph, ZERO_READS};
+use polyturn_stm32_model::chip::gpio::{ALTERNATE, MODER};
+use polyturn_stm32_model::chip::rcc;
+use std::panic::{catch_unwind, AssertUnwindSafe};
+
+/// A model's "not modelled" panic as a message.
+fn caught<T>(f: impl FnOnce() -> T) -> Result<T, String> {
+    catch_unwind(AssertUnwindSafe(f)).map_err(|e| {
+        e.downcast_ref::<String>()
+            .cloned()
+            .or_else(|| e.downcast_ref::<&str>().map(|s| s.to_string()))
+            .unwrap_or_default()
+    })
+}
+
+impl Chip {
+    /// Run TIM1/TIM2/TIM9/TIM11 and the DMA to CPU cycle `t`. They count at their
+    /// kernel clock, which the model takes as SYSCLK's (true on this board: APB2
+    /// undivided, APB1's timers at twice PCLK1, RM0383 §6.2).
+    pub(super) fn mcu_run(&mut self, t: u64) {
+        if t > self.mcu.cycle() {
+            if let Err(e) = caught(|| self.mcu.run_until(t)) {
+                self.fault(e);
+            }
+        }
+    }
+
+    fn mcu_clocks_ok(&self) -> bool {
+        let s = self.sysclk();
+        self.rcc.apb2().1 == s && self.rcc.apb1().1 == s
+    }
+
+    pub fn read(&mut self, addr: u32, size: u32) -> u32 {
+        let word = addr & !3;
+        let Some((base, p)) = self.find(word) else {
+            if ZERO_READS.iter().any(|z| (z.0..z.1).contains(&addr)) {
+                return 0;
+            }
+            self.fault(format!("read of {addr:#010x}: no model claims it"));
+            return 0;
+        };
+        self.sync();
+        let off = word - base;
+        let v = match p {
+            Periph::Mcu if is_dmar(word) => self.narrow(addr, size),
+            Periph::Mcu => caught(|| self.mcu.read(word)).unwrap_or_else(|e| {
+                self.fault(e);
+                0
+            }),
+            Periph::Rcc => self.rcc.read(off),
+            Periph::Pwr => rcc::pwr_read(&self.pwr, &self.rcc, off),
+            Periph::FlashIf => self.flash_read(word, off),
+            Periph::Syscfg => self.syscfg.regs.get(off),
+            Periph::Exti => self.exti.read(off),
+            Periph::Gpio(i) => self.gpio[i].read(off),
+            Periph::Gp(i) => self.gp[i].read(off),
+            Periph::Iwdg => self.iwdg.read(off),
+            Periph::Usb => self.usb.read(off),
+            Periph::Ppb => self.nvic.read(off, self.blk, &self.active, self.active.last().copied().unwrap_or(0) as u32),
+        };
+        v >> (8 * (addr & 3)) & mask(size)
+    }
+
+    pub fn write(&mut self, addr: u32, size: u32, value: u32) {
+        let word = addr & !3;
+        let Some((base, p)) = self.find(word) else {
+            self.fault(format!("write of {value:#x} to {addr:#010x}: no model claims it"));
+            return;
+        };
+        self.sync();
+        let (off, shift) = (word - base, 8 * (addr & 3));
+        let (v, m) = (value << shift, mask(size) << shift);
+        match p {
+            Periph::Mcu if size != 4 && is_dmar(word) => {
+                self.narrow(addr, size);
+            }
+            // a byte or halfword write is a word write of what the other lanes read
+            // back: harmless for rc_w0 flags (writing back a 1 has no effect),
+            // write-only registers (they read 0) and rc_w1 clears (they read 0)
+            Periph::Mcu => {
+                let merged = if size == 4 { value } else { self.mcu.read(word) & !m | v };
+                self.mcu_write(word, merged)
+            }
+            Periph::Rcc => self.rcc.write(off, v, m),
+            Periph::Pwr => self.pwr.write(off, v, m),
+            Periph::FlashIf => self.flash_write(word, off, v, m),
+            Periph::Syscfg => self.syscfg.regs.write(off, v, m),
+            Periph::Exti => self.exti.write(off, v, m),
+            Periph::Gpio(i) => {
+                let edges = self.gpio[i].write(off, v, m, self.blk);
+                self.pin_edges(i, edges);
+            }
+            Periph::Gp(i) => self.gp[i].write(off, v, m),
+            Periph::Iwdg => self.iwdg.write(off, v, m, self.blk),
+            Periph::Usb => self.usb.write(off, v, m),
+            Periph::Ppb => self.nvic.write(off, v, m, self.blk),
+        }
+    }
+
+    fn narrow(&mut self, addr: u32, size: u32) -> u32 {
+        self.fault(format!("{size}-byte access at {addr:#010x}: TIMx_DMAR is modelled for 32-bit accesses only"));
+        0
+    }
+
+    fn mcu_write(&mut self, word: u32, value: u32) {
+        if !self.mcu_clocks_ok() {
+            let f = format!("write to {word:#010x} while the timer clocks differ from SYSCLK: not modelled");
+            self.fault(f);
+            return;
+        }
+        if let Err(e) = caught(|| self.mcu.write(word, value)) {
+            self.fault(e);
+        }
+    }
+
+    /// Edges on port `port`'s pins go to EXTI (§10.2.3), and those of PA6, PA7 and
+    /// PB0 to TIM3's TI1, TI2 and TI3 when the pins are in TIM3's alternate function
+    /// (AF2, datasheet DS10314 table 9).
+    pub fn pin_edges(&mut self, port: usize, edges: Vec<(u8, bool)>) {
+        let mut tim3 = false;
+        for (pin, rising) in edges {
+            self.exti.edge(&self.syscfg, port as u32, pin, rising);
+            tim3 |= matches!((port, pin), (0, 6) | (0, 7) | (1, 0));
+        }
+        if tim3 {
+            let ti = |c: &Chip, port: usize, pin: u8| {
+                let g = &c.gpio[port];
+                g.field(MODER, pin) == ALTERNATE && g.afr(pin) == 2 && g.level(pin)
+            };
+            let levels = [ti(self, 0, 6), ti(self, 0, 7), ti(self, 1, 0)];
+            self.gp[0].inputs(levels);
+        }
+    }
+
+    /// FLASH_ACR and OPTCR as registers; KEYR, SR and CR are the erase model's.
+    fn flash_read(&mut self, word: u32, off: u32) -> u32 {
+        match off {
+            0x04 | 0x0C | 0x10 => caught(|| self.flash.read(word)).unwrap_or_else(|e| {
+                self.fault(e);
+                0
+            }),
+            _ => self.flash_regs.get(off),
+        }
+    }
+
+    fn flash_write(&mut self, word: u32, off: u32, v: u32, m: u32) {
+        match off {
+            0x04 | 0x0C | 0x10 => {
+                let old = self.flash.read(word);
+                let full = old & !m | v & m;
+                if let Err(e) = caught(|| self.flash.write(word, full)) {
+                    self.fault(e);
+                }
+            }
+            _ => self.flash_regs.write(off, v, m),
+        }
+    }
+}
+
+/// TIMx_DMAR, whose access moves the DMA burst index (§12.4.20).
+fn is_dmar(word: u32) -> bool {
+    use polyturn_stm32_model::addr::{off, TIM1, TIM11, TIM2, TIM9};
+    [TIM1, TIM2, TIM9, TIM11].iter().any(|b| word == b + off::DMAR)
+}
+
+fn mask(size: u32) -> u32 {
+    if size >= 4 {
+        u32::MAX
+    } else {
+        (1 << (8 * size)) - 1
+    }
+}

@@ -1,0 +1,71 @@
+//! The interrupt lines into the NVIC (RM0383 §10.2 table 37). Each is a level:
+//! a timer's is SR & DIER (§12.4.4, §13.4.4), EXTI's PR & IMR (§10.3). Some vectors
+//! are shared: TIM1's update with TIM10, its trigger/commutation with TIM11, its
+//! break with TIM9; EXTI lines 5-9 and 10-15.
+
+use super::Chip;
+use crate::svd;
+use polyturn_stm32_model::addr::{off, TIM1, TIM11, TIM2, TIM9};
+
+impl Chip {
+    fn mcu_flags(&mut self, base: u32) -> u32 {
+        self.mcu.read(base + off::SR) & self.mcu.read(base + off::DIER)
+    }
+
+    /// The IRQ numbers whose line is asserted now.
+    pub fn asserted(&mut self) -> Vec<usize> {
+        let (t1, t2, t9, t11) =
+            (self.mcu_flags(TIM1), self.mcu_flags(TIM2), self.mcu_flags(TIM9), self.mcu_flags(TIM11));
+        let gp = |c: &Chip, i: usize| c.gp[i].irq(0xFF);
+        let lines = [
+            ("TIM1_UP_TIM10", t1 & 0x01 != 0 || gp(self, 3)),
+            ("TIM1_TRG_COM_TIM11", t1 & 0x60 != 0 || t11 != 0),
+            ("TIM1_BRK_TIM9", t1 & 0x80 != 0 || t9 != 0),
+            ("TIM1_CC", t1 & 0x1E != 0),
+            ("TIM2", t2 != 0),
+            ("TIM3", gp(self, 0)),
+            ("TIM4", gp(self, 1)),
+            ("TIM5", gp(self, 2)),
+            ("EXTI0", self.exti.pending(0, 0)),
+            ("EXTI1", self.exti.pending(1, 1)),
+            ("EXTI2", self.exti.pending(2, 2)),
+            ("EXTI3", self.exti.pending(3, 3)),
+            ("EXTI4", self.exti.pending(4, 4)),
+            ("EXTI9_5", self.exti.pending(5, 9)),
+            ("EXTI15_10", self.exti.pending(10, 15)),
+            ("OTG_FS", self.usb.irq()),
+        ];
+        lines.iter().filter(|l| l.1).map(|l| svd::irq(l.0)).collect()
+    }
+
+    /// PM0214 §4.3.9: a level-sensitive line that is asserted while its interrupt is
+    /// not active sets the pending bit (and again after return if still asserted).
+    pub fn update_lines(&mut self) {
+        for irq in self.asserted() {
+            if !self.active.contains(&(16 + irq)) {
+                self.nvic.pending[16 + irq] = true;
+            }
+        }
+    }
+
+    /// The execution priority (PM0214 §2.1.3, §2.3.6): the highest (lowest value)
+    /// group priority among active exceptions, boosted to 0 by PRIMASK and to its
+    /// value by BASEPRI; 256 with nothing active.
+    pub fn exec_priority(&self, primask: bool, basepri: u32) -> u32 {
+        let mut p = self.active.iter().map(|&e| self.nvic.group(self.nvic.prio[e])).min().unwrap_or(256);
+        if primask {
+            p = 0;
+        }
+        let bp = basepri & 0xF0;
+        if bp != 0 {
+            p = p.min(self.nvic.group(bp as u8));
+        }
+        p
+    }
+
+    /// The pending exception that pre-empts now, if any (strictly higher priority).
+    pub fn deliverable(&self, primask: bool, basepri: u32) -> Option<usize> {
+        let e = self.nvic.best_pending()?;
+        (self.nvic.group(self.nvic.prio[e]) < self.exec_priority(primask, basepri)).then_some(e)
+    }
+}

@@ -1,0 +1,67 @@
+//! The outputs as the pins see them, for the safety checks.
+
+use super::Chip;
+use polyturn_stm32_model::addr::{off, TIM1_CCMR1, TIM1_CR1};
+use polyturn_stm32_model::chip::gpio::{ALTERNATE, MODER};
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Outputs {
+    pub tim1_cen: bool,
+    pub oc1m: u32,
+    /// PA8: TIM1's OC1 in AF mode (low when the timer does not drive it: the
+    /// board's pull-down), else ODR
+    pub step: Option<bool>,
+    pub esc_ccr1: u32,
+    pub esc_stop: u32,
+    pub enable: Option<bool>,
+    pub enable_inactive: bool,
+    pub x_step: Option<bool>,
+}
+
+impl Chip {
+    pub fn outputs(&mut self) -> Outputs {
+        let step =
+            if self.gpio[0].field(MODER, 8) == ALTERNATE { Some(self.mcu.pa8()) } else { self.gpio[0].pin_out(8) };
+        let t10 = &self.gp[3];
+        let rate = self.rcc.apb2().1 / (t10.get(off::PSC) as u64 + 1);
+        Outputs {
+            tim1_cen: self.mcu.read(TIM1_CR1) & 1 == 1,
+            oc1m: self.mcu.read(TIM1_CCMR1) >> 4 & 7,
+            step,
+            esc_ccr1: t10.get(off::CCR1),
+            esc_stop: (polyturn_firmware::esc::STOP_US as u64 * rate / 1_000_000) as u32,
+            enable: self.gpio[1].pin_out(13),
+            enable_inactive: !polyturn_sync::Config::default().enable_active_high,
+            x_step: self.gpio[1].pin_out(4),
+        }
+    }
+}
+
+impl Outputs {
+    /// The E-stop interrupt's own work: step output halted, ESC at its stop pulse.
+    pub fn safe_now(&self) -> bool {
+        !self.tim1_cen && self.step == Some(false) && self.esc_ccr1 == self.esc_stop
+    }
+
+    pub fn safe_all(&self) -> bool {
+        self.safe_now() && self.enable == Some(self.enable_inactive) && self.x_step == Some(false)
+    }
+}
+
+impl std::fmt::Display for Outputs {
+    fn fmt(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
+        let b = |v: Option<bool>| v.map_or("-".to_string(), |v| (v as u8).to_string());
+        write!(
+            f,
+            "TIM1 CEN={} OC1M={} STEP={}, TIM10 CCR1={} (stop {}), ENABLE={} (inactive {}), X_STEP={}",
+            self.tim1_cen as u8,
+            self.oc1m,
+            b(self.step),
+            self.esc_ccr1,
+            self.esc_stop,
+            b(self.enable),
+            self.enable_inactive as u8,
+            b(self.x_step)
+        )
+    }
+}

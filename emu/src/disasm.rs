@@ -1,0 +1,43 @@
+//! The addresses of wfe/sev/wfi/udf/cpsid i/cpsie i/msr primask in the image, from
+//! llvm-objdump (rustup's llvm-tools), which uses the ELF's mapping symbols to tell
+//! code from literal pools.
+
+use crate::image::Insns;
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+fn objdump() -> Result<PathBuf, String> {
+    let out = Command::new("rustc").args(["--print", "sysroot"]).output().map_err(|e| format!("rustc: {e}"))?;
+    let root = PathBuf::from(String::from_utf8_lossy(&out.stdout).trim());
+    let lib = root.join("lib/rustlib");
+    for e in std::fs::read_dir(&lib).map_err(|e| format!("{}: {e}", lib.display()))?.flatten() {
+        let p = e.path().join("bin/llvm-objdump");
+        if p.exists() {
+            return Ok(p);
+        }
+    }
+    Err("no llvm-objdump under the rust sysroot (rustup component add llvm-tools)".into())
+}
+
+pub fn scan(elf: &Path) -> Result<Insns, String> {
+    let out =
+        Command::new(objdump()?).args(["-d", "--no-show-raw-insn"]).arg(elf).output().map_err(|e| e.to_string())?;
+    let mut found = Insns::default();
+    for line in String::from_utf8_lossy(&out.stdout).lines() {
+        let Some((addr, rest)) = line.trim_start().split_once(':') else { continue };
+        let Ok(addr) = u32::from_str_radix(addr, 16) else { continue };
+        let mut words = rest.split_whitespace();
+        let (op, args) = (words.next().unwrap_or(""), words.collect::<Vec<_>>().join(" ").to_lowercase());
+        match op {
+            "wfe" => found.wfe.push(addr),
+            "sev" => found.sev.push(addr),
+            "wfi" => found.wfi.push(addr),
+            "udf" => found.udf.push(addr),
+            "cpsid" if args.starts_with('i') => found.cpsid.push(addr),
+            "cpsie" if args.starts_with('i') => found.cpsie.push(addr),
+            "msr" if args.starts_with("primask") => found.msr_primask.push(addr),
+            _ => {}
+        }
+    }
+    Ok(found)
+}

@@ -1,0 +1,102 @@
+//! The firmware image: loadable segments, symbols, the vector table and the
+//! addresses of the instructions the harness treats specially, all read from the
+//! ELF on every run (nothing about the code is typed in here).
+
+use object::{Object, ObjectSection, ObjectSegment, ObjectSymbol, SymbolKind};
+use std::collections::BTreeMap;
+use std::path::Path;
+
+pub const FLASH_BASE: u32 = 0x0800_0000;
+pub const FLASH_SIZE: u32 = 512 * 1024;
+
+#[derive(Default)]
+pub struct Insns {
+    pub wfe: Vec<u32>,
+    pub sev: Vec<u32>,
+    pub wfi: Vec<u32>,
+    pub udf: Vec<u32>,
+    pub cpsid: Vec<u32>,
+    pub cpsie: Vec<u32>,
+    pub msr_primask: Vec<u32>,
+}
+
+pub struct Image {
+    /// (load address, bytes) of each PT_LOAD segment with file contents: .data's
+    /// initial values sit in flash at their LMA and cortex-m-rt copies them
+    pub segments: Vec<(u32, Vec<u8>)>,
+    pub symbols: BTreeMap<String, u32>,
+    funcs: Vec<(u32, u32, String)>,
+    pub vectors: Vec<u32>,
+    pub insns: Insns,
+}
+
+/// Why an image cannot run, in one line.
+pub fn load(path: &Path) -> Result<Image, String> {
+    let data = std::fs::read(path).map_err(|e| format!("cannot read the image '{}': {e}", path.display()))?;
+    let elf = object::File::parse(&*data).map_err(|e| format!("'{}' is not an ELF: {e}", path.display()))?;
+    if elf.architecture() != object::Architecture::Arm {
+        return Err(format!(
+            "'{}' is an ELF for {:?}, not the STM32F411's Cortex-M4",
+            path.display(),
+            elf.architecture()
+        ));
+    }
+    let mut segments = Vec::new();
+    for seg in elf.segments() {
+        let bytes = seg.data().map_err(|e| e.to_string())?;
+        if !bytes.is_empty() {
+            segments.push((load_address(&elf, &seg), bytes.to_vec()));
+        }
+    }
+    let (mut symbols, mut funcs) = (BTreeMap::new(), Vec::new());
+    for s in elf.symbols() {
+        let Ok(name) = s.name() else { continue };
+        if name.is_empty() || name.starts_with('$') {
+            continue;
+        }
+        let mut addr = s.address() as u32;
+        if s.kind() == SymbolKind::Text {
+            addr &= !1;
+            funcs.push((addr, s.size() as u32, name.to_string()));
+        }
+        symbols.entry(name.to_string()).or_insert(addr);
+    }
+    funcs.sort();
+    let vt = elf.section_by_name(".vector_table").ok_or("the ELF has no .vector_table: not a cortex-m-rt image")?;
+    let raw = vt.data().map_err(|e| e.to_string())?;
+    let vectors = raw.chunks_exact(4).map(|w| u32::from_le_bytes([w[0], w[1], w[2], w[3]])).collect();
+    let insns = crate::disasm::scan(path)?;
+    Ok(Image { segments, symbols, funcs, vectors, insns })
+}
+
+/// A segment's physical (load) address: `object` gives the virtual one, so take
+/// p_paddr from the program header.
+fn load_address(elf: &object::File, seg: &object::Segment) -> u32 {
+    use object::read::elf::ProgramHeader;
+    if let object::File::Elf32(f) = elf {
+        let (off, _) = seg.file_range();
+        for ph in f.elf_program_headers() {
+            if ph.p_offset(f.endian()) as u64 == off && ph.p_filesz(f.endian()) > 0 {
+                return ph.p_paddr(f.endian());
+            }
+        }
+    }
+    seg.address() as u32
+}
+
+impl Image {
+    /// The function containing `addr` (or the nearest before it), for messages.
+    pub fn func_at(&self, addr: u32) -> String {
+        let a = addr & !1;
+        let i = self.funcs.partition_point(|f| f.0 <= a);
+        if i == 0 {
+            return "?".into();
+        }
+        let (start, size, name) = &self.funcs[i - 1];
+        if *size == 0 || a < start + size {
+            name.clone()
+        } else {
+            format!("{name}+{:#x}", a - start)
+        }
+    }
+}

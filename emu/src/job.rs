@@ -1,0 +1,189 @@
+//! Jobs run on the real image the way a machinist runs them: settings saved in
+//! flash before boot, the E-stop closed, the lathe turning the encoder, ENGAGE and
+//! STOP pressed on their pins, and STEP/DIR judged at the pins by the driver model
+//! the step-output tests use (`polyturn_host::hwsim::driver`).
+
+pub mod estop;
+pub mod lathe;
+pub mod settings;
+
+use crate::image::Image;
+use crate::machine::Machine;
+use polyturn_host::geometry::{Direction, Setup};
+use polyturn_host::hwsim::driver::{receive, Received};
+use polyturn_host::sim::{Scenario, Start};
+use polyturn_stm32_model::Params;
+use polyturn_sync::{Config, DriveKind, Ratio};
+use std::rc::Rc;
+use std::time::Instant;
+
+pub const MS: u64 = 96_000;
+const SYSCLK: u64 = 96_000_000;
+/// Key pins (board.rs): ENGAGE PB12, STOP PB10; E-stop PB14.
+const ENGAGE: u8 = 12;
+const STOP: u8 = 10;
+pub const ESTOP: u8 = 14;
+pub const GPIOB: usize = 1;
+
+/// What happens during the job.
+#[derive(Clone, Copy, PartialEq)]
+pub enum Kind {
+    /// the lathe runs its profile; STOP afterwards
+    Cut,
+    /// the E-stop opens `at_s` after engaging, then closes again
+    EStop { at_s: f64 },
+    /// the chuck is rocked by hand, ±40 counts at 3 Hz for 2 s
+    Rock,
+}
+
+pub struct Spec {
+    pub name: &'static str,
+    pub kind: Kind,
+    /// how long the lathe turns before ENGAGE when it starts spinning
+    pub engage_after_ms: u64,
+    pub ratio: &'static str,
+    pub edges: u32,
+    pub rpm: f64,
+    pub ripple: f64,
+    pub turns: f64,
+    pub start: Start,
+    pub seed: u64,
+}
+
+pub struct Outcome {
+    pub name: &'static str,
+    pub mcu_s: f64,
+    pub wall_s: f64,
+    pub received: Received,
+    /// the gear's exact steps per lathe count
+    pub exact_per_count: f64,
+    pub lathe_count: i64,
+    pub tim3_cnt: u32,
+    pub dir_setup: u64,
+    pub faults: Vec<String>,
+    pub config: Config,
+    /// the lathe's count when ENGAGE went down
+    pub engage_count: i64,
+    pub estop: Option<crate::job::estop::Seen>,
+    /// the tick handler: average and worst instructions, entry to return
+    pub tick: (f64, u64),
+    /// the longest interrupts-off section in thread mode, instructions
+    pub irq_off: u64,
+}
+
+fn setup(s: &Spec) -> Setup {
+    let ratio = Ratio::parse(s.ratio).expect("a valid ratio");
+    Setup {
+        cutter_radius_mm: 50.0,
+        stock_radius_mm: 10.0,
+        depth_mm: 1.5,
+        ratio,
+        edges: s.edges,
+        direction: Direction::Same,
+    }
+}
+
+/// The host simulator's scenario for the same job (its lathe profile and settings).
+pub fn scenario(s: &Spec) -> Scenario {
+    let mut sc =
+        Scenario::standard(setup(s), s.rpm, s.turns, s.ripple, s.start, 2400, 3200, DriveKind::Stepper, s.seed);
+    sc.lathe.legs[0].hold_s = s.turns * 60.0 / s.rpm;
+    sc
+}
+
+/// Holds a key down for 60 ms (3 × the debounce, `keys::DEBOUNCE_MS`), then lets go.
+fn press(m: &mut Machine, pin: u8) {
+    m.drive(GPIOB, pin, Some(false));
+    m.run(60 * MS);
+    m.drive(GPIOB, pin, None);
+    m.run(40 * MS);
+}
+
+pub fn run(image: &Rc<Image>, spec: &Spec, params: Params) -> Result<Outcome, String> {
+    let wall = Instant::now();
+    let sc = scenario(spec);
+    let flash = settings::saved(&sc.core)?;
+    let mut m = Machine::new(image.clone(), params, &flash)?;
+    m.cpr = sc.core.encoder_counts_per_rev;
+    m.drive(GPIOB, ESTOP, Some(false));
+    m.run(100 * MS);
+    let cpr = sc.core.encoder_counts_per_rev;
+    let lathe = |m: &mut Machine| {
+        let now = m.chip().now;
+        m.lathe = Some(match spec.kind {
+            Kind::Rock => lathe::LatheDrive::new(
+                lathe::Motion::Rock { amp_counts: 40.0, hz: 3.0, secs: 2.0, t: 0.0 },
+                cpr,
+                now,
+                SYSCLK,
+            ),
+            _ => lathe::LatheDrive::motor(sc.lathe.clone(), spec.seed, cpr, now, SYSCLK),
+        });
+    };
+    if spec.start == Start::Rest {
+        press(&mut m, ENGAGE);
+        lathe(&mut m);
+    } else {
+        lathe(&mut m);
+        m.run(spec.engage_after_ms * MS);
+    }
+    let engage_count = m.lathe.as_ref().map_or(0, |l| l.count);
+    if spec.start != Start::Rest {
+        press(&mut m, ENGAGE);
+    }
+    let estop = match spec.kind {
+        Kind::EStop { at_s } => Some(estop::open_mid_cut(&mut m, at_s, &sc.core)),
+        _ => None,
+    };
+    while !m.lathe.as_ref().is_some_and(|l| l.finished()) && m.chip().faults.is_empty() {
+        m.run(10 * MS);
+    }
+    m.run(100 * MS);
+    press(&mut m, STOP);
+    let mut o = outcome(&mut m, spec, &sc.core, wall);
+    o.engage_count = engage_count;
+    o.estop = estop;
+    Ok(o)
+}
+
+impl Outcome {
+    /// The gear's position at the end less the net steps, reduced by whole
+    /// cutter turns (engaging catches up at most half a turn: `drop_whole_turns`).
+    /// The gear counts from 0 at boot, or from the first index if the lathe passed
+    /// one before the first engagement (`Controller::gear_origin`).
+    pub fn phase_error_steps(&self) -> f64 {
+        let cpr = self.config.encoder_counts_per_rev as i64;
+        let origin = if self.engage_count >= cpr { cpr } else { 0 };
+        let m = self.config.motor_steps_per_rev as f64;
+        let diff = self.received.steps as f64 - self.exact_per_count * (self.lathe_count - origin) as f64;
+        diff - m * (diff / m).round()
+    }
+}
+
+fn outcome(m: &mut Machine, spec: &Spec, cfg: &Config, wall: Instant) -> Outcome {
+    let d = polyturn_sync::derived::Derived::new(cfg, polyturn_sync::Timing::FIRMWARE);
+    let (pulse, dir_setup) = (d.steps.pulse as u64, d.steps.dir_setup as u64);
+    let received = receive(m.chip().mcu.edges(), pulse, true);
+    let count = m.lathe.as_ref().map_or(0, |l| l.count);
+    let r = cfg.ratio;
+    let per_count =
+        r.num() as f64 * cfg.motor_steps_per_rev as f64 / (r.den() as f64 * cfg.encoder_counts_per_rev as f64);
+    let c = m.chip();
+    Outcome {
+        name: spec.name,
+        mcu_s: c.now as f64 / SYSCLK as f64,
+        wall_s: wall.elapsed().as_secs_f64(),
+        received,
+        exact_per_count: per_count,
+        lathe_count: count,
+        tim3_cnt: c.gp[0].read(polyturn_stm32_model::addr::off::CNT),
+
+        dir_setup,
+        faults: c.faults.iter().map(|f| f.1.clone()).collect(),
+        config: *cfg,
+        engage_count: 0,
+        estop: None,
+        tick: (c.probe.tick_average(), c.probe.tick_worst),
+        irq_off: c.primask.longest.instructions,
+    }
+}

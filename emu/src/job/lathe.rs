@@ -1,0 +1,128 @@
+//! The lathe, as the host simulator models it (`polyturn_host::sim::lathe`: the
+//! speed profile with ripple and wander), turned into pin levels: quadrature A/B on
+//! PA6/PA7 and the index on PB0. The count is the host encoder's
+//! (`sim::encoder`: round(angle · counts / 2π)); A/B follow it in Gray code, one
+//! pin edge per count, and the index is high while the count is a whole turn.
+
+use polyturn_host::sim::encoder::Encoder;
+use polyturn_host::sim::lathe::{Lathe, LatheProfile};
+
+/// The lathe model's step: 1 µs (an edge lands within a microsecond of its time).
+const STEP_S: f64 = 1e-6;
+
+/// What turns the spindle: the host simulator's motor-driven lathe, or a hand
+/// rocking the chuck (±`amp_counts` at `hz`, for `secs`).
+pub enum Motion {
+    Motor(Box<Lathe>),
+    Rock { amp_counts: f64, hz: f64, secs: f64, t: f64 },
+}
+
+impl Motion {
+    fn advance(&mut self, dt: f64) {
+        match self {
+            Motion::Motor(l) => l.advance(dt),
+            Motion::Rock { t, .. } => *t += dt,
+        }
+    }
+    fn angle(&self, cpr: u32) -> f64 {
+        match self {
+            Motion::Motor(l) => l.angle,
+            Motion::Rock { amp_counts, hz, t, .. } => {
+                amp_counts * std::f64::consts::TAU / cpr as f64 * (std::f64::consts::TAU * *hz * *t).sin()
+            }
+        }
+    }
+    fn finished(&self) -> bool {
+        match self {
+            Motion::Motor(l) => l.finished(),
+            Motion::Rock { secs, t, .. } => t >= secs,
+        }
+    }
+}
+
+pub struct LatheDrive {
+    lathe: Motion,
+    cpr: u32,
+    encoder: Encoder,
+    /// CPU cycle of the lathe's time 0, and cycles per model step
+    start: u64,
+    per_step: u64,
+    steps: u64,
+    pub count: i64,
+    /// the pending level change: (cycle, new count)
+    next: Option<(u64, i64)>,
+}
+
+/// Levels of (A, B, index) at count `c` (positive turning counts up, RM0383 §13.3.12
+/// table 53 with both inputs: A rises while B is low).
+pub fn levels(c: i64, cpr: u32) -> [bool; 3] {
+    let s = c.rem_euclid(4);
+    [s == 1 || s == 2, s >= 2, c.rem_euclid(cpr as i64) == 0]
+}
+
+impl LatheDrive {
+    pub fn motor(profile: LatheProfile, seed: u64, cpr: u32, start: u64, sysclk: u64) -> LatheDrive {
+        LatheDrive::new(Motion::Motor(Box::new(Lathe::new(profile, seed))), cpr, start, sysclk)
+    }
+
+    pub fn new(lathe: Motion, cpr: u32, start: u64, sysclk: u64) -> LatheDrive {
+        let encoder = Encoder::new(cpr);
+        LatheDrive {
+            lathe,
+            cpr,
+            encoder,
+            start,
+            per_step: (sysclk as f64 * STEP_S) as u64,
+            steps: 0,
+            count: 0,
+            next: None,
+        }
+    }
+
+    pub fn finished(&self) -> bool {
+        self.lathe.finished()
+    }
+
+    /// The cycle of the next count change (looking ahead at most `horizon` cycles).
+    pub fn next_edge(&mut self, horizon: u64) -> Option<u64> {
+        while self.next.is_none() && self.start + self.steps * self.per_step < horizon && !self.lathe.finished() {
+            self.lathe.advance(STEP_S);
+            self.steps += 1;
+            let c = self.encoder.count(self.lathe.angle(self.cpr), self.steps);
+            if c != self.count {
+                self.next = Some((self.start + self.steps * self.per_step, c));
+            }
+        }
+        self.next.map(|n| n.0)
+    }
+
+    /// The count due at or before `now`, one count at a time (a jump of several
+    /// counts in one microsecond is passed on as successive edges).
+    pub fn take_due(&mut self, now: u64) -> Option<i64> {
+        let (at, c) = self.next?;
+        if at > now {
+            return None;
+        }
+        self.count += (c - self.count).signum();
+        if self.count == c {
+            self.next = None;
+        }
+        Some(self.count)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::levels;
+
+    #[test]
+    fn each_count_moves_one_quadrature_pin_and_the_index_marks_whole_turns() {
+        for c in -10i64..10 {
+            let (a, b) = (levels(c, 8), levels(c + 1, 8));
+            let changed = (a[0] != b[0]) as u32 + (a[1] != b[1]) as u32;
+            assert_eq!(changed, 1, "count {c}");
+        }
+        assert_eq!(levels(1, 8)[..2], [true, false], "A leads B going up (table 53 counts up)");
+        assert!(levels(16, 8)[2] && levels(-8, 8)[2] && !levels(3, 8)[2]);
+    }
+}

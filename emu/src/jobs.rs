@@ -1,0 +1,128 @@
+//! The job scenarios and their table.
+
+use crate::checks::Report;
+use crate::image::Image;
+use crate::job::{self, Outcome, Spec};
+use polyturn_host::sim::Start;
+use polyturn_stm32_model::Params;
+use std::rc::Rc;
+
+use crate::job::Kind;
+
+/// Issue 25's scenarios; (d) and (e) need the console (the next issue).
+pub const SPECS: &[Spec] = &[
+    Spec {
+        name: "a hexagon",
+        kind: Kind::Cut,
+        engage_after_ms: 0,
+        ratio: "2",
+        edges: 3,
+        rpm: 600.0,
+        ripple: 0.02,
+        turns: 20.0,
+        start: Start::Rest,
+        seed: 7,
+    },
+    Spec {
+        name: "b 11/3",
+        kind: Kind::Cut,
+        engage_after_ms: 400,
+        ratio: "11/3",
+        edges: 3,
+        rpm: 300.0,
+        ripple: 0.05,
+        turns: 30.0,
+        start: Start::Spinning,
+        seed: 7,
+    },
+    Spec {
+        name: "c e-stop",
+        kind: Kind::EStop { at_s: 1.5 },
+        engage_after_ms: 0,
+        ratio: "2",
+        edges: 3,
+        rpm: 600.0,
+        ripple: 0.02,
+        turns: 20.0,
+        start: Start::Rest,
+        seed: 7,
+    },
+    Spec {
+        name: "f rocked",
+        kind: Kind::Rock,
+        engage_after_ms: 0,
+        ratio: "2",
+        edges: 3,
+        rpm: 600.0,
+        ripple: 0.0,
+        turns: 1.0,
+        start: Start::Rest,
+        seed: 7,
+    },
+];
+
+pub fn run_all(image: &Rc<Image>, r: &mut Report) -> Result<u64, String> {
+    println!(
+        "{:<10} {:>7} {:>7} {:>9} {:>9} {:>5} {:>6} {:>6} {:>14} {:>7}  faults",
+        "job", "MCU s", "wall s", "steps", "phase err", "lost", "high", "low", "tick avg/worst", "irq-off"
+    );
+    let mut total = 0;
+    for spec in SPECS {
+        let o = job::run(image, spec, Params::default())?;
+        total += (o.mcu_s * 96e6) as u64;
+        show(&o);
+        judge(r, &o);
+    }
+    Ok(total)
+}
+
+fn show(o: &Outcome) {
+    let rx = &o.received;
+    println!(
+        "{:<10} {:>7.2} {:>7.1} {:>9} {:>9.2} {:>5} {:>6} {:>6} {:>14} {:>7}  {}",
+        o.name,
+        o.mcu_s,
+        o.wall_s,
+        rx.steps,
+        o.phase_error_steps(),
+        rx.unseen,
+        rx.min_high,
+        rx.min_low,
+        format!("{:.0}/{}", o.tick.0, o.tick.1),
+        o.irq_off,
+        if o.faults.is_empty() { "none".to_string() } else { o.faults.join("; ") }
+    );
+}
+
+fn judge(r: &mut Report, o: &Outcome) {
+    let rx = &o.received;
+    let cnt_ok = o.tim3_cnt == o.lathe_count.rem_euclid(65_536) as u32;
+    let setup_ok = rx.reversals == 0 || rx.min_dir_setup >= o.dir_setup;
+    // the E-stop job stops mid-cut: its phase is not the gear's afterwards
+    let phase_ok = o.estop.is_some() || o.phase_error_steps().abs() <= 0.5;
+    let ok = o.faults.is_empty()
+        && rx.unseen == 0
+        && rx.dir_while_high == 0
+        && setup_ok
+        && cnt_ok
+        && rx.pulses > 0
+        && phase_ok;
+    let text = format!(
+        "{} pulses, net {} steps, {:+.2} steps from the exact gear (mod whole turns), lathe {} counts (TIM3 CNT {}), {} lost, {} reversals, DIR setup {} cycles (needs {})",
+        rx.pulses, rx.steps, o.phase_error_steps(), o.lathe_count, o.tim3_cnt, rx.unseen, rx.reversals,
+        if rx.reversals == 0 { "-".to_string() } else { rx.min_dir_setup.to_string() }, o.dir_setup
+    );
+    r.line(ok, &format!("job {}", o.name), &text);
+    if let Some(e) = &o.estop {
+        // The E-stop's interrupt shares the tick's level (board::PRIORITIES), so
+        // it can wait for one tick handler: the bound is the tick's worst plus a
+        // pulse. One pulse width would need TIM1's break input (the README).
+        let bound = o.tick.1 + e.pulse;
+        let ok = e.last_rise_after <= bound && e.safe && e.flashes_open == 4 && e.flashes_closed == 4;
+        let text = format!(
+            "handler {} cycles and last STEP rise {} cycles after the contact opened (bound: the tick's worst {} + one pulse {}), outputs safe: {}, LED code {} open, {} closed again (4 = E-stop, latched)",
+            e.handler_after.map_or("never".into(), |h| h.to_string()), e.last_rise_after, o.tick.1, e.pulse, e.safe, e.flashes_open, e.flashes_closed
+        );
+        r.line(ok, "job c estop", &text);
+    }
+}

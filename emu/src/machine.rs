@@ -1,0 +1,220 @@
+//! The emulated STM32F411: unicorn's Cortex-M4 core (Thumb, M-class), the memory
+//! map (RM0383 §2.3: flash 512 KiB at 0x0800_0000, also aliased at 0 with BOOT0 = 0,
+//! §2.4; SRAM 128 KiB at 0x2000_0000, which is the model's own SRAM so the DMA
+//! reads what the CPU wrote), the peripheral bus, and time.
+//!
+//! Time: one emulated instruction is one CPU cycle. Instructions are counted per
+//! translated block (the block hook adds the block's count, decoded from its Thumb
+//! halfwords), so the count is exact at block boundaries; an MMIO access sees the
+//! time at the start of its block. Exception entry and return cost no cycles. The
+//! run is sliced: it stops at the first block boundary at or after the next model
+//! event, where pending interrupts are taken (`cpu.rs`). README "Emulator" gives the
+//! rule that turns instructions into cycles and what it leaves out.
+
+use crate::chip::Chip;
+use crate::image::{Image, FLASH_BASE, FLASH_SIZE};
+use polyturn_stm32_model::addr::{SRAM_BASE, SRAM_SIZE};
+use polyturn_stm32_model::Params;
+use std::rc::Rc;
+use unicorn_engine::{Arch, HookType, Mode, Prot, RegisterARM, Unicorn};
+
+/// Longest run between looks at the interrupt lines, in instructions.
+const SLICE: u64 = 20_000;
+const NOP: [u8; 2] = [0x00, 0xBF];
+
+/// Thumb instructions in `code`: a halfword whose top five bits are 0b11101,
+/// 0b11110 or 0b11111 starts a 32-bit instruction (ARMv7-M ARM A5.1).
+pub fn insn_count(code: &[u8]) -> u64 {
+    let (mut n, mut i) = (0, 0);
+    while i + 1 < code.len() {
+        let hw = u16::from_le_bytes([code[i], code[i + 1]]);
+        i += if matches!(hw >> 11, 0x1D..=0x1F) { 4 } else { 2 };
+        n += 1;
+    }
+    n
+}
+
+pub struct Machine {
+    pub uc: Unicorn<'static, Chip>,
+    pub image: Rc<Image>,
+    /// the lathe driving the encoder pins, when a job runs
+    pub lathe: Option<crate::job::lathe::LatheDrive>,
+    pub cpr: u32,
+    /// the flash as mapped (must outlive `uc`, declared after it)
+    _flash: Box<[u8]>,
+}
+
+impl Machine {
+    pub fn new(image: Rc<Image>, params: Params, flash_init: &[(u32, Vec<u8>)]) -> Result<Machine, String> {
+        let mut flash = vec![0xFFu8; FLASH_SIZE as usize].into_boxed_slice(); // erased
+        for (addr, data) in image.segments.iter().chain(flash_init) {
+            let off = addr.wrapping_sub(FLASH_BASE) as usize;
+            if off + data.len() > flash.len() {
+                return Err(format!("a segment at {addr:#010x} lies outside the flash"));
+            }
+            flash[off..off + data.len()].copy_from_slice(data);
+        }
+        // WFE, WFI and SEV are NOPs here: ARMv7-M ARM B1.5.18 lets WFE be a NOP, and
+        // unicorn has none of them; time still passes through the loop around them
+        for a in image.insns.wfe.iter().chain(&image.insns.sev).chain(&image.insns.wfi) {
+            let o = (a - FLASH_BASE) as usize;
+            flash[o..o + 2].copy_from_slice(&NOP);
+        }
+        let mut chip = Chip::new(params);
+        chip.code = flash.to_vec();
+        let sram = chip.mcu.sram_mut_ptr();
+        let mut uc = Unicorn::new_with_data(Arch::ARM, Mode::THUMB | Mode::MCLASS, chip)
+            .map_err(|e| format!("unicorn: {e:?}"))?;
+        let e = |r: Result<(), unicorn_engine::uc_error>| r.map_err(|e| format!("unicorn: {e:?}"));
+        // SAFETY: both buffers live as long as `uc` (the flash in this struct, the SRAM
+        // inside the chip `uc` owns) and are never reallocated
+        unsafe {
+            e(uc.mem_map_ptr(
+                FLASH_BASE as u64,
+                FLASH_SIZE as u64,
+                Prot::READ | Prot::EXEC,
+                flash.as_mut_ptr().cast(),
+            ))?;
+            e(uc.mem_map_ptr(0, FLASH_SIZE as u64, Prot::READ | Prot::EXEC, flash.as_mut_ptr().cast()))?;
+            e(uc.mem_map_ptr(SRAM_BASE as u64, SRAM_SIZE as u64, Prot::ALL, sram.cast()))?;
+        }
+        for (base, size) in
+            [(0x4000_0000u64, 0x8_0000u64), (0x5000_0000, 0x4_0000), (0xE000_0000, 0x10_0000), (0x1FFF_0000, 0x1_0000)]
+        {
+            let read = move |uc: &mut Unicorn<Chip>, off: u64, size: usize| {
+                uc.get_data_mut().read((base + off) as u32, size as u32) as u64
+            };
+            let write = move |uc: &mut Unicorn<Chip>, off: u64, size: usize, v: u64| {
+                uc.get_data_mut().write((base + off) as u32, size as u32, v as u32);
+                crate::cpu::after_write(uc);
+            };
+            e(uc.mmio_map(base, size, Some(read), Some(write)))?;
+        }
+        let mut m = Machine { uc, image, lathe: None, cpr: 2400, _flash: flash };
+        m.hooks()?;
+        m.boot();
+        Ok(m)
+    }
+
+    fn hooks(&mut self) -> Result<(), String> {
+        let e = |r: Result<unicorn_engine::UcHookId, unicorn_engine::uc_error>| {
+            r.map(|_| ()).map_err(|e| format!("unicorn: {e:?}"))
+        };
+        e(self.uc.add_block_hook(1, 0, |uc, addr, size| {
+            let c = uc.get_data_mut();
+            if c.now >= c.deadline {
+                // stops before this block runs; the PC unicorn reports then can be the
+                // previous block's start, so resume from here
+                c.resume = Some(addr as u32);
+                let _ = uc.emu_stop();
+                return;
+            }
+            let n = c.block_insns(addr as u32, size);
+            c.blk = c.now;
+            c.now += n;
+            c.pc = addr as u32;
+        }))?;
+        e(self.uc.add_intr_hook(crate::cpu::interrupt))?;
+        let image = self.image.clone();
+        e(self.uc.add_mem_hook(HookType::MEM_INVALID, 1, 0, move |uc, _kind, addr, _size, _v| {
+            let pc = uc.reg_read(RegisterARM::PC).unwrap_or(0) as u32;
+            let f = format!("bus fault: access to unmapped {addr:#010x} at pc {pc:#010x} ({})", image.func_at(pc));
+            uc.get_data_mut().fault(f);
+            false
+        }))?;
+        // the fault handlers and udf: reaching one is a failure
+        let mut traps: Vec<(u32, String)> = [(3, "HardFault"), (4, "MemManage"), (5, "BusFault"), (6, "UsageFault")]
+            .iter()
+            .map(|&(n, what)| {
+                let v = self.image.vectors[n] & !1;
+                (v, format!("{what} handler reached ({})", self.image.func_at(v)))
+            })
+            .collect();
+        traps.extend(
+            self.image.insns.udf.iter().map(|&a| (a, format!("udf at {a:#010x} in {}", self.image.func_at(a)))),
+        );
+        for (a, text) in traps {
+            e(self.uc.add_code_hook(a as u64, a as u64, move |uc, _, _| {
+                uc.get_data_mut().fault(text.clone());
+                let _ = uc.emu_stop();
+            }))?;
+        }
+        crate::primask::hooks(self)
+    }
+
+    fn boot(&mut self) {
+        let (sp, rv) = (self.image.vectors[0], self.image.vectors[1]);
+        let _ = self.uc.reg_write(RegisterARM::SP, sp as u64);
+        let _ = self.uc.reg_write(RegisterARM::PC, rv as u64);
+    }
+
+    pub fn chip(&mut self) -> &mut Chip {
+        self.uc.get_data_mut()
+    }
+
+    pub fn pc(&self) -> u32 {
+        self.uc.reg_read(RegisterARM::PC).unwrap_or(0) as u32
+    }
+
+    /// Run `cycles` more CPU cycles (or until a fault).
+    pub fn run(&mut self, cycles: u64) {
+        let end = self.chip().now + cycles;
+        while self.chip().now < end && self.chip().faults.is_empty() {
+            self.chip().sync_to_now();
+            self.lathe_edges();
+            crate::cpu::take(self);
+            let now = self.chip().now;
+            let lathe = self.lathe.as_mut().and_then(|l| l.next_edge(now + SLICE)).unwrap_or(u64::MAX);
+            let c = self.chip();
+            let next = c.next_event().unwrap_or(u64::MAX).min(lathe);
+            c.deadline = end.min(c.now + SLICE).min(next);
+            c.blk = c.now;
+            c.resume = None;
+            let pc = self.pc();
+            if let Err(err) = self.uc.emu_start((pc | 1) as u64, 0xFFFF_FFFF, 0, 0) {
+                if self.chip().faults.is_empty() {
+                    let f = format!("unicorn: {err:?} at {pc:#010x} ({})", self.image.func_at(self.pc()));
+                    self.chip().fault(f);
+                }
+            }
+            if let Some(r) = self.chip().resume.filter(|_| self.chip().faults.is_empty()) {
+                let _ = self.uc.reg_write(RegisterARM::PC, (r | 1) as u64);
+            }
+        }
+        self.chip().sync_to_now();
+    }
+
+    /// The encoder's edges due by now, onto PA6, PA7 and PB0.
+    fn lathe_edges(&mut self) {
+        let now = self.chip().now;
+        while let Some(c) = self.lathe.as_mut().and_then(|l| l.take_due(now)) {
+            let [a, b, z] = crate::job::lathe::levels(c, self.cpr);
+            self.drive(0, 6, Some(a));
+            self.drive(0, 7, Some(b));
+            self.drive(1, 0, Some(z));
+        }
+    }
+
+    /// Drive input pin `pin` of port `port` (0 = A) from outside; `None` floats it.
+    pub fn drive(&mut self, port: usize, pin: u8, level: Option<bool>) {
+        let c = self.chip();
+        c.sync_to_now();
+        let edges = c.gpio[port].drive(pin, level);
+        c.pin_edges(port, edges);
+        crate::cpu::after_write(&mut self.uc);
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::insn_count;
+
+    #[test]
+    fn a_32_bit_instruction_counts_once() {
+        // movs r0, #1 (16-bit); bl (32-bit: 0xF000 0xF800); bx lr (16-bit)
+        let code = [0x01, 0x20, 0x00, 0xF0, 0x00, 0xF8, 0x70, 0x47];
+        assert_eq!(insn_count(&code), 3);
+        // ldr.w (0xF8D0 ...): 0b11111 prefix
+        assert_eq!(insn_count(&[0xD0, 0xF8, 0x00, 0x00]), 1);
+    }
+}

@@ -1,0 +1,106 @@
+//! polyturn's firmware image on an emulated STM32F411 (`bash .ci/emu`).
+//!
+//! usage: polyturn-emu ELF [-v]
+//!
+//! Scenarios (each from reset, flash erased, so default settings):
+//! 1. boot and run 160 ms with the E-stop closed (PB14 driven low) and no drive
+//!    alarm (PB15 floating, pulled up): boot, registers, tick; then the E-stop
+//!    opens (PB14 floats, its pull-up takes it high).
+//! 2. boot and run 60 ms, then the drive alarm pulls PB15 low.
+//!
+//! The peripherals are `polyturn-stm32-model`'s: the project's one reading of the
+//! manual. Exits 1 if a check fails, 2 if the image cannot run (with why).
+
+mod checks;
+mod chip;
+mod cpu;
+mod disasm;
+mod image;
+mod job;
+mod jobs;
+mod machine;
+mod primask;
+mod probe;
+mod svd;
+
+use checks::Report;
+use machine::Machine;
+use polyturn_stm32_model::Params;
+use std::rc::Rc;
+use std::time::Instant;
+
+const MS: u64 = 96_000; // instructions per ms at the board's 96 MHz
+const GPIOB: usize = 1;
+const GPIOC: usize = 2;
+
+fn main() {
+    let args: Vec<String> = std::env::args().skip(1).collect();
+    let Some(elf) = args.iter().find(|a| !a.starts_with('-')) else {
+        eprintln!("usage: polyturn-emu ELF");
+        std::process::exit(2);
+    };
+    // a model's "not modelled" panic becomes a fault of the run, reported once
+    std::panic::set_hook(Box::new(|_| {}));
+    let image = match image::load(std::path::Path::new(elf)) {
+        Ok(i) => Rc::new(i),
+        Err(e) => {
+            eprintln!("emu: {e}");
+            std::process::exit(2);
+        }
+    };
+    let wall = Instant::now();
+    let mut r = Report::default();
+    let mut total = scenarios(&image, &mut r).unwrap_or_else(|e| {
+        eprintln!("emu: {e}");
+        std::process::exit(2);
+    });
+    total += jobs::run_all(&image, &mut r).unwrap_or_else(|e| {
+        eprintln!("emu: {e}");
+        std::process::exit(2);
+    });
+    println!(
+        "emulated {total} instructions ({:.1} ms of MCU time) in {:.1} s wall; {} check(s) failed",
+        total as f64 / 96e3,
+        wall.elapsed().as_secs_f64(),
+        r.failed
+    );
+    std::process::exit(if r.failed == 0 { 0 } else { 1 });
+}
+
+fn boot(image: &Rc<Image>) -> Result<Machine, String> {
+    let mut m = Machine::new(image.clone(), Params::default(), &[])?;
+    m.drive(GPIOB, 14, Some(false)); // E-stop closed to GND
+    Ok(m)
+}
+
+use image::Image;
+
+fn scenarios(image: &Rc<Image>, r: &mut Report) -> Result<u64, String> {
+    // 1: boot, registers, tick, E-stop
+    let mut m = boot(image)?;
+    m.run(60 * MS);
+    let s0 = checks::tick_sample(&mut m);
+    m.run(100 * MS);
+    let s1 = checks::tick_sample(&mut m);
+    let led = m.chip().gpio[GPIOC].output_since[13];
+    checks::boot(r, &mut m, led);
+    checks::registers(r, &mut m);
+    let w = checks::TickWindow { t: (s0.0, s1.0), runs: (s0.1, s1.1), updates: (s0.2, s1.2), clears: (s0.3, s1.3) };
+    checks::tick(r, &mut m, &w);
+    m.chip().probe.trip = Some((GPIOB, 14, None)); // the contact opens: PB14 floats high
+    m.run(2 * MS);
+    let after = m.chip().outputs();
+    checks::safety(r, &mut m, "safety-estop", after);
+    checks::primask(r, &mut m);
+    let mut total = m.chip().now;
+
+    // 2: the drive alarm from a fresh boot
+    let mut m = boot(image)?;
+    m.run(60 * MS);
+    m.chip().probe.trip = Some((GPIOB, 15, Some(false))); // the drive pulls ALARM to GND
+    m.run(2 * MS);
+    let after = m.chip().outputs();
+    checks::safety(r, &mut m, "safety-alarm", after);
+    total += m.chip().now;
+    Ok(total)
+}

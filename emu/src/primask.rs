@@ -1,0 +1,76 @@
+//! Interrupts-off sections in thread mode: each `cpsid i` (or `msr primask, rN`
+//! with 1) to the `cpsie i` (or `msr` with 0) that ends it, timed in instructions.
+//! Sections begun while the tick's interrupt is enabled are the ones that can
+//! delay it (app/cs.rs keeps logging and embassy off PRIMASK).
+
+use crate::chip::Chip;
+use crate::machine::{insn_count, Machine};
+use unicorn_engine::{RegisterARM as R, Unicorn};
+
+#[derive(Default, Clone, Copy, Debug)]
+pub struct Section {
+    pub instructions: u64,
+    pub pc: u32,
+}
+
+#[derive(Default)]
+pub struct PrimaskLog {
+    since: Option<(u64, u32, bool)>,
+    pub longest: Section,
+    pub ticking: Section,
+    pub sections: u64,
+}
+
+pub fn hooks(m: &mut Machine) -> Result<(), String> {
+    let ins = &m.image.insns;
+    let sites: Vec<(u32, Option<bool>)> = ins
+        .cpsid
+        .iter()
+        .map(|&a| (a, Some(true)))
+        .chain(ins.cpsie.iter().map(|&a| (a, Some(false))))
+        .chain(ins.msr_primask.iter().map(|&a| (a, None)))
+        .collect();
+    for (a, value) in sites {
+        m.uc.add_code_hook(a as u64, a as u64, move |uc, addr, _| at(uc, addr as u32, value))
+            .map_err(|e| format!("unicorn: {e:?}"))?;
+    }
+    Ok(())
+}
+
+fn at(uc: &mut Unicorn<Chip>, addr: u32, value: Option<bool>) {
+    if uc.reg_read(R::IPSR).unwrap_or(0) & 0x1FF != 0 {
+        return; // only thread-mode sections are measured
+    }
+    let primask = uc.reg_read(R::PRIMASK).unwrap_or(0) & 1 == 1;
+    let c = uc.get_data();
+    let off = (addr & 0x00FF_FFFF) as usize;
+    let value = value.unwrap_or_else(|| {
+        // msr primask, rN: T2 encoding, Rn in the first halfword's low nibble
+        let hw = u16::from_le_bytes([c.code[off], c.code[off + 1]]);
+        uc.reg_read(R::R0 as i32 + (hw & 0xF) as i32).unwrap_or(0) & 1 == 1
+    });
+    let start = (c.pc & 0x00FF_FFFF) as usize;
+    let t = c.blk + insn_count(&c.code[start..off.max(start)]);
+    let tick_on = c.nvic.enabled[crate::svd::irq("TIM1_TRG_COM_TIM11")];
+    let deliverable = crate::cpu::deliverable(uc, Some(false)).is_some();
+    let c = uc.get_data_mut();
+    let log = &mut c.primask;
+    match (value, log.since) {
+        (true, None) if !primask => log.since = Some((t, addr, tick_on)),
+        (false, Some((t0, pc, ticking))) => {
+            let s = Section { instructions: t - t0, pc };
+            log.sections += 1;
+            if s.instructions > log.longest.instructions {
+                log.longest = s;
+            }
+            if ticking && s.instructions > log.ticking.instructions {
+                log.ticking = s;
+            }
+            log.since = None;
+            if deliverable {
+                c.deadline = 0; // taken as soon as this block ends
+            }
+        }
+        _ => {}
+    }
+}

@@ -1,0 +1,82 @@
+//! What the checks watch at exception entry and return: the tick's handler clearing
+//! UIF, the EXTI15_10 handler's entry time and the outputs when it returns, and a
+//! pin change fired right after a tick returns.
+
+use crate::chip::pins::Outputs;
+use crate::chip::Chip;
+use crate::svd;
+use polyturn_stm32_model::addr::{off, TIM11};
+
+/// A pin change to fire after the next tick returns: (port, pin, level).
+pub type Trip = (usize, u8, Option<bool>);
+
+#[derive(Default)]
+pub struct Probe {
+    pub tick_uif_clears: u64,
+    pub exti_entered: Option<u64>,
+    pub exti_return: Option<Outputs>,
+    pub trip: Option<Trip>,
+    pub before: Option<Outputs>,
+    pub edge_at: Option<u64>,
+    /// the tick handler's runs: entry time of the one running, and (count,
+    /// total, worst) instructions from entry to return
+    tick_entered: Option<u64>,
+    pub tick_runs: u64,
+    pub tick_total: u64,
+    pub tick_worst: u64,
+}
+
+impl Probe {
+    pub fn tick_average(&self) -> f64 {
+        self.tick_total as f64 / self.tick_runs.max(1) as f64
+    }
+}
+
+pub fn tick_exc() -> usize {
+    16 + svd::irq("TIM1_TRG_COM_TIM11")
+}
+
+fn exti_exc() -> usize {
+    16 + svd::irq("EXTI15_10")
+}
+
+pub fn on_enter(c: &mut Chip, exc: usize) {
+    if exc == tick_exc() {
+        c.probe.tick_entered = Some(c.now);
+    }
+    if exc == exti_exc() && c.probe.exti_entered.is_none() {
+        c.probe.exti_entered = Some(c.now);
+    }
+}
+
+pub fn on_return(c: &mut Chip, exc: usize) {
+    if exc == tick_exc() {
+        if let Some(t) = c.probe.tick_entered.take() {
+            let p = &mut c.probe;
+            (p.tick_runs, p.tick_total, p.tick_worst) =
+                (p.tick_runs + 1, p.tick_total + (c.now - t), p.tick_worst.max(c.now - t));
+        }
+        if c.mcu.read(TIM11 + off::SR) & 1 == 0 {
+            c.probe.tick_uif_clears += 1;
+        }
+        if let Some(t) = c.probe.trip.take() {
+            fire(c, t);
+        }
+    } else if exc == exti_exc() && c.probe.exti_return.is_none() {
+        c.probe.exti_return = Some(c.outputs());
+    }
+}
+
+/// Fires the input change having set the ESC to a running pulse (1.5 × the stop
+/// pulse, as a running BLDC would have it), so the E-stop interrupt's own work is
+/// visible before the next tick would redo it.
+fn fire(c: &mut Chip, (port, pin, level): Trip) {
+    let stop = c.outputs().esc_stop;
+    c.gp[3].write(off::CCR1, stop * 3 / 2, 0xFFFF);
+    c.probe.before = Some(c.outputs());
+    c.probe.edge_at = Some(c.now);
+    let edges = c.gpio[port].drive(pin, level);
+    c.pin_edges(port, edges);
+    c.update_lines();
+    c.deadline = 0;
+}

@@ -1,0 +1,323 @@
+//! A general-purpose timer as the emulator's event-driven bus sees it: TIM3, TIM4,
+//! TIM5 (RM0383 §13) and TIM10 (§14). The counter counts up at CK_CNT = CK_INT /
+//! (PSC + 1) (§13.3.1) with CEN set and no slave mode; in encoder mode
+//! (SMS = 001..011, §13.3.12) it counts what [`GpTimer::count_by`] is given. At each
+//! overflow an update event loads the shadow registers (PSC always, ARR if ARPE,
+//! CCRx if OCxPE: §13.3.1, §13.3.9) and sets UIF unless UDIS (§13.4.1). A compare
+//! match (CNT reaching CCRx) sets CCxIF (§13.3.8). SR flags are rc_w0 (§13.4.5). The
+//! interrupt line is SR & DIER. Encoder mode counts the transitions
+//! [`GpTimer::inputs`] is given as §13.3.12 table 53 says (with
+//! [`crate::encoder::table_53`]), and channel 3 captures CNT on TI3's rising edge
+//! (§13.3.5). Not modelled: down and centre-aligned counting, the input filters
+//! (they delay an edge by a few samples, §13.4.7), capture on channels 1, 2 and 4,
+//! one-pulse mode, DMA requests, TIM5's OR remap.
+
+use super::RegFile;
+use crate::addr::off::{ARR, CCER, CCMR1, CCMR2, CCR1, CNT, CR1, DIER, EGR, PSC, SMCR, SR};
+
+const CEN: u32 = 1;
+const UDIS: u32 = 2;
+const URS: u32 = 4;
+const ARPE: u32 = 0x80;
+
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct GpTimer {
+    regs: RegFile,
+    max: u32,
+    channels: usize,
+    cnt: u32,
+    /// prescaler counter
+    pc: u64,
+    /// timer-clock ticks owed, in units of 1/sysclk (clock ratio remainder)
+    rem: u64,
+    /// CPU cycle advanced to
+    t: u64,
+    psc: u64,
+    arr: u32,
+    ccr: [u32; 4],
+    /// TI1, TI2, TI3 as last given
+    ti: [bool; 3],
+    /// update events so far
+    pub updates: u64,
+}
+
+impl GpTimer {
+    /// `bits`: 16, or 32 for TIM2/TIM5 (§13.1); `channels`: 4, or 1 for TIM10 (§14.1).
+    pub fn new(bits: u32, channels: usize) -> GpTimer {
+        let max = if bits == 32 { u32::MAX } else { 0xFFFF };
+        GpTimer {
+            regs: RegFile::new(&[(ARR, max)]), // §13.4.12: ARR resets to all ones
+            max,
+            channels,
+            cnt: 0,
+            pc: 0,
+            rem: 0,
+            t: 0,
+            psc: 0,
+            arr: max,
+            ccr: [0; 4],
+            ti: [false; 3],
+            updates: 0,
+        }
+    }
+
+    pub fn get(&self, off: u32) -> u32 {
+        self.regs.get(off)
+    }
+
+    fn counting(&self) -> bool {
+        self.regs.get(CR1) & CEN != 0 && self.regs.get(SMCR) & 7 == 0 && self.arr != 0
+    }
+
+    /// Whether SMS selects an encoder mode (§13.4.3: 001, 010, 011).
+    pub fn encoder_mode(&self) -> bool {
+        (1..=3).contains(&(self.regs.get(SMCR) & 7))
+    }
+
+    /// Time moves to CPU cycle `now`, with the CPU at `sysclk` and this timer's
+    /// kernel clock at `clk` (§6.2: the APB timer clock).
+    pub fn advance(&mut self, now: u64, sysclk: u64, clk: u64) {
+        if now <= self.t {
+            return;
+        }
+        self.rem += (now - self.t) * clk;
+        self.t = now;
+        let ticks = self.rem / sysclk;
+        self.rem %= sysclk;
+        if !self.counting() || ticks == 0 {
+            return;
+        }
+        let total = self.pc + ticks;
+        self.pc = total % (self.psc + 1);
+        self.count((total / (self.psc + 1)) as i64);
+    }
+
+    /// New levels of TI1, TI2 (the encoder's A and B) and TI3 (the index). In encoder
+    /// mode a change of TI1 or TI2 counts as table 53 says for SMS (§13.4.3: 001
+    /// counts on TI1 edges, 010 on TI2's, 011 on both; §13.3.12's text swaps the first
+    /// two, so only 011 is relied on) and sets CR1.DIR (§13.4.1). A rising TI3 edge
+    /// captures while CC3S = 01 and CC3E = 1 (§13.3.5).
+    pub fn inputs(&mut self, ti: [bool; 3]) {
+        use crate::encoder::{table_53, Count, Counting};
+        let counting = match self.regs.get(SMCR) & 7 {
+            1 => Some(Counting::Ti1Only),
+            2 => Some(Counting::Ti2Only),
+            3 => Some(Counting::Both),
+            _ => None,
+        };
+        for (i, &level) in ti.iter().enumerate().take(2) {
+            if level == self.ti[i] {
+                continue;
+            }
+            self.ti[i] = level;
+            let (col, opposite) = (2 * i + !level as usize, self.ti[1 - i]);
+            let Some(c) = counting else { continue };
+            let dir_down = table_53(Counting::Both, opposite)[col] == Count::Down;
+            self.regs.set(CR1, self.regs.get(CR1) & !0x10 | (dir_down as u32) << 4);
+            match table_53(c, opposite)[col] {
+                Count::Up => self.count_by(1),
+                Count::Down => self.count_by(-1),
+                Count::None => {}
+            }
+        }
+        if ti[2] && !self.ti[2] {
+            self.capture3();
+        }
+        self.ti[2] = ti[2];
+    }
+
+    /// §13.3.5: "the TIMx_CCR1 register gets the value of the counter on the active
+    /// transition. CC1IF flag is set ... CC1OF is also set if at least two
+    /// consecutive captures occurred whereas the flag was not cleared" (channel 3:
+    /// CCR3, CC3IF bit 3, CC3OF bit 11).
+    fn capture3(&mut self) {
+        let (ccmr2, ccer) = (self.regs.get(CCMR2), self.regs.get(CCER));
+        if ccmr2 & 3 != 1 || ccer >> 8 & 1 == 0 || ccer >> 9 & 1 == 1 {
+            return; // not IC3 on TI3, not enabled, or on the falling edge
+        }
+        self.regs.set(CCR1 + 8, self.cnt);
+        let sr = self.regs.get(SR);
+        self.regs.set(SR, sr | 1 << 3 | (sr & 1 << 3) << 8);
+    }
+
+    /// Encoder counts (±) from the encoder interface (§13.3.12): up through ARR to
+    /// 0 is an overflow, down through 0 to ARR an underflow; both are update events.
+    pub fn count_by(&mut self, d: i64) {
+        if self.regs.get(CR1) & CEN == 0 {
+            return;
+        }
+        if d >= 0 {
+            self.count(d);
+            return;
+        }
+        for _ in 0..-d {
+            if self.cnt == 0 {
+                self.cnt = self.arr;
+                self.overflow();
+            } else {
+                self.cnt -= 1;
+            }
+            self.compare(self.cnt, self.cnt, false);
+        }
+    }
+
+    fn compare(&mut self, lo: u32, hi: u32, wrapped: bool) {
+        for i in 0..self.channels {
+            let c = self.ccr[i];
+            if (lo..=hi).contains(&c) || (wrapped && c == 0) {
+                self.regs.set(SR, self.regs.get(SR) | 2 << i); // CCxIF
+            }
+        }
+    }
+
+    fn count(&mut self, mut incs: i64) {
+        while incs > 0 {
+            let top = if self.cnt <= self.arr { self.arr } else { self.max };
+            let to_ovf = (top - self.cnt) as i64 + 1;
+            let k = incs.min(to_ovf);
+            let (lo, hi) = (self.cnt.wrapping_add(1), self.cnt.wrapping_add((k - 1) as u32).wrapping_add(1));
+            incs -= k;
+            if k == to_ovf {
+                self.compare(lo, top, true);
+                self.cnt = 0;
+                self.overflow();
+            } else {
+                self.compare(lo, hi, false);
+                self.cnt = hi;
+            }
+        }
+    }
+
+    fn overflow(&mut self) {
+        if self.regs.get(CR1) & UDIS == 0 {
+            self.update_event(true);
+        }
+    }
+
+    fn load_shadows(&mut self) {
+        self.psc = (self.regs.get(PSC) & 0xFFFF) as u64;
+        self.arr = self.regs.get(ARR) & self.max;
+        for i in 0..self.channels {
+            self.ccr[i] = self.regs.get(CCR1 + 4 * i as u32) & self.max;
+        }
+    }
+
+    fn update_event(&mut self, flag: bool) {
+        self.load_shadows();
+        if flag {
+            self.regs.set(SR, self.regs.get(SR) | 1); // UIF
+        }
+        self.updates += 1;
+    }
+
+    /// OCxPE of channel `i` (CCMRx bit 3 / 11, §13.4.7).
+    fn preload(&self, i: usize) -> bool {
+        let off = if i < 2 { CCMR1 } else { CCMR2 };
+        self.regs.get(off) >> (3 + 8 * (i % 2)) & 1 == 1
+    }
+
+    /// A read; reading CCR3 while channel 3 captures clears CC3IF (§13.4.5: "cleared
+    /// by software reading the TIMx_CCRx register").
+    pub fn read(&mut self, off: u32) -> u32 {
+        if off == CCR1 + 8 && self.regs.get(CCMR2) & 3 != 0 {
+            self.regs.set(SR, self.regs.get(SR) & !(1 << 3));
+        }
+        match off {
+            CNT => self.cnt,
+            EGR => 0, // §13.4.6: write-only
+            _ => self.regs.get(off),
+        }
+    }
+
+    pub fn write(&mut self, off: u32, value: u32, mask: u32) {
+        let v = value & mask;
+        match off {
+            SR => self.regs.set(SR, self.regs.get(SR) & (value | !mask)), // rc_w0
+            CNT => self.cnt = (self.cnt & !mask | v) & self.max,
+            EGR => self.write_egr(v),
+            _ => {
+                self.regs.write(off, value, mask);
+                let ch = off.wrapping_sub(CCR1) / 4;
+                if off == ARR && self.regs.get(CR1) & ARPE == 0 {
+                    self.arr = self.regs.get(ARR) & self.max;
+                } else if (CCR1..CCR1 + 16).contains(&off)
+                    && (ch as usize) < self.channels
+                    && !self.preload(ch as usize)
+                {
+                    self.ccr[ch as usize] = self.regs.get(off) & self.max;
+                }
+            }
+        }
+    }
+
+    /// §13.4.6: UG re-initialises the counter and the prescaler and makes an update
+    /// event (UIF unless URS); CCxG sets CCxIF.
+    fn write_egr(&mut self, v: u32) {
+        if v & 1 != 0 {
+            self.cnt = 0;
+            self.pc = 0;
+            self.update_event(self.regs.get(CR1) & URS == 0);
+        }
+        for i in 0..self.channels {
+            if v >> (i + 1) & 1 != 0 {
+                self.regs.set(SR, self.regs.get(SR) | 2 << i);
+            }
+        }
+    }
+
+    /// The interrupt line (SR & DIER, §13.4.4), limited to `flags`.
+    pub fn irq(&self, flags: u32) -> bool {
+        self.regs.get(SR) & self.regs.get(DIER) & flags != 0
+    }
+
+    /// The CPU cycle of the next update or compare event that can raise an
+    /// interrupt, or `None`.
+    pub fn next_event(&self, sysclk: u64, clk: u64) -> Option<u64> {
+        let dier = self.regs.get(DIER) & 0x1F;
+        if !self.counting() || dier == 0 {
+            return None;
+        }
+        let top = if self.cnt <= self.arr { self.arr } else { self.max } as u64;
+        let cnt = self.cnt as u64;
+        let mut incs = u64::MAX;
+        if dier & 1 != 0 {
+            incs = top - cnt + 1;
+        }
+        for i in 0..self.channels {
+            if dier >> (i + 1) & 1 != 0 {
+                let d = (self.ccr[i] as u64 + top + 1 - cnt) % (top + 1);
+                incs = incs.min(if d == 0 { top + 1 } else { d });
+            }
+        }
+        let ticks = (incs - 1) * (self.psc + 1) + (self.psc + 1 - self.pc);
+        let cycles = (ticks * sysclk - self.rem).div_ceil(clk);
+        Some(self.t + cycles.max(1))
+    }
+
+    /// OCxREF of channel `ch` in the forced and PWM modes (§13.3.10, §13.4.7 OCxM):
+    /// 100 forced low, 101 forced high, 110 PWM 1, 111 PWM 2; other modes read low.
+    pub fn oc_ref(&self, ch: usize) -> bool {
+        let c = self.ccr[ch];
+        match self.oc_mode(ch) {
+            5 => true,
+            6 => self.cnt < c,
+            7 => self.cnt >= c,
+            _ => false,
+        }
+    }
+
+    pub fn oc_mode(&self, ch: usize) -> u32 {
+        let off = if ch < 2 { CCMR1 } else { CCMR2 };
+        self.regs.get(off) >> (4 + 8 * (ch % 2)) & 7
+    }
+
+    /// The level at OCx's pin, `None` while CCxE = 0 (§13.4.9 table "Output control
+    /// bit for standard OCx channels"); CCxP inverts.
+    pub fn oc_out(&self, ch: usize) -> Option<bool> {
+        let ccer = self.regs.get(CCER);
+        (ccer >> (4 * ch) & 1 == 1).then(|| self.oc_ref(ch) ^ (ccer >> (4 * ch + 1) & 1 == 1))
+    }
+}
+
+#[cfg(test)]
+mod tests;

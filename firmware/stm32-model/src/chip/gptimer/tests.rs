@@ -1,0 +1,112 @@
+use super::*;
+
+const MHZ96: u64 = 96_000_000;
+
+fn running(psc: u32, arr: u32) -> GpTimer {
+    let mut t = GpTimer::new(16, 4);
+    t.write(PSC, psc, u32::MAX);
+    t.write(ARR, arr, u32::MAX);
+    t.write(EGR, 1, u32::MAX); // UG loads PSC (§13.3.1: "taken into account at the next update event")
+    t.write(SR, 0, u32::MAX);
+    t.write(CR1, CEN, u32::MAX);
+    t
+}
+
+#[test]
+fn the_counter_overflows_every_psc_plus_1_times_arr_plus_1_clocks() {
+    let mut t = running(1, 99);
+    t.advance(199, MHZ96, MHZ96);
+    assert_eq!((t.read(CNT), t.read(SR) & 1), (99, 0));
+    t.advance(200, MHZ96, MHZ96);
+    assert_eq!((t.read(CNT), t.read(SR) & 1, t.updates), (0, 1, 2));
+}
+
+#[test]
+fn a_timer_on_a_slower_clock_counts_by_the_ratio() {
+    let mut t = running(0, 0xFFFF);
+    t.advance(1000, MHZ96, MHZ96 / 2);
+    assert_eq!(t.read(CNT), 500);
+}
+
+#[test]
+fn next_event_names_the_cycle_the_flag_is_set_in() {
+    let mut t = running(2, 9);
+    t.write(DIER, 1 | 1 << 2, u32::MAX); // UIE, CC2IE
+    t.write(CCR1 + 4, 4, u32::MAX);
+    let at = t.next_event(MHZ96, MHZ96).unwrap();
+    assert_eq!(at, 12, "CNT 0 -> 4 takes 4 counts of 3 clocks");
+    t.advance(at - 1, MHZ96, MHZ96);
+    assert!(!t.irq(0x1F));
+    t.advance(at, MHZ96, MHZ96);
+    assert!(t.irq(1 << 2));
+}
+
+#[test]
+fn flags_are_rc_w0_and_ug_with_urs_sets_no_uif() {
+    let mut t = running(0, 9);
+    t.write(EGR, 1 << 1, u32::MAX);
+    assert_eq!(t.read(SR), 2, "CC1G sets CC1IF");
+    t.write(SR, !2, u32::MAX);
+    assert_eq!(t.read(SR), 0);
+    t.write(CR1, CEN | URS, u32::MAX);
+    t.write(EGR, 1, u32::MAX);
+    assert_eq!(t.read(SR), 0, "§13.4.1 URS: UG sets no UIF");
+}
+
+#[test]
+fn encoder_counts_wrap_through_arr_both_ways() {
+    let mut t = running(0, 9);
+    t.write(SMCR, 3, u32::MAX);
+    assert!(t.encoder_mode());
+    t.count_by(-1);
+    assert_eq!((t.read(CNT), t.read(SR) & 1), (9, 1));
+    t.count_by(3);
+    assert_eq!(t.read(CNT), 2);
+}
+
+#[test]
+fn pwm_mode_1_is_high_below_ccr_and_the_pin_off_without_ccxe() {
+    let mut t = running(0, 99);
+    t.write(CCMR1, 6 << 4, u32::MAX);
+    t.write(CCR1, 30, u32::MAX);
+    assert_eq!(t.oc_out(0), None);
+    t.write(CCER, 1, u32::MAX);
+    t.advance(10, MHZ96, MHZ96);
+    assert_eq!(t.oc_out(0), Some(true));
+    t.advance(40, MHZ96, MHZ96);
+    assert_eq!(t.oc_out(0), Some(false));
+}
+
+#[test]
+fn quadrature_counts_up_one_way_and_down_the_other_with_dir() {
+    let mut t = running(0, 0xFFFF);
+    t.write(SMCR, 3, u32::MAX); // encoder mode 3
+    let seq = [[true, false], [true, true], [false, true], [false, false]];
+    for ab in seq {
+        t.inputs([ab[0], ab[1], false]);
+    }
+    assert_eq!(t.read(CNT), 4);
+    assert_eq!(t.read(CR1) & 0x10, 0, "counting up: DIR = 0");
+    for ab in seq.iter().rev().skip(1) {
+        t.inputs([ab[0], ab[1], false]);
+    }
+    t.inputs([false, false, false]);
+    assert_eq!(t.read(CNT), 0, "table 53 both ways: {:?}", t.read(CNT));
+    assert_eq!(t.read(CR1) & 0x10, 0x10, "counting down: DIR = 1");
+}
+
+#[test]
+fn the_index_captures_cnt_and_a_read_of_ccr3_clears_the_flag() {
+    let mut t = running(0, 0xFFFF);
+    t.write(SMCR, 3, u32::MAX);
+    t.write(CCMR2, 1, u32::MAX); // CC3S = 01: IC3 on TI3
+    t.write(CCER, 1 << 8, u32::MAX);
+    t.inputs([true, false, false]);
+    t.inputs([true, false, true]);
+    assert_eq!(t.read(SR) & 1 << 3, 1 << 3);
+    t.inputs([true, false, false]);
+    t.inputs([true, false, true]);
+    assert_eq!(t.read(SR) & 1 << 11, 1 << 11, "CC3OF: captured twice unread");
+    assert_eq!(t.read(CCR1 + 8), 1);
+    assert_eq!(t.read(SR) & 1 << 3, 0);
+}

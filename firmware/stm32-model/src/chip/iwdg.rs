@@ -1,0 +1,88 @@
+//! The independent watchdog (RM0383 §17). Every key written is kept with its
+//! time: 0xCCCC starts it, 0xAAAA reloads it (a pet), 0x5555 unlocks PR and RLR
+//! (§17.4.1, §17.3.4). PR/RLR updates are instant, so SR's PVU/RVU read 0. The
+//! countdown runs on the LSI (17-47 kHz, datasheet table "LSI oscillator
+//! characteristics"), so its timeout is a range: [`Iwdg::timeout_ns`].
+
+use super::RegFile;
+
+pub const KR: u32 = 0x00;
+pub const PR: u32 = 0x04;
+pub const RLR: u32 = 0x08;
+pub const SR: u32 = 0x0C;
+
+/// The LSI's range, datasheet (DS10314) §6.3.9 table 38: 17 to 47 kHz, 32 typical.
+pub const LSI_HZ: [u64; 3] = [17_000, 32_000, 47_000];
+
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Iwdg {
+    regs: RegFile,
+    unlocked: bool,
+    /// (cycle, key) for every key written.
+    pub keys: Vec<(u64, u16)>,
+}
+
+impl Default for Iwdg {
+    fn default() -> Iwdg {
+        Iwdg { regs: RegFile::new(&[(RLR, 0xFFF)]), unlocked: false, keys: Vec::new() }
+    }
+}
+
+impl Iwdg {
+    pub fn read(&self, off: u32) -> u32 {
+        match off {
+            KR | SR => 0,
+            _ => self.regs.get(off),
+        }
+    }
+
+    pub fn write(&mut self, off: u32, value: u32, mask: u32, now: u64) {
+        let v = value & mask;
+        match off {
+            KR => {
+                let key = (v & 0xFFFF) as u16;
+                self.keys.push((now, key));
+                self.unlocked = key == 0x5555;
+            }
+            PR | RLR if self.unlocked => self.regs.write(off, value, mask),
+            _ => {}
+        }
+    }
+
+    pub fn started_at(&self) -> Option<u64> {
+        self.keys.iter().find(|k| k.1 == 0xCCCC).map(|k| k.0)
+    }
+
+    pub fn pets(&self) -> Vec<u64> {
+        self.keys.iter().filter(|k| k.1 == 0xAAAA).map(|k| k.0).collect()
+    }
+
+    /// The time from a reload to the reset at LSI frequency `lsi_hz`: (RLR + 1)
+    /// periods of LSI / 4·2^PR (§17.3.3 table 84: prescaler /4 at PR = 0 ... /256).
+    pub fn timeout_ns(&self, lsi_hz: u64) -> u64 {
+        let div = 4u64 << self.regs.get(PR).min(6);
+        (self.regs.get(RLR) as u64 + 1) * div * 1_000_000_000 / lsi_hz
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn pr_and_rlr_change_only_after_the_unlock_key() {
+        let mut w = Iwdg::default();
+        w.write(RLR, 100, u32::MAX, 0);
+        assert_eq!(w.read(RLR), 0xFFF, "locked: §17.3.4");
+        w.write(KR, 0x5555, u32::MAX, 1);
+        w.write(PR, 3, u32::MAX, 2);
+        w.write(RLR, 999, u32::MAX, 3);
+        assert_eq!((w.read(PR), w.read(RLR)), (3, 999));
+        w.write(KR, 0xCCCC, u32::MAX, 4);
+        w.write(KR, 0xAAAA, u32::MAX, 9);
+        assert_eq!(w.started_at(), Some(4));
+        assert_eq!(w.pets(), vec![9]);
+        // /32 at PR = 3, 1000 periods at 32 kHz: 1 s
+        assert_eq!(w.timeout_ns(32_000), 1_000_000_000);
+    }
+}
