@@ -3,6 +3,8 @@
 //! Errors keep the one-line contract of `errors.rs` and exit status 2.
 
 pub mod cam;
+#[cfg(feature = "device")]
+pub mod carried;
 pub mod compensate;
 pub mod console_line;
 #[cfg(feature = "device")]

@@ -231,7 +231,14 @@ fn web_help_names_every_flag_and_what_is_served() {
     let out = Command::new(POLYTURN).args(["web", "--help"]).output().unwrap();
     let help = String::from_utf8_lossy(&out.stdout);
     assert!(out.status.success(), "{help}");
-    for needle in ["--dir <DIR>", "[default: web/www]", "--port <PORT>", "[default: 8177]", "--no-open", "127.0.0.1"] {
+    for needle in [
+        "--dir <DIR>",
+        "[default: the page a release polyturn carries, else web/www]",
+        "--port <PORT>",
+        "[default: 8177]",
+        "--no-open",
+        "127.0.0.1",
+    ] {
         assert!(help.contains(needle), "missing {needle}: {help}");
     }
 }

@@ -366,6 +366,16 @@ await test('a port that echoes the command is never taken for the board, and the
   assert.match(got.asReply, /^err\|the command 'ok fine' reads as a reply/);
 });
 
+await test('the flash view offers the image polyturn web carries, and nothing when it carries none', async () => {
+  // a release polyturn (POLYTURN=target/dist/.../polyturn) carries one; a plain build none
+  const named = (await fetch(url, { method: 'HEAD' })).headers.get('x-polyturn-firmware');
+  const line = () => page.evaluate(() => { const e = document.getElementById('image-carried'); return e.hidden ? null : e.textContent; });
+  if (!named) return assert.equal(await line(), null);
+  await page.waitForFunction(() => !document.getElementById('image-carried').hidden, null, { timeout: 5000 });
+  assert.equal(await line(), `No file chosen: writes ${named.split('/').pop()}, the image this polyturn carries.`);
+  assert.equal((await fetch(url + named)).status, 200);
+});
+
 await test('the page logged no errors', async () => {
   assert.deepEqual(errors, []);
 });

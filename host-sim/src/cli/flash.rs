@@ -3,19 +3,22 @@
 //! read back, then the board restarted into it. Sectors 6-7 (settings,
 //! cam tables) are never erased or written.
 
+mod source;
+
+use super::carried;
 use super::errors::{escaped, CliError, CliResult};
-use super::image::{load, summary};
+use super::image::summary;
 use super::values::within;
 use crate::flash::dfuse::{self, FlashError, Io, Left, Limits, Progress, Report};
+use crate::flash::usb;
 use crate::flash::Image;
-use crate::flash::{usb, BUILT_ELF};
 use std::io::Write;
 use std::path::PathBuf;
 use std::time::Duration;
 
 #[derive(clap::Args, Debug)]
 pub struct FlashArgs {
-    /// The image: .bin, Intel .hex or ELF [default: target/thumbv7em-none-eabihf/fw/polyturn-firmware, as `cargo fw` builds it]
+    /// The image: .bin, Intel .hex or ELF [default: the image a release polyturn carries, else target/thumbv7em-none-eabihf/fw/polyturn-firmware, as `cargo fw` builds it]
     #[arg(value_name = "FILE")]
     pub file: Option<PathBuf>,
     /// Write an image without the polyturn marker (address, size and vector table checks still apply; an image marked for another chip is still refused)
@@ -31,10 +34,10 @@ pub struct FlashArgs {
 }
 
 pub fn run(a: FlashArgs) -> CliResult<String> {
-    let path = file(a.file)?;
-    let image = load("FILE", &path, a.any_image, None)?;
+    let source = source::choose(a.file, carried::firmware(), source::built_elf())?;
+    let image = source.load(a.any_image)?;
     if a.dry_run {
-        return Ok(format!("would write {}; sectors 6-7 (settings, cam tables) stay as they are", summary(&image)));
+        return Ok(source.dry_run(&image));
     }
     let io = usb::open(Duration::from_secs_f64(a.wait)).map_err(|e| CliError(format!("flash: {}", escaped(&e))))?;
     write(&io, &image, &Limits::default(), &mut printer())
@@ -72,24 +75,6 @@ fn done(image: &Image, r: &Report) -> String {
         r.written_bytes,
         r.sectors_erased
     )
-}
-
-/// FILE, or the ELF `cargo fw` built here.
-fn file(given: Option<PathBuf>) -> CliResult<PathBuf> {
-    if let Some(f) = given {
-        return Ok(f);
-    }
-    let built = match std::env::var_os("CARGO_TARGET_DIR") {
-        Some(dir) => PathBuf::from(dir).join(BUILT_ELF.trim_start_matches("target/")),
-        None => PathBuf::from(BUILT_ELF),
-    };
-    if built.is_file() {
-        return Ok(built);
-    }
-    Err(CliError(format!(
-        "FILE is required: no firmware built here ('{}' is missing): run `cargo fw` in the polyturn checkout, or give a release image (.hex or .bin, as `polyturn image` makes them)",
-        escaped(&built.display().to_string())
-    )))
 }
 
 /// Progress on stderr: each sector erased, the write and read-back by

@@ -14,6 +14,32 @@ export function init() {
     : 'This browser has no WebUSB: use Chromium, Chrome or Edge, or `polyturn flash`.';
   $('flash-go').disabled = !supported;
   $('flash-go').addEventListener('click', go);
+  offerCarried().catch(() => {}); // nothing offered is the old page
+}
+
+// A release `polyturn web` serves the firmware it carries and names it in
+// the X-Polyturn-Firmware header of every file; offered when no file is
+// chosen. Another host sends no such header, and nothing is offered.
+let carried = null;
+async function offerCarried() {
+  const r = await fetch('index.html', { method: 'HEAD' });
+  const url = r.headers.get('X-Polyturn-Firmware');
+  if (!r.ok || !url) return;
+  carried = { name: url.split('/').pop(), url };
+  const line = $('image-carried');
+  line.replaceChildren('No file chosen: writes ', Object.assign(document.createElement('a'), { href: url, textContent: carried.name }),
+    ', the image this polyturn carries.');
+  line.hidden = false;
+}
+
+// The chosen file, else the carried image: {name, bytes}, or null.
+async function image() {
+  const file = $('image-file').files[0];
+  if (file) return { name: file.name, bytes: new Uint8Array(await file.arrayBuffer()) };
+  if (!carried) return null;
+  const r = await fetch(carried.url);
+  if (!r.ok) throw new Error(`${carried.name}: the server answered ${r.status}`);
+  return { name: carried.name, bytes: new Uint8Array(await r.arrayBuffer()) };
 }
 
 // The alternate setting whose name is the internal flash's layout.
@@ -47,11 +73,10 @@ async function configurationDescriptor(device) {
 }
 
 async function go() {
-  const file = $('image-file').files[0];
   const status = $('flash-status');
   const error = $('flash-error');
   error.textContent = '';
-  if (!file) { error.textContent = 'choose the image first (.bin, .hex or the ELF)'; return; }
+  if (!$('image-file').files[0] && !carried) { error.textContent = 'choose the image first (.bin, .hex or the ELF)'; return; }
   let device;
   try {
     device = await navigator.usb.requestDevice({ filters: [ROM] });
@@ -66,7 +91,8 @@ async function go() {
     // what it can do are in its functional descriptor, checked as
     // `polyturn flash` checks them
     const functional = functionalDescriptor(await configurationDescriptor(device)) ?? new Uint8Array();
-    const plan = (await load()).flash_plan(file.name, new Uint8Array(await file.arrayBuffer()), alt.name, functional);
+    const { name, bytes } = await image();
+    const plan = (await load()).flash_plan(name, bytes, alt.name, functional);
     status.textContent = `image ${plan.version ?? ''}, ${plan.image_len} bytes, sha256 ${plan.sha256.slice(0, 16)}…`;
     const r = await flash(webusb(device, alt.interfaceNumber), plan, ({ phase, done, total }) => {
       $('flash-progress').value = done / total;

@@ -3,19 +3,12 @@
 //! on the way, and judged again on the opened file, so that a link to
 //! /dev/zero or a FIFO put in the folder is refused rather than read.
 
+use super::request::BAD_REQUEST;
+use super::site::{Body, Found};
 use std::fs::File;
 use std::path::{Component, Path, PathBuf};
 
 pub const NOT_FOUND: &str = "404 Not Found";
-use super::request::BAD_REQUEST;
-
-/// A file to send: opened, its length, and its Content-Type.
-#[derive(Debug)]
-pub struct Found {
-    pub file: File,
-    pub len: u64,
-    pub kind: &'static str,
-}
 
 /// The file `target` (`/path?query`) names under `root`, which must be
 /// canonical; Err is the status line of the refusal.
@@ -37,7 +30,7 @@ pub fn find(root: &Path, target: &str) -> Result<Found, &'static str> {
     if !meta.is_file() {
         return Err(NOT_FOUND);
     }
-    Ok(Found { file, len: meta.len(), kind: content_type(&real) })
+    Ok(Found { body: Body::File(file), len: meta.len(), kind: content_type(&real) })
 }
 
 /// Opens for reading without waiting: O_NONBLOCK makes opening a FIFO
@@ -54,7 +47,7 @@ fn open(path: &Path) -> std::io::Result<File> {
 /// percent-decoded, `/` and a trailing `/` naming index.html. A segment
 /// that is not a plain name, or starts with '.', is not found; a broken
 /// escape or a name that is not UTF-8 is a bad request.
-fn relative(target: &str) -> Result<PathBuf, &'static str> {
+pub fn relative(target: &str) -> Result<PathBuf, &'static str> {
     let path = target.split(['?', '#']).next().unwrap_or_default();
     let mut rel = PathBuf::new();
     for segment in path.split('/').filter(|s| !s.is_empty()) {

@@ -3,12 +3,11 @@
 //! loop itself), one request each (`Connection: close`), with one deadline
 //! for the whole head and another for the whole reply.
 
-use super::files;
 use super::request::{self, Method, Request, NOT_ALLOWED};
+use super::site::{Body, Site};
 use super::timed::Timed;
 use std::io::{self, Read, Write};
 use std::net::{Shutdown, TcpListener, TcpStream};
-use std::path::Path;
 use std::sync::atomic::{AtomicUsize, Ordering};
 use std::sync::{mpsc, Arc};
 use std::time::{Duration, Instant};
@@ -30,12 +29,12 @@ const BUSY: &str = "503 Service Unavailable";
 /// How long what a client sends after its head is read and dropped.
 const LINGER: Duration = Duration::from_millis(500);
 
-pub fn serve(listener: &TcpListener, root: &Path, limits: Limits) {
+pub fn serve(listener: &TcpListener, site: &Arc<Site>, limits: Limits) {
     let open = Arc::new(AtomicUsize::new(0));
     loop {
         match listener.accept() {
             Ok((stream, _)) => {
-                if let Err(stream) = start(stream, root, limits, &open) {
+                if let Err(stream) = start(stream, site, limits, &open) {
                     busy(&stream);
                 }
             }
@@ -64,15 +63,15 @@ impl Drop for Slot {
 /// Hands the connection to a new thread; Err gives it back when there is
 /// no place or no thread for it. (The stream goes over a channel so that
 /// a failed spawn does not take it down unanswered.)
-fn start(stream: TcpStream, root: &Path, limits: Limits, open: &Arc<AtomicUsize>) -> Result<(), TcpStream> {
+fn start(stream: TcpStream, site: &Arc<Site>, limits: Limits, open: &Arc<AtomicUsize>) -> Result<(), TcpStream> {
     let Some(slot) = Slot::take(open, limits.connections) else { return Err(stream) };
     let accepted = Instant::now();
-    let root = root.to_path_buf();
+    let site = Arc::clone(site);
     let (tx, rx) = mpsc::sync_channel::<TcpStream>(1);
     let spawned = std::thread::Builder::new().name("polyturn-web".into()).spawn(move || {
         let _slot = slot;
         if let Ok(stream) = rx.recv() {
-            connection(&root, &stream, limits, accepted);
+            connection(&site, &stream, limits, accepted);
         }
     });
     match spawned {
@@ -89,11 +88,11 @@ fn busy(stream: &TcpStream) {
     let _ = stream.shutdown(Shutdown::Write);
 }
 
-fn connection(root: &Path, stream: &TcpStream, limits: Limits, accepted: Instant) {
+fn connection(site: &Site, stream: &TcpStream, limits: Limits, accepted: Instant) {
     let request = request::read(&mut Timed { stream, end: accepted + limits.head });
     let out = &mut Timed { stream, end: Instant::now() + limits.reply };
     let replied = match request {
-        Ok(r) => answer(out, root, &r),
+        Ok(r) => answer(out, site, &r),
         Err(Some(status)) => refuse(out, status, true),
         Err(None) => return,
     };
@@ -103,14 +102,19 @@ fn connection(root: &Path, stream: &TcpStream, limits: Limits, accepted: Instant
     }
 }
 
-fn answer(out: &mut impl Write, root: &Path, r: &Request) -> io::Result<()> {
+fn answer(out: &mut impl Write, site: &Site, r: &Request) -> io::Result<()> {
     let with_body = r.method == Method::Get;
-    match files::find(root, &r.target) {
+    match site.find(&r.target) {
         Ok(found) => {
-            head(out, "200 OK", found.kind, found.len, "")?;
+            head(out, "200 OK", found.kind, found.len, &site.header())?;
             if with_body {
-                // streamed, never read whole; Content-Length bytes at most
-                io::copy(&mut found.file.take(found.len), out)?;
+                match found.body {
+                    // streamed, never read whole; Content-Length bytes at most
+                    Body::File(file) => {
+                        io::copy(&mut file.take(found.len), out)?;
+                    }
+                    Body::Bytes(bytes) => out.write_all(bytes)?,
+                }
             }
             Ok(())
         }
