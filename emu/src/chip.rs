@@ -159,6 +159,9 @@ impl Chip {
         self.flash_ns = (t, ns);
         let d = ns.saturating_sub(self.flash.now_ns());
         self.flash.advance_ns(d);
+        // a flag raised while time moved is latched as pending now (PM0214 §4.3.9),
+        // even if the access that follows clears it
+        self.update_lines();
     }
 
     /// The next CPU cycle at which a model raises a flag, if any.

@@ -137,12 +137,15 @@ fn exit(uc: &mut Unicorn<Chip>, exc_return: u32) {
     for (r, v) in FRAME.iter().zip(&w) {
         set(uc, *r, *v);
     }
+    // CONTROL.FPCA = NOT EXC_RETURN[4] (ARMv7-M B1.5.8, ExceptionReturn)
     if n == 26 {
         for i in 0..16 {
             let _ = uc.reg_write(sreg(i), w[8 + i] as u64);
         }
         set(uc, R::FPSCR, w[24]);
         set(uc, R::CONTROL, reg(uc, R::CONTROL) | 4);
+    } else {
+        set(uc, R::CONTROL, reg(uc, R::CONTROL) & !4);
     }
     let xpsr = w[7];
     set(uc, R::SP, sp + 4 * n as u32 + if xpsr >> 9 & 1 == 1 { 4 } else { 0 });

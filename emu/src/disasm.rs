@@ -36,6 +36,7 @@ pub fn scan(elf: &Path) -> Result<Insns, String> {
             "cpsid" if args.starts_with('i') => found.cpsid.push(addr),
             "cpsie" if args.starts_with('i') => found.cpsie.push(addr),
             "msr" if args.starts_with("primask") => found.msr_primask.push(addr),
+            "msr" if args.starts_with("basepri") => found.msr_basepri.push(addr),
             _ => {}
         }
     }

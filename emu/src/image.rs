@@ -18,6 +18,7 @@ pub struct Insns {
     pub cpsid: Vec<u32>,
     pub cpsie: Vec<u32>,
     pub msr_primask: Vec<u32>,
+    pub msr_basepri: Vec<u32>,
 }
 
 pub struct Image {

@@ -4,6 +4,7 @@
 //! the step-output tests use (`polyturn_host::hwsim::driver`).
 
 pub mod estop;
+pub mod host;
 pub mod lathe;
 pub mod settings;
 
@@ -39,6 +40,9 @@ pub enum Kind {
 pub struct Spec {
     pub name: &'static str,
     pub kind: Kind,
+    /// the reading of DMA2 stream 5's NDTR the model follows (the step output must
+    /// work on both: `NdtrReading`)
+    pub ndtr: polyturn_stm32_model::NdtrReading,
     /// how long the lathe turns before ENGAGE when it starts spinning
     pub engage_after_ms: u64,
     pub ratio: &'static str,
@@ -99,7 +103,8 @@ fn press(m: &mut Machine, pin: u8) {
     m.run(40 * MS);
 }
 
-pub fn run(image: &Rc<Image>, spec: &Spec, params: Params) -> Result<Outcome, String> {
+pub fn run(image: &Rc<Image>, spec: &Spec) -> Result<Outcome, String> {
+    let params = Params { ndtr: spec.ndtr, ..Params::default() };
     let wall = Instant::now();
     let sc = scenario(spec);
     let flash = settings::saved(&sc.core)?;

@@ -4,15 +4,16 @@ use crate::checks::Report;
 use crate::image::Image;
 use crate::job::{self, Outcome, Spec};
 use polyturn_host::sim::Start;
-use polyturn_stm32_model::Params;
 use std::rc::Rc;
 
 use crate::job::Kind;
+use polyturn_stm32_model::NdtrReading::{AfterTransfer, AtPreload};
 
 /// Issue 25's scenarios; (d) and (e) need the console (the next issue).
 pub const SPECS: &[Spec] = &[
     Spec {
         name: "a hexagon",
+        ndtr: AfterTransfer,
         kind: Kind::Cut,
         engage_after_ms: 0,
         ratio: "2",
@@ -25,6 +26,7 @@ pub const SPECS: &[Spec] = &[
     },
     Spec {
         name: "b 11/3",
+        ndtr: AfterTransfer,
         kind: Kind::Cut,
         engage_after_ms: 400,
         ratio: "11/3",
@@ -37,6 +39,7 @@ pub const SPECS: &[Spec] = &[
     },
     Spec {
         name: "c e-stop",
+        ndtr: AfterTransfer,
         kind: Kind::EStop { at_s: 1.5 },
         engage_after_ms: 0,
         ratio: "2",
@@ -49,6 +52,7 @@ pub const SPECS: &[Spec] = &[
     },
     Spec {
         name: "f rocked",
+        ndtr: AfterTransfer,
         kind: Kind::Rock,
         engage_after_ms: 0,
         ratio: "2",
@@ -56,6 +60,20 @@ pub const SPECS: &[Spec] = &[
         rpm: 600.0,
         ripple: 0.0,
         turns: 1.0,
+        start: Start::Rest,
+        seed: 7,
+    },
+    // the hexagon again with NDTR counting at the preload (§9.3.12's reading)
+    Spec {
+        name: "a preload",
+        kind: Kind::Cut,
+        ndtr: AtPreload,
+        engage_after_ms: 0,
+        ratio: "2",
+        edges: 3,
+        rpm: 600.0,
+        ripple: 0.02,
+        turns: 20.0,
         start: Start::Rest,
         seed: 7,
     },
@@ -68,10 +86,13 @@ pub fn run_all(image: &Rc<Image>, r: &mut Report) -> Result<u64, String> {
     );
     let mut total = 0;
     for spec in SPECS {
-        let o = job::run(image, spec, Params::default())?;
+        let o = job::run(image, spec)?;
         total += (o.mcu_s * 96e6) as u64;
         show(&o);
         judge(r, &o);
+        if spec.kind == Kind::Cut {
+            compare(r, &o, &job::host::simulate(spec)?);
+        }
     }
     Ok(total)
 }
@@ -125,4 +146,18 @@ fn judge(r: &mut Report, o: &Outcome) {
         );
         r.line(ok, "job c estop", &text);
     }
+}
+
+/// The host simulation of the same job: the same lathe trace (so the same final
+/// count), both on the exact gear at the end.
+fn compare(r: &mut Report, o: &Outcome, h: &job::host::HostRun) {
+    let ok = h.encoder_counts == o.lathe_count
+        && h.final_error_steps == 0
+        && h.faults == 0
+        && o.phase_error_steps().abs() <= 0.5;
+    let text = format!(
+        "host simulation: lathe {} counts (emulated {}), {} steps emitted (emulated {} pulses), {:+} steps from the exact gear at the end (emulated {:+.2}), {} faults",
+        h.encoder_counts, o.lathe_count, h.steps_emitted, o.received.pulses, h.final_error_steps, o.phase_error_steps(), h.faults
+    );
+    r.line(ok, &format!("host {}", o.name), &text);
 }

@@ -34,7 +34,24 @@ pub fn hooks(m: &mut Machine) -> Result<(), String> {
         m.uc.add_code_hook(a as u64, a as u64, move |uc, addr, _| at(uc, addr as u32, value))
             .map_err(|e| format!("unicorn: {e:?}"))?;
     }
+    for &a in &m.image.insns.msr_basepri {
+        m.uc.add_code_hook(a as u64, a as u64, |uc, addr, _| basepri(uc, addr as u32))
+            .map_err(|e| format!("unicorn: {e:?}"))?;
+    }
     Ok(())
+}
+
+/// `msr basepri, rN` (or basepri_max) about to run: an interrupt it unmasks is
+/// taken right after it (PM0214 §2.1.3), so the run stops at this block's end.
+fn basepri(uc: &mut Unicorn<Chip>, addr: u32) {
+    let c = uc.get_data();
+    let off = (addr & 0x00FF_FFFF) as usize;
+    let hw = u16::from_le_bytes([c.code[off], c.code[off + 1]]);
+    let value = uc.reg_read(R::R0 as i32 + (hw & 0xF) as i32).unwrap_or(0) as u32;
+    let primask = uc.reg_read(R::PRIMASK).unwrap_or(0) & 1 == 1;
+    if uc.get_data().deliverable(primask, value & 0xFF).is_some() {
+        uc.get_data_mut().deadline = 0;
+    }
 }
 
 fn at(uc: &mut Unicorn<Chip>, addr: u32, value: Option<bool>) {

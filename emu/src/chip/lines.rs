@@ -1,4 +1,4 @@
-//! The interrupt lines into the NVIC (RM0383 §10.2 table 37). Each is a level:
+//! The interrupt lines into the NVIC (RM0383 §10.1.3 table 37, the vector table). Each is a level:
 //! a timer's is SR & DIER (§12.4.4, §13.4.4), EXTI's PR & IMR (§10.3). Some vectors
 //! are shared: TIM1's update with TIM10, its trigger/commutation with TIM11, its
 //! break with TIM9; EXTI lines 5-9 and 10-15.
@@ -14,8 +14,10 @@ impl Chip {
 
     /// The IRQ numbers whose line is asserted now.
     pub fn asserted(&mut self) -> Vec<usize> {
-        let (t1, t2, t9, t11) =
-            (self.mcu_flags(TIM1), self.mcu_flags(TIM2), self.mcu_flags(TIM9), self.mcu_flags(TIM11));
+        // SR's overcapture flags (bits 9-12) sit under DIER's DMA enables: only the
+        // interrupt flags count (UIF, CCxIF, TIF: §13.4.4/§13.4.5, §14.4.4/§14.4.5)
+        let t2 = self.mcu_flags(TIM2) & 0x5F;
+        let (t1, t9, t11) = (self.mcu_flags(TIM1), self.mcu_flags(TIM9) & 0x47, self.mcu_flags(TIM11) & 0x03);
         let gp = |c: &Chip, i: usize| c.gp[i].irq(0xFF);
         let lines = [
             ("TIM1_UP_TIM10", t1 & 0x01 != 0 || gp(self, 3)),

@@ -7,8 +7,11 @@
 use polyturn_host::sim::encoder::Encoder;
 use polyturn_host::sim::lathe::{Lathe, LatheProfile};
 
-/// The lathe model's step: 1 µs (an edge lands within a microsecond of its time).
-const STEP_S: f64 = 1e-6;
+/// The lathe model's step: the host simulator's, one control tick (40 µs), so the
+/// lathe turns exactly as in `polyturn simulate` with the same seed. Within a step
+/// the angle is taken as linear: each count's edge is put where the angle crosses
+/// the count's boundary (half-way between two counts, as `sim::encoder` rounds).
+const STEP_S: f64 = 1.0 / polyturn_sync::Timing::FIRMWARE.tick_hz as f64;
 
 /// What turns the spindle: the host simulator's motor-driven lathe, or a hand
 /// rocking the chuck (±`amp_counts` at `hz`, for `secs`).
@@ -49,8 +52,10 @@ pub struct LatheDrive {
     per_step: u64,
     steps: u64,
     pub count: i64,
-    /// the pending level change: (cycle, new count)
-    next: Option<(u64, i64)>,
+    /// the level changes of the step being played: (cycle, count), in order
+    next: std::collections::VecDeque<(u64, i64)>,
+    /// the angle at the end of the last step
+    angle: f64,
 }
 
 /// Levels of (A, B, index) at count `c` (positive turning counts up, RM0383 §13.3.12
@@ -75,7 +80,8 @@ impl LatheDrive {
             per_step: (sysclk as f64 * STEP_S) as u64,
             steps: 0,
             count: 0,
-            next: None,
+            next: Default::default(),
+            angle: 0.0,
         }
     }
 
@@ -85,29 +91,42 @@ impl LatheDrive {
 
     /// The cycle of the next count change (looking ahead at most `horizon` cycles).
     pub fn next_edge(&mut self, horizon: u64) -> Option<u64> {
-        while self.next.is_none() && self.start + self.steps * self.per_step < horizon && !self.lathe.finished() {
-            self.lathe.advance(STEP_S);
-            self.steps += 1;
-            let c = self.encoder.count(self.lathe.angle(self.cpr), self.steps);
-            if c != self.count {
-                self.next = Some((self.start + self.steps * self.per_step, c));
-            }
+        while self.next.is_empty() && self.start + self.steps * self.per_step < horizon && !self.lathe.finished() {
+            self.step();
         }
-        self.next.map(|n| n.0)
+        self.next.front().map(|n| n.0)
     }
 
-    /// The count due at or before `now`, one count at a time (a jump of several
-    /// counts in one microsecond is passed on as successive edges).
+    /// One model step: its count changes, each at its crossing time.
+    fn step(&mut self) {
+        let t0 = self.start + self.steps * self.per_step;
+        let a0 = self.angle;
+        self.lathe.advance(STEP_S);
+        self.steps += 1;
+        self.angle = self.lathe.angle(self.cpr);
+        let last = self.next.back().map_or(self.count, |n| n.1);
+        let c1 = self.encoder.count(self.angle, self.steps);
+        let per_count = std::f64::consts::TAU / self.cpr as f64;
+        let dir = (c1 - last).signum();
+        let mut c = last;
+        while c != c1 {
+            // count c + dir begins half a count from c, towards it
+            let boundary = (c as f64 + 0.5 * dir as f64) * per_count;
+            let f = ((boundary - a0) / (self.angle - a0)).clamp(0.0, 1.0);
+            c += dir;
+            self.next.push_back((t0 + (f * self.per_step as f64).ceil() as u64, c));
+        }
+    }
+
+    /// The count due at or before `now`, one count at a time.
     pub fn take_due(&mut self, now: u64) -> Option<i64> {
-        let (at, c) = self.next?;
+        let &(at, c) = self.next.front()?;
         if at > now {
             return None;
         }
-        self.count += (c - self.count).signum();
-        if self.count == c {
-            self.next = None;
-        }
-        Some(self.count)
+        self.next.pop_front();
+        self.count = c;
+        Some(c)
     }
 }
 

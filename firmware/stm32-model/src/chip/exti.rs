@@ -56,7 +56,7 @@ impl Exti {
     }
 
     /// The level EXTI drives into the NVIC for lines `lo..=hi`: PR & IMR (§10.2.2
-    /// figure 30; lines 5-9 and 10-15 share a vector, §10.2 table 37).
+    /// figure 30; lines 5-9 and 10-15 share a vector, §10.1.3 table 37).
     pub fn pending(&self, lo: u8, hi: u8) -> bool {
         let bits = self.regs.get(PR) & self.regs.get(IMR);
         bits >> lo & ((1u32 << (hi - lo + 1)) - 1) != 0

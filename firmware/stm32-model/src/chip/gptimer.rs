@@ -87,9 +87,26 @@ impl GpTimer {
         if !self.counting() || ticks == 0 {
             return;
         }
-        let total = self.pc + ticks;
-        self.pc = total % (self.psc + 1);
-        self.count((total / (self.psc + 1)) as i64);
+        self.tick(ticks);
+    }
+
+    /// `ticks` kernel clocks. The prescaler's new ratio "is taken into account at the
+    /// next update event" (§13.3.1): the clocks after an update count at the PSC it
+    /// loaded, so the counting goes one update at a time.
+    fn tick(&mut self, mut ticks: u64) {
+        while ticks > 0 && self.counting() {
+            let top = if self.cnt <= self.arr { self.arr } else { self.max } as u64;
+            let to_update = (top - self.cnt as u64 + 1) * (self.psc + 1) - self.pc;
+            if ticks < to_update {
+                let total = self.pc + ticks;
+                self.pc = total % (self.psc + 1);
+                self.count((total / (self.psc + 1)) as i64);
+                return;
+            }
+            ticks -= to_update;
+            self.pc = 0;
+            self.count((top - self.cnt as u64 + 1) as i64);
+        }
     }
 
     /// New levels of TI1, TI2 (the encoder's A and B) and TI3 (the index). In encoder
@@ -161,8 +178,20 @@ impl GpTimer {
         }
     }
 
+    /// CCxS of channel `i` (CCMRx bits 1:0 / 9:8, §13.4.7): 00 = output.
+    fn is_output(&self, i: usize) -> bool {
+        let off = if i < 2 { CCMR1 } else { CCMR2 };
+        self.regs.get(off) >> (8 * (i % 2)) & 3 == 0
+    }
+
+    /// §13.4.5 CCxIF: "if channel CCx is configured as output: set by hardware when
+    /// the counter matches the compare value"; an input channel's flag is set only
+    /// by a capture.
     fn compare(&mut self, lo: u32, hi: u32, wrapped: bool) {
         for i in 0..self.channels {
+            if !self.is_output(i) {
+                continue;
+            }
             let c = self.ccr[i];
             if (lo..=hi).contains(&c) || (wrapped && c == 0) {
                 self.regs.set(SR, self.regs.get(SR) | 2 << i); // CCxIF
@@ -250,13 +279,17 @@ impl GpTimer {
         }
     }
 
-    /// §13.4.6: UG re-initialises the counter and the prescaler and makes an update
-    /// event (UIF unless URS); CCxG sets CCxIF.
+    /// §13.4.6: UG re-initialises the counter ("the counter is cleared ... or takes
+    /// the auto-reload value if DIR = 1") and the prescaler, and makes an update
+    /// event (UIF unless URS), except with UDIS, which still restarts the counters
+    /// (§13.3.2); CCxG sets CCxIF.
     fn write_egr(&mut self, v: u32) {
         if v & 1 != 0 {
-            self.cnt = 0;
             self.pc = 0;
-            self.update_event(self.regs.get(CR1) & URS == 0);
+            if self.regs.get(CR1) & UDIS == 0 {
+                self.update_event(self.regs.get(CR1) & URS == 0);
+            }
+            self.cnt = if self.regs.get(CR1) & 0x10 != 0 { self.arr } else { 0 };
         }
         for i in 0..self.channels {
             if v >> (i + 1) & 1 != 0 {
@@ -283,15 +316,15 @@ impl GpTimer {
         if dier & 1 != 0 {
             incs = top - cnt + 1;
         }
-        for i in 0..self.channels {
+        for i in (0..self.channels).filter(|&i| self.is_output(i)) {
             if dier >> (i + 1) & 1 != 0 {
                 let d = (self.ccr[i] as u64 + top + 1 - cnt) % (top + 1);
                 incs = incs.min(if d == 0 { top + 1 } else { d });
             }
         }
-        let ticks = (incs - 1) * (self.psc + 1) + (self.psc + 1 - self.pc);
-        let cycles = (ticks * sysclk - self.rem).div_ceil(clk);
-        Some(self.t + cycles.max(1))
+        let ticks = (incs as u128 - 1) * (self.psc as u128 + 1) + (self.psc + 1 - self.pc) as u128;
+        let cycles = (ticks * sysclk as u128 - self.rem as u128).div_ceil(clk as u128);
+        Some(self.t + (cycles.min(u64::MAX as u128 / 2) as u64).max(1))
     }
 
     /// OCxREF of channel `ch` in the forced and PWM modes (§13.3.10, §13.4.7 OCxM):

@@ -1,8 +1,10 @@
-//! The independent watchdog (RM0383 §17). Every key written is kept with its
+//! The independent watchdog (RM0383 §15). Every key written is kept with its
 //! time: 0xCCCC starts it, 0xAAAA reloads it (a pet), 0x5555 unlocks PR and RLR
-//! (§17.4.1, §17.3.4). PR/RLR updates are instant, so SR's PVU/RVU read 0. The
+//! (§15.4.1; §15.3.2 register access protection). PR/RLR updates are instant, so SR's PVU/RVU read 0. The
 //! countdown runs on the LSI (17-47 kHz, datasheet table "LSI oscillator
-//! characteristics"), so its timeout is a range: [`Iwdg::timeout_ns`].
+//! characteristics"), so its timeout is a range: [`Iwdg::timeout_ns`]. The countdown
+//! itself is not run; the first interval after 0xCCCC counts down from 0xFFF
+//! whatever RLR holds (§15.3.1), so `timeout_ns` is the shortest later interval.
 
 use super::RegFile;
 
@@ -44,7 +46,9 @@ impl Iwdg {
                 self.keys.push((now, key));
                 self.unlocked = key == 0x5555;
             }
-            PR | RLR if self.unlocked => self.regs.write(off, value, mask),
+            // PR is 3 bits, RLR 12 (§15.4.2, §15.4.3)
+            PR if self.unlocked => self.regs.write(off, value & 7, mask),
+            RLR if self.unlocked => self.regs.write(off, value & 0xFFF, mask),
             _ => {}
         }
     }
@@ -58,7 +62,7 @@ impl Iwdg {
     }
 
     /// The time from a reload to the reset at LSI frequency `lsi_hz`: (RLR + 1)
-    /// periods of LSI / 4·2^PR (§17.3.3 table 84: prescaler /4 at PR = 0 ... /256).
+    /// periods of LSI / 4·2^PR (§15.3.3 table: prescaler /4 at PR = 0 ... /256).
     pub fn timeout_ns(&self, lsi_hz: u64) -> u64 {
         let div = 4u64 << self.regs.get(PR).min(6);
         (self.regs.get(RLR) as u64 + 1) * div * 1_000_000_000 / lsi_hz
@@ -73,7 +77,7 @@ mod tests {
     fn pr_and_rlr_change_only_after_the_unlock_key() {
         let mut w = Iwdg::default();
         w.write(RLR, 100, u32::MAX, 0);
-        assert_eq!(w.read(RLR), 0xFFF, "locked: §17.3.4");
+        assert_eq!(w.read(RLR), 0xFFF, "locked: §15.3.2");
         w.write(KR, 0x5555, u32::MAX, 1);
         w.write(PR, 3, u32::MAX, 2);
         w.write(RLR, 999, u32::MAX, 3);

@@ -19,7 +19,7 @@ pub const STIR: u32 = 0xEF00;
 pub const DWT_CTRL: u32 = 0x1000;
 pub const DWT_CYCCNT: u32 = 0x1004;
 pub const DEMCR: u32 = 0xEDFC;
-/// The F411's vector table has 16 + 86 entries (RM0383 §10.2 table 37).
+/// The F411's vector table has 16 + 86 entries (RM0383 §10.1.3 table 37).
 pub const NIRQ: usize = 86;
 
 #[derive(Clone, Debug, PartialEq, Eq)]
@@ -114,7 +114,8 @@ impl Nvic {
             // §4.4.3: VECTACTIVE, VECTPENDING, ISRPENDING, PENDSVSET, PENDSTSET
             ICSR => {
                 let pend = self.best_pending().unwrap_or(0) as u32;
-                let any = self.pending.iter().any(|&p| p) as u32;
+                // ISRPENDING: an external interrupt is pending (not PendSV/SysTick)
+                let any = self.pending[16..].iter().any(|&p| p) as u32;
                 ipsr | pend << 12 | any << 22 | (self.pending[14] as u32) << 28 | (self.pending[15] as u32) << 26
             }
             DWT_CYCCNT => self.cyccnt(now),
@@ -147,7 +148,9 @@ impl Nvic {
                 self.set_prio(16 + (off - IPR) as usize, v, mask, 16 + NIRQ)
             }
             _ if (SHPR1..SHPR1 + 12).contains(&off) => self.set_prio(4 + (off - SHPR1) as usize, v, mask, 16),
-            STIR => self.pending[16 + (v & 0x1FF) as usize % NIRQ] = true, // §4.3.8
+            // §4.3.8: INTID names an interrupt; one the part lacks is ignored
+            STIR if ((v & 0x1FF) as usize) < NIRQ => self.pending[16 + (v & 0x1FF) as usize] = true,
+            STIR => {}
             ICSR => self.write_icsr(v),
             // §4.4.5: writes without VECTKEY 0x05FA are ignored
             AIRCR if v >> 16 == 0x05FA => {

@@ -37,8 +37,8 @@ impl Rcc {
             CR => [0u32, 16, 24, 26]
                 .iter()
                 .fold(v & !(1 << 1 | 1 << 17 | 1 << 25 | 1 << 27), |a, on| a | (v >> on & 1) << (on + 1)),
-            CFGR => v & !0xC | (v & 3) << 2, // §6.3.3: SWS follows SW
-            CSR => v & !2 | (v & 1) << 1,    // §6.3.21: LSIRDY follows LSION
+            CFGR => v & !0xC | (self.source() as u32) << 2, // §6.3.3: SWS, the clock in use
+            CSR => v & !2 | (v & 1) << 1,                   // §6.3.21: LSIRDY follows LSION
             _ => v,
         }
     }
@@ -63,9 +63,26 @@ impl Rcc {
         src * n / m / p
     }
 
-    /// SYSCLK from CFGR.SW (§6.3.3): HSI, HSE or the PLL.
+    /// The clock in use: CFGR.SW once its source is on, else HSI (§6.2.6 "clock
+    /// source switching": a switch waits until the target clock is ready; from
+    /// reset the system runs on HSI).
+    fn source(&self) -> u64 {
+        let sw = self.regs.get(CFGR) as u64 & 3;
+        let ready = match sw {
+            1 => self.regs.get(CR) >> 16 & 1 == 1,
+            2 => self.pll_p() > 0,
+            _ => true,
+        };
+        if ready && sw < 3 {
+            sw
+        } else {
+            0
+        }
+    }
+
+    /// SYSCLK from the clock in use (§6.3.3 SW/SWS): HSI, HSE or the PLL.
     pub fn sysclk(&self) -> u64 {
-        match self.regs.get(CFGR) & 3 {
+        match self.source() {
             0 => HSI_HZ,
             1 => HSE_HZ,
             _ => self.pll_p(),
@@ -130,6 +147,13 @@ mod tests {
         assert_eq!(r.sysclk(), 96_000_000);
         assert_eq!(r.apb1(), (48_000_000, 96_000_000));
         assert_eq!(r.apb2(), (96_000_000, 96_000_000));
+    }
+
+    #[test]
+    fn a_switch_to_a_pll_that_is_off_keeps_hsi() {
+        let mut r = Rcc::default();
+        r.write(CFGR, 2, u32::MAX);
+        assert_eq!((r.read(CFGR) >> 2 & 3, r.sysclk()), (0, HSI_HZ), "§6.2.6: waits for the target clock");
     }
 
     #[test]

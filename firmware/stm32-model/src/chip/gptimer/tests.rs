@@ -110,3 +110,46 @@ fn the_index_captures_cnt_and_a_read_of_ccr3_clears_the_flag() {
     assert_eq!(t.read(CCR1 + 8), 1);
     assert_eq!(t.read(SR) & 1 << 3, 0);
 }
+
+#[test]
+fn counting_past_zero_sets_no_flag_on_an_input_channel() {
+    let mut t = running(0, 0xFFFF);
+    t.write(SMCR, 3, u32::MAX);
+    t.write(CCMR2, 1, u32::MAX); // channel 3 an input: §13.4.5 "set by hardware on a capture"
+    t.write(CCER, 1 << 8, u32::MAX);
+    t.write(SR, 0, u32::MAX);
+    t.inputs([true, false, false]);
+    t.inputs([false, false, false]);
+    assert_eq!(t.read(SR) & 1 << 3, 0, "CNT back to CCR3's 0: no capture, no flag");
+}
+
+#[test]
+fn a_prescaler_loaded_by_an_update_counts_the_rest_of_the_slice() {
+    let mut t = GpTimer::new(16, 1);
+    t.write(ARR, 9, u32::MAX);
+    t.write(PSC, 9, u32::MAX); // preloaded: /1 until the first update (§13.3.1)
+    t.write(CR1, CEN, u32::MAX);
+    t.advance(10 + 100, MHZ96, MHZ96); // 10 clocks at /1, then 100 at /10
+    assert_eq!((t.read(CNT), t.updates), (0, 2));
+    t.advance(10 + 100 + 90, MHZ96, MHZ96);
+    assert_eq!(t.read(CNT), 9);
+}
+
+#[test]
+fn ug_with_udis_restarts_the_counter_without_an_update() {
+    let mut t = running(0, 99);
+    t.advance(50, MHZ96, MHZ96);
+    t.write(CR1, CEN | UDIS, u32::MAX);
+    let before = t.updates;
+    t.write(EGR, 1, u32::MAX);
+    assert_eq!((t.read(CNT), t.read(SR) & 1, t.updates), (0, 0, before), "§13.3.2");
+}
+
+#[test]
+fn ug_counting_down_loads_arr() {
+    let mut t = running(0, 99);
+    t.write(SMCR, 3, u32::MAX);
+    t.inputs([false, true, false]); // B leads: a down count, DIR = 1
+    t.write(EGR, 1, u32::MAX);
+    assert_eq!(t.read(CNT), 99, "§13.4.6: takes the auto-reload value if DIR = 1");
+}
