@@ -11,8 +11,8 @@ fn the_committed_book_pages_match_the_code() {
     for (name, text) in gen::files() {
         let committed = std::fs::read_to_string(dir.join(name)).unwrap_or_default();
         if committed != text {
-            stale.push(name);
+            stale.push(format!("{}/{name}", gen::DIR));
         }
     }
-    assert!(stale.is_empty(), "{}/{:?} differ from the code: run `{}` and commit them", gen::DIR, stale, gen::COMMAND);
+    assert!(stale.is_empty(), "{} differ from the code: run `{}` and commit them", stale.join(", "), gen::COMMAND);
 }
