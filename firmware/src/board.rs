@@ -1,4 +1,4 @@
-//! The Black Pill pin map, in one place (mirrored in the README wiring table).
+//! The Black Pill pin map, in one place (the book's wiring table is generated from it: firmware/book).
 //!
 //! 5 V tolerant ("FT") pins are used for every input that comes from the
 //! lathe side, which is often 5 V logic. PA6/PA7 (TIM3) and PB6/PB7 (TIM4)

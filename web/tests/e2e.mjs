@@ -4,7 +4,7 @@
 // the real sync core's console behind a fake WebSerial port; its DfuSe
 // layer flashes and verifies a fake ROM bootloader. `node e2e.mjs`, after
 // `bash web/build` and `cargo build -p polyturn-host`. SCREENSHOTS=dir
-// also saves the views as PNGs (the README's are docs/web-*.png).
+// also saves the views as PNGs (the book's are docs/src/web-*.png).
 import { chromium } from 'playwright-core';
 import { spawn, execFileSync } from 'node:child_process';
 import { mkdtempSync, writeFileSync, readFileSync } from 'node:fs';

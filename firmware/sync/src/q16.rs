@@ -3,7 +3,7 @@
 //! plain integer adds and a tick's arithmetic stays in 64 bits. Written
 //! here rather than taken from the `fixed` crate: a `fixed` product widens
 //! to 128 bits, which cost the tick 24 to 26 instructions in `.ci/qemu`, and the
-//! values cross the core's interfaces as plain `i64` (docs/fixed-point.md).
+//! values cross the core's interfaces as plain `i64` (docs/src/fixed-point.md).
 
 /// One half, in Q16.
 pub const HALF: i64 = 1 << 15;

@@ -58,7 +58,7 @@ pub fn open(wait: Duration) -> Result<DfuNusb, String> {
 fn open_error(e: nusb::Error) -> String {
     match e.kind() {
         nusb::ErrorKind::PermissionDenied => format!(
-            "no permission to open the STM32 bootloader (USB {VID:04x}:{PID:04x}): install the udev rule of docs/manual.md §3.2: SUBSYSTEM==\"usb\", ATTRS{{idVendor}}==\"0483\", ATTRS{{idProduct}}==\"df11\", TAG+=\"uaccess\" in /etc/udev/rules.d/70-polyturn.rules, then `sudo udevadm control --reload-rules` and replug"
+            "no permission to open the STM32 bootloader (USB {VID:04x}:{PID:04x}): install the udev rule of docs/src/flashing.md (\"Let your PC reach the board\"): SUBSYSTEM==\"usb\", ATTRS{{idVendor}}==\"0483\", ATTRS{{idProduct}}==\"df11\", TAG+=\"uaccess\" in /etc/udev/rules.d/70-polyturn.rules, then `sudo udevadm control --reload-rules` and replug"
         ),
         nusb::ErrorKind::Busy => "the STM32 bootloader is in use by another program (dfu-util, STM32CubeProgrammer?)".into(),
         _ => format!("cannot open the STM32 bootloader: {e}"),

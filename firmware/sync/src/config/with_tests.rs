@@ -1,5 +1,5 @@
 //! `set` for every setting (`Config::with`): the field it changes, the
-//! ends of its range (docs/manual.md §5.6's table), and the two rules
+//! ends of its range (docs/src/console.md's settings table), and the two rules
 //! that join settings (≤, so an exact fit passes), at their edges.
 
 use super::*;

@@ -1,5 +1,5 @@
 //! Every command word parsed, `get` for every setting, and the replies of
-//! help, watch, stop, clear, defaults and save (docs/manual.md §4, §5).
+//! help, watch, stop, clear, defaults and save (docs/src/first-power-up.md, setup.md).
 
 use super::*;
 use crate::controller::TickInput;

@@ -1,5 +1,5 @@
 //! Fault and state names as the console prints them, the reasons the
-//! manual's fault table quotes (docs/manual.md §4.1, the board's reason),
+//! manual's fault table quotes (docs/src/first-power-up.md, the board's reason),
 //! and which faults stop at once (the table's "motion" column).
 
 use super::*;

@@ -77,7 +77,7 @@ impl<T: Read + Write> Session<T> {
                 )));
             }
             if got == OLD_FIRMWARE {
-                return Err(self.port_error(format!("the board's firmware does not tag its replies (older than polyturn {}): flash this version (README, \"Flashing\")", super::super::VERSION)));
+                return Err(self.port_error(format!("the board's firmware does not tag its replies (older than polyturn {}): flash this version (docs/src/flashing.md)", super::super::VERSION)));
             }
             // a stale status line of a watch, or noise: not the reply
             if heard.other.is_none() && !got.trim().is_empty() && !got.starts_with('#') && !got.starts_with("ok state=")

@@ -1,4 +1,4 @@
-//! The status line field by field (docs/manual.md §4.2): speeds in rpm to a
+//! The status line field by field (docs/src/first-power-up.md, "Status"): speeds in rpm to a
 //! tenth, the phase error in steps to a thousandth, signs included.
 
 use super::*;
