@@ -24,6 +24,8 @@ pub struct Probe {
     pub tick_runs: u64,
     pub tick_total: u64,
     pub tick_worst: u64,
+    /// when the worst tick began
+    pub tick_worst_at: u64,
 }
 
 impl Probe {
@@ -53,6 +55,9 @@ pub fn on_return(c: &mut Chip, exc: usize) {
     if exc == tick_exc() {
         if let Some(t) = c.probe.tick_entered.take() {
             let p = &mut c.probe;
+            if c.now - t > p.tick_worst {
+                p.tick_worst_at = t;
+            }
             (p.tick_runs, p.tick_total, p.tick_worst) =
                 (p.tick_runs + 1, p.tick_total + (c.now - t), p.tick_worst.max(c.now - t));
         }

@@ -230,3 +230,31 @@ fn the_boot_probe_runs_the_stream_with_tim1_stopped_and_no_request_enabled_then_
     let on = bus.writes.iter().position(|w| w.0 == program::S5CR && w.1 & program::DMA_EN != 0).unwrap();
     assert!(bus.writes[on..].iter().any(|w| w.0 == u32::MAX && w.1 >= PROBE_WAIT), "it waits for the preload");
 }
+
+#[test]
+fn after_a_halt_each_tick_silences_a_share_and_the_ring_is_silent_before_it_re_arms() {
+    let mut g = Generator::new(0x2000_0000);
+    let mut bus = Script::default();
+    g.prepare(T.tick_len, &mut bus);
+    bus.reads = vec![0, 0, 0, program::RING_WORDS, 0, program::RING_WORDS, 1, program::RING_WORDS];
+    g.tick(&StepPlan::default(), false, &T, &mut bus).unwrap();
+    g.halted_elsewhere(); // the E-stop interrupt halted it
+    let share = SILENCE_PER_TICK * program::BURST_WORDS as usize;
+    let ticks = RING_ENTRIES / SILENCE_PER_TICK;
+    let mut silenced = std::collections::BTreeSet::new();
+    for k in 0..ticks {
+        bus.writes.clear();
+        g.tick(&StepPlan::default(), true, &T, &mut bus).unwrap();
+        assert_eq!(bus.writes.len(), share, "tick {k}: one share, not the whole ring");
+        silenced.extend(bus.writes.iter().map(|w| w.0));
+    }
+    assert_eq!(silenced.len(), RING_ENTRIES * program::BURST_WORDS as usize, "every word of the ring");
+    bus.writes.clear();
+    g.tick(&StepPlan::default(), true, &T, &mut bus).unwrap();
+    assert!(bus.writes.is_empty(), "silent: nothing more to do");
+    // released halfway through a silence: no arm until the ring is silent
+    g.halted_elsewhere();
+    g.tick(&StepPlan::default(), true, &T, &mut bus).unwrap();
+    assert_eq!(g.tick(&StepPlan::default(), false, &T, &mut bus), Err(Fail::ArmLate));
+    assert!(!g.armed());
+}
