@@ -1,6 +1,6 @@
 //! polyturn's firmware image on an emulated STM32F411 (`bash .ci/emu`).
 //!
-//! usage: polyturn-emu ELF [-v] [--only=usb]
+//! usage: polyturn-emu ELF [-v] [--only=usb | --pty]
 //!
 //! Scenarios (each from reset, flash erased, so default settings):
 //! 1. boot and run 160 ms with the E-stop closed (PB14 driven low) and no drive
@@ -9,6 +9,9 @@
 //! 2. boot and run 60 ms, then the drive alarm pulls PB15 low.
 //! 3. USB (`usb::scenario`): the emulated host enumerates the console, sends
 //!    `status` and `set cpr 0` and reads the replies. `--only=usb` runs just this.
+//!
+//! `--pty` instead boots, enumerates and serves the console on a pseudo-terminal
+//! whose path it prints (`usb::pty`).
 //!
 //! The peripherals are `polyturn-stm32-model`'s: the project's one reading of the
 //! manual. Exits 1 if a check fails, 2 if the image cannot run (with why).
@@ -51,6 +54,11 @@ fn main() {
             std::process::exit(2);
         }
     };
+    if args.iter().any(|a| a == "--pty") {
+        let e = usb::pty::serve(&image).err().unwrap_or_default();
+        eprintln!("emu: {e}");
+        std::process::exit(2);
+    }
     let wall = Instant::now();
     let mut r = Report::default();
     let only_usb = args.iter().any(|a| a == "--only=usb");

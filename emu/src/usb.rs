@@ -6,4 +6,5 @@
 pub mod control;
 pub mod descriptors;
 pub mod host;
+pub mod pty;
 pub mod scenario;

@@ -130,3 +130,26 @@ pub fn setup(request_type: u8, request: u8, value: u16, index: u16, length: u16)
     let (v, i, l) = (value.to_le_bytes(), index.to_le_bytes(), length.to_le_bytes());
     [request_type, request, v[0], v[1], i[0], i[1], l[0], l[1]]
 }
+
+#[cfg(test)]
+mod tests {
+    use super::{setup, Control, Stage, Step};
+    use polyturn_stm32_model::chip::otg::{reg, Otg};
+
+    #[test]
+    fn a_stalled_standard_request_is_named_with_its_stage() {
+        let mut otg = Otg::default();
+        otg.write(reg::GCCFG, 1 << 16 | 1 << 21, u32::MAX);
+        otg.write(reg::GRXFSIZ, 46, u32::MAX);
+        otg.bus_reset();
+        otg.reset_done();
+        let mut c = Control::new("GET_DESCRIPTOR device", setup(0x80, 6, 0x0100, 0, 18), vec![], 0);
+        assert!(matches!(c.transact(&mut otg, 0, 64), Step::Progress));
+        assert_eq!(c.stage, Stage::DataIn);
+        assert!(matches!(c.transact(&mut otg, 0, 64), Step::Wait), "NAK: the firmware has not answered");
+        otg.write(reg::DIEPCTL, 1 << 21, u32::MAX); // the firmware rejects it
+        let Step::Failed(e) = c.transact(&mut otg, 0, 64) else { panic!("expected a failure") };
+        assert_eq!(e, "GET_DESCRIPTOR device: STALL in the DataIn stage");
+        assert!(matches!(c.transact(&mut otg, 9, 64), Step::Failed(e) if e.contains("no answer to IN")));
+    }
+}

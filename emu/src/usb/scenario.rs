@@ -18,7 +18,7 @@ const ENUM_LIMIT_MS: u64 = 2_000;
 const REPLY_LIMIT_MS: u64 = 1_000;
 const WALL_TARGET_S: f64 = 5.0;
 
-fn host(m: &mut Machine) -> &mut Host {
+pub fn host(m: &mut Machine) -> &mut Host {
     m.chip().host.get_or_insert_with(Box::default)
 }
 
@@ -79,8 +79,10 @@ pub fn run(image: &Rc<Image>, r: &mut Report) -> Result<u64, String> {
     let h = host(&mut m);
     let what = format!("{:04x}:{:04x} {:?}", super::descriptors::VID, super::descriptors::PID, h.strings);
     let attach = h.attached_at.unwrap_or(0) as f64 / MS as f64;
-    let text =
-        format!("{what}; pulled up at {attach:.1} ms, configured at {en_ms:.1} ms emulated, {en_wall:.2} s wall");
+    let irqs = m.chip().entries.get(&(16 + crate::svd::irq("OTG_FS"))).copied().unwrap_or(0);
+    let text = format!(
+        "{what}; pulled up at {attach:.1} ms, configured at {en_ms:.1} ms emulated after {irqs} OTG_FS interrupts, {en_wall:.2} s wall"
+    );
     r.line(true, "usb-enumerate", &text);
     let status = exchange(&mut m, "status\n");
     let ok = matches!(&status, Ok((s, _, _)) if !s.is_empty() && !s.starts_with("error"));
