@@ -10,7 +10,7 @@ pub mod pins;
 mod usb;
 
 use crate::svd;
-use polyturn_stm32_model::chip::{exti, gpio::Port, gptimer::GpTimer, iwdg::Iwdg, nvic::Nvic, rcc, RegFile};
+use polyturn_stm32_model::chip::{exti, gpio::Port, gptimer::GpTimer, iwdg::Iwdg, nvic::Nvic, otg::Otg, rcc, RegFile};
 use polyturn_stm32_model::flash::{EraseTime, Flash};
 use polyturn_stm32_model::{Mcu, Params};
 
@@ -48,7 +48,9 @@ pub struct Chip {
     /// TIM3, TIM4, TIM5, TIM10
     pub gp: [GpTimer; 4],
     pub iwdg: Iwdg,
-    pub usb: usb::UsbStub,
+    pub usb: Otg,
+    /// the emulated USB host on the cable, when a scenario plugs one in
+    pub host: Option<Box<crate::usb::host::Host>>,
     pub nvic: Nvic,
     map: Vec<(u32, u32, Periph)>,
     /// CPU cycles (= instructions, see `machine`) so far, and at the start of the
@@ -113,7 +115,8 @@ impl Chip {
             // TIM3/TIM4 16-bit, TIM5 32-bit (§13.1), TIM10 one channel (§14.1)
             gp: [GpTimer::new(16, 4), GpTimer::new(16, 4), GpTimer::new(32, 4), GpTimer::new(16, 1)],
             iwdg: Iwdg::default(),
-            usb: usb::UsbStub::default(),
+            usb: Otg::default(),
+            host: None,
             nvic: Nvic::default(),
             map,
             now: 0,
@@ -170,7 +173,7 @@ impl Chip {
         let gp = (0..4).filter_map(|i| self.gp[i].next_event(sysclk, self.gp_clk(i)));
         let quiet = self.mcu.quiet_cycles();
         let mcu = (quiet < u64::MAX / 2).then(|| self.mcu.cycle() + quiet.max(1));
-        gp.chain(mcu).min()
+        gp.chain(mcu).chain(self.usb_next()).min()
     }
 
     pub fn fault(&mut self, text: String) {
@@ -182,6 +185,7 @@ impl Chip {
     pub fn sync_to_now(&mut self) {
         self.blk = self.now;
         self.sync();
+        self.usb_step();
     }
 
     /// Instructions in the block of `size` bytes at `addr` (cached per block).

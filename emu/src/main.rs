@@ -1,12 +1,17 @@
 //! polyturn's firmware image on an emulated STM32F411 (`bash .ci/emu`).
 //!
-//! usage: polyturn-emu ELF [-v]
+//! usage: polyturn-emu ELF [-v] [--only=usb | --pty]
 //!
 //! Scenarios (each from reset, flash erased, so default settings):
 //! 1. boot and run 160 ms with the E-stop closed (PB14 driven low) and no drive
 //!    alarm (PB15 floating, pulled up): boot, registers, tick; then the E-stop
 //!    opens (PB14 floats, its pull-up takes it high).
 //! 2. boot and run 60 ms, then the drive alarm pulls PB15 low.
+//! 3. USB (`usb::scenario`): the emulated host enumerates the console, sends
+//!    `status` and `set cpr 0` and reads the replies. `--only=usb` runs just this.
+//!
+//! `--pty` instead boots, enumerates and serves the console on a pseudo-terminal
+//! whose path it prints (`usb::pty`).
 //!
 //! The peripherals are `polyturn-stm32-model`'s: the project's one reading of the
 //! manual. Exits 1 if a check fails, 2 if the image cannot run (with why).
@@ -22,6 +27,7 @@ mod machine;
 mod primask;
 mod probe;
 mod svd;
+mod usb;
 
 use checks::Report;
 use machine::Machine;
@@ -29,7 +35,7 @@ use polyturn_stm32_model::Params;
 use std::rc::Rc;
 use std::time::Instant;
 
-const MS: u64 = 96_000; // instructions per ms at the board's 96 MHz
+pub const MS: u64 = 96_000; // instructions per ms at the board's 96 MHz
 const GPIOB: usize = 1;
 const GPIOC: usize = 2;
 
@@ -48,16 +54,19 @@ fn main() {
             std::process::exit(2);
         }
     };
+    if args.iter().any(|a| a == "--pty") {
+        let e = usb::pty::serve(&image).err().unwrap_or_default();
+        eprintln!("emu: {e}");
+        std::process::exit(2);
+    }
     let wall = Instant::now();
     let mut r = Report::default();
-    let mut total = scenarios(&image, &mut r).unwrap_or_else(|e| {
-        eprintln!("emu: {e}");
-        std::process::exit(2);
-    });
-    total += jobs::run_all(&image, &mut r).unwrap_or_else(|e| {
-        eprintln!("emu: {e}");
-        std::process::exit(2);
-    });
+    let only_usb = args.iter().any(|a| a == "--only=usb");
+    let mut total = if only_usb { 0 } else { scenarios(&image, &mut r).unwrap_or_else(exit) };
+    total += usb::scenario::run(&image, &mut r).unwrap_or_else(exit);
+    if !only_usb {
+        total += jobs::run_all(&image, &mut r).unwrap_or_else(exit);
+    }
     println!(
         "emulated {total} instructions ({:.1} ms of MCU time) in {:.1} s wall; {} check(s) failed",
         total as f64 / 96e3,
@@ -65,6 +74,11 @@ fn main() {
         r.failed
     );
     std::process::exit(if r.failed == 0 { 0 } else { 1 });
+}
+
+fn exit(e: String) -> u64 {
+    eprintln!("emu: {e}");
+    std::process::exit(2);
 }
 
 fn boot(image: &Rc<Image>) -> Result<Machine, String> {

@@ -8,7 +8,7 @@ use polyturn_stm32_model::chip::rcc;
 use std::panic::{catch_unwind, AssertUnwindSafe};
 
 /// A model's "not modelled" panic as a message.
-fn caught<T>(f: impl FnOnce() -> T) -> Result<T, String> {
+pub(super) fn caught<T>(f: impl FnOnce() -> T) -> Result<T, String> {
     catch_unwind(AssertUnwindSafe(f)).map_err(|e| {
         e.downcast_ref::<String>()
             .cloned()
@@ -59,7 +59,7 @@ impl Chip {
             Periph::Gpio(i) => self.gpio[i].read(off),
             Periph::Gp(i) => self.gp[i].read(off),
             Periph::Iwdg => self.iwdg.read(off),
-            Periph::Usb => self.usb.read(off),
+            Periph::Usb => self.usb_read(off),
             Periph::Ppb => self.nvic.read(off, self.blk, &self.active, self.active.last().copied().unwrap_or(0) as u32),
         };
         v >> (8 * (addr & 3)) & mask(size)
@@ -96,7 +96,7 @@ impl Chip {
             }
             Periph::Gp(i) => self.gp[i].write(off, v, m),
             Periph::Iwdg => self.iwdg.write(off, v, m, self.blk),
-            Periph::Usb => self.usb.write(off, v, m),
+            Periph::Usb => self.usb_write(off, v, m),
             Periph::Ppb => self.nvic.write(off, v, m, self.blk),
         }
     }

@@ -1,43 +1,37 @@
-//! USB OTG_FS (RM0383 §22) as a stub, on the documented list of what is not
-//! modelled: registers as memory, plus what embassy-usb-synopsys-otg waits for in
-//! its init: GRSTCTL.AHBIDL set and CSRST/TXFFLSH/RXFFLSH done at once (§22.16.4),
-//! GINTSTS.CMOD = 0 (device mode) with its rc_w1 flags (§22.16.5), CID 0x1200
-//! (§22.16.11). No host is ever attached: no bus events, no transfers, no interrupt.
+//! USB OTG_FS: `polyturn_stm32_model::chip::otg`'s core (RM0383 §22) on the bus,
+//! with the emulated host (`crate::usb::host`) on its cable when a scenario plugs
+//! one in. The host acts between slices: its next slot is a `Chip::next_event`.
+//! A model's "not modelled" panic (an access the core does not implement) becomes
+//! a fault of the run naming it.
 
-use polyturn_stm32_model::chip::RegFile;
+use super::{bus::caught, Chip};
 
-const GRSTCTL: u32 = 0x10;
-const GINTSTS: u32 = 0x14;
-const CID: u32 = 0x3C;
-
-pub struct UsbStub {
-    regs: RegFile,
-}
-
-impl Default for UsbStub {
-    fn default() -> UsbStub {
-        UsbStub { regs: RegFile::new(&[(GRSTCTL, 0x8000_0000), (GINTSTS, 0x0400_0020), (CID, 0x0000_1200)]) }
+impl Chip {
+    pub(super) fn usb_read(&mut self, off: u32) -> u32 {
+        caught(|| self.usb.read(off)).unwrap_or_else(|e| {
+            self.fault(e);
+            0
+        })
     }
-}
 
-impl UsbStub {
-    pub fn read(&self, off: u32) -> u32 {
-        match off {
-            GRSTCTL => self.regs.get(off) | 1 << 31,
-            GINTSTS => self.regs.get(off) & !1,
-            _ => self.regs.get(off),
+    pub(super) fn usb_write(&mut self, off: u32, v: u32, m: u32) {
+        if let Err(e) = caught(|| self.usb.write(off, v, m)) {
+            self.fault(e);
         }
     }
 
-    pub fn write(&mut self, off: u32, v: u32, m: u32) {
-        match off {
-            GRSTCTL => self.regs.write(off, v & !0x31, m),
-            GINTSTS => self.regs.set(off, self.regs.get(off) & !(v & m & 0xF030_FC0A)),
-            _ => self.regs.write(off, v, m),
+    /// The host's slots due by now (between slices).
+    pub(super) fn usb_step(&mut self) {
+        let (now, sysclk) = (self.now, self.sysclk());
+        let Some(h) = self.host.as_mut() else { return };
+        let usb = &mut self.usb;
+        if let Err(e) = caught(|| h.step(now, sysclk, usb)) {
+            self.fault(e);
         }
     }
 
-    pub fn irq(&self) -> bool {
-        false
+    /// The host's next slot, if one is plugged in.
+    pub(super) fn usb_next(&self) -> Option<u64> {
+        self.host.as_ref().map(|h| h.next_event())
     }
 }

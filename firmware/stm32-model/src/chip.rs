@@ -13,6 +13,7 @@ pub mod gpio;
 pub mod gptimer;
 pub mod iwdg;
 pub mod nvic;
+pub mod otg;
 pub mod rcc;
 mod regfile;
 
