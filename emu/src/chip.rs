@@ -5,6 +5,7 @@
 //! except the short list in [`ZERO_READS`].
 
 mod bus;
+mod flashmem;
 mod lines;
 pub mod pins;
 mod usb;
@@ -72,6 +73,12 @@ pub struct Chip {
     /// times each exception was entered, by number
     pub entries: std::collections::HashMap<usize, u64>,
     pub probe: crate::probe::Probe,
+    /// the flash array's bytes (the machine's), stores waiting to be put right,
+    /// erases applied to them, and CPU cycles stalled by flash operations
+    pub flash_mem: *mut u8,
+    pub fixups: Vec<flashmem::Fixup>,
+    erases_applied: usize,
+    pub stalled: u64,
     pub primask: crate::primask::PrimaskLog,
 }
 
@@ -130,6 +137,10 @@ impl Chip {
             blocks: Default::default(),
             entries: Default::default(),
             probe: Default::default(),
+            flash_mem: std::ptr::null_mut(),
+            fixups: Vec::new(),
+            erases_applied: 0,
+            stalled: 0,
             primask: Default::default(),
         }
     }
@@ -149,6 +160,7 @@ impl Chip {
 
     /// Every time-dependent model brought to the time an access in this block sees.
     pub fn sync(&mut self) {
+        self.apply_fixups();
         let t = self.blk;
         let sysclk = self.sysclk();
         for i in 0..4 {

@@ -40,6 +40,7 @@ pub struct Machine {
     /// the lathe driving the encoder pins, when a job runs
     pub lathe: Option<crate::job::lathe::LatheDrive>,
     pub cpr: u32,
+    params: Params,
     /// the flash as mapped (must outlive `uc`, declared after it)
     _flash: Box<[u8]>,
 }
@@ -62,6 +63,7 @@ impl Machine {
         }
         let mut chip = Chip::new(params);
         chip.code = flash.to_vec();
+        chip.flash_mem = flash.as_mut_ptr();
         let sram = chip.mcu.sram_mut_ptr();
         let mut uc = Unicorn::new_with_data(Arch::ARM, Mode::THUMB | Mode::MCLASS, chip)
             .map_err(|e| format!("unicorn: {e:?}"))?;
@@ -90,7 +92,7 @@ impl Machine {
             };
             e(uc.mmio_map(base, size, Some(read), Some(write)))?;
         }
-        let mut m = Machine { uc, image, lathe: None, cpr: 2400, _flash: flash };
+        let mut m = Machine { uc, image, lathe: None, cpr: 2400, params, _flash: flash };
         m.hooks()?;
         m.boot();
         Ok(m)
@@ -109,6 +111,7 @@ impl Machine {
                 let _ = uc.emu_stop();
                 return;
             }
+            c.apply_fixups();
             let n = c.block_insns(addr as u32, size);
             c.blk = c.now;
             c.now += n;
@@ -116,7 +119,13 @@ impl Machine {
         }))?;
         e(self.uc.add_intr_hook(crate::cpu::interrupt))?;
         let image = self.image.clone();
-        e(self.uc.add_mem_hook(HookType::MEM_INVALID, 1, 0, move |uc, _kind, addr, _size, _v| {
+        e(self.uc.add_mem_hook(HookType::MEM_INVALID, 1, 0, move |uc, kind, addr, size, v| {
+            let in_flash = (FLASH_BASE as u64..(FLASH_BASE + FLASH_SIZE) as u64).contains(&addr);
+            if kind == unicorn_engine::MemType::WRITE_PROT && in_flash {
+                // a store to flash: programming (or an error), not a bus fault
+                uc.get_data_mut().flash_store(addr as u32, size as u32, v as u32);
+                return true;
+            }
             let pc = uc.reg_read(RegisterARM::PC).unwrap_or(0) as u32;
             let f = format!("bus fault: access to unmapped {addr:#010x} at pc {pc:#010x} ({})", image.func_at(pc));
             uc.get_data_mut().fault(f);
@@ -146,6 +155,14 @@ impl Machine {
         let (sp, rv) = (self.image.vectors[0], self.image.vectors[1]);
         let _ = self.uc.reg_write(RegisterARM::SP, sp as u64);
         let _ = self.uc.reg_write(RegisterARM::PC, rv as u64);
+    }
+
+    /// A reset (power-on, or the reset pin): a new machine from the flash as this
+    /// one left it; RAM, registers and time start again.
+    pub fn reset(mut self) -> Result<Machine, String> {
+        self.chip().apply_fixups();
+        let flash = self._flash.to_vec();
+        Machine::new(self.image.clone(), self.params, &[(FLASH_BASE, flash)])
     }
 
     pub fn chip(&mut self) -> &mut Chip {

@@ -64,6 +64,7 @@ fn main() {
     let only_usb = args.iter().any(|a| a == "--only=usb");
     let mut total = if only_usb { 0 } else { scenarios(&image, &mut r).unwrap_or_else(exit) };
     total += usb::scenario::run(&image, &mut r).unwrap_or_else(exit);
+    total += job::save::run(&image, &mut r).unwrap_or_else(exit);
     if !only_usb {
         total += jobs::run_all(&image, &mut r).unwrap_or_else(exit);
     }

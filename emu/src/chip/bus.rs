@@ -155,6 +155,7 @@ impl Chip {
                 if let Err(e) = caught(|| self.flash.write(word, full)) {
                     self.fault(e);
                 }
+                self.flash_erased();
             }
             _ => self.flash_regs.write(off, v, m),
         }

@@ -28,8 +28,13 @@ fn stopped(m: &mut Machine) -> bool {
 
 /// Boots and enumerates; the machine, emulated ms and wall s of enumeration.
 pub fn enumerate(image: &Rc<Image>) -> Result<(Machine, f64, f64), String> {
+    let m = crate::boot(image)?;
+    enumerate_on(m)
+}
+
+/// Plugs the host into a booted machine and enumerates.
+pub fn enumerate_on(mut m: Machine) -> Result<(Machine, f64, f64), String> {
     let wall = Instant::now();
-    let mut m = crate::boot(image)?;
     host(&mut m);
     while !host(&mut m).configured() && !stopped(&mut m) && m.chip().now < ENUM_LIMIT_MS * MS {
         m.run(MS);
@@ -48,12 +53,17 @@ pub fn enumerate(image: &Rc<Image>) -> Result<(Machine, f64, f64), String> {
 
 /// Sends `line`, reads until a CRLF; the reply (without it), emulated ms, wall s.
 pub fn exchange(m: &mut Machine, line: &str) -> Result<(String, f64, f64), String> {
+    exchange_within(m, line, REPLY_LIMIT_MS)
+}
+
+/// The same, allowing `limit_ms` of emulated time for the reply.
+pub fn exchange_within(m: &mut Machine, line: &str, limit_ms: u64) -> Result<(String, f64, f64), String> {
     let (wall, t0) = (Instant::now(), m.chip().now);
     if !host(m).send(line.as_bytes()) {
         return Err("the host's OUT buffer is full".into());
     }
     let mut got = Vec::new();
-    while !got.ends_with(b"\r\n") && !stopped(m) && m.chip().now - t0 < REPLY_LIMIT_MS * MS {
+    while !got.ends_with(b"\r\n") && !stopped(m) && m.chip().now - t0 < limit_ms * MS {
         m.run(MS / 10);
         got.extend(host(m).received());
     }
@@ -62,7 +72,7 @@ pub fn exchange(m: &mut Machine, line: &str) -> Result<(String, f64, f64), Strin
     }
     if !got.ends_with(b"\r\n") {
         let f = faults(m);
-        return Err(format!("no complete reply within {REPLY_LIMIT_MS} ms (got {got:?}; faults: {f})"));
+        return Err(format!("no complete reply within {limit_ms} ms (got {got:?}; faults: {f})"));
     }
     let text = String::from_utf8_lossy(&got[..got.len() - 2]).into_owned();
     Ok((text, (m.chip().now - t0) as f64 / MS as f64, wall.elapsed().as_secs_f64()))

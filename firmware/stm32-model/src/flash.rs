@@ -4,9 +4,13 @@
 //! the caller's bus (`advance_ns`); a CPU access that must wait (a FLASH_CR
 //! write while BSY, §3.5.1 note) moves time on to the end of the operation.
 //!
-//! Not modelled (a write that asks for it panics): programming (PG), mass
-//! erase, option bytes, the interrupts, read/write protection, ×64 (needs
-//! VPP, §3.5.2 Table 6), and sectors above 7 (the F411's 512 KiB, §3.3 Table 4).
+//! Programming (PG, §3.5.4) is checked here ([`Flash::program`]: sequence,
+//! alignment and parallelism errors, BSY for the word's programming time); the
+//! bytes themselves are the caller's memory.
+//!
+//! Not modelled (a write that asks for it panics): mass erase, option bytes,
+//! the interrupts, read/write protection, ×64 (needs VPP, §3.5.2 Table 6), and
+//! sectors above 7 (the F411's 512 KiB, §3.3 Table 4).
 
 use crate::unmodelled;
 
@@ -23,6 +27,12 @@ pub const KEY2: u32 = 0xCDEF_89AB;
 pub const SR_EOP: u32 = 1 << 0;
 pub const SR_ERRORS: u32 = 0b1_1111_0010; // OPERR, WRPERR, PGAERR, PGPERR, PGSERR, RDERR
 pub const SR_BSY: u32 = 1 << 16;
+pub const SR_PGSERR: u32 = 1 << 7;
+pub const SR_PGPERR: u32 = 1 << 6;
+pub const SR_PGAERR: u32 = 1 << 5;
+/// Programming one word at ×32, DS10314 table "Flash memory programming"
+/// t_prog: 16 µs typical, 100 µs max.
+const PROG_NS: (u64, u64) = (16_000, 100_000);
 /// FLASH_CR bits, §3.8.5.
 pub const CR_PG: u32 = 1 << 0;
 pub const CR_SER: u32 = 1 << 1;
@@ -88,6 +98,8 @@ pub struct Flash {
     locked_until_reset: bool,
     pub bus_errors: u32,
     pub erases: Vec<Erase>,
+    /// words programmed
+    pub programs: u64,
 }
 
 impl Flash {
@@ -102,6 +114,7 @@ impl Flash {
             locked_until_reset: false,
             bus_errors: 0,
             erases: Vec::new(),
+            programs: 0,
         }
     }
 
@@ -141,6 +154,46 @@ impl Flash {
         }
     }
 
+    /// A CPU write of `size` bytes to flash address `addr`: whether it programs.
+    /// §3.5.4: with PG set, unlocked and not BSY, a write of PSIZE's width at an
+    /// address aligned to it programs (BSY for t_prog); a write without PG is a
+    /// sequence error (PGSERR, §3.8.4 "a write access to the Flash memory is
+    /// performed by the code while the control register has not been correctly
+    /// configured"), one of another width a parallelism error (PGPERR), one not
+    /// aligned an alignment error (PGAERR). Programming can only clear bits: the
+    /// caller ANDs the value into its memory (an F4 without ECC; RM0383 gives no
+    /// error for a word that was not erased).
+    pub fn program(&mut self, addr: u32, size: u32) -> bool {
+        if self.sr & SR_BSY != 0 {
+            let wait = self.busy_until_ns - self.now_ns;
+            self.advance_ns(wait); // §3.5.1: the access waits for BSY
+        }
+        let width = 1 << ((self.cr & CR_PSIZE) >> CR_PSIZE_SHIFT);
+        let error = if self.locked() || self.cr & CR_PG == 0 {
+            SR_PGSERR
+        } else if size != width {
+            SR_PGPERR
+        } else if addr % width != 0 {
+            SR_PGAERR
+        } else {
+            0
+        };
+        self.sr |= error;
+        if error != 0 {
+            return false;
+        }
+        let ns = if self.time == EraseTime::Typical { PROG_NS.0 } else { PROG_NS.1 };
+        self.busy_until_ns = self.now_ns + ns;
+        self.sr |= SR_BSY;
+        self.programs += 1;
+        true
+    }
+
+    /// When the operation under way ends, if one is (ns).
+    pub fn busy_until_ns(&self) -> Option<u64> {
+        (self.sr & SR_BSY != 0).then_some(self.busy_until_ns)
+    }
+
     fn locked(&self) -> bool {
         self.cr & CR_LOCK != 0
     }
@@ -178,11 +231,11 @@ impl Flash {
             // is what locks it; any other write is ignored.
             return;
         }
-        if value & (CR_PG | CR_MER) != 0 || (value & CR_PSIZE) >> CR_PSIZE_SHIFT == 3 {
-            unmodelled("FLASH_CR: programming, mass erase or ×64");
+        if value & CR_MER != 0 || (value & CR_PSIZE) >> CR_PSIZE_SHIFT == 3 {
+            unmodelled("FLASH_CR: mass erase or ×64");
         }
         let start = value & CR_STRT != 0 && self.cr & CR_STRT == 0;
-        self.cr = value & (CR_SER | CR_SNB | CR_PSIZE | CR_STRT | CR_EOPIE | CR_LOCK);
+        self.cr = value & (CR_PG | CR_SER | CR_SNB | CR_PSIZE | CR_STRT | CR_EOPIE | CR_LOCK);
         if start && value & CR_SER != 0 {
             self.start_erase();
         } else if start {
@@ -203,5 +256,45 @@ impl Flash {
         self.busy_until_ns = self.now_ns + ms * 1_000_000;
         self.sr |= SR_BSY;
         self.erases.push(Erase { sector, psize, start_ns: self.now_ns, end_ns: self.busy_until_ns });
+    }
+}
+
+#[cfg(test)]
+mod program_tests {
+    use super::*;
+
+    fn unlocked() -> Flash {
+        let mut f = Flash::new(EraseTime::Typical);
+        f.write(KEYR, KEY1);
+        f.write(KEYR, KEY2);
+        f
+    }
+
+    #[test]
+    fn a_word_programs_only_with_pg_at_its_width_and_alignment() {
+        let mut f = unlocked();
+        assert!(!f.program(0x0804_0000, 4));
+        assert_eq!(f.read(SR) & SR_PGSERR, SR_PGSERR, "no PG: sequence error");
+        f.write(SR, SR_ERRORS);
+        f.write(CR, CR_PG | 2 << CR_PSIZE_SHIFT);
+        assert!(!f.program(0x0804_0000, 2));
+        assert_eq!(f.read(SR) & SR_PGPERR, SR_PGPERR, "a halfword at ×32: parallelism error");
+        f.write(SR, SR_ERRORS);
+        assert!(!f.program(0x0804_0002, 4));
+        assert_eq!(f.read(SR) & SR_PGAERR, SR_PGAERR);
+        f.write(SR, SR_ERRORS);
+        assert!(f.program(0x0804_0004, 4));
+        assert_eq!(f.read(SR) & SR_BSY, SR_BSY);
+        f.advance_ns(16_000);
+        assert_eq!(f.read(SR) & SR_BSY, 0, "t_prog typical 16 µs");
+        assert_eq!(f.programs, 1);
+    }
+
+    #[test]
+    fn a_locked_interface_programs_nothing() {
+        let mut f = Flash::new(EraseTime::Typical);
+        f.write(CR, CR_PG | 2 << CR_PSIZE_SHIFT); // ignored: locked
+        assert!(!f.program(0x0804_0000, 4));
+        assert_eq!(f.programs, 0);
     }
 }
