@@ -173,7 +173,7 @@ impl Flash {
             SR_PGSERR
         } else if size != width {
             SR_PGPERR
-        } else if addr % width != 0 {
+        } else if !addr.is_multiple_of(width) {
             SR_PGAERR
         } else {
             0
