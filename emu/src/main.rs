@@ -1,6 +1,6 @@
 //! polyturn's firmware image on an emulated STM32F411 (`bash .ci/emu`).
 //!
-//! usage: polyturn-emu ELF [-v] [--only=usb | --pty]
+//! usage: polyturn-emu ELF [-v] [--only=usb | --pty [--lathe-rpm RPM]]
 //!
 //! Scenarios (each from reset, flash erased, so default settings):
 //! 1. boot and run 160 ms with the E-stop closed (PB14 driven low) and no drive
@@ -11,7 +11,8 @@
 //!    `status` and `set cpr 0` and reads the replies. `--only=usb` runs just this.
 //!
 //! `--pty` instead boots, enumerates and serves the console on a pseudo-terminal
-//! whose path it prints (`usb::pty`).
+//! whose path it prints (`usb::pty`); with `--lathe-rpm RPM` the lathe turns at
+//! that speed from then on (the host simulator's motor, no ripple).
 //!
 //! The peripherals are `polyturn-stm32-model`'s: the project's one reading of the
 //! manual. Exits 1 if a check fails, 2 if the image cannot run (with why).
@@ -41,7 +42,9 @@ const GPIOC: usize = 2;
 
 fn main() {
     let args: Vec<String> = std::env::args().skip(1).collect();
-    let Some(elf) = args.iter().find(|a| !a.starts_with('-')) else {
+    let value_of = |flag: &str| args.iter().position(|a| a == flag).and_then(|i| args.get(i + 1));
+    let lathe_rpm = value_of("--lathe-rpm");
+    let Some(elf) = args.iter().find(|a| !a.starts_with('-') && Some(*a) != lathe_rpm) else {
         eprintln!("usage: polyturn-emu ELF");
         std::process::exit(2);
     };
@@ -55,7 +58,12 @@ fn main() {
         }
     };
     if args.iter().any(|a| a == "--pty") {
-        let e = usb::pty::serve(&image).err().unwrap_or_default();
+        let rpm = match lathe_rpm.map(|r| r.parse::<f64>()) {
+            Some(Ok(r)) if r.is_finite() && r.abs() <= 3000.0 => Some(r),
+            Some(_) => exit_with("--lathe-rpm: a speed in rpm, -3000..=3000"),
+            None => None,
+        };
+        let e = usb::pty::serve(&image, rpm).err().unwrap_or_default();
         eprintln!("emu: {e}");
         std::process::exit(2);
     }
@@ -75,6 +83,11 @@ fn main() {
         r.failed
     );
     std::process::exit(if r.failed == 0 { 0 } else { 1 });
+}
+
+fn exit_with(e: &str) -> ! {
+    eprintln!("emu: {e}");
+    std::process::exit(2);
 }
 
 fn exit(e: String) -> u64 {

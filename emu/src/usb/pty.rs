@@ -4,9 +4,12 @@
 //! the CDC bulk OUT endpoint, bytes from bulk IN come back, while the emulator
 //! runs 1 ms at a time (slower than real time: the firmware's timers run on
 //! emulated time). `polyturn device --port PATH status` then talks to the image.
+//! `--lathe-rpm RPM` turns the lathe (its encoder on PA6/PA7/PB0) at that speed.
 
 use super::scenario;
 use crate::image::Image;
+use crate::job::lathe::LatheDrive;
+use polyturn_host::sim::lathe::{LatheProfile, Leg};
 use std::rc::Rc;
 use std::time::Duration;
 
@@ -76,8 +79,21 @@ impl Pty {
     }
 }
 
-pub fn serve(image: &Rc<Image>) -> Result<(), String> {
+/// The host simulator's motor holding `rpm` from the start (no ripple, no
+/// wander), for as long as the emulator runs.
+fn turning(rpm: f64, cpr: u32, now: u64) -> LatheDrive {
+    let hold = Leg { rpm, accel_rpm_per_s: 1000.0, hold_s: 1e9 };
+    let profile = LatheProfile { start_rpm: rpm, legs: vec![hold], ripple: 0.0, wander: 0.0, dips: vec![] };
+    LatheDrive::motor(profile, 1, cpr, now, crate::MS * 1000)
+}
+
+pub fn serve(image: &Rc<Image>, lathe_rpm: Option<f64>) -> Result<(), String> {
     let (mut m, en_ms, en_wall) = scenario::enumerate(image)?;
+    if let Some(rpm) = lathe_rpm {
+        let now = m.chip().now;
+        m.lathe = Some(turning(rpm, m.cpr, now));
+        eprintln!("emu: the lathe turns at {rpm} rpm");
+    }
     let (pty, path) = open()?;
     println!("{path}");
     eprintln!("emu: enumerated at {en_ms:.1} ms emulated ({en_wall:.2} s wall); {path} is the console (Ctrl-C ends)");
@@ -106,6 +122,19 @@ pub fn serve(image: &Rc<Image>) -> Result<(), String> {
 #[cfg(test)]
 mod tests {
     use std::io::{Read, Write};
+
+    #[test]
+    fn the_lathe_flag_turns_the_encoder_at_its_speed_from_the_start() {
+        let sysclk = crate::MS * 1000;
+        let mut l = super::turning(300.0, 2400, 0);
+        // 0.2 s at 300 rpm: one turn, 2400 counts
+        let end = sysclk / 5;
+        while l.next_edge(end).is_some_and(|at| at <= end) {
+            l.take_due(end);
+        }
+        assert!((l.count - 2400).abs() <= 2, "{} counts in 0.2 s", l.count);
+        assert!(!l.finished(), "it keeps turning");
+    }
 
     #[test]
     fn bytes_cross_the_pty_both_ways_unechoed() {
