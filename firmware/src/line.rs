@@ -14,8 +14,10 @@ pub const PACKET_MAX: usize = 64;
 /// anything: the line was not kept).
 pub const TOO_LONG: &str = "error: line too long (96 characters at most)";
 
-/// Where a line's command goes once its tag is off: the cam upload (every
-/// line that starts `cam`; what follows `cam`) or the sync core's console.
+/// Where a line's command goes once its tag is off: the cam upload (the
+/// word `cam`, alone or followed by a space: what follows it) or the sync
+/// core's console (everything else, `camoff` and `camera` included: those
+/// are unknown commands, not cam lines).
 #[derive(Debug, PartialEq, Eq)]
 pub enum Route<'a> {
     Cam(&'a [u8]),
@@ -28,8 +30,8 @@ pub enum Route<'a> {
 pub fn route(line: &[u8]) -> Result<(Option<&[u8]>, Route<'_>), &'static str> {
     let (tag, body) = tag::split(line)?;
     let to = match body.strip_prefix(b"cam") {
-        Some(args) => Route::Cam(args),
-        None => Route::Console(body),
+        Some(args) if args.is_empty() || args[0] == b' ' => Route::Cam(args),
+        _ => Route::Console(body),
     };
     Ok((tag, to))
 }
@@ -118,7 +120,9 @@ mod tests {
     #[test]
     fn a_line_is_routed_to_the_cam_upload_or_the_console_with_its_tag() {
         assert_eq!(route(b"#7 cam data 0 1"), Ok((Some(&b"7"[..]), Route::Cam(b" data 0 1"))));
-        assert_eq!(route(b"camera"), Ok((None, Route::Cam(b"era"))), "anything from cam on, as the firmware did");
+        assert_eq!(route(b"camera"), Ok((None, Route::Console(b"camera"))), "cam is a word");
+        assert_eq!(route(b"camoff"), Ok((None, Route::Console(b"camoff"))), "not cam off");
+        assert_eq!(route(b"cam"), Ok((None, Route::Cam(b""))));
         assert_eq!(route(b"#12 status"), Ok((Some(&b"12"[..]), Route::Console(b"status"))));
         assert_eq!(route(b" cam off"), Ok((None, Route::Console(b" cam off"))));
         assert!(route(b"#x status").is_err());

@@ -47,7 +47,9 @@ fn binary_bytes_stay_in_the_line_and_the_console_answers_them() {
 fn cam_off_goes_to_the_cam_as_on_the_firmware() {
     let mut dev = FakeDevice::new();
     assert_eq!(replies(&mut dev, b"#6 cam off\r\n"), "#6 ok cam off (save to forget it)\r\n");
-    assert!(replies(&mut dev, b"#7 camera\r\n").starts_with("#7 error: usage: cam begin|data|end"));
+    // cam is a word: camera and camoff are unknown commands, as on the firmware
+    assert_eq!(replies(&mut dev, b"#7 camera\r\n"), "#7 error: unknown command or wrong arguments (try help)\r\n");
+    assert_eq!(replies(&mut dev, b"#8 camoff\r\n"), "#8 error: unknown command or wrong arguments (try help)\r\n");
 }
 
 #[test]
