@@ -79,10 +79,21 @@ pub struct Chip {
     pub fixups: Vec<flashmem::Fixup>,
     erases_applied: usize,
     pub stalled: u64,
+    /// the bench self-test's jumpers: PA2-PA6 and PA3-PA7 (`ab`), PA4-PB0 (`index`)
+    pub jumpers: Jumpers,
+    /// TIM1/TIM9 pin edges already passed through the jumpers
+    mcu_edges_seen: usize,
     pub primask: crate::primask::PrimaskLog,
 }
 
 pub const GP_NAMES: [&str; 4] = ["TIM3", "TIM4", "TIM5", "TIM10"];
+
+/// Wires on the bench between pins (`polyturn device selftest`'s jumpers).
+#[derive(Clone, Copy, Debug, Default)]
+pub struct Jumpers {
+    pub ab: bool,
+    pub index: bool,
+}
 
 impl Chip {
     pub fn new(params: Params) -> Chip {
@@ -141,6 +152,8 @@ impl Chip {
             fixups: Vec::new(),
             erases_applied: 0,
             stalled: 0,
+            jumpers: Jumpers::default(),
+            mcu_edges_seen: 0,
             primask: Default::default(),
         }
     }
@@ -168,6 +181,9 @@ impl Chip {
             self.gp[i].advance(t, sysclk, clk);
         }
         self.mcu_run(t);
+        if self.jumpers.ab {
+            self.wire_ab();
+        }
         // the flash interface keeps nanoseconds: cycles at the clock of the moment
         let (at, ns) = self.flash_ns;
         let ns = ns + (t - at) * 1_000_000_000 / sysclk;
@@ -177,6 +193,25 @@ impl Chip {
         // a flag raised while time moved is latched as pending now (PM0214 §4.3.9),
         // even if the access that follows clears it
         self.update_lines();
+    }
+
+    /// TIM9's outputs on PA2/PA3 reach PA6/PA7 through the jumpers, edge by edge
+    /// in the order the model made them (TIM3 counts transitions, not time).
+    fn wire_ab(&mut self) {
+        use polyturn_stm32_model::PinId;
+        let new: Vec<(u8, bool)> = self.mcu.edges()[self.mcu_edges_seen..]
+            .iter()
+            .filter_map(|e| match e.pin {
+                PinId::Pa2 => Some((6, e.high)),
+                PinId::Pa3 => Some((7, e.high)),
+                _ => None,
+            })
+            .collect();
+        self.mcu_edges_seen = self.mcu.edges().len();
+        for (pin, high) in new {
+            let edges = self.gpio[0].drive(pin, Some(high));
+            self.pin_edges(0, edges);
+        }
     }
 
     /// The next CPU cycle at which a model raises a flag, if any.

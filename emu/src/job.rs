@@ -7,6 +7,7 @@ pub mod estop;
 pub mod host;
 pub mod lathe;
 pub mod save;
+pub mod selftest;
 pub mod settings;
 
 use crate::image::Image;

@@ -73,6 +73,7 @@ fn main() {
     let mut total = if only_usb { 0 } else { scenarios(&image, &mut r).unwrap_or_else(exit) };
     total += usb::scenario::run(&image, &mut r).unwrap_or_else(exit);
     total += job::save::run(&image, &mut r).unwrap_or_else(exit);
+    total += job::selftest::run(&image, &mut r).unwrap_or_else(exit);
     if !only_usb {
         total += jobs::run_all(&image, &mut r).unwrap_or_else(exit);
     }

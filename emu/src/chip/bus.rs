@@ -122,6 +122,7 @@ impl Chip {
     /// (AF2, datasheet DS10314 table 9).
     pub fn pin_edges(&mut self, port: usize, edges: Vec<(u8, bool)>) {
         let mut tim3 = false;
+        let pa4 = port == 0 && self.jumpers.index && edges.iter().any(|e| e.0 == 4);
         for (pin, rising) in edges {
             self.exti.edge(&self.syscfg, port as u32, pin, rising);
             tim3 |= matches!((port, pin), (0, 6) | (0, 7) | (1, 0));
@@ -133,6 +134,12 @@ impl Chip {
             };
             let levels = [ti(self, 0, 6), ti(self, 0, 7), ti(self, 1, 0)];
             self.gp[0].inputs(levels);
+        }
+        if pa4 {
+            // the index jumper: PA4 (driven by software) to PB0 (TIM3_CH3)
+            let level = self.gpio[0].level(4);
+            let edges = self.gpio[1].drive(0, Some(level));
+            self.pin_edges(1, edges);
         }
     }
 
