@@ -23,7 +23,7 @@ use std::time::Instant;
 pub const MS: u64 = 96_000;
 const SYSCLK: u64 = 96_000_000;
 /// Key pins (board.rs): ENGAGE PB12, STOP PB10; E-stop PB14.
-const ENGAGE: u8 = 12;
+pub const ENGAGE: u8 = 12;
 const STOP: u8 = 10;
 pub const ESTOP: u8 = 14;
 pub const GPIOB: usize = 1;
@@ -98,7 +98,7 @@ pub fn scenario(s: &Spec) -> Scenario {
 }
 
 /// Holds a key down for 60 ms (3 × the debounce, `keys::DEBOUNCE_MS`), then lets go.
-fn press(m: &mut Machine, pin: u8) {
+pub(crate) fn press(m: &mut Machine, pin: u8) {
     m.drive(GPIOB, pin, Some(false));
     m.run(60 * MS);
     m.drive(GPIOB, pin, None);
@@ -114,6 +114,10 @@ pub fn run(image: &Rc<Image>, spec: &Spec) -> Result<Outcome, String> {
     m.cpr = sc.core.encoder_counts_per_rev;
     m.drive(GPIOB, ESTOP, Some(false));
     m.run(100 * MS);
+    if matches!(spec.kind, Kind::EStop { .. }) {
+        // the fault is cleared on the console: plug the USB host in
+        m = crate::usb::scenario::enumerate_on(m)?.0;
+    }
     let cpr = sc.core.encoder_counts_per_rev;
     let lathe = |m: &mut Machine| {
         let now = m.chip().now;

@@ -46,7 +46,8 @@ pub const SPECS: &[Spec] = &[
         edges: 3,
         rpm: 600.0,
         ripple: 0.02,
-        turns: 20.0,
+        // the lathe still turns when the fault is cleared and ENGAGE pressed
+        turns: 160.0,
         start: Start::Rest,
         seed: 7,
     },
@@ -119,8 +120,9 @@ fn judge(r: &mut Report, o: &Outcome) {
     let rx = &o.received;
     let cnt_ok = o.tim3_cnt == o.lathe_count.rem_euclid(65_536) as u32;
     let setup_ok = rx.reversals == 0 || rx.min_dir_setup >= o.dir_setup;
-    // the E-stop job stops mid-cut: its phase is not the gear's afterwards
-    let phase_ok = o.estop.is_some() || o.phase_error_steps().abs() <= 0.5;
+    // after an E-stop, `clear` and ENGAGE, the cutter lands on the first
+    // pass's phase: the same exact-gear check
+    let phase_ok = o.phase_error_steps().abs() <= 0.5;
     let ok = o.faults.is_empty()
         && rx.unseen == 0
         && rx.dir_while_high == 0
@@ -139,10 +141,14 @@ fn judge(r: &mut Report, o: &Outcome) {
         // it can wait for one tick handler: the bound is the tick's worst plus a
         // pulse. One pulse width would need TIM1's break input (the README).
         let bound = o.tick.1 + e.pulse;
-        let ok = e.last_rise_after <= bound && e.safe && e.flashes_open == 4 && e.flashes_closed == 4;
+        let ok = e.last_rise_after <= bound
+            && e.safe
+            && e.flashes_open == 4
+            && e.flashes_closed == 4
+            && e.cleared.starts_with("ok ");
         let text = format!(
-            "handler {} cycles and last STEP rise {} cycles after the contact opened (bound: the tick's worst {} + one pulse {}), outputs safe: {}, LED code {} open, {} closed again (4 = E-stop, latched)",
-            e.handler_after.map_or("never".into(), |h| h.to_string()), e.last_rise_after, o.tick.1, e.pulse, e.safe, e.flashes_open, e.flashes_closed
+            "handler {} cycles and last STEP rise {} cycles after the contact opened (bound: the tick's worst {} + one pulse {}), outputs safe: {}, LED code {} open, {} closed again (4 = E-stop, latched); clear: {:?}, then ENGAGE",
+            e.handler_after.map_or("never".into(), |h| h.to_string()), e.last_rise_after, o.tick.1, e.pulse, e.safe, e.flashes_open, e.flashes_closed, e.cleared
         );
         r.line(ok, "job c estop", &text);
     }

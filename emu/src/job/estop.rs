@@ -1,7 +1,9 @@
 //! Scenario (c): the E-stop opens mid-cut. STEP must stop within one pulse width,
 //! ENABLE go inactive, the step timer stop, and the fault latch: the LED shows
 //! code 4 (`led::fault_code(EStop)`) with the contact open, and still after it
-//! closes again (only `clear` on the console ends it).
+//! closes again (only `clear` on the console ends it). Then `clear` on the console
+//! and ENGAGE while the lathe still turns: the cutter must land on the first
+//! pass's phase (the job's exact-gear check at the end).
 
 use super::{ESTOP, GPIOB, MS};
 use crate::machine::Machine;
@@ -19,6 +21,8 @@ pub struct Seen {
     pub handler_after: Option<u64>,
     pub flashes_open: u32,
     pub flashes_closed: u32,
+    /// the console's reply to `clear`
+    pub cleared: String,
 }
 
 pub fn open_mid_cut(m: &mut Machine, at_s: f64, cfg: &Config) -> Seen {
@@ -40,6 +44,8 @@ pub fn open_mid_cut(m: &mut Machine, at_s: f64, cfg: &Config) -> Seen {
     let flashes_open = flashes(m);
     m.drive(GPIOB, ESTOP, Some(false));
     let flashes_closed = flashes(m);
+    let cleared = crate::usb::scenario::exchange(m, "clear\n").map_or_else(|e| e, |r| r.0);
+    super::press(m, super::ENGAGE);
     let d = polyturn_sync::derived::Derived::new(cfg, polyturn_sync::Timing::FIRMWARE);
     Seen {
         last_rise_after: last.unwrap_or(0),
@@ -48,6 +54,7 @@ pub fn open_mid_cut(m: &mut Machine, at_s: f64, cfg: &Config) -> Seen {
         handler_after,
         flashes_open,
         flashes_closed,
+        cleared,
     }
 }
 
