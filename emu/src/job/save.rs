@@ -24,7 +24,7 @@ fn booted(m: Machine) -> Result<Machine, String> {
 }
 
 pub fn run(image: &Rc<Image>, r: &mut Report) -> Result<u64, String> {
-    let cfg = scenario(&super::super::jobs::SPECS[0]).core;
+    let cfg = scenario(&super::super::jobs::SPECS[0]).core; // the hexagon's
     let m = Machine::new(image.clone(), Params::default(), &settings::saved(&cfg)?)?;
     let mut m = booted(m)?;
     let loaded = exchange(&mut m, "get ratio\n")?.0;
