@@ -84,6 +84,8 @@ pub struct Chip {
     /// TIM1/TIM9 pin edges already passed through the jumpers
     mcu_edges_seen: usize,
     pub primask: crate::primask::PrimaskLog,
+    /// the tick's inputs and ENABLE, recorded when a job asks (`tape`)
+    pub tape: Option<crate::tape::Tape>,
 }
 
 pub const GP_NAMES: [&str; 4] = ["TIM3", "TIM4", "TIM5", "TIM10"];
@@ -155,6 +157,7 @@ impl Chip {
             jumpers: Jumpers::default(),
             mcu_edges_seen: 0,
             primask: Default::default(),
+            tape: None,
         }
     }
 

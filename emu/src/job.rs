@@ -6,6 +6,7 @@
 pub mod estop;
 pub mod host;
 pub mod lathe;
+pub mod replay;
 pub mod save;
 pub mod selftest;
 pub mod settings;
@@ -75,6 +76,8 @@ pub struct Outcome {
     pub tick: (f64, u64),
     /// the longest interrupts-off section in thread mode, instructions
     pub irq_off: u64,
+    /// the step stream against the host core fed the image's own tick inputs
+    pub replay: Option<replay::Replay>,
 }
 
 fn setup(s: &Spec) -> Setup {
@@ -112,6 +115,9 @@ pub fn run(image: &Rc<Image>, spec: &Spec) -> Result<Outcome, String> {
     let flash = settings::saved(&sc.core)?;
     let mut m = Machine::new(image.clone(), params, &flash)?;
     m.cpr = sc.core.encoder_counts_per_rev;
+    if !matches!(spec.kind, Kind::EStop { .. }) {
+        m.chip().tape = Some(crate::tape::Tape::default());
+    }
     m.drive(GPIOB, ESTOP, Some(false));
     m.run(100 * MS);
     if matches!(spec.kind, Kind::EStop { .. }) {
@@ -150,8 +156,12 @@ pub fn run(image: &Rc<Image>, spec: &Spec) -> Result<Outcome, String> {
         m.run(10 * MS);
     }
     m.run(100 * MS);
+    // compared up to STOP: the key task's disengage shows on no pin
+    let until = m.chip().now;
     press(&mut m, STOP);
     let mut o = outcome(&mut m, spec, &sc.core, wall);
+    let c = m.chip();
+    o.replay = c.tape.take().map(|t| replay::compare(&sc.core, &t, c.mcu.edges(), until));
     o.engage_count = engage_count;
     o.estop = estop;
     Ok(o)
@@ -196,5 +206,6 @@ fn outcome(m: &mut Machine, spec: &Spec, cfg: &Config, wall: Instant) -> Outcome
         estop: None,
         tick: (c.probe.tick_average(), c.probe.tick_worst),
         irq_off: c.primask.longest.instructions,
+        replay: None,
     }
 }

@@ -86,6 +86,9 @@ pub fn run_all(image: &Rc<Image>, r: &mut Report) -> Result<u64, String> {
         if spec.kind == Kind::Cut {
             compare(r, &o, &job::host::simulate(spec)?);
         }
+        if let Some(rp) = &o.replay {
+            replayed(r, o.name, rp);
+        }
     }
     Ok(total)
 }
@@ -158,4 +161,21 @@ fn compare(r: &mut Report, o: &Outcome, h: &job::host::HostRun) {
         h.encoder_counts, o.lathe_count, h.steps_emitted, o.received.pulses, h.final_error_steps, o.phase_error_steps(), h.faults
     );
     r.line(ok, &format!("host {}", o.name), &text);
+}
+
+/// The host's sync core fed the inputs the image's tick read: the same step at
+/// the same cycle, tick by tick (`job::replay`).
+fn replayed(r: &mut Report, name: &str, rp: &job::replay::Replay) {
+    let text = format!(
+        "host core on the image's {} tick inputs: {} steps planned, {} rises at the driver, {}; ENABLE differs at {} ticks, {} missed ticks; the steps come {} cycles after their planning tick's entry (2 ticks are {}: the pipeline less the interrupt's entry)",
+        rp.ticks,
+        rp.planned,
+        rp.rises,
+        rp.first_difference.as_ref().map_or("each at its planned cycle and direction".to_string(), |d| d.1.clone()),
+        rp.enable_differs,
+        rp.gaps,
+        rp.delay,
+        2 * rp.tick_len
+    );
+    r.line(rp.equal(), &format!("tick by tick {name}"), &text);
 }

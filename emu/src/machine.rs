@@ -148,7 +148,8 @@ impl Machine {
                 let _ = uc.emu_stop();
             }))?;
         }
-        crate::primask::hooks(self)
+        crate::primask::hooks(self)?;
+        crate::tape::hooks(self)
     }
 
     fn boot(&mut self) {

@@ -1,6 +1,6 @@
 //! polyturn's firmware image on an emulated STM32F411 (`bash .ci/emu`).
 //!
-//! usage: polyturn-emu ELF [-v] [--only=usb | --pty [--lathe-rpm RPM]]
+//! usage: polyturn-emu ELF [-v] [--only=usb | --only=jobs | --pty [--lathe-rpm RPM]]
 //!
 //! Scenarios (each from reset, flash erased, so default settings):
 //! 1. boot and run 160 ms with the E-stop closed (PB14 driven low) and no drive
@@ -9,6 +9,7 @@
 //! 2. boot and run 60 ms, then the drive alarm pulls PB15 low.
 //! 3. USB (`usb::scenario`): the emulated host enumerates the console, sends
 //!    `status` and `set cpr 0` and reads the replies. `--only=usb` runs just this.
+//! 4. the jobs (`jobs`): `--only=jobs` runs just these.
 //!
 //! `--pty` instead boots, enumerates and serves the console on a pseudo-terminal
 //! whose path it prints (`usb::pty`); with `--lathe-rpm RPM` the lathe turns at
@@ -28,6 +29,7 @@ mod machine;
 mod primask;
 mod probe;
 mod svd;
+mod tape;
 mod usb;
 
 use checks::Report;
@@ -70,10 +72,13 @@ fn main() {
     let wall = Instant::now();
     let mut r = Report::default();
     let only_usb = args.iter().any(|a| a == "--only=usb");
-    let mut total = if only_usb { 0 } else { scenarios(&image, &mut r).unwrap_or_else(exit) };
-    total += usb::scenario::run(&image, &mut r).unwrap_or_else(exit);
-    total += job::save::run(&image, &mut r).unwrap_or_else(exit);
-    total += job::selftest::run(&image, &mut r).unwrap_or_else(exit);
+    let only_jobs = args.iter().any(|a| a == "--only=jobs");
+    let mut total = if only_usb || only_jobs { 0 } else { scenarios(&image, &mut r).unwrap_or_else(exit) };
+    if !only_jobs {
+        total += usb::scenario::run(&image, &mut r).unwrap_or_else(exit);
+        total += job::save::run(&image, &mut r).unwrap_or_else(exit);
+        total += job::selftest::run(&image, &mut r).unwrap_or_else(exit);
+    }
     if !only_usb {
         total += jobs::run_all(&image, &mut r).unwrap_or_else(exit);
     }

@@ -29,6 +29,11 @@ pub struct Probe {
 }
 
 impl Probe {
+    /// The tick's handler is running.
+    pub fn in_tick(&self) -> bool {
+        self.tick_entered.is_some()
+    }
+
     pub fn tick_average(&self) -> f64 {
         self.tick_total as f64 / self.tick_runs.max(1) as f64
     }
@@ -60,6 +65,11 @@ pub fn on_return(c: &mut Chip, exc: usize) {
             }
             (p.tick_runs, p.tick_total, p.tick_worst) =
                 (p.tick_runs + 1, p.tick_total + (c.now - t), p.tick_worst.max(c.now - t));
+        }
+        if c.tape.is_some() {
+            let o = c.outputs();
+            let enable = o.enable.is_some_and(|e| e != o.enable_inactive);
+            c.tape.as_mut().map(|t| t.tick_done(enable));
         }
         if c.mcu.read(TIM11 + off::SR) & 1 == 0 {
             c.probe.tick_uif_clears += 1;

@@ -62,6 +62,7 @@ impl Chip {
             Periph::Usb => self.usb_read(off),
             Periph::Ppb => self.nvic.read(off, self.blk, &self.active, self.active.last().copied().unwrap_or(0) as u32),
         };
+        self.tape_read(word, v);
         v >> (8 * (addr & 3)) & mask(size)
     }
 

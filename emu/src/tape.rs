@@ -1,0 +1,157 @@
+//! What the real image's tick read and did, tick by tick: the counter and pin
+//! reads it builds its `TickInput` from (`app/tick.rs`), and the ENABLE pin after
+//! it returned. The host's sync core, fed the same inputs, must make the same
+//! step stream (`job::replay`); this records them without touching the image.
+
+use crate::chip::Chip;
+use crate::machine::Machine;
+use polyturn_stm32_model::addr::{off, TIM2};
+use polyturn_sync::TickInput;
+
+/// TIM3 (lathe), TIM4 (cutter) and GPIOB, by the SVD's base addresses.
+const TIM3: u32 = 0x4000_0400;
+const TIM4: u32 = 0x4000_0800;
+const GPIOB_IDR: u32 = 0x4002_0410;
+/// TIMx_CCR3 (RM0383 §13.4.15): the lathe count latched at the index.
+const CCR3: u32 = 0x3C;
+
+/// A port B pin's number by its signal's name in `board::PINS` (the E-stop and
+/// the drive alarm are read through GPIOB_IDR).
+fn port_b(signal: &str) -> u32 {
+    let p = polyturn_firmware::board::PINS.iter().find(|p| p.signal == signal).expect("a pin of board::PINS");
+    p.pin.strip_prefix("PB").and_then(|n| n.parse().ok()).expect("a port B pin")
+}
+
+/// One tick as the image ran it.
+#[derive(Clone, Copy, Debug)]
+pub struct TickSeen {
+    /// the cycle the handler was entered
+    pub at: u64,
+    pub input: TickInput,
+    /// ENABLE at its active level when the handler returned
+    pub enable: bool,
+}
+
+/// A command the lower priorities gave the image's controller (under its lock,
+/// so between two ticks).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Command {
+    Engage,
+    Disengage,
+    /// `service`'s re-basing of the gear on the index while idle
+    Rebase,
+}
+
+/// The controller's methods whose entry is a `Command`, by their (legacy
+/// mangled) symbol's tail: each path segment is length-prefixed.
+const COMMANDS: &[(&str, Command)] =
+    &[("6engage17h", Command::Engage), ("9disengage17h", Command::Disengage), ("6rebase17h", Command::Rebase)];
+
+/// The counters the image read before its first tick (`Controller::start`'s
+/// arguments), every tick since, and each command with the number of ticks
+/// before it.
+#[derive(Default)]
+pub struct Tape {
+    pub start: (u16, u16, u16),
+    pub ticks: Vec<TickSeen>,
+    pub commands: Vec<(usize, Command)>,
+    now: Option<Partial>,
+}
+
+/// Hooks the entry of each `COMMANDS` method of the sync core's `Controller`.
+pub fn hooks(m: &mut Machine) -> Result<(), String> {
+    for (tail, cmd) in COMMANDS {
+        let found: Vec<u32> = m
+            .image
+            .symbols
+            .iter()
+            .filter(|(n, _)| n.contains("Controller$GT$") && n.contains(tail))
+            .map(|(_, &a)| a & !1)
+            .collect();
+        let [a] = found[..] else {
+            return Err(format!("{} functions named like Controller::{}: want one", found.len(), tail));
+        };
+        let cmd = *cmd;
+        m.uc.add_code_hook(a as u64, a as u64, move |uc, _, _| {
+            if let Some(t) = uc.get_data_mut().tape.as_mut() {
+                t.commands.push((t.ticks.len(), cmd));
+            }
+        })
+        .map_err(|e| format!("unicorn: {e:?}"))?;
+    }
+    Ok(())
+}
+
+/// The reads of the tick running now; the first of each is the one
+/// `TickInput`'s field takes (the handler reads each once, in field order).
+#[derive(Default)]
+struct Partial {
+    at: u64,
+    lathe: Option<u16>,
+    index: Option<u16>,
+    emitted: Option<u16>,
+    cutter: Option<u16>,
+    idr: Option<u32>,
+}
+
+impl Tape {
+    /// A register read of `word` that gave `value`; `in_tick` when the tick's
+    /// handler made it.
+    pub fn read(&mut self, word: u32, value: u32, in_tick: bool, now: u64) {
+        if !in_tick {
+            if self.ticks.is_empty() {
+                self.before_first_tick(word, value);
+            }
+            return;
+        }
+        let p = self.now.get_or_insert_with(|| Partial { at: now, ..Partial::default() });
+        let v = Some(value as u16);
+        match word {
+            w if w == TIM3 + off::CNT => p.lathe = p.lathe.or(v),
+            w if w == TIM3 + CCR3 => p.index = p.index.or(v),
+            w if w == TIM2 + off::CNT => p.emitted = p.emitted.or(v),
+            w if w == TIM4 + off::CNT => p.cutter = p.cutter.or(v),
+            GPIOB_IDR => p.idr = p.idr.or(Some(value)),
+            _ => {}
+        }
+    }
+
+    fn before_first_tick(&mut self, word: u32, value: u32) {
+        let v = value as u16;
+        match word {
+            w if w == TIM3 + off::CNT => self.start.0 = v,
+            w if w == TIM2 + off::CNT => self.start.1 = v,
+            w if w == TIM4 + off::CNT => self.start.2 = v,
+            _ => {}
+        }
+    }
+
+    /// The tick's handler returned with ENABLE at `enable`. A tick that read
+    /// nothing (the shared state was not set yet) is not a tick of the core.
+    pub fn tick_done(&mut self, enable: bool) {
+        let Some(p) = self.now.take() else { return };
+        let Some(lathe) = p.lathe else { return };
+        let idr = p.idr.unwrap_or(0);
+        let input = TickInput {
+            lathe,
+            index: p.index,
+            emitted: p.emitted.unwrap_or(0),
+            cutter: p.cutter.unwrap_or(0),
+            estop_open: idr >> port_b("ESTOP") & 1 == 1,
+            alarm: idr >> port_b("DRIVE_ALARM") & 1 == 0,
+            x_emitted: 0,
+        };
+        self.ticks.push(TickSeen { at: p.at, input, enable });
+    }
+}
+
+impl Chip {
+    /// Feeds a read to the tape, if one is running.
+    pub(crate) fn tape_read(&mut self, word: u32, value: u32) {
+        let in_tick = self.probe.in_tick();
+        let now = self.now;
+        if let Some(t) = self.tape.as_mut() {
+            t.read(word, value, in_tick, now);
+        }
+    }
+}
