@@ -137,3 +137,42 @@ fn way(forward: bool) -> &'static str {
         "reverse"
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::tape::TickSeen;
+    use polyturn_sync::TickInput;
+
+    fn edge(cycle: u64, pin: PinId, high: bool) -> Edge {
+        Edge { cycle, pin, high }
+    }
+
+    #[test]
+    fn a_rise_takes_the_dir_level_set_before_it_and_edges_from_until_on_are_left_out() {
+        let e = [
+            edge(10, PinId::Pa8, true),
+            edge(20, PinId::Pa8, false),
+            edge(30, PinId::Pa9, false),
+            edge(40, PinId::Pa8, true),
+            edge(50, PinId::Pa8, false),
+            edge(60, PinId::Pa8, true),
+        ];
+        assert_eq!(rises(&e, true, 60), vec![(10, true), (40, false)]);
+    }
+
+    #[test]
+    fn an_idle_tape_is_not_called_equal_and_a_step_the_host_did_not_plan_is_found() {
+        let config = Config::default();
+        let idle = TickSeen { at: 0, input: TickInput::default(), enable: false };
+        let mut tape = Tape::default();
+        let len = polyturn_sync::derived::Derived::new(&config, Timing::FIRMWARE).steps.tick_len as u64;
+        tape.ticks = (0..10).map(|k| TickSeen { at: k * len, ..idle }).collect();
+        let r = compare(&config, &tape, &[], u64::MAX);
+        assert_eq!((r.ticks, r.planned, r.rises), (10, 0, 0));
+        assert!(!r.equal(), "nothing planned, nothing compared");
+        let r = compare(&config, &tape, &[edge(5, PinId::Pa8, true)], u64::MAX);
+        assert_eq!(r.rises, 1);
+        assert!(!r.equal());
+    }
+}
