@@ -26,6 +26,7 @@
 //!   2π/N (a time shift Δ of pass 0 equals a rotation by Δ when s·GR·Δ is a
 //!   multiple of 2π/Z), so one pass and N rotations give the whole section.
 
+pub mod alignment;
 mod envelope;
 pub mod section;
 mod sector;
