@@ -57,12 +57,16 @@ pub fn open(wait: Duration) -> Result<DfuNusb, String> {
 
 fn open_error(e: nusb::Error) -> String {
     match e.kind() {
-        nusb::ErrorKind::PermissionDenied => format!(
-            "no permission to open the STM32 bootloader (USB {VID:04x}:{PID:04x}): install the udev rule of docs/src/flashing.md (\"Let your PC reach the board\"): SUBSYSTEM==\"usb\", ATTRS{{idVendor}}==\"0483\", ATTRS{{idProduct}}==\"df11\", TAG+=\"uaccess\" in /etc/udev/rules.d/70-polyturn.rules, then `sudo udevadm control --reload-rules` and replug"
-        ),
+        nusb::ErrorKind::PermissionDenied => no_permission(),
         nusb::ErrorKind::Busy => "the STM32 bootloader is in use by another program (dfu-util, STM32CubeProgrammer?)".into(),
         _ => format!("cannot open the STM32 bootloader: {e}"),
     }
+}
+
+fn no_permission() -> String {
+    format!(
+        "no permission to open the STM32 bootloader (USB {VID:04x}:{PID:04x}): install the udev rule of docs/src/flashing.md (\"Let your PC reach the board\"), the release bundle's 70-polyturn.rules: SUBSYSTEM==\"usb\", ATTRS{{idVendor}}==\"0483\", ATTRS{{idProduct}}==\"df11\", TAG+=\"uaccess\" in /etc/udev/rules.d/70-polyturn.rules, then `sudo udevadm control --reload-rules` and replug"
+    )
 }
 
 /// The DFU interface and alternate setting named `@Internal Flash`, once
@@ -155,5 +159,18 @@ mod tests {
         assert_eq!(block_on(std::future::pending::<()>(), Duration::from_millis(50)), None);
         assert!(t.elapsed() < Duration::from_secs(2));
         assert_eq!(block_on(async { 7 }, Duration::from_millis(50)), Some(7));
+    }
+}
+
+#[cfg(test)]
+mod rule_tests {
+    /// The permission error quotes the bootloader's line of the one rules file
+    /// the book includes and the release bundle ships.
+    #[test]
+    fn the_permission_error_quotes_the_shipped_udev_rule() {
+        let rules = include_str!("../../../docs/src/70-polyturn.rules");
+        let line = rules.lines().find(|l| l.contains("df11")).expect("the bootloader's rule");
+        let e = super::no_permission();
+        assert!(e.contains(line), "{e}");
     }
 }
