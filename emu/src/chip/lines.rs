@@ -6,44 +6,71 @@
 use super::Chip;
 use crate::svd;
 use polyturn_stm32_model::addr::{off, TIM1, TIM11, TIM2, TIM9};
+use std::sync::OnceLock;
+
+/// The lines `Chip::levels` reads, in its order, by their SVD names.
+const LINES: [&str; 16] = [
+    "TIM1_UP_TIM10",
+    "TIM1_TRG_COM_TIM11",
+    "TIM1_BRK_TIM9",
+    "TIM1_CC",
+    "TIM2",
+    "TIM3",
+    "TIM4",
+    "TIM5",
+    "EXTI0",
+    "EXTI1",
+    "EXTI2",
+    "EXTI3",
+    "EXTI4",
+    "EXTI9_5",
+    "EXTI15_10",
+    "OTG_FS",
+];
+
+/// `LINES`' IRQ numbers, looked up in the SVD once (every bus access asks).
+fn numbers() -> &'static [usize; 16] {
+    static N: OnceLock<[usize; 16]> = OnceLock::new();
+    N.get_or_init(|| LINES.map(svd::irq))
+}
 
 impl Chip {
     fn mcu_flags(&mut self, base: u32) -> u32 {
         self.mcu.read(base + off::SR) & self.mcu.read(base + off::DIER)
     }
 
-    /// The IRQ numbers whose line is asserted now.
-    pub fn asserted(&mut self) -> Vec<usize> {
+    /// Each line of `LINES`, asserted or not, now.
+    fn levels(&mut self) -> [bool; 16] {
         // SR's overcapture flags (bits 9-12) sit under DIER's DMA enables: only the
         // interrupt flags count (UIF, CCxIF, TIF: §13.4.4/§13.4.5, §14.4.4/§14.4.5)
         let t2 = self.mcu_flags(TIM2) & 0x5F;
         let (t1, t9, t11) = (self.mcu_flags(TIM1), self.mcu_flags(TIM9) & 0x47, self.mcu_flags(TIM11) & 0x03);
         let gp = |c: &Chip, i: usize| c.gp[i].irq(0xFF);
-        let lines = [
-            ("TIM1_UP_TIM10", t1 & 0x01 != 0 || gp(self, 3)),
-            ("TIM1_TRG_COM_TIM11", t1 & 0x60 != 0 || t11 != 0),
-            ("TIM1_BRK_TIM9", t1 & 0x80 != 0 || t9 != 0),
-            ("TIM1_CC", t1 & 0x1E != 0),
-            ("TIM2", t2 != 0),
-            ("TIM3", gp(self, 0)),
-            ("TIM4", gp(self, 1)),
-            ("TIM5", gp(self, 2)),
-            ("EXTI0", self.exti.pending(0, 0)),
-            ("EXTI1", self.exti.pending(1, 1)),
-            ("EXTI2", self.exti.pending(2, 2)),
-            ("EXTI3", self.exti.pending(3, 3)),
-            ("EXTI4", self.exti.pending(4, 4)),
-            ("EXTI9_5", self.exti.pending(5, 9)),
-            ("EXTI15_10", self.exti.pending(10, 15)),
-            ("OTG_FS", self.usb.irq()),
-        ];
-        lines.iter().filter(|l| l.1).map(|l| svd::irq(l.0)).collect()
+        [
+            t1 & 0x01 != 0 || gp(self, 3),
+            t1 & 0x60 != 0 || t11 != 0,
+            t1 & 0x80 != 0 || t9 != 0,
+            t1 & 0x1E != 0,
+            t2 != 0,
+            gp(self, 0),
+            gp(self, 1),
+            gp(self, 2),
+            self.exti.pending(0, 0),
+            self.exti.pending(1, 1),
+            self.exti.pending(2, 2),
+            self.exti.pending(3, 3),
+            self.exti.pending(4, 4),
+            self.exti.pending(5, 9),
+            self.exti.pending(10, 15),
+            self.usb.irq(),
+        ]
     }
 
     /// PM0214 §4.3.9: a level-sensitive line that is asserted while its interrupt is
     /// not active sets the pending bit (and again after return if still asserted).
     pub fn update_lines(&mut self) {
-        for irq in self.asserted() {
+        let n = numbers();
+        for (_, &irq) in self.levels().iter().zip(n).filter(|l| *l.0) {
             if !self.active.contains(&(16 + irq)) {
                 self.nvic.pending[16 + irq] = true;
             }
