@@ -44,14 +44,20 @@ pub fn hooks(m: &mut Machine) -> Result<(), String> {
 /// `msr basepri, rN` (or basepri_max) about to run: an interrupt it unmasks is
 /// taken right after it (PM0214 §2.1.3), so the run stops at this block's end.
 fn basepri(uc: &mut Unicorn<Chip>, addr: u32) {
-    let c = uc.get_data();
-    let off = (addr & 0x00FF_FFFF) as usize;
-    let hw = u16::from_le_bytes([c.code[off], c.code[off + 1]]);
-    let value = uc.reg_read(R::R0 as i32 + (hw & 0xF) as i32).unwrap_or(0) as u32;
+    let value = msr_source(uc, addr);
     let primask = uc.reg_read(R::PRIMASK).unwrap_or(0) & 1 == 1;
     if uc.get_data().deliverable(primask, value & 0xFF).is_some() {
         uc.get_data_mut().deadline = 0;
     }
+}
+
+/// The value an `msr <special>, rN` at `addr` is about to write: its T1
+/// encoding (ARMv7-M ARM B5.2.3) has Rn in the first halfword's low nibble.
+fn msr_source(uc: &Unicorn<Chip>, addr: u32) -> u32 {
+    let c = uc.get_data();
+    let off = (addr & 0x00FF_FFFF) as usize;
+    let hw = u16::from_le_bytes([c.code[off], c.code[off + 1]]);
+    uc.reg_read(R::R0 as i32 + (hw & 0xF) as i32).unwrap_or(0) as u32
 }
 
 fn at(uc: &mut Unicorn<Chip>, addr: u32, value: Option<bool>) {
@@ -61,11 +67,7 @@ fn at(uc: &mut Unicorn<Chip>, addr: u32, value: Option<bool>) {
     let primask = uc.reg_read(R::PRIMASK).unwrap_or(0) & 1 == 1;
     let c = uc.get_data();
     let off = (addr & 0x00FF_FFFF) as usize;
-    let value = value.unwrap_or_else(|| {
-        // msr primask, rN: T2 encoding, Rn in the first halfword's low nibble
-        let hw = u16::from_le_bytes([c.code[off], c.code[off + 1]]);
-        uc.reg_read(R::R0 as i32 + (hw & 0xF) as i32).unwrap_or(0) & 1 == 1
-    });
+    let value = value.unwrap_or_else(|| msr_source(uc, addr) & 1 == 1);
     let start = (c.pc & 0x00FF_FFFF) as usize;
     let t = c.blk + insn_count(&c.code[start..off.max(start)]);
     let tick_on = c.nvic.enabled[crate::svd::irq("TIM1_TRG_COM_TIM11")];
