@@ -70,16 +70,7 @@ fn all_faults() -> [Fault; 7] {
         | Fault::Stall
         | Fault::StepOutput => f,
     };
-    [
-        Fault::Overspeed,
-        Fault::FollowingError,
-        Fault::EncoderImplausible,
-        Fault::EStop,
-        Fault::DriveAlarm,
-        Fault::Stall,
-        Fault::StepOutput,
-    ]
-    .map(listed)
+    Fault::ALL.map(listed)
 }
 
 /// The light of `led::lit` over a 3 s frame, in words: measured, not copied.

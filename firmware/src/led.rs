@@ -68,17 +68,10 @@ mod tests {
 
     #[test]
     fn each_fault_flashes_its_own_number_of_times() {
-        let all = [
-            Fault::Overspeed,
-            Fault::FollowingError,
-            Fault::EncoderImplausible,
-            Fault::EStop,
-            Fault::DriveAlarm,
-            Fault::Stall,
-            Fault::StepOutput,
-        ];
-        for f in all {
+        for (i, f) in Fault::ALL.into_iter().enumerate() {
             assert_eq!(flashes(State::Fault(f)), fault_code(f) as usize, "{}", f.name());
+            // ALL is in the order of the codes, 1 to 7
+            assert_eq!(fault_code(f) as usize, i + 1, "{}", f.name());
         }
         // the longest code still ends with a pause of at least 0.9 s
         assert!((2100..3000).all(|ms| !lit(State::Fault(Fault::StepOutput), true, ms, None)));

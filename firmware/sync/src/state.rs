@@ -21,6 +21,17 @@ pub enum Fault {
 }
 
 impl Fault {
+    /// Every fault, in the order of their LED codes (`led::fault_code`).
+    pub const ALL: [Fault; 7] = [
+        Fault::Overspeed,
+        Fault::FollowingError,
+        Fault::EncoderImplausible,
+        Fault::EStop,
+        Fault::DriveAlarm,
+        Fault::Stall,
+        Fault::StepOutput,
+    ];
+
     /// E-stop, alarm and a step-output fault stop motion at once; the
     /// others ramp down.
     pub fn immediate(self) -> bool {

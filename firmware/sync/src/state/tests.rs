@@ -4,15 +4,7 @@
 
 use super::*;
 
-const ALL: [Fault; 7] = [
-    Fault::Overspeed,
-    Fault::FollowingError,
-    Fault::EncoderImplausible,
-    Fault::EStop,
-    Fault::DriveAlarm,
-    Fault::Stall,
-    Fault::StepOutput,
-];
+const ALL: [Fault; 7] = Fault::ALL;
 
 #[test]
 fn each_fault_has_its_console_name() {
