@@ -15,8 +15,9 @@ pub struct Snapshot {
     pub config: Config,
     pub tick_hz: u32,
     pub fault: Option<Fault>,
-    /// the points of the cam table fitted to the X axis, if one is
-    pub cam_points: Option<usize>,
+    /// the points of the cam table fitted to the X axis, if one is (at most
+    /// CAM_POINTS, 1024; a u16 keeps `Outcome` small)
+    pub cam_points: Option<u16>,
 }
 
 impl Snapshot {
@@ -26,7 +27,7 @@ impl Snapshot {
             config: *ctl.config(),
             tick_hz: ctl.derived().tick_hz,
             fault: ctl.fault(),
-            cam_points: ctl.x_axis().map(|x| x.cam.points().len()),
+            cam_points: ctl.x_axis().map(|x| x.cam.points().len() as u16),
         }
     }
 
