@@ -19,6 +19,13 @@ use polyturn_stm32_model::{Mcu, Params};
 /// unique ID and flash-size words (RM0383 §24.1, §24.2), which only name the board.
 pub const ZERO_READS: &[(u32, u32, &str)] = &[(0x1FFF_7A10, 0x1FFF_7A24, "unique ID and flash size (§24)")];
 
+/// ST's ROM bootloader is not here: only its first two words, the vector table
+/// at the start of system memory (RM0383 §2.3) that the image reads before it
+/// jumps there (`firmware/src/app/dfu.rs`), answer, with a stand-in of the shape
+/// `dfu::plausible_vectors` checks (a stack in SRAM, a Thumb reset handler in
+/// system memory). The jump itself stops the run: see [`Chip::rom_jump`].
+pub const SYSTEM_VECTORS: [(u32, u32); 2] = [(0x1FFF_0000, 0x2000_3000), (0x1FFF_0004, 0x1FFF_0201)];
+
 /// The peripherals on the bus, in the order of `Chip::map`.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Periph {
@@ -86,6 +93,9 @@ pub struct Chip {
     pub primask: crate::primask::PrimaskLog,
     /// the tick's inputs and ENABLE, recorded when a job asks (`tape`)
     pub tape: Option<crate::tape::Tape>,
+    /// the image mapped system memory at 0 (SYSCFG_MEMRMP.MEM_MODE = 01, §7.2.1)
+    /// to jump to the ROM bootloader, which this emulator does not have
+    pub rom_jump: bool,
 }
 
 pub const GP_NAMES: [&str; 4] = ["TIM3", "TIM4", "TIM5", "TIM10"];
@@ -158,6 +168,7 @@ impl Chip {
             mcu_edges_seen: 0,
             primask: Default::default(),
             tape: None,
+            rom_jump: false,
         }
     }
 

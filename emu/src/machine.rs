@@ -14,6 +14,7 @@
 use crate::chip::Chip;
 use crate::image::{Image, FLASH_BASE, FLASH_SIZE};
 use polyturn_stm32_model::addr::{SRAM_BASE, SRAM_SIZE};
+use polyturn_stm32_model::chip::{iwdg::LSI_HZ, rcc};
 use polyturn_stm32_model::Params;
 use std::rc::Rc;
 use unicorn_engine::{Arch, HookType, Mode, Prot, RegisterARM, Unicorn};
@@ -32,6 +33,45 @@ pub fn insn_count(code: &[u8]) -> u64 {
         n += 1;
     }
     n
+}
+
+/// RCC_CSR's reset flags (RM0383 §6.3.21, bits 25-31), kept until RMVF.
+const CSR_FLAGS: u32 = 0xFE00_0000;
+const PINRSTF: u32 = 1 << 26;
+
+/// Why the chip reset (each also sets PINRSTF: the STM32 drives NRST low on
+/// any internal reset, §6.1.2 figure 4).
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum Reset {
+    /// SCB AIRCR.SYSRESETREQ: SFTRSTF
+    Software,
+    /// the independent watchdog: IWDGRSTF
+    Watchdog { gap_ms: u64, timeout_ms: u64 },
+    /// the NRST button
+    Pin,
+}
+
+impl Reset {
+    fn csr_flags(&self) -> u32 {
+        PINRSTF
+            | match self {
+                Reset::Software => 1 << 28,
+                Reset::Watchdog { .. } => 1 << 29,
+                Reset::Pin => 0,
+            }
+    }
+}
+
+impl std::fmt::Display for Reset {
+    fn fmt(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
+        match self {
+            Reset::Software => write!(f, "the image asked for it (SCB AIRCR SYSRESETREQ)"),
+            Reset::Watchdog { gap_ms, timeout_ms } => {
+                write!(f, "the IWDG fired: no reload for {gap_ms} ms, over its shortest timeout {timeout_ms} ms")
+            }
+            Reset::Pin => write!(f, "NRST pressed (SIGUSR1)"),
+        }
+    }
 }
 
 pub struct Machine {
@@ -89,6 +129,10 @@ impl Machine {
             let write = move |uc: &mut Unicorn<Chip>, off: u64, size: usize, v: u64| {
                 uc.get_data_mut().write((base + off) as u32, size as u32, v as u32);
                 crate::cpu::after_write(uc);
+                if uc.get_data().rom_jump {
+                    // stop before the jump's fetch from system memory
+                    let _ = uc.emu_stop();
+                }
             };
             e(uc.mmio_map(base, size, Some(read), Some(write)))?;
         }
@@ -166,6 +210,53 @@ impl Machine {
         Machine::new(self.image.clone(), self.params, &[(FLASH_BASE, flash)])
     }
 
+    /// A system reset (RM0383 §6.1.2) of this machine: the flash and the SRAM
+    /// keep their contents (only a power-on loses the SRAM, and cortex-m-rt's
+    /// `.uninit` relies on that), the registers and the CPU's cycle count start
+    /// again, RCC_CSR shows why (§6.3.21), and whatever drives the pins from
+    /// outside (the E-stop, the lathe's encoder) goes on driving them.
+    pub fn reset_as(mut self, why: &Reset) -> Result<Machine, String> {
+        self.chip().apply_fixups();
+        let flash = self._flash.to_vec();
+        let sram = self.chip().mcu.sram_mut_ptr();
+        let mut m = Machine::new(self.image.clone(), self.params, &[(FLASH_BASE, flash)])?;
+        // SAFETY: both SRAMs are SRAM_SIZE bytes, owned by two distinct chips
+        unsafe { std::ptr::copy_nonoverlapping(sram, m.chip().mcu.sram_mut_ptr(), SRAM_SIZE as usize) };
+        let old = self.chip().rcc.regs.get(rcc::CSR) & CSR_FLAGS;
+        let regs = &mut m.chip().rcc.regs;
+        regs.set(rcc::CSR, (regs.get(rcc::CSR) & !CSR_FLAGS) | old | why.csr_flags());
+        for port in 0..3 {
+            for pin in 0..16 {
+                let level = self.chip().gpio[port].external(pin);
+                if level.is_some() {
+                    m.drive(port, pin, level);
+                }
+            }
+        }
+        let now = self.chip().now;
+        m.cpr = self.cpr;
+        m.lathe = self.lathe.take().map(|mut l| {
+            l.rebase(now);
+            l
+        });
+        Ok(m)
+    }
+
+    /// A reset the chip makes by itself, if one is due: the image asked for it
+    /// (SCB AIRCR.SYSRESETREQ, PM0214 §4.4.5), or the watchdog ran out (§15.3:
+    /// its countdown from the last reload, at the LSI's fastest, so its
+    /// shortest timeout, the bound `checks` holds every gap to).
+    pub fn reset_due(&mut self) -> Option<Reset> {
+        let c = self.chip();
+        if c.nvic.reset_requested {
+            return Some(Reset::Software);
+        }
+        let (at, timeout_ns) = c.iwdg.last_reload(LSI_HZ[2])?;
+        let gap_ns = (c.now - at) * 1_000_000_000 / c.sysclk();
+        (gap_ns > timeout_ns)
+            .then_some(Reset::Watchdog { gap_ms: gap_ns / 1_000_000, timeout_ms: timeout_ns / 1_000_000 })
+    }
+
     pub fn chip(&mut self) -> &mut Chip {
         self.uc.get_data_mut()
     }
@@ -234,5 +325,15 @@ mod tests {
         assert_eq!(insn_count(&code), 3);
         // ldr.w (0xF8D0 ...): 0b11111 prefix
         assert_eq!(insn_count(&[0xD0, 0xF8, 0x00, 0x00]), 1);
+    }
+
+    #[test]
+    fn every_reset_shows_the_pin_and_its_own_flag() {
+        use super::Reset;
+        let w = Reset::Watchdog { gap_ms: 6000, timeout_ms: 5446 };
+        assert_eq!(Reset::Software.csr_flags(), 1 << 28 | 1 << 26, "SFTRSTF: what `dfu` checks");
+        assert_eq!(w.csr_flags(), 1 << 29 | 1 << 26, "IWDGRSTF");
+        assert_eq!(Reset::Pin.csr_flags(), 1 << 26, "PINRSTF alone: NRST, never the bootloader");
+        assert!(w.to_string().starts_with("the IWDG fired"), "{w}");
     }
 }

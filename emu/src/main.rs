@@ -13,10 +13,15 @@
 //!
 //! `--pty` instead boots, enumerates and serves the console on a pseudo-terminal
 //! whose path it prints (`usb::pty`); with `--lathe-rpm RPM` the lathe turns at
-//! that speed from then on (the host simulator's motor, no ripple).
+//! that speed from then on (the host simulator's motor, no ripple). The board
+//! resets as the chip does (the image's SYSRESETREQ, the watchdog, or SIGUSR1
+//! for the NRST button) and serves on the same pty; when the image jumps to
+//! the ROM bootloader (`dfu`), which is not emulated, it exits 3, or 1 if STEP
+//! or ENABLE was not safe when it asked for the reset before the jump.
 //!
 //! The peripherals are `polyturn-stm32-model`'s: the project's one reading of the
-//! manual. Exits 1 if a check fails, 2 if the image cannot run (with why).
+//! manual. Exits 1 if a check fails, 2 if the image cannot run (with why), 3
+//! when `--pty`'s image left for the ROM bootloader with its outputs safe.
 
 mod checks;
 mod chip;
@@ -65,9 +70,10 @@ fn main() {
             Some(_) => exit_with("--lathe-rpm: a speed in rpm, -3000..=3000"),
             None => None,
         };
-        let e = usb::pty::serve(&image, rpm).err().unwrap_or_default();
-        eprintln!("emu: {e}");
-        std::process::exit(2);
+        match usb::pty::serve(&image, rpm) {
+            usb::pty::Stop::Bootloader { at_request } => std::process::exit(left_for_the_rom(at_request)),
+            usb::pty::Stop::Failed(e) => exit_with(&e),
+        }
     }
     let wall = Instant::now();
     let mut r = Report::default();
@@ -89,6 +95,20 @@ fn main() {
         r.failed
     );
     std::process::exit(if r.failed == 0 { 0 } else { 1 });
+}
+
+/// The image jumped to ST's ROM bootloader (`dfu`): exit 3 if, when it asked for
+/// the reset before the jump, STEP (PA8) was low and ENABLE (PB13) inactive; else 1.
+fn left_for_the_rom(at_request: Option<chip::pins::Outputs>) -> i32 {
+    let safe = at_request.is_some_and(|o| o.step == Some(false) && o.enable == Some(o.enable_inactive));
+    let how = at_request.map_or("no software reset before it".to_string(), |o| o.to_string());
+    if safe {
+        eprintln!("emu: the image jumped to the ROM bootloader (system memory); at its reset request STEP (PA8) was low and ENABLE (PB13) inactive ({how})");
+        3
+    } else {
+        eprintln!("emu: FAILED: the image jumped to the ROM bootloader (system memory) with STEP (PA8) or ENABLE (PB13) not safe at its reset request ({how})");
+        1
+    }
 }
 
 fn exit_with(e: &str) -> ! {

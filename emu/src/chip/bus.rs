@@ -2,7 +2,7 @@
 //! access to its word (RM0383 §2.1: the APB peripherals take 8/16/32-bit accesses;
 //! the timers, DMA and flash interface of [`Mcu`] only take words here).
 
-use super::{Chip, Periph, ZERO_READS};
+use super::{Chip, Periph, SYSTEM_VECTORS, ZERO_READS};
 use polyturn_stm32_model::chip::gpio::{ALTERNATE, MODER};
 use polyturn_stm32_model::chip::rcc;
 use std::panic::{catch_unwind, AssertUnwindSafe};
@@ -39,6 +39,9 @@ impl Chip {
         let Some((base, p)) = self.find(word) else {
             if ZERO_READS.iter().any(|z| (z.0..z.1).contains(&addr)) {
                 return 0;
+            }
+            if let Some(&(_, v)) = SYSTEM_VECTORS.iter().find(|w| w.0 == addr && size == 4) {
+                return v;
             }
             self.fault(format!("read of {addr:#010x}: no model claims it"));
             return 0;
@@ -89,7 +92,15 @@ impl Chip {
             Periph::Rcc => self.rcc.write(off, v, m),
             Periph::Pwr => self.pwr.write(off, v, m),
             Periph::FlashIf => self.flash_write(word, off, v, m),
-            Periph::Syscfg => self.syscfg.regs.write(off, v, m),
+            Periph::Syscfg => {
+                self.syscfg.regs.write(off, v, m);
+                // MEMRMP.MEM_MODE = 01: the image is about to jump into system
+                // memory; nothing of ST's is there to run, so the run ends here
+                if off == 0 && self.syscfg.regs.get(0) & 3 == 1 {
+                    self.rom_jump = true;
+                    self.fault("the image jumped to the ROM bootloader (system memory)".into());
+                }
+            }
             Periph::Exti => self.exti.write(off, v, m),
             Periph::Gpio(i) => {
                 let edges = self.gpio[i].write(off, v, m, self.blk);
@@ -181,5 +192,27 @@ fn mask(size: u32) -> u32 {
         u32::MAX
     } else {
         (1 << (8 * size)) - 1
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::Chip;
+    use polyturn_stm32_model::Params;
+
+    #[test]
+    fn only_the_bootloaders_vectors_read_from_system_memory_and_the_remap_ends_the_run() {
+        let mut c = Chip::new(Params::default());
+        let (sp, reset) = (c.read(0x1FFF_0000, 4), c.read(0x1FFF_0004, 4));
+        assert!(polyturn_firmware::dfu::plausible_vectors(sp, reset), "{sp:#x} {reset:#x}");
+        assert!(c.faults.is_empty());
+        c.read(0x1FFF_0008, 4);
+        assert_eq!(c.faults.len(), 1, "the rest of the ROM is no model's");
+        let memrmp = crate::svd::base("SYSCFG");
+        c.write(memrmp, 4, 0);
+        assert!(!c.rom_jump, "flash at 0: the application's boot");
+        c.write(memrmp, 4, polyturn_firmware::dfu::MEMRMP_SYSTEM_FLASH);
+        assert!(c.rom_jump);
+        assert!(c.faults[1].1.contains("ROM bootloader"), "{:?}", c.faults);
     }
 }

@@ -47,8 +47,9 @@ pub struct LatheDrive {
     lathe: Motion,
     cpr: u32,
     encoder: Encoder,
-    /// CPU cycle of the lathe's time 0, and cycles per model step
-    start: u64,
+    /// CPU cycle of the lathe's time 0 (before 0 once a reset restarted the
+    /// CPU's count while the lathe kept turning), and cycles per model step
+    start: i64,
     per_step: u64,
     steps: u64,
     pub count: i64,
@@ -76,7 +77,7 @@ impl LatheDrive {
             lathe,
             cpr,
             encoder,
-            start,
+            start: start as i64,
             per_step: (sysclk as f64 * STEP_S) as u64,
             steps: 0,
             count: 0,
@@ -91,7 +92,7 @@ impl LatheDrive {
 
     /// The cycle of the next count change (looking ahead at most `horizon` cycles).
     pub fn next_edge(&mut self, horizon: u64) -> Option<u64> {
-        while self.next.is_empty() && self.start + self.steps * self.per_step < horizon && !self.lathe.finished() {
+        while self.next.is_empty() && self.step_start() < horizon && !self.lathe.finished() {
             self.step();
         }
         self.next.front().map(|n| n.0)
@@ -99,7 +100,7 @@ impl LatheDrive {
 
     /// One model step: its count changes, each at its crossing time.
     fn step(&mut self) {
-        let t0 = self.start + self.steps * self.per_step;
+        let t0 = self.step_start();
         let a0 = self.angle;
         self.lathe.advance(STEP_S);
         self.steps += 1;
@@ -115,6 +116,20 @@ impl LatheDrive {
             let f = ((boundary - a0) / (self.angle - a0)).clamp(0.0, 1.0);
             c += dir;
             self.next.push_back((t0 + (f * self.per_step as f64).ceil() as u64, c));
+        }
+    }
+
+    /// The CPU cycle the next model step starts at.
+    fn step_start(&self) -> u64 {
+        (self.start + (self.steps * self.per_step) as i64).max(0) as u64
+    }
+
+    /// The CPU's cycle count restarted (a reset) `by` cycles after the lathe's
+    /// clock: the lathe turns on, its edges due at the same moments of the wall.
+    pub fn rebase(&mut self, by: u64) {
+        self.start -= by as i64;
+        for n in self.next.iter_mut() {
+            n.0 = n.0.saturating_sub(by);
         }
     }
 

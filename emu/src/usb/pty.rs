@@ -5,12 +5,23 @@
 //! runs 1 ms at a time (slower than real time: the firmware's timers run on
 //! emulated time). `polyturn device --port PATH status` then talks to the image.
 //! `--lathe-rpm RPM` turns the lathe (its encoder on PA6/PA7/PB0) at that speed.
+//!
+//! The board resets as silicon does, keeping its flash: when the image asks
+//! (SCB AIRCR.SYSRESETREQ), when the watchdog runs out, or on SIGUSR1 (the
+//! NRST button); one line on stderr says why, the machine boots again,
+//! enumerates again, and the same pty serves on. The lathe keeps turning. If
+//! the image jumps to ST's ROM bootloader (after `dfu`), which is not here,
+//! serving ends: [`Stop::Bootloader`].
 
 use super::scenario;
+use crate::chip::pins::Outputs;
 use crate::image::Image;
 use crate::job::lathe::LatheDrive;
+use crate::machine::{Machine, Reset};
 use polyturn_host::sim::lathe::{LatheProfile, Leg};
+use polyturn_stm32_model::chip::iwdg::LSI_HZ;
 use std::rc::Rc;
+use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::Duration;
 
 /// The pty's controller side (non-blocking) and its terminal side, kept open so
@@ -87,7 +98,38 @@ fn turning(rpm: f64, cpr: u32, now: u64) -> LatheDrive {
     LatheDrive::motor(profile, 1, cpr, now, crate::MS * 1000)
 }
 
-pub fn serve(image: &Rc<Image>, lathe_rpm: Option<f64>) -> Result<(), String> {
+/// Set by SIGUSR1: the board's NRST button, pressed by hand (`kill -USR1 PID`).
+static NRST: AtomicBool = AtomicBool::new(false);
+
+extern "C" fn on_usr1(_: libc::c_int) {
+    NRST.store(true, Ordering::SeqCst);
+}
+
+/// How serving ends: it only ends when the image leaves for ST's ROM
+/// bootloader (`dfu`), or on a failure.
+pub enum Stop {
+    /// the image jumped to the ROM bootloader: the outputs when it asked for
+    /// the reset before the jump (none if no software reset came first)
+    Bootloader {
+        at_request: Option<Outputs>,
+    },
+    Failed(String),
+}
+
+impl From<String> for Stop {
+    fn from(e: String) -> Stop {
+        Stop::Failed(e)
+    }
+}
+
+pub fn serve(image: &Rc<Image>, lathe_rpm: Option<f64>) -> Stop {
+    match bridge(image, lathe_rpm) {
+        Ok(never) => match never {},
+        Err(stop) => stop,
+    }
+}
+
+fn bridge(image: &Rc<Image>, lathe_rpm: Option<f64>) -> Result<std::convert::Infallible, Stop> {
     let (mut m, en_ms, en_wall) = scenario::enumerate(image)?;
     if let Some(rpm) = lathe_rpm {
         let now = m.chip().now;
@@ -95,8 +137,10 @@ pub fn serve(image: &Rc<Image>, lathe_rpm: Option<f64>) -> Result<(), String> {
         eprintln!("emu: the lathe turns at {rpm} rpm");
     }
     let (pty, path) = open()?;
+    // SAFETY: the handler only stores to an atomic, which is async-signal-safe
+    unsafe { libc::signal(libc::SIGUSR1, on_usr1 as extern "C" fn(libc::c_int) as libc::sighandler_t) };
     println!("{path}");
-    eprintln!("emu: enumerated at {en_ms:.1} ms emulated ({en_wall:.2} s wall); {path} is the console (Ctrl-C ends)");
+    eprintln!("emu: enumerated at {en_ms:.1} ms emulated ({en_wall:.2} s wall); {path} is the console (Ctrl-C ends; kill -USR1 {} presses NRST)", std::process::id());
     let mut buf = [0u8; 256];
     let mut pending: Vec<u8> = Vec::new();
     loop {
@@ -111,12 +155,47 @@ pub fn serve(image: &Rc<Image>, lathe_rpm: Option<f64>) -> Result<(), String> {
         let out = scenario::host(&mut m).received();
         pty.write(&out);
         if let Some(e) = scenario::host(&mut m).error() {
-            return Err(e.to_string());
+            return Err(e.to_string().into());
         }
         if !m.chip().faults.is_empty() {
-            return Err(crate::checks::faults(&mut m));
+            return Err(crate::checks::faults(&mut m).into());
+        }
+        let why = if NRST.swap(false, Ordering::SeqCst) { Some(Reset::Pin) } else { m.reset_due() };
+        if let Some(why) = why {
+            // the outputs as the image left them when it asked: `dfu` turns them off first
+            let at_request = (why == Reset::Software).then(|| m.chip().outputs());
+            m = reboot(m, &why, at_request)?;
         }
     }
+}
+
+/// The chip resets, keeping its flash, and enumerates again on the same cable;
+/// the pty stays open, so the client's path still serves.
+fn reboot(mut m: Machine, why: &Reset, at_request: Option<Outputs>) -> Result<Machine, Stop> {
+    let t = m.chip().now as f64 / crate::MS as f64;
+    let since = flash_and_watchdog(&mut m);
+    eprintln!("emu: reset at {t:.1} ms emulated: {why}; the flash kept, the same pty serving; since boot {since}");
+    let (mut m, r) = scenario::enumerate_keeping(m.reset_as(why)?);
+    if m.chip().rom_jump {
+        return Err(Stop::Bootloader { at_request });
+    }
+    r?;
+    Ok(m)
+}
+
+/// Since boot: the CPU's stall by flash operations, and the watchdog's longest
+/// gap between reloads against its shortest timeout; what a save must show.
+fn flash_and_watchdog(m: &mut Machine) -> String {
+    let c = m.chip();
+    let ms = |cycles: u64| cycles / crate::MS;
+    let reloads: Vec<u64> = c.iwdg.keys.iter().filter(|k| k.1 == 0xAAAA || k.1 == 0xCCCC).map(|k| k.0).collect();
+    let gap = reloads.windows(2).map(|w| w[1] - w[0]).chain(reloads.last().map(|&l| c.now - l)).max().unwrap_or(0);
+    let shortest = c.iwdg.timeout_ns(LSI_HZ[2]) / 1_000_000;
+    format!(
+        "the flash stalled the CPU {} ms; longest watchdog gap {} ms (shortest timeout {shortest} ms)",
+        ms(c.stalled),
+        ms(gap)
+    )
 }
 
 #[cfg(test)]
@@ -134,6 +213,26 @@ mod tests {
         }
         assert!((l.count - 2400).abs() <= 2, "{} counts in 0.2 s", l.count);
         assert!(!l.finished(), "it keeps turning");
+    }
+
+    #[test]
+    fn across_a_reset_the_lathe_keeps_its_pace() {
+        // one lathe turned 0.2 s straight; another whose CPU count restarts
+        // (a reset) at 0.1 s: the same count at the same moment of the wall
+        let (sysclk, tenth) = (crate::MS * 1000, crate::MS * 100);
+        let run = |l: &mut super::LatheDrive, end: u64| {
+            while l.next_edge(end).is_some_and(|at| at <= end) {
+                l.take_due(end);
+            }
+        };
+        let mut straight = super::turning(300.0, 2400, 0);
+        run(&mut straight, sysclk / 5);
+        let mut reset = super::turning(300.0, 2400, 0);
+        run(&mut reset, tenth);
+        reset.rebase(tenth);
+        run(&mut reset, tenth);
+        assert!(straight.count > 2300, "{}", straight.count);
+        assert!((straight.count - reset.count).abs() <= 1, "{} and {}", straight.count, reset.count);
     }
 
     #[test]

@@ -33,7 +33,13 @@ pub fn enumerate(image: &Rc<Image>) -> Result<(Machine, f64, f64), String> {
 }
 
 /// Plugs the host into a booted machine and enumerates.
-pub fn enumerate_on(mut m: Machine) -> Result<(Machine, f64, f64), String> {
+pub fn enumerate_on(m: Machine) -> Result<(Machine, f64, f64), String> {
+    let (m, r) = enumerate_keeping(m);
+    r.map(|(at, wall)| (m, at, wall))
+}
+
+/// The same, giving the machine back whatever happened (to see why it stopped).
+pub fn enumerate_keeping(mut m: Machine) -> (Machine, Result<(f64, f64), String>) {
     let wall = Instant::now();
     host(&mut m);
     while !host(&mut m).configured() && !stopped(&mut m) && m.chip().now < ENUM_LIMIT_MS * MS {
@@ -44,11 +50,12 @@ pub fn enumerate_on(mut m: Machine) -> Result<(Machine, f64, f64), String> {
         let f = faults(&mut m);
         (f != "none").then_some(f)
     });
-    match (host(&mut m).configured(), problem) {
-        (true, None) => Ok((m, at as f64 / MS as f64, wall.elapsed().as_secs_f64())),
+    let r = match (host(&mut m).configured(), problem) {
+        (true, None) => Ok((at as f64 / MS as f64, wall.elapsed().as_secs_f64())),
         (_, Some(p)) => Err(p),
         _ => Err(format!("the device never enumerated within {ENUM_LIMIT_MS} ms")),
-    }
+    };
+    (m, r)
 }
 
 /// Sends `line`, reads until a CRLF; the reply (without it), emulated ms, wall s.

@@ -111,14 +111,17 @@ pub fn steps_per_count(c: &Config) -> (u64, u64) {
 }
 
 /// The settings as `get` reports them (`ok cpr=.. steps=.. ...`), read
-/// back through the core's own `Config::with`.
+/// back through the core's own `Config::with`, in an order in which each
+/// fits the ones before: `get` lists max-rpm last, and a board at 11/3 with
+/// max-rpm 600 has a ratio that does not fit the default max-rpm.
 pub fn parse_settings(reply: &str) -> Option<Config> {
     let rest = reply.strip_prefix("ok ")?;
-    let mut c = Config::default();
-    for (name, value) in rest.split_whitespace().filter_map(|w| w.split_once('=')) {
-        c = c.with(name, value).ok()?;
-    }
-    Some(c)
+    let pairs: Vec<(String, String)> = rest
+        .split_whitespace()
+        .filter_map(|w| w.split_once('='))
+        .map(|(n, v)| (n.to_string(), v.to_string()))
+        .collect();
+    send_order(&Config::default(), &pairs).ok().map(|(_, c)| c)
 }
 
 /// The order to send `changes` in so that each `set` is valid on the

@@ -69,6 +69,11 @@ fn settings_are_read_back_and_sent_in_an_order_the_board_accepts() {
         polyturn_sync::Controller::new(Config { encoder_counts_per_rev: 4_000, ..c }, polyturn_sync::Timing::FIRMWARE);
     let get = polyturn_sync::console::handle(b"get", &mut ctl).0.to_string();
     assert_eq!(parse_settings(&get).unwrap().encoder_counts_per_rev, 4_000);
+    // 11/3 fits only once max-rpm, listed last, is down from the default's
+    let slow = Config { max_lathe_rpm: 600, ratio: polyturn_sync::Ratio::parse("11/3").unwrap(), ..c };
+    let mut ctl = polyturn_sync::Controller::new(slow, polyturn_sync::Timing::FIRMWARE);
+    let get = polyturn_sync::console::handle(b"get", &mut ctl).0.to_string();
+    assert_eq!(parse_settings(&get), Some(slow), "{get}");
     // more steps at the same max-rpm would overspeed until max-rpm drops:
     // 1500 rpm x 2 x 8000 / 60 = 400 kHz > 200 kHz
     let changes = vec![("steps".to_string(), "8000".to_string()), ("max-rpm".to_string(), "600".to_string())];

@@ -114,6 +114,11 @@ impl Port {
         self.edges()
     }
 
+    /// What the outside world drives on `pin` (`None`: nothing, floating).
+    pub fn external(&self, pin: u8) -> Option<bool> {
+        self.ext[pin as usize]
+    }
+
     /// The outside world drives `pin` to `level` (`None`: floating).
     pub fn drive(&mut self, pin: u8, level: Option<bool>) -> Vec<PinEdge> {
         self.ext[pin as usize] = level;

@@ -61,6 +61,16 @@ impl Iwdg {
         self.keys.iter().filter(|k| k.1 == 0xAAAA).map(|k| k.0).collect()
     }
 
+    /// The last reload (0xAAAA, or the start 0xCCCC) and how long the countdown
+    /// from it lasts at LSI frequency `lsi_hz`: (cycle of the key, ns). The first
+    /// countdown after the start runs from 0xFFF whatever RLR holds (§15.3.1).
+    pub fn last_reload(&self, lsi_hz: u64) -> Option<(u64, u64)> {
+        let (at, key) = *self.keys.iter().rev().find(|k| k.1 == 0xAAAA || k.1 == 0xCCCC)?;
+        let rlr = if key == 0xCCCC { 0xFFF } else { self.regs.get(RLR) as u64 };
+        let div = 4u64 << self.regs.get(PR).min(6);
+        Some((at, (rlr + 1) * div * 1_000_000_000 / lsi_hz))
+    }
+
     /// The time from a reload to the reset at LSI frequency `lsi_hz`: (RLR + 1)
     /// periods of LSI / 4·2^PR (§15.3.3 table: prescaler /4 at PR = 0 ... /256).
     pub fn timeout_ns(&self, lsi_hz: u64) -> u64 {
@@ -88,5 +98,19 @@ mod tests {
         assert_eq!(w.pets(), vec![9]);
         // /32 at PR = 3, 1000 periods at 32 kHz: 1 s
         assert_eq!(w.timeout_ns(32_000), 1_000_000_000);
+        assert_eq!(w.last_reload(32_000), Some((9, 1_000_000_000)));
+    }
+
+    #[test]
+    fn the_first_countdown_after_the_start_runs_from_0xfff() {
+        let mut w = Iwdg::default();
+        assert_eq!(w.last_reload(32_000), None, "not started: no countdown");
+        w.write(KR, 0x5555, u32::MAX, 1);
+        w.write(RLR, 99, u32::MAX, 2);
+        w.write(KR, 0xCCCC, u32::MAX, 3);
+        // /4 at PR = 0: 4096 periods of 125 us
+        assert_eq!(w.last_reload(32_000), Some((3, 512_000_000)));
+        w.write(KR, 0xAAAA, u32::MAX, 7);
+        assert_eq!(w.last_reload(32_000), Some((7, 12_500_000)));
     }
 }

@@ -15,14 +15,25 @@ pub struct Snapshot {
     pub config: Config,
     pub tick_hz: u32,
     pub fault: Option<Fault>,
+    /// the points of the cam table fitted to the X axis, if one is (at most
+    /// CAM_POINTS, 1024; a u16 keeps `Outcome` small)
+    pub cam_points: Option<u16>,
 }
 
 impl Snapshot {
     pub fn of(ctl: &Controller) -> Snapshot {
-        Snapshot { status: ctl.status(), config: *ctl.config(), tick_hz: ctl.derived().tick_hz, fault: ctl.fault() }
+        Snapshot {
+            status: ctl.status(),
+            config: *ctl.config(),
+            tick_hz: ctl.derived().tick_hz,
+            fault: ctl.fault(),
+            cam_points: ctl.x_axis().map(|x| x.cam.points().len() as u16),
+        }
     }
 
-    /// Writes `ok state=... fault=... lathe_rpm=... cutter_rpm=... phase_err_steps=...`.
+    /// Writes `ok state=... fault=... lathe_rpm=... cutter_rpm=... phase_err_steps=...`,
+    /// then `cam=N` (its points) while a cam table is fitted: whether an
+    /// upload, or the one saved, took is seen without the upload's reply.
     pub fn write(&self, out: &mut Reply) {
         let (s, c) = (&self.status, &self.config);
         // rpm ×10 = v[Q16 counts/tick] · hz · 600 / (2^16 · E), all within
@@ -47,6 +58,9 @@ impl Snapshot {
             s.cutter_steps,
             if s.indexed { "yes" } else { "no" },
         );
+        if let Some(n) = self.cam_points {
+            let _ = write!(out, " cam={n}");
+        }
         if let Some(f) = self.fault {
             let _ = write!(out, " reason=\"{}\"", f.reason());
         }

@@ -30,9 +30,24 @@ pub fn run<P: Read + Write>(s: &mut Session<P>, a: &SetupArgs, ask: &mut dyn Ask
     let saved = if a.no_save {
         "not saved (--no-save): the settings last until the board restarts".to_string()
     } else {
-        ok_or_device_error(s.ask_within("save", super::FLASH_WAIT.max(s.timeout))?)?
+        save_at_rest(s)?
     };
     Ok(format!("{}\n{saved}", summary(&now, &order)))
+}
+
+/// `save`, asked again while the board says the lathe is not at rest yet:
+/// each `set` restarts its at-rest estimate (0.1 s without an encoder count,
+/// `Controller::lathe_at_rest`), so a save right after the settings is
+/// refused though the lathe stands still. Asked again up to the timeout.
+fn save_at_rest<P: Read + Write>(s: &mut Session<P>) -> CliResult<String> {
+    let until = std::time::Instant::now() + s.timeout;
+    loop {
+        let reply = s.ask_within("save", super::FLASH_WAIT.max(s.timeout))?;
+        if !reply.starts_with("error: stop the lathe first") || std::time::Instant::now() >= until {
+            return ok_or_device_error(reply);
+        }
+        std::thread::sleep(std::time::Duration::from_millis(50));
+    }
 }
 
 /// The questions, with the encoder check on the board.
