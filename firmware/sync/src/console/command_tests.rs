@@ -124,8 +124,21 @@ fn the_status_line_shows_the_measured_speeds() {
         c.tick(&TickInput { lathe: t as u16, ..TickInput::default() });
     }
     let s = say(&mut c, "status").0;
-    assert!(s.starts_with("ok state=idle fault=none lathe_rpm=625.0 cutter_rpm=1250.0 phase_err_steps="), "{s}");
+    // idle: the cutter stands, whatever the lathe does
+    assert!(s.starts_with("ok state=idle fault=none lathe_rpm=625.0 cutter_rpm=0.0 phase_err_steps="), "{s}");
     assert!(s.ends_with(" target=13333 cutter=0 indexed=no"), "5000 × 8/3 = 13333.3: {s}");
+    c.engage().unwrap();
+    // a step output that makes each plan's pulses two ticks on (`steps::pipe`)
+    let (mut emitted, mut pipe) = (0u16, [0u16; 2]);
+    for t in 5_001..=30_000u32 {
+        let out = c.tick(&TickInput { lathe: t as u16, emitted, ..TickInput::default() });
+        let slot = t as usize % 2;
+        emitted = emitted.wrapping_add(pipe[slot]);
+        pipe[slot] = out.plan.count;
+    }
+    let s = say(&mut c, "status").0;
+    let rpm: f64 = s.split(" cutter_rpm=").nth(1).and_then(|r| r.split(' ').next()).unwrap().parse().unwrap();
+    assert!(s.starts_with("ok state=synced ") && (rpm - 1250.0).abs() <= 0.1, "synced at 2:1: {s}");
 }
 
 #[test]

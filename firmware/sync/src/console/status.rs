@@ -2,7 +2,7 @@
 //! machinist reads (rpm, steps), computed at low priority.
 
 use super::Reply;
-use crate::config::{Config, Sense};
+use crate::config::Config;
 use crate::controller::{Controller, Status};
 use crate::state::Fault;
 use core::fmt::Write;
@@ -40,10 +40,12 @@ impl Snapshot {
         // i64: |v| < 2^30 (Q16, ≤ 16 000 counts/tick) and hz · 600 < 2^25.
         let v_q16 = s.lathe_velocity_q32 >> 16;
         let lathe_rpm10 = v_q16 * self.tick_hz as i64 * 600 / ((c.encoder_counts_per_rev as i64) << 16);
-        // the cutter motor's own sense: its steps count down with dir=opposite
-        // while the lathe's encoder counts up
-        let lathe_as_cutter = if c.sense == Sense::Same { lathe_rpm10 } else { -lathe_rpm10 };
-        let cutter_rpm10 = lathe_as_cutter * c.ratio.num() as i64 / c.ratio.den() as i64;
+        // the speed the cutter is driven at, not the lathe's × ratio: 0 while
+        // idle, the jog's while jogging, in the motor's own sense (its steps
+        // count down with dir=opposite while the lathe's encoder counts up).
+        // |v| ≤ max-rate / tick rate < 2^20 (Q16), × hz · 600 < 2^45.
+        let cutter_rpm10 =
+            s.cutter_velocity_q16 * self.tick_hz as i64 * 600 / ((c.motor_steps_per_rev as i64) << 16);
         let err = Milli::steps_q16(s.phase_error_q16);
         let fault = self.fault.map(|f| f.name()).unwrap_or("none");
         let _ = write!(

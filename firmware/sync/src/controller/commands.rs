@@ -18,6 +18,9 @@ pub struct Status {
     pub lathe_velocity_q32: i64,
     /// target − commanded cutter position, Q16 steps
     pub phase_error_q16: i64,
+    /// the cutter's commanded speed, Q16 steps per tick in the motor's own
+    /// sense: 0 while idle, the gear's speed once synced
+    pub cutter_velocity_q16: i64,
     /// the cutter's position (steps emitted, or its encoder)
     pub cutter_steps: i64,
     /// the exact rounded gear target, whole steps
@@ -57,6 +60,7 @@ impl Controller {
             phase_error_q16: self.target
                 - self.follower.position
                 - (self.target_velocity - self.follower.velocity) * self.ahead(),
+            cutter_velocity_q16: self.follower.velocity,
             cutter_steps: self.cutter_steps(),
             target_steps: self.gear.steps(),
             lathe_counts: self.lathe.position(),

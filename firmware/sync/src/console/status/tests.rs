@@ -6,13 +6,15 @@ use crate::controller::Status;
 use crate::state::State;
 
 /// One count a tick at 25 kHz on 2400 counts a turn is 625 rpm; the
-/// cutter turns 11/3 as fast (2291.67 rpm, shown truncated: 2291.6).
+/// cutter driven at 4 steps a tick on 3200 steps a turn is 1875 rpm.
 fn snapshot(v_q32: i64, phase_error_q16: i64, fault: Option<Fault>) -> Snapshot {
     let state = fault.map_or(State::Synced, State::Fault);
+    let cutter = if v_q32 < 0 { -(4 << 16) } else { 4 << 16 };
     let status = Status {
         state,
         lathe_velocity_q32: v_q32,
         phase_error_q16,
+        cutter_velocity_q16: if v_q32 == 0 { 0 } else { cutter },
         cutter_steps: -56,
         target_steps: 1234,
         lathe_counts: 99,
@@ -34,7 +36,7 @@ fn a_synced_line_shows_every_field() {
     let s = snapshot(1 << 32, -(3 << 16) - (1 << 15), None);
     assert_eq!(
         line(&s),
-        "ok state=synced fault=none lathe_rpm=625.0 cutter_rpm=2291.6 phase_err_steps=-3.500 target=1234 cutter=-56 indexed=yes"
+        "ok state=synced fault=none lathe_rpm=625.0 cutter_rpm=1875.0 phase_err_steps=-3.500 target=1234 cutter=-56 indexed=yes"
     );
 }
 
@@ -43,7 +45,7 @@ fn a_lathe_turning_backwards_shows_negative_speeds_and_a_fault_its_reason() {
     let s = snapshot(-(1 << 32), 81_920, Some(Fault::Stall));
     assert_eq!(
         line(&s),
-        "ok state=fault fault=stall lathe_rpm=-625.0 cutter_rpm=-2291.6 phase_err_steps=1.250 target=1234 cutter=-56 \
+        "ok state=fault fault=stall lathe_rpm=-625.0 cutter_rpm=-1875.0 phase_err_steps=1.250 target=1234 cutter=-56 \
          indexed=no reason=\"cutter encoder not following: check motor and its encoder\""
     );
 }
@@ -54,6 +56,7 @@ fn the_idle_line_reads_as_the_manual_shows_it() {
         state: State::Idle,
         lathe_velocity_q32: 0,
         phase_error_q16: 0,
+        cutter_velocity_q16: 0,
         cutter_steps: 0,
         target_steps: 0,
         lathe_counts: 0,
@@ -72,9 +75,10 @@ fn the_idle_line_reads_as_the_manual_shows_it() {
 
 #[test]
 fn under_one_unit_a_negative_value_keeps_its_sign() {
-    // 53/65536 count a tick backwards: −0.505 rpm, shown −0.5 (and the
-    // cutter at 11/3: −1.8); −0.25 step
-    let s = snapshot(-53 << 16, -(1 << 14), None);
+    // 53/65536 count a tick backwards: −0.505 rpm, shown −0.5; the cutter
+    // at 1/256 step a tick backwards, −1.83 rpm: −1.8; −0.25 step
+    let mut s = snapshot(-53 << 16, -(1 << 14), None);
+    s.status.cutter_velocity_q16 = -256;
     let l = line(&s);
     assert!(l.contains(" lathe_rpm=-0.5 cutter_rpm=-1.8 phase_err_steps=-0.250 "), "{l}");
 }
@@ -108,9 +112,27 @@ fn a_fresh_controllers_status_line_is_the_idle_line() {
 }
 
 #[test]
-fn with_dir_opposite_the_lathe_reads_its_own_sense_and_the_cutter_the_other() {
-    // the lathe's encoder counting up at 625 rpm: the motor turns backwards
+fn the_cutter_speed_is_the_speed_it_is_driven_at_not_the_lathes_times_the_ratio() {
+    // idle with the lathe turning: the cutter stands
     let mut s = snapshot(1 << 32, 0, None);
-    s.config.sense = Sense::Opposite;
-    assert!(line(&s).contains(" lathe_rpm=625.0 cutter_rpm=-2291.6 "), "{}", line(&s));
+    s.status.state = State::Idle;
+    s.status.cutter_velocity_q16 = 0;
+    assert!(line(&s).contains(" lathe_rpm=625.0 cutter_rpm=0.0 "), "{}", line(&s));
+    // with dir=opposite the motor's steps count down while the lathe's count up
+    s.status.cutter_velocity_q16 = -(4 << 16);
+    assert!(line(&s).contains(" lathe_rpm=625.0 cutter_rpm=-1875.0 "), "{}", line(&s));
+}
+
+#[test]
+fn a_controller_turning_the_lathe_while_idle_reports_its_cutter_still() {
+    use crate::controller::{Controller, TickInput};
+    let mut c = Controller::new(Config::default(), crate::derived::Timing::FIRMWARE);
+    c.start(0, 0, 0);
+    for k in 1..=2_000u32 {
+        c.tick(&TickInput { lathe: k as u16, ..TickInput::default() });
+    }
+    let mut out = Reply::new();
+    write_status(&c, &mut out);
+    let l = out.as_str();
+    assert!(l.contains(" cutter_rpm=0.0 ") && !l.contains(" lathe_rpm=0.0 "), "{l}");
 }
