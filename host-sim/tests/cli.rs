@@ -148,6 +148,24 @@ fn cam_plans_sharp_corners_writes_the_table_and_rounds_when_too_fast() {
 }
 
 #[test]
+fn every_drawings_text_fits_within_its_width() {
+    // the cam's title ran off its right edge from 10 sides on
+    let drawings = [
+        "cam --sides 360 --m 127 --inscribed-radius 20 --x-max-speed 15 --x-max-accel 2000 --rpm 1 --svg -",
+        "cam --sides 12 --m 11 --inscribed-radius 20 --x-max-speed 15 --x-max-accel 2000 --rpm 1 --svg -",
+        &format!("geometry {HEX} --svg -"),
+        &format!("simulate {HEX} --rpm 600 --revolutions 2 --svg -"),
+    ];
+    for args in drawings {
+        let (code, out, err) = polyturn(args);
+        assert_eq!(code, 0, "{args}: {err}");
+        let svg = &out[out.find("<svg").unwrap_or(0)..];
+        assert!(svg.contains("<text"), "{args}: {out}");
+        assert_eq!(polyturn_host::geometry::svg::text_overflow(svg), Vec::<String>::new(), "{args}");
+    }
+}
+
+#[test]
 fn cam_refuses_bad_input_naming_the_flag() {
     for (bad, flag) in
         [("--rpm 12 --m 2", "--m"), ("--rpm 0", "--rpm"), ("--rpm 12 --steps-per-mm 5000", "--x-max-speed")]

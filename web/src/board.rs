@@ -60,6 +60,14 @@ impl FakeBoard {
         }
     }
 
+    /// The simulated lathe's speed, rpm (0 stops it): it ramps there on the
+    /// simulator's spindle model and turns the board's encoder.
+    pub fn set_lathe_rpm(&mut self, rpm: f64) {
+        if let Some(m) = &mut self.dev.machine {
+            m.set_lathe_rpm(rpm);
+        }
+    }
+
     /// Every command line the board received, in order.
     pub fn received(&self) -> Vec<String> {
         self.dev.received.clone()
@@ -79,6 +87,20 @@ mod tests {
         assert!(lines[0].starts_with("#7 error: cpr"), "{out}");
         assert_eq!(lines[1], "#8 ok cpr=2400");
         assert_eq!(b.received(), vec!["#7 set cpr 0", "#8 get cpr"]);
+    }
+
+    #[test]
+    fn a_lathe_speed_set_turns_the_encoder_the_status_reads() {
+        let mut b = FakeBoard::new();
+        b.set_lathe_rpm(300.0);
+        b.write(b"watch\n");
+        b.read();
+        let rpm = |line: Vec<u8>| -> f64 {
+            let l = String::from_utf8(line).unwrap();
+            l.split_whitespace().find_map(|kv| kv.strip_prefix("lathe_rpm=")).unwrap().parse().unwrap()
+        };
+        let lines: Vec<f64> = (0..15).map(|_| rpm(b.watch_line())).collect();
+        assert!(lines[0] > 0.0 && (lines[14] - 300.0).abs() < 1.0, "{lines:?}");
     }
 
     #[test]

@@ -6,6 +6,7 @@
 //! - `run`: any `polyturn` command line (geometry, setups, simulate, cam,
 //!   compensate, sequence), its output and the files it would write;
 //! - `check_setting`: the sync core's own `set` validation and message;
+//! - `setting_fields`: each setting's unit, range and choices;
 //! - `cam_lines`: a `polyturn cam --table` file as the console lines it sends;
 //! - `flash_plan`: an image checked and planned for the ROM's DfuSe;
 //! - `FakeBoard`, `FakeDfu`: the real console and a fake ROM bootloader,
@@ -35,6 +36,20 @@ pub fn run(args: Vec<String>) -> Result<String, String> {
 #[wasm_bindgen]
 pub fn check_setting(settings: &str, name: &str, value: &str) -> Option<String> {
     setting_error(settings, name, value)
+}
+
+/// Each board setting's unit, range and choices, from the console's own
+/// refusals (`settings::fields`), as JSON.
+#[wasm_bindgen]
+pub fn setting_fields() -> String {
+    settings::fields()
+}
+
+/// The release image's file name without its extension, as `.ci/release-image`
+/// names it (`polyturn-<version>-stm32f411ce`): the file the Flash view asks for.
+#[wasm_bindgen]
+pub fn release_image() -> String {
+    format!("polyturn-{}-{}", polyturn_host::cli::VERSION, polyturn_host::flash::CHIP)
 }
 
 /// The guided setup's settings from the machinist's facts (the flags of

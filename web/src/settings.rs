@@ -4,8 +4,69 @@
 
 use polyturn_host::cli::figures;
 use polyturn_host::cli::setup_plan::{changes, from_flags, summary, SetupArgs};
+use polyturn_sync::config::NAMES;
 use polyturn_sync::console;
 use polyturn_sync::{Config, Controller, Timing};
+use serde_json::{json, Value};
+
+/// Each setting's unit on the page, as the console's words and the book
+/// give it (docs/src/console.md); a setting with fixed choices has none.
+const UNITS: &[(&str, &str)] = &[
+    ("cpr", "counts/rev"),
+    ("steps", "steps/rev"),
+    ("ratio", "cutter turns/lathe turn"),
+    ("edges", "edges"),
+    ("max-rate", "steps/s"),
+    ("max-accel", "steps/s²"),
+    ("ferror", "steps"),
+    ("phase", "° of the cutter"),
+    ("dir-setup", "ns"),
+    ("pulse", "ns"),
+    ("max-rpm", "rpm"),
+];
+
+/// What the page needs to draw each setting's field, asked of the console
+/// itself so it cannot drift from the firmware: `[{name, unit, min, max,
+/// choices, allowed}]`, where `allowed` is the console's own words when
+/// refusing a bad value, `min..=max` the range in them, and `choices` the
+/// words in them that `set` takes (a `<select>`), empty for a number.
+pub fn fields() -> String {
+    let mut ctl = Controller::new(Config::default(), Timing::FIRMWARE);
+    ctl.start(0, 0, 0);
+    let defaults = console::handle(b"get", &mut ctl).0.to_string();
+    let rows: Vec<Value> = NAMES
+        .iter()
+        .map(|&name| {
+            let refusal = console::handle(format!("set {name} ?").as_bytes(), &mut ctl).0.to_string();
+            let allowed = refusal.strip_prefix(&format!("error: {name} ")).unwrap_or(&refusal).to_string();
+            let (min, max) = range_in(&allowed).unzip();
+            let unit = UNITS.iter().find(|(n, _)| *n == name).map(|(_, u)| *u);
+            json!({"name": name, "unit": unit, "min": min, "max": max,
+                   "choices": choices_in(&allowed, &defaults, name), "allowed": allowed})
+        })
+        .collect();
+    Value::Array(rows).to_string()
+}
+
+/// `a..=b` in the console's words ("4..=1000000 counts per lathe rev").
+fn range_in(allowed: &str) -> Option<(i64, i64)> {
+    let word = allowed.split_whitespace().find(|w| w.contains("..="))?;
+    let (a, b) = word.split_once("..=")?;
+    Some((a.parse().ok()?, b.parse().ok()?))
+}
+
+/// The words of "same or opposite", "stepper, bldc or none" or "high or
+/// low (the active level)", if `set` takes every one: the choices.
+fn choices_in(allowed: &str, settings: &str, name: &str) -> Vec<String> {
+    let list = allowed.split(" (").next().unwrap_or("");
+    let words: Vec<String> = list.split([',', ' ']).filter(|w| !w.is_empty() && *w != "or").map(String::from).collect();
+    let all_taken = words.len() >= 2 && words.iter().all(|w| setting_error(settings, name, w).is_none());
+    if all_taken {
+        words
+    } else {
+        Vec::new()
+    }
+}
 
 /// The board's `set` error for this value, or None if it would be taken.
 pub fn setting_error(settings: &str, name: &str, value: &str) -> Option<String> {
@@ -45,6 +106,23 @@ pub fn guided(args: &[String], settings: &str) -> Result<String, String> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn every_setting_has_a_unit_or_the_consoles_choices() {
+        let f: Vec<Value> = serde_json::from_str(&fields()).unwrap();
+        assert_eq!(f.len(), NAMES.len());
+        let by = |n: &str| f.iter().find(|r| r["name"] == n).unwrap().clone();
+        for r in &f {
+            let choices = r["choices"].as_array().unwrap();
+            assert!(r["unit"].is_string() == choices.is_empty(), "a unit or choices, not both: {r}");
+        }
+        assert_eq!(by("dir")["choices"], json!(["same", "opposite"]));
+        assert_eq!(by("drive")["choices"], json!(["stepper", "bldc", "none"]));
+        assert_eq!(by("enable")["choices"], json!(["high", "low"]));
+        assert_eq!((by("cpr")["min"].clone(), by("cpr")["max"].clone()), (json!(4), json!(1_000_000)));
+        assert_eq!((by("phase")["min"].clone(), by("phase")["unit"].clone()), (json!(-360), json!("° of the cutter")));
+        assert_eq!(by("ratio")["choices"], json!([]), "free text: 5/2, 11:3, 2.5");
+    }
 
     fn board_get(ctl: &mut Controller) -> String {
         console::handle(b"get", ctl).0.to_string()

@@ -4,7 +4,9 @@
 // the real sync core's console behind a fake WebSerial port; its DfuSe
 // layer flashes and verifies a fake ROM bootloader. `node e2e.mjs`, after
 // `bash web/build` and `cargo build -p polyturn-host`. SCREENSHOTS=dir
-// also saves the views as PNGs (the book's are docs/src/web-*.png).
+// also saves the views as PNGs (the book's are docs/src/web-*.png); each
+// view's screenshot is taken and checked either way (`view`). WWW=dir
+// serves another page folder (an older page, to show a check fails on it).
 import { chromium } from 'playwright-core';
 import { spawn, execFileSync } from 'node:child_process';
 import { mkdtempSync, writeFileSync, readFileSync } from 'node:fs';
@@ -19,7 +21,7 @@ const TMP = mkdtempSync(join(tmpdir(), 'polyturn-web-'));
 const cli = (...args) => JSON.parse(execFileSync(POLYTURN, [...args.map(String), '--json'], { encoding: 'utf8' }));
 const close = (a, b, what) => assert.ok(Math.abs(a - b) <= 1e-9 * Math.max(1, Math.abs(b)), `${what}: page ${a}, CLI ${b}`);
 
-const server = spawn(POLYTURN, ['web', '--no-open', '--port', '0', '--dir', join(ROOT, 'web/www')]);
+const server = spawn(POLYTURN, ['web', '--no-open', '--port', '0', '--dir', process.env.WWW ?? join(ROOT, 'web/www')]);
 const url = await new Promise((resolve, reject) => {
   server.stdout.on('data', (d) => { const m = /http:\/\/\S+/.exec(String(d)); if (m) resolve(m[0]); });
   server.on('exit', (c) => reject(new Error(`polyturn web exited ${c}`)));
@@ -55,7 +57,63 @@ async function test(name, f) {
     console.log(`FAIL ${name}\n     ${String(e.stack ?? e).split("\n").slice(0, 24).join('\n     ')}\n     console log: ${log.split('\n').slice(-10).join(' | ')}`);
   }
 }
-const shot = async (name) => { if (SHOTS) await page.evaluate(() => window.scrollTo(0, 0)); if (SHOTS) await page.screenshot({ path: join(SHOTS, `web-${name}.png`), fullPage: false }); };
+// A view as a machinist sees it at 1280 x 900: screenshotted (saved with
+// SCREENSHOTS=dir), its title whole, nothing wider than the window, each
+// of its main elements shown with a real size, and every line of text in
+// its drawings inside the drawing (measured by the browser, not guessed).
+async function view(name, mains) {
+  await page.evaluate(() => window.scrollTo(0, 0));
+  const png = await page.screenshot({ fullPage: false, ...(SHOTS ? { path: join(SHOTS, `web-${name}.png`) } : {}) });
+  assert.ok(png.length > 20000, `the ${name} screenshot is near blank (${png.length} bytes)`);
+  const r = await page.evaluate(({ name, mains }) => {
+    const box = (el) => { const b = el.getBoundingClientRect(); return { x: b.x, y: b.y, w: b.width, h: b.height, right: b.right }; };
+    const section = document.getElementById(name);
+    const h2 = section.querySelector('h2');
+    const shown = (sel) => {
+      const el = section.querySelector(sel);
+      if (!el) return { sel, missing: true };
+      const cs = getComputedStyle(el);
+      return { sel, ...box(el), hidden: cs.display === 'none' || cs.visibility === 'hidden' || el.closest('[hidden]') !== null };
+    };
+    const texts = [...section.querySelectorAll('svg text')].map((t) => {
+      const svg = t.ownerSVGElement.getBoundingClientRect();
+      const b = t.getBoundingClientRect();
+      return { text: t.textContent, over: b.right - svg.right, left: svg.left - b.left };
+    });
+    // a unit that runs out of its field's cell, under the next one
+    const spilt = [...section.querySelectorAll('label .unit')].filter((u) => u.offsetParent !== null)
+      .map((u) => ({ unit: u.textContent, over: u.getBoundingClientRect().right - u.closest('label').getBoundingClientRect().right }))
+      .filter((u) => u.over > 1);
+    return {
+      spilt,
+      active: section.classList.contains('active'),
+      h2: { ...box(h2), clipped: h2.scrollWidth > h2.clientWidth, text: h2.textContent },
+      pageWidth: document.documentElement.scrollWidth,
+      mains: mains.map(shown),
+      texts,
+    };
+  }, { name, mains });
+  assert.ok(r.active, `${name} is the view shown`);
+  assert.ok(r.h2.w > 100 && r.h2.h > 10 && r.h2.x >= 0 && r.h2.right <= 1280 && !r.h2.clipped, `${name}'s title is whole: ${JSON.stringify(r.h2)}`);
+  assert.deepEqual(r.spilt, [], `${name}: units running out of their fields`);
+  assert.ok(r.pageWidth <= 1280, `${name}: the page is ${r.pageWidth} px wide, wider than the window`);
+  for (const m of r.mains) {
+    assert.ok(!m.missing && !m.hidden && m.w >= 40 && m.h >= 15 && m.right <= 1281, `${name}: ${m.sel} is not shown whole: ${JSON.stringify(m)}`);
+  }
+  for (const t of r.texts) assert.ok(t.over <= 1 && t.left <= 1, `${name}: the drawing's text '${t.text}' runs ${Math.max(t.over, t.left).toFixed(0)} px past its edge`);
+}
+// Every field that takes a number or text, in `scope`, with the unit shown
+// next to it (`.unit`); the names of those without one.
+const unitless = (scope) => page.$$eval(`${scope} input:not([type=file]):not([type=hidden])`, (els) =>
+  els.filter((el) => !(el.closest('label, .setting')?.querySelector('.unit')?.textContent.trim())).map((el) => el.name || el.id));
+// Words a machinist should not meet: another spelling of µm, the page's
+// own timings, the drawing's gain as a bare "x131".
+async function noDeveloperText(name) {
+  const text = await page.$eval(`#${name}`, (el) => el.textContent);
+  for (const [bad, what] of [[/\bum\b/, '"um" for µm'], [/redrawn in|simulated in [\d.]+ ?m?s/, 'a timing'], [/deviation x\d/, 'a bare magnification']]) {
+    assert.ok(!bad.test(text), `${name} shows ${what}: ${text.match(bad)?.[0]}`);
+  }
+}
 const tab = (name) => page.click(`nav button[data-tab=${name}]`);
 const setValue = (sel, v) => page.$eval(sel, (el, v) => { el.value = v; el.dispatchEvent(new Event('input', { bubbles: true })); el.dispatchEvent(new Event('change', { bubbles: true })); }, String(v));
 
@@ -81,7 +139,7 @@ await test('the planner table is polyturn setups --json', async () => {
     assert.equal(rows[i][8], s.min_cutter_radius === null ? '–' : s.min_cutter_radius.toFixed(1), `row ${i} smallest R1`);
   });
   chosen = { ...want.setups[0], cutter_radius: want.cutter_radius, stock: 20 };
-  await shot('plan');
+  await view('plan', ['#plan-form', '#setups tbody tr']);
 });
 
 const geometry = (s) => cli('geometry', '--cutter-radius', s.cutter_radius, '--stock-radius', s.stock, '--depth', s.depth, '--ratio', s.ratio, '--edges', s.edges, '--direction', s.direction);
@@ -97,7 +155,7 @@ await test('a chosen setup previews with the figures of polyturn geometry --json
   assert.ok(await page.$('#section-svg svg path'), 'the section is drawn');
   await page.waitForFunction(() => /^\d/.test(document.querySelector('[data-min-r1]')?.textContent ?? ''));
   assert.equal(await page.textContent('[data-min-r1]'), `${chosen.min_cutter_radius.toFixed(1)} mm for 0.01 mm`);
-  await shot('preview');
+  await view('preview', ['#preview-form', '#figures', '#section-svg svg']);
 });
 
 await test('the sliders redraw the preview as polyturn geometry draws it, and it exports SVG', async () => {
@@ -140,7 +198,47 @@ await test('a simulation runs in the worker and reports what polyturn simulate -
   assert.equal(got.cut.sides, want.cut.sides);
   assert.deepEqual(got.faults, want.faults);
   assert.ok(await page.$('#sim-svg svg'), 'the section and the phase error are drawn');
-  await shot('simulate');
+  await view('simulate', ['#sim-form', '#sim-figures', '#sim-svg svg', '#sim-explain']);
+});
+
+// `polyturn <command> --help`'s [default: X] and (a..=b) for a flag.
+const help = (command, flag) => {
+  const line = execFileSync(POLYTURN, [command, '--help'], { encoding: 'utf8' }).split('\n').find((l) => l.trim().startsWith(`${flag} `)) ?? '';
+  const range = /\((\d+)\.\.=(\d+)/.exec(line);
+  return { default: /\[default: ([^\]]+)\]/.exec(line)?.[1], min: range?.[1], max: range?.[2] };
+};
+
+await test('Simulate offers the encoder and the motor with the CLI\'s defaults and ranges, and gives its result for other values', async () => {
+  for (const [name, flag] of [['encoder-cpr', '--encoder-cpr'], ['motor-steps', '--motor-steps']]) {
+    const cli = help('simulate', flag);
+    const el = await page.$eval(`#sim-form [name=${name}]`, (e) => ({ value: e.defaultValue, min: e.min, max: e.max }));
+    assert.deepEqual(el, { value: cli.default, min: cli.min, max: cli.max }, `${flag}: page ${JSON.stringify(el)}, CLI ${JSON.stringify(cli)}`);
+  }
+  await page.fill('#sim-form [name=revolutions]', '4');
+  await page.fill('#sim-form [name=encoder-cpr]', '1000');
+  await page.fill('#sim-form [name=motor-steps]', '1600');
+  await page.click('#sim-form button[type=submit]');
+  await page.waitForSelector('body[data-sim=done]', { timeout: 120000 });
+  const got = await page.$eval('#sim-figures', (el) => JSON.parse(el.dataset.json));
+  const want = cli('simulate', '--cutter-radius', chosen.cutter_radius, '--stock-radius', 20, '--depth', 5, '--ratio', chosen.ratio, '--edges', chosen.edges,
+    '--direction', chosen.direction, '--rpm', 600, '--revolutions', 4, '--ripple', 0.02, '--start', 'rest', '--drive', 'stepper', '--seed', 7,
+    '--encoder-cpr', 1000, '--motor-steps', 1600);
+  const usual = cli('simulate', '--cutter-radius', chosen.cutter_radius, '--stock-radius', 20, '--depth', 5, '--ratio', chosen.ratio, '--edges', chosen.edges,
+    '--direction', chosen.direction, '--rpm', 600, '--revolutions', 4, '--ripple', 0.02, '--start', 'rest', '--drive', 'stepper', '--seed', 7);
+  assert.notEqual(want.encoder_counts, usual.encoder_counts, 'the values change the run');
+  for (const k of ['ticks', 'steps_emitted', 'encoder_counts', 'synced_ticks', 'final_error_steps']) assert.equal(got[k], want[k], k);
+  for (const k of ['max_error_steps', 'max_error_deg', 'max_profile_deviation']) close(got[k], want[k], k);
+  assert.deepEqual(got.faults, want.faults);
+  await page.fill('#sim-form [name=encoder-cpr]', '2400');
+  await page.fill('#sim-form [name=motor-steps]', '3200');
+});
+
+await test('every field of Plan, Preview and Simulate shows its unit, and no view shows developer text', async () => {
+  for (const scope of ['#plan-form', '#preview-form', '#sim-form']) assert.deepEqual(await unitless(scope), [], `${scope}: fields without a unit`);
+  for (const name of ['plan', 'preview', 'simulate', 'flash']) await noDeveloperText(name);
+  const svg = await page.textContent('#sim-svg svg');
+  assert.match(svg, /drawn \d+ times larger/, 'the drawing says its magnification in words');
+  assert.match(await page.textContent('#sim-explain'), /too small to see/);
 });
 
 const status = () => page.getAttribute('#status', 'data-state');
@@ -153,6 +251,27 @@ await test('the device panel connects to the real console and shows its live sta
   assert.equal(await page.inputValue('#settings input[name=cpr]'), '2400');
   await page.waitForFunction(() => document.querySelectorAll('#phase-plot polyline').length === 1);
   assert.ok((await received()).some((l) => / watch$/.test(l)), 'the panel watches');
+});
+
+await test('every board setting shows its unit, and dir, drive and enable are selects of what the console takes', async () => {
+  assert.deepEqual(await unitless('#settings'), [], 'settings without a unit');
+  assert.deepEqual(await unitless('#guided'), [], 'guided setup fields without a unit');
+  assert.equal(await page.textContent('#settings .setting:has([name=cpr]) .unit'), 'counts/rev');
+  assert.equal(await page.textContent('#settings .setting:has([name=pulse]) .unit'), 'ns');
+  const options = (name) => page.$$eval(`#settings select[name=${name}] option`, (os) => os.map((o) => o.value));
+  // docs/src/generated/console-settings.md: the console's own refusals
+  assert.deepEqual(await options('dir'), ['same', 'opposite']);
+  assert.deepEqual(await options('drive'), ['stepper', 'bldc', 'none']);
+  assert.deepEqual(await options('enable'), ['high', 'low']);
+  assert.equal(await page.inputValue('#settings select[name=enable]'), 'low', 'the board\'s value is selected');
+  await page.selectOption('#settings select[name=dir]', 'opposite');
+  await page.click('#settings button[data-name=dir]');
+  await page.waitForFunction(() => document.querySelector('#settings-error').textContent === 'ok dir=opposite');
+  await page.selectOption('#settings select[name=dir]', 'same');
+  await page.click('#settings button[data-name=dir]');
+  await page.waitForFunction(() => document.querySelector('#settings-error').textContent === 'ok dir=same');
+  assert.ok((await received()).some((l) => / set dir opposite$/.test(l)));
+  await noDeveloperText('device');
 });
 
 await test('a setting is set on the board; a bad one is refused in the console\'s words and never sent', async () => {
@@ -184,6 +303,29 @@ await test('engage and stop change the board\'s state', async () => {
   await page.waitForFunction(() => document.querySelector('#status').dataset.state === 'idle', null, { timeout: 5000 });
 });
 
+const statusNow = () => page.$eval('#status', (el) => JSON.parse(el.dataset.json ?? '{}'));
+await test('the simulated board\'s lathe turns at the speed set, and engage syncs the cutter to it', async () => {
+  assert.ok(await page.isVisible('#sim-lathe-rpm'), 'the lathe speed is offered with the simulated board');
+  await page.fill('#sim-lathe-rpm', '300');
+  await page.dispatchEvent('#sim-lathe-rpm', 'change');
+  await page.waitForFunction(() => Math.abs(JSON.parse(document.querySelector('#status').dataset.json).lathe_rpm - 300) < 2, null, { timeout: 10000 });
+  await page.click('#engage');
+  await page.waitForFunction(() => document.querySelector('#status').dataset.state === 'synced', null, { timeout: 10000 });
+  const a = await statusNow();
+  await page.waitForTimeout(500);
+  const b = await statusNow();
+  const ratio = 5 / 2; // set above
+  assert.ok(Math.abs(b.cutter_rpm - 300 * ratio) < 5, `cutter ${b.cutter_rpm} rpm for the lathe's 300 x ${ratio}`);
+  assert.ok(Number(b.cutter) > Number(a.cutter) && Number(b.target) > Number(a.target), `counts move: ${a.cutter} -> ${b.cutter}`);
+  assert.ok(Math.abs(b.phase_err_steps) < 5, `in sync: ${b.phase_err_steps} steps`);
+  await page.waitForTimeout(1500); // the phase plot fills
+  await view('device', ['#status', '#settings', '#phase-plot', '#sim-lathe-rpm']);
+  await page.click('#stop');
+  await page.fill('#sim-lathe-rpm', '0');
+  await page.dispatchEvent('#sim-lathe-rpm', 'change');
+  await page.waitForFunction(() => { const s = JSON.parse(document.querySelector('#status').dataset.json); return s.state === 'idle' && Number(s.lathe_rpm) === 0; }, null, { timeout: 10000 });
+});
+
 await test('the encoder check runs on the board and shows its figures', async () => {
   await page.evaluate(() => window.testBoard.set_machine(300, 60000)); // 3.75 turns after 1.2 s at rest
   await page.click('#check-start');
@@ -202,7 +344,6 @@ await test('the guided setup sends the settings polyturn device setup derives', 
   assert.match(await page.textContent('#guided-result'), /set: .*cpr=2000/);
   await page.waitForFunction(() => document.querySelector('#settings input[name=cpr]')?.value === '2000');
   assert.equal(await page.inputValue('#settings input[name=steps]'), '1600');
-  await shot('device');
 });
 
 await test('a cam table from polyturn cam uploads through the console', async () => {
@@ -374,6 +515,31 @@ await test('the flash view offers the image polyturn web carries, and nothing wh
   await page.waitForFunction(() => !document.getElementById('image-carried').hidden, null, { timeout: 5000 });
   assert.equal(await line(), `No file chosen: writes ${named.split('/').pop()}, the image this polyturn carries.`);
   assert.equal((await fetch(url + named)).status, 200);
+});
+
+const VERSION = execFileSync(POLYTURN, ['--version'], { encoding: 'utf8' }).trim().split(' ')[1];
+await test('the Flash view names the release image, says to switch the motor power off, and offers a carried image', async () => {
+  await tab('flash');
+  const text = await page.textContent('#flash');
+  assert.ok(text.includes(`polyturn-${VERSION}-stm32f411ce.bin`), `the file .ci/release-image writes: ${text}`);
+  assert.ok(!text.includes('polyturn-firmware.bin'), 'no build makes polyturn-firmware.bin');
+  assert.match(await page.textContent('#power-off'), /motor's power off/);
+  await view('flash', ['#flash ol', '#flash-go', '#image-file']);
+  // as the polyturn web of a release serves it (X-Polyturn-Firmware), here
+  // on a second page whatever polyturn serves this run
+  const named = `firmware/polyturn-${VERSION}-stm32f411ce.bin`;
+  const other = await browser.newPage({ viewport: { width: 1280, height: 900 } });
+  await other.route('**/index.html', async (route) => {
+    const r = await route.fetch();
+    await route.fulfill({ response: r, headers: { ...r.headers(), 'x-polyturn-firmware': named } });
+  });
+  await other.goto(url);
+  await other.waitForSelector('body[data-ready=yes]', { timeout: 30000 });
+  await other.click('nav button[data-tab=flash]');
+  await other.waitForSelector('#image-carried:not([hidden])', { timeout: 5000 });
+  assert.equal(await other.textContent('#image-carried'), `No file chosen: writes polyturn-${VERSION}-stm32f411ce.bin, the image this polyturn carries.`);
+  assert.equal(await other.getAttribute('#image-carried a', 'href'), named);
+  await other.close();
 });
 
 await test('the page logged no errors', async () => {

@@ -244,6 +244,9 @@ fn drawing(path: &dyn ToolPath, e: &Evaluation, table: &CamFile) -> String {
     let corners = (0..poly.sides).map(|j| (j as f64 + 0.5) * TAU / poly.sides as f64);
     let ideal: Vec<_> = corners.map(|p| polar(p, poly.radius(p))).collect();
     d.path(&ideal, true, r##"fill="none" stroke="#c33" stroke-width="0.8""##);
-    d.text(0, &format!("{} sides, {m} revolutions: tool path (grey), section (blue), polygon (red)", poly.sides));
+    // two lines: on one, 10 sides or more ran past the drawing's edge
+    let turns = if m == 1 { "1 lathe turn".to_string() } else { format!("{m} lathe turns") };
+    d.text(0, &format!("{} sides in {turns}", poly.sides));
+    d.text(1, "tool path (grey), section (blue), polygon (red)");
     d.finish(560.0)
 }

@@ -6,6 +6,25 @@
 use polyturn_firmware::quadgen::bench::playback::{Event, Playback};
 use polyturn_firmware::quadgen::{bench, TIMER_HZ};
 use polyturn_sync::{Controller, TickInput};
+use std::f64::consts::TAU;
+
+use crate::sim::lathe::{Lathe, LatheProfile, Leg};
+
+/// The control tick's rate (the firmware's 25 kHz).
+const TICK_HZ: f64 = 25_000.0;
+
+/// How fast the spindle reaches a new set speed: a lathe's motor takes
+/// about a second to reach 600 rpm, so the sync core sees a ramp, not a jump.
+const SPINDLE_ACCEL_RPM_PER_S: f64 = 600.0;
+
+/// The lathe under power at a set speed (the simulator's spindle model,
+/// `sim::lathe`), and where its encoder stood when it was set.
+struct Spindle {
+    lathe: Lathe,
+    set_rpm: f64,
+    /// the lathe's count, in thousandths, when this speed was set
+    from_milli: i64,
+}
 
 /// TIM9 cycles per control tick (25 kHz).
 const CYCLES_PER_TICK: u64 = TIMER_HZ as u64 / 25_000;
@@ -34,6 +53,7 @@ pub struct Machine {
     played: i64,
     played_index: Option<u16>,
     jumpered: Option<Jumpered>,
+    spindle: Option<Spindle>,
     emitted: u16,
     pipe: [u16; 2],
     t: usize,
@@ -50,6 +70,7 @@ impl Machine {
             played: 0,
             played_index: None,
             jumpered: None,
+            spindle: None,
             emitted: 0,
             pipe: [0; 2],
             t: 0,
@@ -61,6 +82,40 @@ impl Machine {
         self.ticks(ctl, self.ticks_per_line, checking);
     }
 
+    /// Runs the lathe under power toward `rpm` (forward; 0 stops it), as a
+    /// machinist sets the lathe's speed: it ramps there and holds it until
+    /// the next call. Once it rests at 0 the hand on the chuck is back
+    /// (`turn_for_check`).
+    pub fn set_lathe_rpm(&mut self, rpm: f64) {
+        let now_rpm = self.spindle.as_ref().map_or(0.0, |s| s.lathe.speed / TAU * 60.0);
+        if rpm <= 0.0 && now_rpm == 0.0 {
+            self.spindle = None;
+            return;
+        }
+        let leg = Leg { rpm: rpm.max(0.0), accel_rpm_per_s: SPINDLE_ACCEL_RPM_PER_S, hold_s: f64::INFINITY };
+        let profile = LatheProfile { start_rpm: now_rpm, legs: vec![leg], ripple: 0.0, wander: 0.0, dips: vec![] };
+        self.spindle =
+            Some(Spindle { lathe: Lathe::new(profile, 1), set_rpm: rpm.max(0.0), from_milli: self.lathe_milli });
+    }
+
+    /// The lathe's speed now, rpm (0 when no speed is set).
+    pub fn lathe_rpm(&self) -> f64 {
+        self.spindle.as_ref().map_or(0.0, |s| s.lathe.speed / TAU * 60.0)
+    }
+
+    /// The spindle's next tick: thousandths of a count it turns by; None
+    /// when no speed is set (the lathe rests or turns by hand).
+    fn spindle_tick(&mut self) -> Option<i64> {
+        let s = self.spindle.as_mut()?;
+        s.lathe.advance(1.0 / TICK_HZ);
+        let at = s.from_milli + (s.lathe.angle / TAU * self.cpr as f64 * 1000.0).round() as i64;
+        let step = at - self.lathe_milli;
+        if s.set_rpm == 0.0 && s.lathe.speed == 0.0 {
+            self.spindle = None; // at rest: back to the hand on the chuck
+        }
+        Some(step)
+    }
+
     /// `ticks` control ticks pass with no command (a `watch` line's wait).
     pub fn pass(&mut self, ctl: &mut Controller, ticks: usize) {
         self.ticks(ctl, ticks, false);
@@ -70,7 +125,9 @@ impl Machine {
         for i in 0..ticks {
             let before = self.lathe_milli / 1000;
             let turning = !self.turn_for_check || (checking && i >= 30_000);
-            if turning {
+            if let Some(step) = self.spindle_tick() {
+                self.lathe_milli += step;
+            } else if turning {
                 self.lathe_milli += self.counts_per_tick_x1000;
             }
             let now = self.lathe_milli / 1000;

@@ -77,3 +77,41 @@ fn a_watch_ends_at_the_next_packet_and_a_packet_of_line_ends_does_not_end_it() {
     replies(&mut dev, b"watch\r\n#2 get edges\r\n");
     assert!(dev.watch_line().is_empty(), "bytes after watch in its packet end it before it starts");
 }
+
+/// `status`'s fields as (name, value) after `ticks` pass on the machine.
+fn status_after(dev: &mut FakeDevice, seconds: f64) -> std::collections::HashMap<String, String> {
+    let m = dev.machine.as_mut().unwrap();
+    m.pass(&mut dev.ctl, (seconds * 25_000.0) as usize);
+    let line = replies(dev, b"status\n");
+    line.split_whitespace().filter_map(|kv| kv.split_once('=')).map(|(k, v)| (k.into(), v.into())).collect()
+}
+
+#[test]
+fn a_lathe_set_turning_ramps_to_its_speed_and_the_cutter_syncs_to_it() {
+    let mut dev = FakeDevice::new();
+    dev.machine = Some(Machine::new(250));
+    dev.machine.as_mut().unwrap().set_lathe_rpm(600.0);
+    let s = status_after(&mut dev, 0.5);
+    let half: f64 = s["lathe_rpm"].parse().unwrap();
+    assert!((250.0..350.0).contains(&half), "ramping at 600 rpm/s: {s:?}");
+    let s = status_after(&mut dev, 1.5);
+    // the core's estimate of the lathe's speed, not the model's own figure
+    let steady: f64 = s["lathe_rpm"].parse().unwrap();
+    assert!((steady - 600.0).abs() < 2.0, "{s:?}");
+    assert!(replies(&mut dev, b"engage\n").starts_with("ok engaging"));
+    let s = status_after(&mut dev, 3.0);
+    assert_eq!(s["state"], "synced", "{s:?}");
+    let cutter_rpm: f64 = s["cutter_rpm"].parse().unwrap();
+    assert!((cutter_rpm - 1200.0).abs() < 4.0, "ratio 2: {s:?}");
+    let cutter: i64 = s["cutter"].parse().unwrap();
+    let later: i64 = status_after(&mut dev, 0.1)["cutter"].parse().unwrap();
+    // 1200 rpm x 3200 steps a turn = 64 000 steps/s: 7040 in the 0.1 s
+    // passed and the 10 ms before the `status` line
+    assert!((later - cutter - 7040).abs() <= 2, "{cutter} -> {later}");
+    // stopped, the lathe ramps to rest and the hand on the chuck is back
+    assert!(replies(&mut dev, b"stop\n").starts_with("ok"));
+    dev.machine.as_mut().unwrap().set_lathe_rpm(0.0);
+    let s = status_after(&mut dev, 2.0);
+    assert_eq!((s["state"].as_str(), s["lathe_rpm"].as_str()), ("idle", "0.0"), "{s:?}");
+    assert_eq!(dev.machine.as_ref().unwrap().lathe_rpm(), 0.0);
+}

@@ -38,6 +38,8 @@ impl Drawing {
         let _ = writeln!(self.body, r#"<path d="{d}" {style}/>"#);
     }
 
+    /// A line of text at the top left; keep it within `TEXT_CHARS_MAX`
+    /// characters for a 560-pixel drawing, or it runs off the edge.
     pub fn text(&mut self, line: usize, text: &str) {
         let y = 18.0 + 16.0 * line as f64;
         let _ = writeln!(self.body, r#"<text x="8" y="{y}" font-family="monospace" font-size="13">{text}</text>"#);
@@ -66,4 +68,44 @@ pub fn outline(env: &super::Envelope) -> Vec<(f64, f64)> {
             (r * t.cos(), r * t.sin())
         })
         .collect()
+}
+
+/// A monospace character's advance at font-size 13, pixels: 0.6 em in
+/// DejaVu Sans Mono and Liberation Mono, rounded up for the other faces.
+pub const CHAR_PX: f64 = 0.62 * 13.0;
+
+/// The `<text>` lines of an SVG that run past its width (x + characters x
+/// `CHAR_PX`), each with how far: for the tests of every drawing's text.
+pub fn text_overflow(svg: &str) -> Vec<String> {
+    let attr = |tag: &str, name: &str| -> Option<f64> {
+        let at = tag.find(&format!(" {name}=\""))? + name.len() + 3;
+        tag[at..].split('"').next()?.parse().ok()
+    };
+    let Some(width) = svg.split_once("<svg").and_then(|(_, t)| attr(t.split('>').next()?, "width")) else {
+        return vec!["no width".into()];
+    };
+    let mut over = Vec::new();
+    for part in svg.split("<text").skip(1) {
+        let Some((tag, rest)) = part.split_once('>') else { continue };
+        let text = rest.split("</text>").next().unwrap_or("");
+        let anchor_end = tag.contains(r#"text-anchor="end""#) || tag.contains(r#"text-anchor="middle""#);
+        let right =
+            attr(tag, "x").unwrap_or(0.0) + if anchor_end { 0.0 } else { CHAR_PX * text.chars().count() as f64 };
+        if right > width {
+            over.push(format!("{text:?} ends at {right:.0} px, past the width {width}"));
+        }
+    }
+    over
+}
+
+#[cfg(test)]
+mod tests {
+    #[test]
+    fn text_past_the_width_is_found() {
+        let line = |n: usize| {
+            format!(r#"<svg xmlns="x" width="560" height="9"><text x="8" y="18">{}</text></svg>"#, "a".repeat(n))
+        };
+        assert!(super::text_overflow(&line(68)).is_empty());
+        assert_eq!(super::text_overflow(&line(69)).len(), 1);
+    }
 }

@@ -81,11 +81,16 @@ pub fn svg(sc: &Scenario, r: &SimResult) -> String {
         })
         .collect();
     d.path(&pts, true, r##"fill="none" stroke="#e80" stroke-width="1.2""##);
-    d.text(0, &format!("simulated (orange, deviation x{gain:.0}) vs ideal (blue)"));
+    // The magnification said in words: "deviation x131" read as a
+    // setting or a part number to the machinists who tried the page.
+    d.text(0, "ideal section (blue), simulated section (orange)");
+    if gain > 1.0 {
+        d.text(1, &format!("orange's distance from blue drawn {gain:.0} times larger"));
+    }
     d.text(
-        1,
+        2,
         &format!(
-            "worst deviation {:.2} um, worst phase error {:.2} steps",
+            "worst deviation {:.2} µm, worst phase error {:.2} steps",
             r.max_profile_deviation * 1000.0,
             r.max_error_steps
         ),

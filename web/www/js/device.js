@@ -10,6 +10,7 @@ const SAVE_WAIT_MS = 5000; // a sector erase (DS10314 t_ERASE128KB) and more
 const PLOT_POINTS = 300; // 30 s of watch at 10 Hz
 let session = null;
 let settings = '';
+let fields = null; // each setting's unit, range and choices, from the console (setting_fields)
 const phase = [];
 
 const $ = (id) => document.getElementById(id);
@@ -39,7 +40,9 @@ async function connect(choose) {
     session.onLine = onStatus;
     session.onClose = () => log('the port closed');
     for (const b of document.querySelectorAll('#device button, #guided button')) b.disabled = false;
-    $('connect').textContent = port.getInfo?.().simulated ? 'Connected to the simulated board' : 'Connected';
+    const simulated = !!port.getInfo?.().simulated;
+    $('connect').textContent = simulated ? 'Connected to the simulated board' : 'Connected';
+    if (simulated) simulatedLathe(port.board);
     $('connect').disabled = true;
     $('simulated').disabled = true;
     await refreshSettings();
@@ -47,6 +50,19 @@ async function connect(choose) {
   } catch (e) {
     log(`connect: ${e.message ?? e}`);
   }
+}
+
+// The simulated board's lathe: a speed the machinist sets, as on the
+// lathe's own control; the board sees it only through its encoder.
+function simulatedLathe(board) {
+  const input = $('sim-lathe-rpm');
+  $('sim-lathe').hidden = false;
+  input.addEventListener('change', () => {
+    const rpm = Math.min(Math.max(Number(input.value) || 0, 0), Number(input.max));
+    input.value = String(rpm);
+    board.set_lathe_rpm(rpm);
+    log(`(the simulated lathe set to ${rpm} rpm)`);
+  });
 }
 
 function log(text) {
@@ -99,6 +115,7 @@ function onStatus(line) {
     ['index seen', s.indexed],
   ]);
   $('status').dataset.state = s.state;
+  $('status').dataset.json = JSON.stringify(s);
   phase.push(Number(s.phase_err_steps));
   if (phase.length > PLOT_POINTS) phase.shift();
   plot();
@@ -107,8 +124,11 @@ function onStatus(line) {
 // The phase error over the last 30 s, axes labelled in steps and seconds.
 function plot() {
   const svg = $('phase-plot');
-  const [w, h, left, bottom] = [420, 180, 50, 30];
   const span = Math.max(0.5, ...phase.map(Math.abs));
+  // room on the left for the widest label (11 px type: about 6.5 px a
+  // character), so +9999.04 is not cut off at the edge
+  const [w, h, bottom] = [420, 180, 30];
+  const left = Math.max(50, 24 + 6.5 * `+${span.toFixed(2)}`.length);
   const x = (i) => left + ((w - left - 10) * i) / (PLOT_POINTS - 1);
   const y = (v) => (h - bottom) / 2 - ((h - bottom) / 2 - 8) * (v / span);
   const pts = phase.map((v, i) => `${x(i + PLOT_POINTS - phase.length).toFixed(1)},${y(v).toFixed(1)}`).join(' ');
@@ -123,23 +143,36 @@ function plot() {
     <polyline fill="none" stroke="#c33" stroke-width="1.5" points="${pts}"/>`;
 }
 
+// One row per `get` key: its name, a field (a select when the console
+// takes only a few words), its unit, and Set.
 async function refreshSettings() {
   settings = await ask('get');
-  const form = $('settings');
-  const rows = Object.entries(pairs(settings)).flatMap(([name, value]) => {
-    const label = document.createElement('label');
-    label.textContent = name;
-    const input = document.createElement('input');
-    Object.assign(input, { name, value });
-    input.addEventListener('input', () => validate(input));
-    const set = document.createElement('button');
-    set.type = 'button';
-    set.textContent = 'Set';
-    set.dataset.name = name;
-    set.addEventListener('click', () => setOne(input));
-    return [label, input, set];
-  });
-  form.replaceChildren(...rows);
+  fields ??= JSON.parse((await load()).setting_fields());
+  const rows = Object.entries(pairs(settings)).map(([name, value]) => settingRow(name, value, fields.find((f) => f.name === name)));
+  $('settings').replaceChildren(...rows);
+}
+
+function settingRow(name, value, info) {
+  const el = (tag, props) => Object.assign(document.createElement(tag), props);
+  const row = el('div', { className: 'setting' });
+  const label = el('label', { textContent: name, title: info?.allowed ?? '' });
+  let input;
+  if (info?.choices.length) {
+    input = el('select', { name });
+    input.append(...info.choices.map((c) => el('option', { value: c, textContent: c })));
+  } else {
+    input = el('input', { name, title: info?.allowed ?? '' });
+    if (info?.min !== null && info?.min !== undefined) Object.assign(input, { type: 'number', step: 'any', min: info.min, max: info.max });
+  }
+  input.value = value;
+  input.addEventListener('input', () => validate(input));
+  label.htmlFor = input.id = `setting-${name}`;
+  const unit = el('span', { className: 'unit', textContent: info?.unit ?? (info?.allowed.match(/\((.*)\)/)?.[1] ?? '') });
+  const set = el('button', { type: 'button', textContent: 'Set' });
+  set.dataset.name = name;
+  set.addEventListener('click', () => setOne(input));
+  row.append(label, input, unit, set);
+  return row;
 }
 
 // The sync core's own `set`, on the board's settings, in WebAssembly.

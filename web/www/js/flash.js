@@ -7,7 +7,9 @@ const $ = (id) => document.getElementById(id);
 // AN2606: the STM32 ROM bootloader's USB DFU
 const ROM = { vendorId: 0x0483, productId: 0xdf11 };
 
-export function init() {
+export async function init() {
+  // the file .ci/release-image writes and the release bundle ships
+  $('release-image').textContent = (await load()).release_image();
   const supported = 'usb' in navigator;
   $('usb-support').textContent = supported
     ? 'Chromium, Chrome or Edge: WebUSB finds the board in DFU mode (on Linux a udev rule may be needed, see the manual).'

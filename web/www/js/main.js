@@ -18,6 +18,6 @@ plan.init({ show });
 preview.init();
 simulate.init();
 device.init();
-flash.init();
+await flash.init();
 document.getElementById('loading').textContent = '';
 document.body.dataset.ready = 'yes';

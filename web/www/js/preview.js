@@ -56,7 +56,7 @@ function schedule(form) {
 }
 
 async function redraw(form) {
-  for (const out of form.querySelectorAll('output')) out.textContent = out.nextElementSibling.value;
+  for (const out of form.querySelectorAll('output')) out.textContent = out.closest('label').querySelector('input').value;
   const t0 = performance.now();
   const err = document.getElementById('preview-error');
   try {
@@ -69,9 +69,8 @@ async function redraw(form) {
   } catch (e) {
     err.textContent = `error: ${e}`;
   }
-  const ms = performance.now() - t0;
-  document.getElementById('redraw-ms').textContent = `redrawn in ${ms.toFixed(1)} ms`;
-  document.body.dataset.redrawMs = ms.toFixed(2);
+  // for the tests' timing only: a machinist has no use for it on screen
+  document.body.dataset.redrawMs = (performance.now() - t0).toFixed(2);
 }
 
 function figures(g) {

@@ -3,6 +3,7 @@
 import { shared, setupFlags, fields, dl, fixed } from './polyturn.js';
 
 let worker;
+const TICK_HZ = 25000; // the sync core's control tick, as `polyturn simulate` runs it
 
 export function init() {
   const form = document.getElementById('sim-form');
@@ -13,7 +14,7 @@ export function init() {
   const label = () => {
     const s = shared.setup;
     document.getElementById('sim-setup').textContent =
-      `setup: ratio ${s.ratio} × ${s.edges} edges, ${s.direction} sense, R1 ${s.cutterRadius} R2 ${s.stockRadius} DOC ${s.depth} mm (from Plan or Preview)`;
+      `setup: ratio ${s.ratio}, ${s.edges} edges, ${s.direction} sense, cutter radius R1 ${s.cutterRadius} mm, stock radius R2 ${s.stockRadius} mm, depth of cut ${s.depth} mm (from Plan or Preview)`;
     form.elements.rpm.value = String(shared.rpm);
   };
   shared.listeners.push(label);
@@ -23,7 +24,8 @@ export function init() {
 export function args(form) {
   const f = fields(form);
   return ['simulate', ...setupFlags(shared.setup), '--rpm', f.rpm, '--revolutions', f.revolutions,
-    '--ripple', f.ripple, '--start', f.start, '--drive', f.drive, '--seed', f.seed, '--json', '--svg', 'sim.svg'];
+    '--ripple', f.ripple, '--start', f.start, '--encoder-cpr', f['encoder-cpr'], '--motor-steps', f['motor-steps'],
+    '--drive', f.drive, '--seed', f.seed, '--json', '--svg', 'sim.svg'];
 }
 
 function start(form) {
@@ -33,7 +35,6 @@ function start(form) {
   status.textContent = 'simulating in the background…';
   err.textContent = '';
   document.body.dataset.sim = 'running';
-  const t0 = performance.now();
   worker.onmessage = (e) => {
     document.body.dataset.sim = e.data.ok ? 'done' : 'failed';
     if (!e.data.ok) {
@@ -41,8 +42,8 @@ function start(form) {
       err.textContent = `error: ${e.data.error}`;
       return;
     }
-    status.textContent = `simulated in ${((performance.now() - t0) / 1000).toFixed(1)} s`;
     const r = JSON.parse(e.data.out);
+    status.textContent = `done: ${form.elements.revolutions.value} lathe turns at ${form.elements.rpm.value} rpm`;
     const el = document.getElementById('sim-figures');
     el.dataset.json = e.data.out;
     dl(el, [
@@ -52,10 +53,11 @@ function start(form) {
       ['worst while cutting', `${fixed(r.max_error_steps_cutting, 2)} steps`],
       ['worst section deviation', `${fixed(r.max_profile_deviation * 1000, 2)} µm`],
       ['final error at rest', `${r.final_error_steps} steps`],
-      ['faults', r.faults.length ? r.faults.map((f) => `${f.kind} at tick ${f.tick}: ${f.reason}`).join('; ') : 'none'],
-      ['steps / encoder counts', `${r.steps_emitted} / ${r.encoder_counts} in ${r.ticks} ticks`],
+      ['faults', r.faults.length ? r.faults.map((f) => `${f.kind} at ${fixed(f.tick / TICK_HZ, 3)} s: ${f.reason}`).join('; ') : 'none'],
+      ['motor steps / encoder counts', `${r.steps_emitted} steps / ${r.encoder_counts} counts in ${fixed(r.ticks / TICK_HZ, 2)} s`],
     ]);
     document.getElementById('sim-svg').innerHTML = e.data.svg;
+    document.getElementById('sim-explain').hidden = false;
   };
   worker.postMessage({ args: args(form) });
 }
