@@ -12,7 +12,7 @@
 //! - The AHB master is never busy (GRSTCTL.AHBIDL reads 1) and the soft resets
 //!   and FIFO flushes are done by the next read (their bits read 0).
 //! - Not modelled (an access panics with "not modelled"): host mode (FHMOD,
-//!   HSRST, FCRST), the global NAK commands, byte/halfword writes, direct FIFO
+//!   HSRST, FCRST), the core soft reset (CSRST), the global NAK commands, byte/halfword writes, direct FIFO
 //!   access at 0x20000, reserved offsets. Suspend/resume, data toggles and
 //!   isochronous frames are not modelled: the host never idles the bus and
 //!   never loses a handshake. GHWCFG4 (0x050, reserved in RM0383) reads 0: the

@@ -18,7 +18,8 @@ pub const OEPINT: u32 = 1 << 19;
 const HOST_FIFO_EMPTY: u32 = 0x0400_0020;
 /// GRSTCTL (§22.16.2): CSRST, HSRST, FCRST, RXFFLSH, TXFFLSH, TXFNUM, AHBIDL
 const CSRST: u32 = 1 << 0;
-const HOST_RESETS: u32 = 0b110;
+/// HSRST (the HCLK soft reset) and FCRST (host mode's frame counter reset)
+const OTHER_RESETS: u32 = 0b110;
 const RXFFLSH: u32 = 1 << 4;
 const TXFFLSH: u32 = 1 << 5;
 const AHBIDL: u32 = 1 << 31;
@@ -121,15 +122,17 @@ impl Otg {
         spd | (self.frame as u32 & 0x3FFF) << 8 | 0x10
     }
 
-    /// GRSTCTL (§22.16.2): CSRST resets the core's state machines, flushes every
-    /// FIFO and clears the interrupts, keeping the configuration registers;
-    /// RXFFLSH/TXFFLSH flush the RX FIFO / the TX FIFO TXFNUM (0x10: all).
+    /// GRSTCTL (§22.16.2): RXFFLSH/TXFFLSH flush the RX FIFO / the TX FIFO
+    /// TXFNUM (0x10: all). CSRST is refused: the manual has it clear the
+    /// interrupts and the control and status registers but a few named bits,
+    /// which this model does not list, and the firmware (embassy-stm32's OTG
+    /// init) never asks for it.
     fn grstctl(&mut self, v: u32) {
-        if v & HOST_RESETS != 0 {
-            unmodelled("OTG_FS host resets (GRSTCTL HSRST/FCRST)");
+        if v & OTHER_RESETS != 0 {
+            unmodelled("OTG_FS GRSTCTL HSRST/FCRST");
         }
         if v & CSRST != 0 {
-            self.core_reset();
+            unmodelled("OTG_FS core soft reset (GRSTCTL.CSRST)");
         }
         if v & RXFFLSH != 0 {
             self.rx.clear();
@@ -142,15 +145,6 @@ impl Otg {
                 }
             }
         }
-    }
-
-    fn core_reset(&mut self) {
-        self.flags = 0;
-        self.rx.clear();
-        self.tx.iter_mut().for_each(|f| f.clear());
-        self.ins.iter_mut().for_each(|e| e.int = 0);
-        self.outs.iter_mut().for_each(|e| e.int = 0);
-        self.setup_stage = false;
     }
 
     /// The TX FIFO sizes and starts (§22.16.2 DIEPTXF0, DIEPTXFx) in words.

@@ -101,6 +101,37 @@ fn a_full_rx_fifo_naks_22_11_1() {
 }
 
 #[test]
+fn out_data_leaves_the_setup_reserve_so_a_setup_is_always_taken_22_11_1() {
+    let mut o = device();
+    let c = DOEPCTL + 0x20;
+    w(&mut o, c, USBAEP | 64 | 2 << 18 | CNAK);
+    w(&mut o, c + 0x10, 7 << 19 | 448);
+    // 46 words less the 10 kept for SETUP: two 64-byte packets (17 words
+    // each with their status) fit; a 36-byte one that ends the transfer
+    // (9 words, its status and the "completed" word) would reach into it
+    for _ in 0..2 {
+        assert_eq!(o.out(0, 1, &[0; 64]), Handshake::Ack);
+    }
+    assert_eq!(o.out(0, 1, &[0; 36]), Handshake::Nak);
+    assert_eq!(o.setup(0, GET_DEVICE), Handshake::Ack, "the reserve holds the SETUP");
+}
+
+#[test]
+fn the_setup_stage_done_pop_disables_out0_22_16_4() {
+    let mut o = device();
+    w(&mut o, DOEPTSIZ0, 3 << 29);
+    w(&mut o, DOEPCTL, EPENA | CNAK);
+    o.setup(0, GET_DEVICE);
+    pop(&mut o);
+    o.read(FIFO);
+    o.read(FIFO);
+    assert_eq!(o.in_token(0, 0), InReply::Nak);
+    assert_eq!(pop(&mut o), (0, 0, 0b0100));
+    assert_eq!(o.read(DOEPCTL + 8) & STUP, STUP);
+    assert_eq!(o.read(DOEPCTL) & EPENA, 0, "EPENA cleared before STUP");
+}
+
+#[test]
 fn stall_answers_until_cleared_22_16_4() {
     let mut o = device();
     w(&mut o, DIEPCTL, STALL);

@@ -23,6 +23,12 @@ use super::fifo::{status, OUT_DATA, OUT_DONE, SETUP_DATA, SETUP_DONE};
 use super::global::{ENUMDNE, EOPF, SOF, USBRST};
 use super::{reg::DCFG, Otg, EPS};
 
+/// The RX FIFO words kept for SETUP packets on the control endpoint: "10
+/// locations must be reserved in the receive FIFO to receive SETUP packets
+/// ... The core does not use these locations ... to write any other data"
+/// (§22.11.1, device-mode FIFO RAM allocation).
+pub const SETUP_RESERVE: usize = 10;
+
 /// The device's answer to a SETUP or OUT packet.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Handshake {
@@ -127,9 +133,11 @@ impl Otg {
             return Handshake::Nak;
         }
         self.check_layout(None);
+        // §22.11.1: SETUP_RESERVE words of the RX FIFO are kept for SETUP
+        // packets; the core never writes other data into them
         let room = self.rx_words() as usize;
         let done_room = usize::from(e.pktcnt() <= 1 || data.len() < mps);
-        if self.rx.words() + data.len().div_ceil(4) + 1 + done_room > room {
+        if self.rx.words() + data.len().div_ceil(4) + 1 + done_room + SETUP_RESERVE > room {
             return Handshake::Nak;
         }
         self.rx.push(status(ep, data.len(), OUT_DATA, self.frame), data, room);
@@ -178,7 +186,12 @@ impl Otg {
                 self.outs[ep].int |= XFRC;
                 self.outs[ep].ctl &= !EPENA;
             }
-            SETUP_DONE => self.outs[0].int |= STUP,
+            // DOEPCTLx.EPENA (§22.16.4): the core clears it before it sets
+            // SETUP phase done, endpoint disabled or transfer completed
+            SETUP_DONE => {
+                self.outs[0].int |= STUP;
+                self.outs[0].ctl &= !EPENA;
+            }
             _ => {}
         }
         s
