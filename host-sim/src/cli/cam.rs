@@ -149,7 +149,7 @@ fn report(
     }
     if table_dev > TABLE_COARSE_MM {
         warnings.push(format!(
-            "the table cuts {:.1} um off its tool path: raise --steps-per-mm or --encoder-cpr for a finer one",
+            "the table cuts {:.1} µm off its tool path: raise --steps-per-mm or --encoder-cpr for a finer one",
             table_dev * 1e3
         ));
     }
@@ -193,16 +193,16 @@ fn body(j: &serde_json::Value) -> String {
     let f = |k: &str| j[k].as_f64().unwrap_or(0.0);
     let order: Vec<String> = j["order"].as_array().into_iter().flatten().map(|v| v.to_string()).collect();
     let corners = match j["corners"].as_str() {
-        Some("sharp") => format!("sharp, {:.1} um from the polygon", f("path_deviation_um")),
+        Some("sharp") => format!("sharp, {:.1} µm from the polygon", f("path_deviation_um")),
         _ => format!(
-            "rounded to {:.3} mm fillets (corners {:.1} um inside the sharp ones; sharp needs <= {:.1} rpm)",
+            "rounded to {:.3} mm fillets (corners {:.1} µm inside the sharp ones; sharp needs <= {:.1} rpm)",
             f("corner_fillet_mm"),
             f("corner_rounding_um"),
             f("sharp_max_rpm")
         ),
     };
     format!(
-        "{} sides in {} revolution(s), order {}\ncorners {corners}; the table as the core cuts it adds {:.1} um\nX from {:.3} to {:.3} mm, peak {:.1} mm/s, {:.0} mm/s^2; velocity continuous (largest jump {:.1e} mm/s)\nup to {:.1} rpm ({} limit); table {} points over {} lathe counts",
+        "{} sides in {} revolution(s), order {}\ncorners {corners}; the table as the core cuts it adds {:.1} µm\nX from {:.3} to {:.3} mm, peak {:.1} mm/s, {:.0} mm/s^2; velocity continuous (largest jump {:.1e} mm/s)\nup to {:.1} rpm ({} limit); table {} points over {} lathe counts",
         j["sides"], j["m"], order.join("-"), f("table_deviation_um"), f("x_min_mm"), f("x_max_mm"), f("peak_x_speed"),
         f("peak_x_accel"), f("velocity_jump_mm_s"), f("max_rpm"), j["limited_by"].as_str().unwrap_or(""),
         j["table"]["points"], j["table"]["period_counts"]

@@ -41,7 +41,7 @@ pub fn human(sc: &Scenario, r: &SimResult) -> String {
         "setup: ratio {} x {} edges, {} sense, R1 {} R2 {} (stock diameter {}) DOC {} mm\n\
          cut: {} sides, {calipers}, flat deviation {:+.4} mm\n\
          worst phase error while synced: {:.2} steps ({:.4} deg of the work), while cutting: {:.2} steps\n\
-         worst section deviation from the ideal: {:.2} um\n\
+         worst section deviation from the ideal: {:.2} µm\n\
          final error at rest: {} steps; faults: {faults}; {} ticks, {} steps",
         sc.setup.ratio,
         sc.setup.edges,
