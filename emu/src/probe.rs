@@ -69,7 +69,9 @@ pub fn on_return(c: &mut Chip, exc: usize) {
         if c.tape.is_some() {
             let o = c.outputs();
             let enable = o.enable.is_some_and(|e| e != o.enable_inactive);
-            c.tape.as_mut().map(|t| t.tick_done(enable));
+            if let Some(t) = c.tape.as_mut() {
+                t.tick_done(enable);
+            }
         }
         if c.mcu.read(TIM11 + off::SR) & 1 == 0 {
             c.probe.tick_uif_clears += 1;

@@ -107,7 +107,8 @@ pub fn compare(config: &Config, tape: &Tape, edges: &[Edge], until: u64) -> Repl
     let image = rises(edges, true, until);
     let len = polyturn_sync::derived::Derived::new(config, Timing::FIRMWARE).steps.tick_len as u64;
     let first_at = tape.ticks.first().map_or(0, |t| t.at);
-    let gaps = tape.ticks.windows(2).take_while(|w| w[1].at < until).filter(|w| w[1].at - w[0].at > len * 3 / 2).count();
+    let gaps =
+        tape.ticks.windows(2).take_while(|w| w[1].at < until).filter(|w| w[1].at - w[0].at > len * 3 / 2).count();
     let offset = match (image.first(), host.first()) {
         (Some(i), Some(h)) => i.0 as i64 - h.0 as i64,
         _ => 0,

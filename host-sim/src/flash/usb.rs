@@ -58,7 +58,9 @@ pub fn open(wait: Duration) -> Result<DfuNusb, String> {
 fn open_error(e: nusb::Error) -> String {
     match e.kind() {
         nusb::ErrorKind::PermissionDenied => no_permission(),
-        nusb::ErrorKind::Busy => "the STM32 bootloader is in use by another program (dfu-util, STM32CubeProgrammer?)".into(),
+        nusb::ErrorKind::Busy => {
+            "the STM32 bootloader is in use by another program (dfu-util, STM32CubeProgrammer?)".into()
+        }
         _ => format!("cannot open the STM32 bootloader: {e}"),
     }
 }

@@ -44,8 +44,7 @@ impl Snapshot {
         // idle, the jog's while jogging, in the motor's own sense (its steps
         // count down with dir=opposite while the lathe's encoder counts up).
         // |v| ≤ max-rate / tick rate < 2^20 (Q16), × hz · 600 < 2^45.
-        let cutter_rpm10 =
-            s.cutter_velocity_q16 * self.tick_hz as i64 * 600 / ((c.motor_steps_per_rev as i64) << 16);
+        let cutter_rpm10 = s.cutter_velocity_q16 * self.tick_hz as i64 * 600 / ((c.motor_steps_per_rev as i64) << 16);
         let err = Milli::steps_q16(s.phase_error_q16);
         let fault = self.fault.map(|f| f.name()).unwrap_or("none");
         let _ = write!(
