@@ -39,8 +39,10 @@ pub fn insn_count(code: &[u8]) -> u64 {
 const CSR_FLAGS: u32 = 0xFE00_0000;
 const PINRSTF: u32 = 1 << 26;
 
-/// Why the chip reset (each also sets PINRSTF: the STM32 drives NRST low on
-/// any internal reset, §6.1.2 figure 4).
+/// Why the chip reset. Each also sets PINRSTF: an inference from the reset
+/// circuit (§6.1.2: every internal reset source's pulse is output on NRST),
+/// which the manual's PINRSTF text (§6.3.21, "a reset from the NRST pin")
+/// does not state in so many words.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub enum Reset {
     /// SCB AIRCR.SYSRESETREQ: SFTRSTF

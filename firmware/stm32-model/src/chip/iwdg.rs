@@ -4,7 +4,7 @@
 //! countdown runs on the LSI (17-47 kHz, datasheet table "LSI oscillator
 //! characteristics"), so its timeout is a range: [`Iwdg::timeout_ns`]. The countdown
 //! itself is not run; the first interval after 0xCCCC counts down from 0xFFF
-//! whatever RLR holds (§15.3.1), so `timeout_ns` is the shortest later interval.
+//! whatever RLR holds (§15.3), so `timeout_ns` is the shortest later interval.
 
 use super::RegFile;
 
@@ -61,11 +61,16 @@ impl Iwdg {
         self.keys.iter().filter(|k| k.1 == 0xAAAA).map(|k| k.0).collect()
     }
 
-    /// The last reload (0xAAAA, or the start 0xCCCC) and how long the countdown
-    /// from it lasts at LSI frequency `lsi_hz`: (cycle of the key, ns). The first
-    /// countdown after the start runs from 0xFFF whatever RLR holds (§15.3.1).
+    /// The last reload since the start (0xAAAA, or the first 0xCCCC itself) and
+    /// how long the countdown from it lasts at LSI frequency `lsi_hz`: (cycle of
+    /// the key, ns). None before the start: the counter runs only once 0xCCCC
+    /// is written (§15.3), so a reload before it resets nothing. The first
+    /// countdown runs from 0xFFF whatever RLR holds (§15.3). (RLR and PR are
+    /// taken as they are now: the model applies their updates at once.)
     pub fn last_reload(&self, lsi_hz: u64) -> Option<(u64, u64)> {
-        let (at, key) = *self.keys.iter().rev().find(|k| k.1 == 0xAAAA || k.1 == 0xCCCC)?;
+        let start = self.keys.iter().position(|k| k.1 == 0xCCCC)?;
+        let since = &self.keys[start..];
+        let (at, key) = *since.iter().rev().find(|k| k.1 == 0xAAAA).unwrap_or(&since[0]);
         let rlr = if key == 0xCCCC { 0xFFF } else { self.regs.get(RLR) as u64 };
         let div = 4u64 << self.regs.get(PR).min(6);
         Some((at, (rlr + 1) * div * 1_000_000_000 / lsi_hz))
@@ -82,6 +87,20 @@ impl Iwdg {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_reload_before_the_start_is_no_countdown_15_3() {
+        let mut w = Iwdg::default();
+        w.write(KR, 0xAAAA, u32::MAX, 5);
+        assert_eq!(w.last_reload(32_000), None, "not started: nothing counts down");
+        w.write(KR, 0xCCCC, u32::MAX, 10);
+        // from 0xFFF at /4: 4096 × 4 / 32 kHz = 512 ms
+        assert_eq!(w.last_reload(32_000), Some((10, 512_000_000)));
+        w.write(KR, 0xCCCC, u32::MAX, 20);
+        assert_eq!(w.last_reload(32_000), Some((10, 512_000_000)), "a second start is not a reload");
+        w.write(KR, 0xAAAA, u32::MAX, 30);
+        assert_eq!(w.last_reload(32_000).map(|r| r.0), Some(30));
+    }
 
     #[test]
     fn pr_and_rlr_change_only_after_the_unlock_key() {
