@@ -104,6 +104,15 @@ fn demo_writes_the_hexagon_picture() {
     assert_eq!(code, 0, "{err}");
     assert!(out.contains("6 sides") && out.contains("final error at rest: 0 steps"), "{out}");
     assert!(std::fs::read_to_string(&svg).unwrap().starts_with("<svg"));
+    // the README's quick start shows what the demo prints, line for line
+    // (its last line names the file written, here another path)
+    let readme = include_str!("../../README.md");
+    let block = readme.split("```\npolyturn demo:").nth(1).expect("the README quotes the demo").split("```").next();
+    let quoted: Vec<&str> = block.unwrap().lines().collect();
+    let printed: Vec<&str> = out.lines().collect();
+    let n = printed.len() - 1;
+    assert_eq!(format!("polyturn demo:{}", quoted[0]), printed[0]);
+    assert_eq!(&quoted[1..n], &printed[1..n], "README.md's demo output differs from the demo's: copy it in");
 }
 
 #[test]
