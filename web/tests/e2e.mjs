@@ -142,6 +142,24 @@ await test('the planner table is polyturn setups --json', async () => {
   await view('plan', ['#plan-form', '#setups tbody tr']);
 });
 
+await test('the planner says the cutter radius it assumed, its notes and its warnings, beside the rows', async () => {
+  await page.fill('#plan-form [name=rpm]', '3000');
+  await page.click('#plan-form button[type=submit]');
+  const want = cli('setups', '--sides', 6, '--stock-radius', 20, '--across-flats', 30, '--rpm', 3000, '--tolerance', 0.01, '--max-edges', 6, '--max-ratio', 8);
+  assert.ok(want.warnings.length > 0 && want.cutter_radius_assumed, 'at 3000 rpm with no cutter given, the CLI warns and assumes');
+  await page.waitForFunction(() => document.querySelectorAll('#plan-notes .warning').length > 0);
+  const text = await page.$eval('#plan-notes', (e) => e.textContent);
+  assert.ok(text.includes(`assumed: ${want.cutter_radius_assumed}`), text);
+  for (const w of want.warnings) assert.ok(text.includes(`warning: ${w}`), `missing warning: ${w}`);
+  for (const n of want.notes) assert.ok(text.includes(`note: ${n}`), `missing note: ${n}`);
+  assert.ok(text.includes(want.geometry_command), 'the first row\'s geometry line');
+  const cells = await page.$$eval('#setups tbody tr', (trs) => trs.map((tr) => tr.children[9].textContent));
+  want.setups.forEach((s, i) => assert.equal(cells[i], s.warnings.join('; '), `row ${i} warnings`));
+  await page.fill('#plan-form [name=rpm]', '600');
+  await page.click('#plan-form button[type=submit]');
+  await page.waitForFunction(() => !document.getElementById('plan-notes').textContent.includes('--rpm 3000'));
+});
+
 const geometry = (s) => cli('geometry', '--cutter-radius', s.cutter_radius, '--stock-radius', s.stock, '--depth', s.depth, '--ratio', s.ratio, '--edges', s.edges, '--direction', s.direction);
 const previewJson = () => page.$eval('#figures', (el) => JSON.parse(el.dataset.json ?? 'null'));
 
