@@ -29,9 +29,9 @@ pub struct Probe {
 }
 
 impl Probe {
-    /// The tick's handler is running.
-    pub fn in_tick(&self) -> bool {
-        self.tick_entered.is_some()
+    /// When the tick's handler now running was entered.
+    pub fn tick_entered(&self) -> Option<u64> {
+        self.tick_entered
     }
 
     pub fn tick_average(&self) -> f64 {

@@ -95,16 +95,16 @@ struct Partial {
 }
 
 impl Tape {
-    /// A register read of `word` that gave `value`; `in_tick` when the tick's
-    /// handler made it.
-    pub fn read(&mut self, word: u32, value: u32, in_tick: bool, now: u64) {
-        if !in_tick {
+    /// A register read of `word` that gave `value`; `entered` is when the
+    /// tick's handler making it was entered, if the tick's handler made it.
+    pub fn read(&mut self, word: u32, value: u32, entered: Option<u64>) {
+        let Some(at) = entered else {
             if self.ticks.is_empty() {
                 self.before_first_tick(word, value);
             }
             return;
-        }
-        let p = self.now.get_or_insert_with(|| Partial { at: now, ..Partial::default() });
+        };
+        let p = self.now.get_or_insert_with(|| Partial { at, ..Partial::default() });
         let v = Some(value as u16);
         match word {
             w if w == TIM3 + off::CNT => p.lathe = p.lathe.or(v),
@@ -148,10 +148,9 @@ impl Tape {
 impl Chip {
     /// Feeds a read to the tape, if one is running.
     pub(crate) fn tape_read(&mut self, word: u32, value: u32) {
-        let in_tick = self.probe.in_tick();
-        let now = self.now;
+        let entered = self.probe.tick_entered();
         if let Some(t) = self.tape.as_mut() {
-            t.read(word, value, in_tick, now);
+            t.read(word, value, entered);
         }
     }
 }

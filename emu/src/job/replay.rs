@@ -113,6 +113,9 @@ pub fn compare(config: &Config, tape: &Tape, edges: &[Edge], until: u64) -> Repl
         (Some(i), Some(h)) => i.0 as i64 - h.0 as i64,
         _ => 0,
     };
+    // the last ticks' plans run after `until` (two ticks on): compare the
+    // steps both sides put before it
+    let host: Vec<(u64, bool)> = host.into_iter().filter(|h| h.0 as i64 + offset < until as i64).collect();
     let first_difference = host.iter().zip(&image).enumerate().find_map(|(j, (h, i))| {
         let want = h.0 as i64 + offset;
         (want != i.0 as i64 || h.1 != i.1).then(|| {
