@@ -38,9 +38,8 @@ pub fn boot(r: &mut Report, m: &mut Machine, led_out: Option<u64>) {
     let sysclk = board::SYSCLK_HZ as f64;
     let c = m.chip();
     let (started, pets) = (c.iwdg.started_at(), c.iwdg.pets());
-    let mut prev = started.unwrap_or(0);
-    let gap = pets.iter().map(|&p| std::mem::replace(&mut prev, p).abs_diff(p)).max().unwrap_or(0);
     let now = c.now;
+    let gap = c.iwdg.longest_gap(started.unwrap_or(now), now);
     let ok = c.faults.is_empty()
         && started.is_some_and(|s| s <= BOOT_BOUND)
         && led_out.is_some_and(|t| t <= BOOT_BOUND)

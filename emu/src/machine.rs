@@ -204,8 +204,9 @@ impl Machine {
         let _ = self.uc.reg_write(RegisterARM::PC, rv as u64);
     }
 
-    /// A reset (power-on, or the reset pin): a new machine from the flash as this
-    /// one left it; RAM, registers and time start again.
+    /// A power cycle: a new machine from the flash as this one left it; RAM,
+    /// registers and time start again (a reset that keeps the SRAM, as the
+    /// reset pin or SYSRESETREQ does, is `reset_as`).
     pub fn reset(mut self) -> Result<Machine, String> {
         self.chip().apply_fixups();
         let flash = self._flash.to_vec();

@@ -32,14 +32,11 @@ pub fn run(image: &Rc<Image>, r: &mut Report) -> Result<u64, String> {
     // the controller calls the lathe at rest once it has been still a while
     // (`Controller::lathe_at_rest`); only then is a save taken
     m.run(1_200 * MS);
-    let (pets0, t0, stall0) = (m.chip().iwdg.pets().len(), m.chip().now, m.chip().stalled);
+    let (t0, stall0) = (m.chip().now, m.chip().stalled);
     let (saved, save_ms, _) = exchange_within(&mut m, "save\n", SAVE_LIMIT_MS)?;
     let stalled_ms = (m.chip().stalled - stall0) as f64 / MS as f64;
-    let pets = m.chip().iwdg.pets();
-    let mut prev = t0;
-    let gap =
-        pets[pets0.min(pets.len())..].iter().map(|&p| std::mem::replace(&mut prev, p).abs_diff(p)).max().unwrap_or(0);
-    let gap = gap.max(m.chip().now - prev);
+    let c = m.chip();
+    let gap = c.iwdg.longest_gap(t0, c.now);
     let shortest_ms = m.chip().iwdg.timeout_ns(LSI_HZ[2]) as f64 / 1e6;
     let total = m.chip().now;
     let mut m = booted(m.reset()?)?;

@@ -188,8 +188,7 @@ fn reboot(mut m: Machine, why: &Reset, at_request: Option<Outputs>) -> Result<Ma
 fn flash_and_watchdog(m: &mut Machine) -> String {
     let c = m.chip();
     let ms = |cycles: u64| cycles / crate::MS;
-    let reloads: Vec<u64> = c.iwdg.keys.iter().filter(|k| k.1 == 0xAAAA || k.1 == 0xCCCC).map(|k| k.0).collect();
-    let gap = reloads.windows(2).map(|w| w[1] - w[0]).chain(reloads.last().map(|&l| c.now - l)).max().unwrap_or(0);
+    let gap = c.iwdg.longest_gap(c.iwdg.started_at().unwrap_or(c.now), c.now);
     let shortest = c.iwdg.timeout_ns(LSI_HZ[2]) / 1_000_000;
     format!(
         "the flash stalled the CPU {} ms; longest watchdog gap {} ms (shortest timeout {shortest} ms)",

@@ -69,7 +69,8 @@ pub fn tilt_and_r1_table() -> String {
         "| setup (R1 50, R2 10, depth 1.5 mm) | axes tilted 0.1° toward the work: over 25 mm of length the flats are nearer the centre by | R1 0.5 mm under the plan's: flat bulge, planned → cut | the same: corner diameter, planned → cut |\n|---|---|---|---|\n",
     );
     for (name, s) in setups() {
-        let base = smallest_diameter(&s);
+        let p = summary(&s);
+        let base = 2.0 * p.inscribed_radius;
         // 25 mm along the work the centre distance is 25·tan(0.1°) smaller
         let closer = 25.0 * 0.1f64.to_radians().tan();
         let tilted = Setup { depth_mm: s.depth_mm + closer, ..s };
@@ -77,7 +78,7 @@ pub fn tilt_and_r1_table() -> String {
         // the depth is fed from the tip touching the stock, so the real cut
         // has the plan's depth with the real, smaller R1
         let real = Setup { cutter_radius_mm: s.cutter_radius_mm - 0.5, ..s };
-        let (p, r) = (summary(&s), summary(&real));
+        let r = summary(&real);
         t += &format!(
             "| {name} | {taper_um:.0} µm | {:+.1} → {:+.1} µm | {:.3} → {:.3} mm |\n",
             p.flat_deviation * 1000.0,

@@ -76,6 +76,22 @@ impl Iwdg {
         Some((at, (rlr + 1) * div * 1_000_000_000 / lsi_hz))
     }
 
+    /// The longest time in `[from, to]` without a reload, in the keys' time
+    /// unit: between `from`, each reload in the span since the start (0xAAAA,
+    /// or the first 0xCCCC itself, as in `last_reload`) and `to`. 0 before the
+    /// start: nothing counts down (§15.3).
+    pub fn longest_gap(&self, from: u64, to: u64) -> u64 {
+        let Some(start) = self.keys.iter().position(|k| k.1 == 0xCCCC) else { return 0 };
+        let reloads = self.keys[start..].iter().enumerate().filter(|(i, k)| *i == 0 || k.1 == 0xAAAA);
+        let mut prev = from;
+        let mut gap = 0;
+        for (_, &(at, _)) in reloads.filter(|(_, k)| (from..=to).contains(&k.0)) {
+            gap = gap.max(at - prev);
+            prev = at;
+        }
+        gap.max(to - prev)
+    }
+
     /// The time from a reload to the reset at LSI frequency `lsi_hz`: (RLR + 1)
     /// periods of LSI / 4·2^PR (§15.3.3 table: prescaler /4 at PR = 0 ... /256).
     pub fn timeout_ns(&self, lsi_hz: u64) -> u64 {
@@ -87,6 +103,19 @@ impl Iwdg {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn the_longest_gap_counts_from_the_start_between_reloads_and_to_the_end() {
+        let mut w = Iwdg::default();
+        w.write(KR, 0xAAAA, u32::MAX, 5);
+        assert_eq!(w.longest_gap(0, 100), 0, "not started");
+        for (at, key) in [(10, 0xCCCC), (20, 0xAAAA), (60, 0xAAAA), (70, 0xCCCC), (75, 0xAAAA)] {
+            w.write(KR, key, u32::MAX, at);
+        }
+        assert_eq!(w.longest_gap(10, 80), 40, "20 to 60; a second start is no reload");
+        assert_eq!(w.longest_gap(10, 200), 125, "the last reload to the end");
+        assert_eq!(w.longest_gap(30, 65), 30, "from 30 to the reload at 60");
+    }
 
     #[test]
     fn a_reload_before_the_start_is_no_countdown_15_3() {
