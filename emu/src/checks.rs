@@ -79,9 +79,13 @@ pub fn registers(r: &mut Report, m: &mut Machine) {
         }
     }
     // nothing else enabled at or above the tick's level: it would delay the tick,
-    // or race the state app/cs.rs's BASEPRI section protects
+    // or race the state app/cs.rs's BASEPRI section protects; the E-stop above it
     let tick = svd::irq(board::TICK_IRQ);
-    let allowed = [tick, svd::irq(board::SHARES_TICK)];
+    let estop = svd::irq(board::ESTOP_IRQ);
+    if c.nvic.prio[16 + estop] >= c.nvic.prio[16 + tick] {
+        bad.push("the E-stop does not pre-empt the tick".to_string());
+    }
+    let allowed = [tick, estop];
     let crowd: Vec<usize> = (0..c.nvic.enabled.len())
         .filter(|&n| c.nvic.enabled[n] && c.nvic.prio[16 + n] <= c.nvic.prio[16 + tick] && !allowed.contains(&n))
         .collect();
@@ -161,9 +165,12 @@ pub fn safety(r: &mut Report, m: &mut Machine, name: &str, after: Outputs) {
     r.line(ok, name, &text);
 }
 
-/// Report only: the longest PRIMASK sections (see `primask.rs`).
+/// Report only: the longest PRIMASK sections (see `primask.rs`) and the longest
+/// that hold off the tick (`tickmask.rs`).
 pub fn primask(r: &mut Report, m: &mut Machine) {
     let mhz = m.chip().sysclk() as f64 / 1e6;
+    let tm = &m.chip().tickmask;
+    let (tick_longest, tick_ticking, tick_n) = (tm.longest, tm.ticking, tm.sections);
     let log = &m.chip().primask;
     let (longest, ticking, n) = (log.longest, log.ticking, log.sections);
     let part = |s: crate::primask::Section| {
@@ -176,9 +183,12 @@ pub fn primask(r: &mut Report, m: &mut Machine) {
         )
     };
     let text = format!(
-        "longest PRIMASK section in thread mode: {}; with the tick running: {}; {n} sections",
+        "longest PRIMASK section in thread mode (holds off the E-stop): {}; with the tick running: {}; {n} sections. Longest holding off the tick (BASEPRI at its level, or PRIMASK): {}; with the tick running: {}; {} sections",
         part(longest),
-        part(ticking)
+        part(ticking),
+        part(tick_longest),
+        part(tick_ticking),
+        tick_n
     );
     r.line(true, "irq-off", &text);
 }

@@ -91,6 +91,7 @@ pub struct Chip {
     /// TIM1/TIM9 pin edges already passed through the jumpers
     mcu_edges_seen: usize,
     pub primask: crate::primask::PrimaskLog,
+    pub tickmask: crate::tickmask::TickMaskLog,
     /// the tick's inputs and ENABLE, recorded when a job asks (`tape`)
     pub tape: Option<crate::tape::Tape>,
     /// the image mapped system memory at 0 (SYSCFG_MEMRMP.MEM_MODE = 01, §7.2.1)
@@ -167,6 +168,7 @@ impl Chip {
             jumpers: Jumpers::default(),
             mcu_edges_seen: 0,
             primask: Default::default(),
+            tickmask: Default::default(),
             tape: None,
             rom_jump: false,
         }

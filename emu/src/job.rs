@@ -74,8 +74,12 @@ pub struct Outcome {
     pub estop: Option<crate::job::estop::Seen>,
     /// the tick handler: average and worst instructions, entry to return
     pub tick: (f64, u64),
-    /// the longest interrupts-off section in thread mode, instructions
+    /// the longest interrupts-off (PRIMASK) section in thread mode, instructions:
+    /// what can delay the E-stop
     pub irq_off: u64,
+    /// the longest thread-mode section holding off the running tick (its lock),
+    /// instructions
+    pub tick_lock: u64,
     /// the step stream against the host core fed the image's own tick inputs
     pub replay: Option<replay::Replay>,
 }
@@ -206,6 +210,7 @@ fn outcome(m: &mut Machine, spec: &Spec, cfg: &Config, wall: Instant) -> Outcome
         estop: None,
         tick: (c.probe.tick_average(), c.probe.tick_worst),
         irq_off: c.primask.longest.instructions,
+        tick_lock: c.tickmask.ticking.instructions,
         replay: None,
     }
 }

@@ -1,6 +1,6 @@
 //! polyturn's firmware image on an emulated STM32F411 (`bash .ci/emu`).
 //!
-//! usage: polyturn-emu ELF [-v] [--only=usb | --only=jobs | --pty [--lathe-rpm RPM]]
+//! usage: polyturn-emu ELF [-v] [--only=usb | --only=jobs | --job=NAME | --pty [--lathe-rpm RPM]]
 //!
 //! Scenarios (each from reset, flash erased, so default settings):
 //! 1. boot and run 160 ms with the E-stop closed (PB14 driven low) and no drive
@@ -9,7 +9,8 @@
 //! 2. boot and run 60 ms, then the drive alarm pulls PB15 low.
 //! 3. USB (`usb::scenario`): the emulated host enumerates the console, sends
 //!    `status` and `set cpr 0` and reads the replies. `--only=usb` runs just this.
-//! 4. the jobs (`jobs`): `--only=jobs` runs just these.
+//! 4. the jobs (`jobs`): `--only=jobs` runs just these, `--job=c` just those
+//!    whose name begins so.
 //!
 //! `--pty` instead boots, enumerates and serves the console on a pseudo-terminal
 //! whose path it prints (`usb::pty`); with `--lathe-rpm RPM` the lathe turns at
@@ -35,6 +36,7 @@ mod primask;
 mod probe;
 mod svd;
 mod tape;
+mod tickmask;
 mod usb;
 
 use checks::Report;
@@ -78,7 +80,9 @@ fn main() {
     let wall = Instant::now();
     let mut r = Report::default();
     let only_usb = args.iter().any(|a| a == "--only=usb");
-    let only_jobs = args.iter().any(|a| a == "--only=jobs");
+    // --job=c: just the jobs whose name begins so (implies --only=jobs)
+    let job = args.iter().find_map(|a| a.strip_prefix("--job="));
+    let only_jobs = job.is_some() || args.iter().any(|a| a == "--only=jobs");
     let mut total = if only_usb || only_jobs { 0 } else { scenarios(&image, &mut r).unwrap_or_else(exit) };
     if !only_jobs {
         total += usb::scenario::run(&image, &mut r).unwrap_or_else(exit);
@@ -86,7 +90,7 @@ fn main() {
         total += job::selftest::run(&image, &mut r).unwrap_or_else(exit);
     }
     if !only_usb {
-        total += jobs::run_all(&image, &mut r).unwrap_or_else(exit);
+        total += jobs::run_all(&image, &mut r, job.unwrap_or("")).unwrap_or_else(exit);
     }
     println!(
         "emulated {total} instructions ({:.1} ms of MCU time) in {:.1} s wall; {} check(s) failed",

@@ -46,9 +46,31 @@ pub fn hooks(m: &mut Machine) -> Result<(), String> {
 fn basepri(uc: &mut Unicorn<Chip>, addr: u32) {
     let value = msr_source(uc, addr);
     let primask = uc.reg_read(R::PRIMASK).unwrap_or(0) & 1 == 1;
+    let current = uc.reg_read(R::BASEPRI).unwrap_or(0) as u32;
+    let next = crate::tickmask::next_basepri(current, value, sysm(uc, addr) == SYSM_BASEPRI_MAX);
+    let t = time_at(uc, addr);
+    crate::tickmask::change(uc, t, addr, primask, next);
     if uc.get_data().deliverable(primask, value & 0xFF).is_some() {
         uc.get_data_mut().deadline = 0;
     }
+}
+
+/// SYSm of BASEPRI_MAX (ARMv7-M ARM B5.1.1): `msr basepri_max` rather than `basepri`.
+const SYSM_BASEPRI_MAX: u16 = 0x12;
+
+/// The special register an `msr` at `addr` writes: SYSm, the low byte of the T1
+/// encoding's second halfword (ARMv7-M ARM B5.2.3).
+fn sysm(uc: &Unicorn<Chip>, addr: u32) -> u16 {
+    let c = uc.get_data();
+    let off = (addr & 0x00FF_FFFF) as usize + 2;
+    u16::from_le_bytes([c.code[off], c.code[off + 1]]) & 0xFF
+}
+
+/// The run's instruction count at `addr`, inside the block being run.
+fn time_at(uc: &Unicorn<Chip>, addr: u32) -> u64 {
+    let c = uc.get_data();
+    let (start, off) = ((c.pc & 0x00FF_FFFF) as usize, (addr & 0x00FF_FFFF) as usize);
+    c.blk + insn_count(&c.code[start..off.max(start)])
 }
 
 /// The value an `msr <special>, rN` at `addr` is about to write: its T1
@@ -65,11 +87,10 @@ fn at(uc: &mut Unicorn<Chip>, addr: u32, value: Option<bool>) {
         return; // only thread-mode sections are measured
     }
     let primask = uc.reg_read(R::PRIMASK).unwrap_or(0) & 1 == 1;
-    let c = uc.get_data();
-    let off = (addr & 0x00FF_FFFF) as usize;
     let value = value.unwrap_or_else(|| msr_source(uc, addr) & 1 == 1);
-    let start = (c.pc & 0x00FF_FFFF) as usize;
-    let t = c.blk + insn_count(&c.code[start..off.max(start)]);
+    let t = time_at(uc, addr);
+    crate::tickmask::change(uc, t, addr, value, uc.reg_read(R::BASEPRI).unwrap_or(0) as u32);
+    let c = uc.get_data();
     let tick_on = c.nvic.enabled[crate::svd::irq("TIM1_TRG_COM_TIM11")];
     let deliverable = crate::cpu::deliverable(uc, Some(false)).is_some();
     let c = uc.get_data_mut();

@@ -5,7 +5,7 @@
 use crate::chip::pins::Outputs;
 use crate::chip::Chip;
 use crate::svd;
-use polyturn_stm32_model::addr::{off, TIM11};
+use polyturn_stm32_model::addr::{off, TIM11, TIM1_CR1};
 
 /// A pin change to fire after the next tick returns: (port, pin, level).
 pub type Trip = (usize, u8, Option<bool>);
@@ -16,6 +16,11 @@ pub struct Probe {
     pub exti_entered: Option<u64>,
     pub exti_return: Option<Outputs>,
     pub trip: Option<Trip>,
+    /// A pin change to fire right after the image writes this value to this
+    /// register: (address, value, change). The E-stop opening mid-arm.
+    pub trip_on_write: Option<(u32, u32, Trip)>,
+    /// the first write stopping TIM1 (CR1 with CEN clear) after `edge_at`
+    pub step_timer_stopped: Option<u64>,
     pub before: Option<Outputs>,
     pub edge_at: Option<u64>,
     /// the tick handler's runs: entry time of the one running, and (count,
@@ -84,6 +89,19 @@ pub fn on_return(c: &mut Chip, exc: usize) {
     }
 }
 
+/// After a bus write: fires `trip_on_write` if this is its write. The
+/// interrupt the change pends is taken at the end of the block (`fire`).
+pub fn on_write(c: &mut Chip, word: u32, value: u32) {
+    if word == TIM1_CR1 && value & 1 == 0 && c.probe.edge_at.is_some() && c.probe.step_timer_stopped.is_none() {
+        c.probe.step_timer_stopped = Some(c.now);
+    }
+    if c.probe.trip_on_write.is_some_and(|(a, v, _)| a == word && v == value) {
+        if let Some((_, _, t)) = c.probe.trip_on_write.take() {
+            fire(c, t);
+        }
+    }
+}
+
 /// Fires the input change having set the ESC to a running pulse (1.5 × the stop
 /// pulse, as a running BLDC would have it), so the E-stop interrupt's own work is
 /// visible before the next tick would redo it.
@@ -92,6 +110,7 @@ fn fire(c: &mut Chip, (port, pin, level): Trip) {
     c.gp[3].write(off::CCR1, stop * 3 / 2, 0xFFFF);
     c.probe.before = Some(c.outputs());
     c.probe.edge_at = Some(c.now);
+    c.probe.step_timer_stopped = None;
     let edges = c.gpio[port].drive(pin, level);
     c.pin_edges(port, edges);
     c.update_lines();

@@ -156,53 +156,62 @@ pub const TIMERS: &[(&str, &str)] = &[
     ("TIM5", "embassy time driver"),
     ("TIM9", "the bench self-test's quadrature generator (CH1 PA2, CH2 PA3)"),
     ("TIM10", "ESC PWM (BLDC mode)"),
-    ("TIM11", "control tick, 25 kHz update interrupt at the highest priority"),
+    ("TIM11", "control tick, 25 kHz update interrupt below only the E-stop"),
 ];
 
 /// Interrupt priorities, in one place (0 is the most urgent; the NVIC of
-/// the STM32F411 has 16 levels). The control tick is strictly above every
-/// other interrupt but the E-stop/alarm one, which may share its level
-/// (both only stop things, and equal levels do not pre-empt each other).
-/// `app` applies this map at boot and checks every enabled interrupt
-/// against it.
+/// the STM32F411 has 16 levels). The E-stop/alarm interrupt is above
+/// everything, so STEP stops at the EXTI's latency even mid-tick; the
+/// control tick is next, strictly above every other interrupt. Neither
+/// takes a lock the other holds: the E-stop only writes the outputs, and
+/// the tick re-applies the stop if the E-stop ran inside it
+/// (`app/tick.rs`). `app` applies this map at boot and checks every
+/// enabled interrupt against it.
 pub const PRIORITIES: &[(&str, u8)] = &[
-    (TICK_IRQ, TICK_LEVEL),    // control tick
-    (SHARES_TICK, TICK_LEVEL), // E-stop, drive alarm
-    ("TIM5", 1),               // embassy's time driver
-    ("TIM1_BRK_TIM9", 1),      // the self-test's generator (quadgen)
-    ("OTG_FS", 2),             // USB console
-    ("USART6", 6),             // planning executor (InterruptExecutor)
+    (ESTOP_IRQ, ESTOP_LEVEL), // E-stop, drive alarm
+    (TICK_IRQ, TICK_LEVEL),   // control tick
+    ("TIM5", 2),              // embassy's time driver
+    ("TIM1_BRK_TIM9", 2),     // the self-test's generator (quadgen)
+    ("OTG_FS", 3),            // USB console
+    ("USART6", 6),            // planning executor (InterruptExecutor)
 ];
 
-/// The interrupt that may share the tick's level.
-pub const SHARES_TICK: &str = "EXTI15_10";
+/// The E-stop and drive-alarm interrupt (EXTI lines 14 and 15).
+pub const ESTOP_IRQ: &str = "EXTI15_10";
+/// The E-stop's level: the most urgent, above the tick and its lock.
+pub const ESTOP_LEVEL: u8 = 0;
 /// The control tick's interrupt (TIM11's update shares TIM1's vector).
 pub const TICK_IRQ: &str = "TIM1_TRG_COM_TIM11";
-/// The tick's level: the most urgent (`app/cs.rs` masks every level below).
-pub const TICK_LEVEL: u8 = 0;
+/// The tick's level: next to the E-stop. The tick's lock masks this level
+/// and below (`app/tick.rs`); `app/cs.rs` masks every level below it.
+pub const TICK_LEVEL: u8 = 1;
 
 #[cfg(test)]
 mod tests {
     use super::*;
 
     #[test]
-    fn only_the_estop_shares_the_ticks_priority_and_nothing_outranks_it() {
+    fn only_the_estop_outranks_the_tick_and_nothing_shares_its_level() {
         let tick = PRIORITIES.iter().find(|p| p.0 == TICK_IRQ).unwrap().1;
         for (name, level) in PRIORITIES {
             assert!(*level < 16, "{name}: the NVIC has 16 levels");
-            assert!(*level >= tick, "{name} outranks the tick");
-            if *level == tick && *name != TICK_IRQ {
-                assert_eq!(*name, SHARES_TICK);
+            if *name == ESTOP_IRQ {
+                assert!(*level < tick, "the E-stop must pre-empt the tick");
+            } else if *name != TICK_IRQ {
+                assert!(*level > tick, "{name} reaches the tick's level");
             }
         }
     }
 
     #[test]
-    fn the_estop_sits_at_the_ticks_level_above_the_global_critical_section() {
-        // app/cs.rs masks every level below the tick's: an E-stop any lower
-        // would wait for a log line or embassy
+    fn the_estop_is_above_the_ticks_lock_and_the_global_critical_section() {
+        // the tick's lock (app/tick.rs) writes BASEPRI = TICK_LEVEL << 4,
+        // which masks TICK_LEVEL and below (PM0214 §2.1.3): the E-stop must
+        // stay deliverable under it, so it must be strictly more urgent
         let level = |n: &str| PRIORITIES.iter().find(|p| p.0 == n).unwrap().1;
-        assert_eq!(level(SHARES_TICK), level(TICK_IRQ));
+        assert_eq!(level(ESTOP_IRQ), ESTOP_LEVEL);
+        assert_eq!(level(TICK_IRQ), TICK_LEVEL);
+        assert!(ESTOP_LEVEL < TICK_LEVEL && TICK_LEVEL > 0, "BASEPRI 0 masks nothing");
     }
 
     #[test]

@@ -111,6 +111,7 @@ impl Chip {
             Periph::Usb => self.usb_write(off, v, m),
             Periph::Ppb => self.nvic.write(off, v, m, self.blk),
         }
+        crate::probe::on_write(self, word, v);
     }
 
     fn narrow(&mut self, addr: u32, size: u32) -> u32 {

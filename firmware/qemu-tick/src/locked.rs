@@ -1,8 +1,9 @@
-//! The firmware's interrupts-off sections: every closure the firmware runs
-//! under the tick's lock (`tick::with_core` from the console, the service
-//! task, the report, the LED loop), measured on the same core code. Each
-//! is the closure alone; `critical_section::with` adds its cpsid/cpsie and
-//! the RefCell borrow (about 12 instructions) around it.
+//! The firmware's sections that hold off the tick: every closure the
+//! firmware runs under the tick's lock (`tick::with_core` from the console,
+//! the service task, the report, the LED loop), measured on the same core
+//! code. Each is the closure alone; the lock (`tick::locked`: BASEPRI
+//! raised and restored) and the RefCell borrow add about 12 instructions
+//! around it. The E-stop, above the tick, is not held off by them.
 
 use crate::meter::{measure, TIMING};
 use core::sync::atomic::{AtomicBool, Ordering};

@@ -4,8 +4,9 @@
 //! emulator measured 7 657 instructions, 80 µs, two ticks), and embassy
 //! for its queues; neither may delay the tick or the E-stop, which touch
 //! nothing of theirs and never log (`.ci/qemu` checks their call graphs).
-//! The state the tick shares (`tick::IO`) has its own lock, PRIMASK, held
-//! only for short copies (`tick::with_core`).
+//! The state the tick shares (`tick::IO`) has its own lock, BASEPRI one
+//! level higher (`tick::locked`), held only for short copies; the E-stop,
+//! above the tick, is masked by neither.
 //!
 //! BASEPRI (PM0214 §2.1.3): "when set to a nonzero value, it prevents the
 //! activation of all exceptions with the same or lower priority level";
@@ -21,8 +22,8 @@ struct Basepri;
 critical_section::set_impl!(Basepri);
 
 // SAFETY: single core; BASEPRI masks every interrupt that takes this
-// section (all below the tick's level), and the tick and E-stop handlers
-// never take it (checked on their call graphs in .ci/qemu).
+// section (all below the tick's level), and the tick and E-stop handlers,
+// above it, never take it (checked on their call graphs in .ci/qemu).
 unsafe impl critical_section::Impl for Basepri {
     unsafe fn acquire() -> critical_section::RawRestoreState {
         let old = cortex_m::register::basepri::read() as u32;

@@ -1,12 +1,13 @@
 //! Applies `board::PRIORITIES` and checks, at boot, that no enabled
-//! interrupt has the tick's level but the one allowed to share it (an
-//! interrupt enabled by a driver without a priority is at 0, the tick's).
+//! interrupt reaches the tick's level but the tick and the E-stop above it
+//! (an interrupt enabled by a driver without a priority is at 0, the
+//! E-stop's, above the tick).
 
 use cortex_m::interrupt::InterruptNumber;
 use cortex_m::peripheral::NVIC;
 use embassy_stm32::interrupt;
 use embassy_stm32::interrupt::{InterruptExt, Priority};
-use polyturn_firmware::board::{PRIORITIES, SHARES_TICK};
+use polyturn_firmware::board::{ESTOP_IRQ, PRIORITIES};
 
 fn level(n: u8) -> Priority {
     // the NVIC keeps the top 4 bits (RM0383 / PM0214 §4.3.7)
@@ -37,18 +38,23 @@ unsafe impl InterruptNumber for Irq {
     }
 }
 
-/// True when every enabled interrupt at the tick's level is the tick or
-/// the one allowed to share it, and all 4 priority bits are group priority
+/// True when every enabled interrupt at or above the tick's level is the
+/// tick or the E-stop, the E-stop is above the tick, and all 4 priority
+/// bits are group priority
 /// (AIRCR.PRIGROUP ≤ 3, PM0214 §4.4.5: `cs.rs`'s BASEPRI mask assumes it);
 /// logs each that is not.
 pub fn check() -> bool {
     let tick = interrupt::TIM1_TRG_COM_TIM11.get_priority();
-    let allowed = [interrupt::TIM1_TRG_COM_TIM11.number(), shared()];
+    let allowed = [interrupt::TIM1_TRG_COM_TIM11.number(), estop()];
     // SAFETY: a read of SCB.AIRCR
     let prigroup = (unsafe { (*cortex_m::peripheral::SCB::PTR).aircr.read() } >> 8) & 7;
     let mut ok = prigroup <= 3;
     if !ok {
         defmt::error!("AIRCR.PRIGROUP is {}: priority levels split", prigroup);
+    }
+    if u8::from(interrupt::EXTI15_10.get_priority()) >= u8::from(tick) {
+        defmt::error!("the E-stop does not pre-empt the tick");
+        ok = false;
     }
     for n in 0..86u16 {
         let irq = Irq(n);
@@ -60,8 +66,8 @@ pub fn check() -> bool {
     ok
 }
 
-fn shared() -> u16 {
-    match SHARES_TICK {
+fn estop() -> u16 {
+    match ESTOP_IRQ {
         "EXTI15_10" => interrupt::EXTI15_10.number(),
         _ => u16::MAX,
     }

@@ -1,9 +1,11 @@
 //! E-stop (normally closed to GND: open = stop) and drive alarm (pulled to
 //! GND on alarm), on EXTI. They halt the step output and stop the ESC in
-//! their own interrupt, at once; the tick then latches the fault. (The
+//! their own interrupt, at once: it is the most urgent (`board::PRIORITIES`),
+//! so it pre-empts even the tick, and the tick re-applies the stop if it
+//! ran inside it; the tick then latches the fault. (The
 //! lathe index is latched by TIM3 in hardware: `drivers::take_index`.)
 
-use core::sync::atomic::{AtomicBool, Ordering};
+use core::sync::atomic::{AtomicU32, AtomicU8, Ordering};
 use embassy_stm32::gpio::{Input, Pull};
 use embassy_stm32::interrupt;
 use embassy_stm32::interrupt::InterruptExt;
@@ -13,12 +15,26 @@ use embassy_stm32::Peri;
 
 const ESTOP: usize = 14;
 const ALARM: usize = 15;
-/// Set when this interrupt halted the step output; the tick re-arms it.
-static HALTED: AtomicBool = AtomicBool::new(false);
+/// How many times this interrupt has stopped the outputs (the tick compares
+/// it with what it saw before, to re-arm, and across its own run, to re-stop).
+static HALTS: AtomicU32 = AtomicU32::new(0);
 
-/// True once after the E-stop or alarm interrupt halted the step output.
-pub fn take_halted() -> bool {
-    HALTED.swap(false, Ordering::Relaxed)
+pub fn halts() -> u32 {
+    HALTS.load(Ordering::Relaxed)
+}
+
+/// What this interrupt saw when it stopped the outputs, until the tick takes
+/// it: bit 0 the E-stop open, bit 1 the drive's alarm. A contact that opened
+/// and closed again between two ticks still stopped the cutter, so the tick
+/// latches it as the fault it was (and the books take the halted count).
+static FIRED: AtomicU8 = AtomicU8::new(0);
+const FIRED_ESTOP: u8 = 1;
+const FIRED_ALARM: u8 = 2;
+
+/// (E-stop, alarm): each true if it fired this interrupt since the last call.
+pub fn take_fired() -> (bool, bool) {
+    let f = FIRED.swap(0, Ordering::Relaxed);
+    (f & FIRED_ESTOP != 0, f & FIRED_ALARM != 0)
 }
 
 pub fn inputs(estop: Peri<'static, P::PB14>, alarm: Peri<'static, P::PB15>) {
@@ -59,9 +75,17 @@ fn EXTI15_10() {
         w.set_line(ESTOP, true);
         w.set_line(ALARM, true);
     });
-    if estop_open() || alarm() {
-        super::drivers::halt_steps();
-        super::drivers::set_esc_pulse_us(polyturn_firmware::esc::STOP_US);
-        HALTED.store(true, Ordering::Relaxed);
+    let (estop, alarm) = (estop_open(), alarm());
+    if estop || alarm {
+        stop_outputs();
+        HALTS.fetch_add(1, Ordering::Relaxed);
+        FIRED.fetch_or((estop as u8 * FIRED_ESTOP) | (alarm as u8 * FIRED_ALARM), Ordering::Relaxed);
     }
+}
+
+/// The E-stop's stop: no STEP rises after it (a high pulse ends at full
+/// width), the ESC at its stop pulse. ENABLE drops at the tick's latch.
+pub fn stop_outputs() {
+    super::drivers::halt_steps();
+    super::drivers::set_esc_pulse_us(polyturn_firmware::esc::STOP_US);
 }

@@ -1,12 +1,13 @@
-//! The control tick: TIM11's update interrupt at 25 kHz, highest priority.
-//! Reads the counters, runs the core's tick, applies its output. The core
-//! is shared with lower priorities under PRIMASK (`locked`), not the
-//! global critical section (`cs.rs`: BASEPRI, which the tick outranks).
+//! The control tick: TIM11's update interrupt at 25 kHz, below only the
+//! E-stop (`board::PRIORITIES`). Reads the counters, runs the core's tick,
+//! applies its output. The core is shared with lower priorities under its
+//! own lock (`locked`: BASEPRI at the tick's level), not the global
+//! critical section (`cs.rs`, one level lower, which the tick outranks).
 
 use super::drivers::{self, Mmio, OutputPins, TIMER_HZ};
 use super::safety;
 use core::cell::RefCell;
-use core::sync::atomic::{AtomicU32, Ordering};
+use core::sync::atomic::{compiler_fence, AtomicU32, Ordering};
 use cortex_m::interrupt::{CriticalSection, Mutex};
 use embassy_stm32::interrupt;
 use embassy_stm32::interrupt::InterruptExt;
@@ -21,17 +22,34 @@ struct Io {
     steps: Generator,
     pins: OutputPins,
     x: XSteps,
+    /// `safety::halts()` when the generator last heard of an E-stop halt
+    halts_seen: u32,
 }
 
-/// cortex-m's Mutex: its token comes only from `interrupt::free`
-/// (PRIMASK), so a `critical_section::with` token (BASEPRI, which the tick
-/// outranks) cannot open it.
+/// cortex-m's Mutex: its token comes only from `locked` here, so a
+/// `critical_section::with` token (`cs.rs`, which the tick outranks)
+/// cannot open it.
 static IO: Mutex<RefCell<Option<Io>>> = Mutex::new(RefCell::new(None));
 
-/// The lock on `IO`: PRIMASK, which also holds off the tick and the E-stop.
-/// Only short copies inside.
+/// BASEPRI masks every level numerically at or above it (PM0214 §2.1.3):
+/// the tick's level and below, not the E-stop above it.
+const TICK_MASK: u8 = board::TICK_LEVEL << 4;
+
+/// The lock on `IO`: BASEPRI raised to the tick's level, so the tick (the
+/// only other user of `IO`) waits, and the E-stop, which never touches
+/// `IO`, does not. Only short copies inside. Raised through BASEPRI_MAX,
+/// which never lowers it, so taking it where more is masked unmasks
+/// nothing; restored on the way out.
 fn locked<R>(f: impl FnOnce(&CriticalSection) -> R) -> R {
-    cortex_m::interrupt::free(f)
+    let old = cortex_m::register::basepri::read();
+    cortex_m::register::basepri_max::write(TICK_MASK);
+    compiler_fence(Ordering::SeqCst);
+    // SAFETY: nothing that touches `IO` can run until BASEPRI is restored
+    let r = f(unsafe { &CriticalSection::new() });
+    compiler_fence(Ordering::SeqCst);
+    // SAFETY: restores the level this section found
+    unsafe { cortex_m::register::basepri::write(old) };
+    r
 }
 static TICKS: AtomicU32 = AtomicU32::new(0);
 static LAST_SEEN: AtomicU32 = AtomicU32::new(0);
@@ -54,7 +72,9 @@ pub fn start(config: Config, mut pins: OutputPins) {
     steps.prepare(core.derived().steps.tick_len, &mut Mmio);
     drivers::set_halt_pulse(core.derived().steps.pulse);
     core.start(pac::TIM3.cnt().read().cnt(), drivers::steps_counted(), pac::TIM4.cnt().read().cnt());
-    locked(|cs| IO.borrow(cs).replace(Some(Io { core, steps, pins, x: XSteps::default() })));
+    locked(|cs| {
+        IO.borrow(cs).replace(Some(Io { core, steps, pins, x: XSteps::default(), halts_seen: safety::halts() }))
+    });
     // SAFETY: DWT is only used here, for the tick's cycle count.
     let mut cp = unsafe { cortex_m::Peripherals::steal() };
     cp.DCB.enable_trace();
@@ -75,46 +95,71 @@ fn TIM1_TRG_COM_TIM11() {
     // first thing: stepgen's re-arm reads UIF to know the tick has not
     // ended under it (`program::arm`, its `Sync`)
     pac::TIM11.sr().write_value(pac::timer::regs::Sr1ch(0));
-    locked(|cs| {
-        // (try_: nothing else can hold it inside the critical section, and
-        // the tick keeps no panic path)
-        let Ok(mut io) = IO.borrow(cs).try_borrow_mut() else { return };
-        let Some(io) = io.as_mut() else { return };
-        // the encoder counters (lathe TIM3, cutter TIM4) read straight
-        // into the core's seam
-        let input = TickInput {
-            lathe: pac::TIM3.cnt().read().cnt(),
-            index: drivers::take_index(),
-            emitted: drivers::steps_counted(),
-            cutter: pac::TIM4.cnt().read().cnt(),
-            estop_open: safety::estop_open(),
-            alarm: safety::alarm(),
-            x_emitted: io.x.emitted,
-        };
-        let out = io.core.tick(&input);
-        if safety::take_halted() {
-            io.steps.halted_elsewhere();
-        }
-        // the plan for two ticks on: RAM writes only (stepgen); a halt or
-        // a (re-)arm applies its register program. Any other drive keeps
-        // the step output halted.
-        let stepping = io.core.config().drive == DriveKind::Stepper;
-        let timing = io.core.derived().steps;
-        if io.steps.tick(&out.plan, out.halt || !stepping, &timing, &mut Mmio).is_err() {
-            STEPS_LATE.fetch_add(1, Ordering::Relaxed);
-        }
-        NDTR_LEAD.store(io.steps.ndtr_lead(), Ordering::Relaxed);
-        // every tick, whatever the drive: a fault or halt stops the ESC too
-        let bldc = io.core.config().drive == DriveKind::Bldc;
-        let max = io.core.derived().limits.max_velocity;
-        drivers::set_esc_pulse_us(esc::command(bldc, out.enable, out.halt, out.speed_q16, max));
-        io.pins.set_enable(out.enable);
-        drivers::set_x_pins(io.x.tick(&out.x_plan, out.halt));
-    });
+    // SAFETY: the token `IO` asks for, without raising BASEPRI: everything
+    // else that opens `IO` runs in thread mode under `locked`, which masks
+    // this handler, and the only interrupt above it (the E-stop) never
+    // opens it. (`.ci/qemu` checks no BASEPRI write is reachable from here.)
+    run(unsafe { &CriticalSection::new() });
     TICKS.fetch_add(1, Ordering::Relaxed);
     let cost = cortex_m::peripheral::DWT::cycle_count().wrapping_sub(start);
     COST_SUM.fetch_add(cost, Ordering::Relaxed);
     COST_WORST.fetch_max(cost, Ordering::Relaxed);
+}
+
+/// The tick's work on the shared state: inputs in, the core's tick, its
+/// output applied.
+fn run(cs: &CriticalSection) {
+    let halts_at_entry = safety::halts();
+    // (try_: nothing else can hold it while the tick runs, and the tick
+    // keeps no panic path)
+    let Ok(mut io) = IO.borrow(cs).try_borrow_mut() else { return };
+    let Some(io) = io.as_mut() else { return };
+    // the encoder counters (lathe TIM3, cutter TIM4) read straight
+    // into the core's seam; the E-stop and alarm as they are, or as the
+    // E-stop interrupt saw them if it fired since
+    let fired = safety::take_fired();
+    let input = TickInput {
+        lathe: pac::TIM3.cnt().read().cnt(),
+        index: drivers::take_index(),
+        emitted: drivers::steps_counted(),
+        cutter: pac::TIM4.cnt().read().cnt(),
+        estop_open: safety::estop_open() || fired.0,
+        alarm: safety::alarm() || fired.1,
+        x_emitted: io.x.emitted,
+    };
+    let out = io.core.tick(&input);
+    heard_of_halts(io);
+    // the plan for two ticks on: RAM writes only (stepgen); a halt or
+    // a (re-)arm applies its register program. Any other drive keeps
+    // the step output halted.
+    let stepping = io.core.config().drive == DriveKind::Stepper;
+    let timing = io.core.derived().steps;
+    if io.steps.tick(&out.plan, out.halt || !stepping, &timing, &mut Mmio).is_err() {
+        STEPS_LATE.fetch_add(1, Ordering::Relaxed);
+    }
+    NDTR_LEAD.store(io.steps.ndtr_lead(), Ordering::Relaxed);
+    // every tick, whatever the drive: a fault or halt stops the ESC too
+    let bldc = io.core.config().drive == DriveKind::Bldc;
+    let max = io.core.derived().limits.max_velocity;
+    drivers::set_esc_pulse_us(esc::command(bldc, out.enable, out.halt, out.speed_q16, max));
+    io.pins.set_enable(out.enable);
+    drivers::set_x_pins(io.x.tick(&out.x_plan, out.halt));
+    // the E-stop pre-empts the tick: if it ran during this one, a write
+    // above (an arm, the ESC's pulse) may have undone its stop
+    if safety::halts() != halts_at_entry {
+        safety::stop_outputs();
+        heard_of_halts(io);
+    }
+}
+
+/// The E-stop interrupt halted the step output since the generator last
+/// heard: it re-arms at the next tick without a halt.
+fn heard_of_halts(io: &mut Io) {
+    let now = safety::halts();
+    if now != io.halts_seen {
+        io.halts_seen = now;
+        io.steps.halted_elsewhere();
+    }
 }
 
 /// Runs `f` on the controller (console, planning, reports).

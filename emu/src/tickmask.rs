@@ -1,0 +1,89 @@
+//! Thread-mode sections that hold off the tick: BASEPRI raised to the tick's
+//! level or above (the tick's own lock, `app/tick.rs`'s `locked`), or PRIMASK.
+//! The E-stop, one level above the tick, is held off only by PRIMASK
+//! (`primask.rs`); this is what can delay the tick itself.
+//!
+//! BASEPRI masks priorities numerically at or above its value when non-zero
+//! (PM0214 §2.1.3); BASEPRI_MAX only ever raises it (writes a value that is
+//! non-zero and more urgent than the current one, or anything over 0).
+
+use crate::chip::Chip;
+use crate::primask::Section;
+use unicorn_engine::{RegisterARM as R, Unicorn};
+
+#[derive(Default)]
+pub struct TickMaskLog {
+    since: Option<(u64, u32, bool)>,
+    pub longest: Section,
+    /// the longest begun while the tick's interrupt was enabled
+    pub ticking: Section,
+    pub sections: u64,
+}
+
+/// The tick's priority byte as the NVIC holds it (`board::TICK_LEVEL`).
+const TICK_PRIO: u32 = (polyturn_firmware::board::TICK_LEVEL as u32) << 4;
+
+/// BASEPRI after an `msr` to BASEPRI (`max` false) or BASEPRI_MAX of `value`.
+pub fn next_basepri(current: u32, value: u32, max: bool) -> u32 {
+    let v = value & 0xFF;
+    if !max || (v != 0 && (current == 0 || v < current)) {
+        v
+    } else {
+        current
+    }
+}
+
+/// True when these mask the tick.
+pub fn masks_tick(primask: bool, basepri: u32) -> bool {
+    primask || (basepri != 0 && basepri <= TICK_PRIO)
+}
+
+/// Before an instruction at `addr` (instruction `t` of the run, in thread mode)
+/// sets PRIMASK and BASEPRI to these: opens or closes a section.
+pub fn change(uc: &mut Unicorn<Chip>, t: u64, addr: u32, primask: bool, basepri: u32) {
+    if uc.reg_read(R::IPSR).unwrap_or(0) & 0x1FF != 0 {
+        return;
+    }
+    let was = masks_tick(uc.reg_read(R::PRIMASK).unwrap_or(0) & 1 == 1, uc.reg_read(R::BASEPRI).unwrap_or(0) as u32);
+    let now = masks_tick(primask, basepri);
+    let c = uc.get_data_mut();
+    let tick_on = c.nvic.enabled[crate::svd::irq(polyturn_firmware::board::TICK_IRQ)];
+    let log = &mut c.tickmask;
+    match (was, now, log.since) {
+        (false, true, _) => log.since = Some((t, addr, tick_on)),
+        (true, false, Some((t0, pc, ticking))) => {
+            let s = Section { instructions: t - t0, pc };
+            log.sections += 1;
+            if s.instructions > log.longest.instructions {
+                log.longest = s;
+            }
+            if ticking && s.instructions > log.ticking.instructions {
+                log.ticking = s;
+            }
+            log.since = None;
+        }
+        _ => {}
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn basepri_max_only_raises_and_basepri_writes_anything() {
+        assert_eq!(next_basepri(0, 0x10, true), 0x10);
+        assert_eq!(next_basepri(0x20, 0x10, true), 0x10, "more urgent: raised");
+        assert_eq!(next_basepri(0x10, 0x20, true), 0x10, "less urgent: kept");
+        assert_eq!(next_basepri(0x10, 0, true), 0x10, "0 through BASEPRI_MAX: no effect");
+        assert_eq!(next_basepri(0x10, 0, false), 0, "BASEPRI: restored");
+    }
+
+    #[test]
+    fn the_ticks_lock_masks_it_and_the_global_section_does_not() {
+        assert!(masks_tick(false, TICK_PRIO));
+        assert!(!masks_tick(false, TICK_PRIO + 0x10), "cs.rs's mask, one level lower");
+        assert!(!masks_tick(false, 0), "0 masks nothing");
+        assert!(masks_tick(true, 0));
+    }
+}
