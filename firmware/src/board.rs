@@ -185,6 +185,10 @@ pub const TICK_IRQ: &str = "TIM1_TRG_COM_TIM11";
 /// The tick's level: next to the E-stop. The tick's lock masks this level
 /// and below (`app/tick.rs`); `app/cs.rs` masks every level below it.
 pub const TICK_LEVEL: u8 = 1;
+// The tick's lock writes BASEPRI = TICK_LEVEL << 4, which masks that level
+// and below (PM0214 §2.1.3; 0 would mask nothing): the E-stop must be more
+// urgent to stay deliverable under it.
+const _: () = assert!(ESTOP_LEVEL < TICK_LEVEL && TICK_LEVEL > 0);
 
 #[cfg(test)]
 mod tests {
@@ -211,7 +215,6 @@ mod tests {
         let level = |n: &str| PRIORITIES.iter().find(|p| p.0 == n).unwrap().1;
         assert_eq!(level(ESTOP_IRQ), ESTOP_LEVEL);
         assert_eq!(level(TICK_IRQ), TICK_LEVEL);
-        assert!(ESTOP_LEVEL < TICK_LEVEL && TICK_LEVEL > 0, "BASEPRI 0 masks nothing");
     }
 
     #[test]
