@@ -50,7 +50,7 @@ fn basepri(uc: &mut Unicorn<Chip>, addr: u32) {
     let next = crate::tickmask::next_basepri(current, value, sysm(uc, addr) == SYSM_BASEPRI_MAX);
     let t = time_at(uc, addr);
     crate::tickmask::change(uc, t, addr, primask, next);
-    if uc.get_data().deliverable(primask, value & 0xFF).is_some() {
+    if uc.get_data().deliverable(primask, next).is_some() {
         uc.get_data_mut().deadline = 0;
     }
 }

@@ -35,6 +35,8 @@ pub fn next_basepri(current: u32, value: u32, max: bool) -> u32 {
 
 /// True when these mask the tick.
 pub fn masks_tick(primask: bool, basepri: u32) -> bool {
+    // the NVIC implements the top 4 bits (PM0214 §4.3.7)
+    let basepri = basepri & 0xF0;
     primask || (basepri != 0 && basepri <= TICK_PRIO)
 }
 

@@ -37,8 +37,8 @@
 //! (`Generator::worst_latency`, the reply's `index_latency_cycles`).
 //!
 //! `LATENCY_MAX` = 3 000 cycles is an estimate, not a measurement: the
-//! interrupt must sit below the tick (level 0); at level 1 it waits for the
-//! tick (790 instructions worst in QEMU, 900-1 400 cycles estimated on
+//! interrupt must sit below the tick (level 1; the E-stop, above it, is
+//! 0); at level 2 it waits for the E-stop's handler and the tick (790 instructions worst in QEMU, 900-1 400 cycles estimated on
 //! silicon, README), the longest section under the tick's lock (671
 //! instructions), embassy's TIM5 handler at the same level, and its own
 //! entry (12) and prologue. `MARGIN` (8 cycles) covers TIM3's input path:
@@ -55,7 +55,7 @@
 //! count): 732 counts/s; slower parts of a profile are idle periods.
 //!
 //! Wiring in the app (`app/selftest.rs`): RCC_APB2ENR.TIM9EN; PA4 output
-//! push-pull, low; TIM1_BRK_TIM9 enabled at level 1 (`board::PRIORITIES`);
+//! push-pull, low; TIM1_BRK_TIM9 enabled at level 2 (`board::PRIORITIES`);
 //! the generator put where the handler finds it and `Generator::start`'s
 //! program applied inside the critical section, which masks the interrupt
 //! (its last write starts the counter one tick before update event 0,

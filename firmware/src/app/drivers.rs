@@ -166,6 +166,15 @@ pub fn set_halt_pulse(cycles: u32) {
     HALT_PULSE.store(cycles, core::sync::atomic::Ordering::Relaxed);
 }
 
+/// `program::STOP` alone: no STEP pulse rises after it (the E-stop's first
+/// write; `halt_steps` follows).
+#[inline(always)]
+pub fn stop_step_timer() {
+    if let stepgen::program::Op::Write(addr, value) = stepgen::program::STOP {
+        Mmio.write(addr, value);
+    }
+}
+
 /// Stops the step output from any context (E-stop, panic): no pulse rises
 /// after it, a high one ends at full width.
 pub fn halt_steps() {

@@ -6,8 +6,14 @@ use embassy_time::Timer;
 
 #[embassy_executor::task]
 pub async fn every_second() {
+    let mut checked = false;
     loop {
         Timer::after_millis(1000).await;
+        // again once everything is up (USB, the self-test's timer and the
+        // planning executor enable their interrupts after boot's check)
+        if !core::mem::replace(&mut checked, true) && !super::priorities::check() {
+            defmt::error!("an interrupt reaches the tick's level: fix board::PRIORITIES");
+        }
         let (ticks, avg, worst) = tick::take_cost();
         // defmt-rtt holds the critical section for a whole line (80 µs,
         // `cs.rs`), which would hold off the self-test's TIM9 interrupt

@@ -69,18 +69,24 @@ pub fn alarm() -> bool {
     !pin_high(ALARM)
 }
 
+/// Only the stopping edges are enabled on these lines (RTSR for the E-stop
+/// opening, FTSR for the alarm), so every entry is a stop: TIM1 stops
+/// first, before anything is read. Which line fired comes from the pending
+/// bits, not the pin levels (a bouncing contact may read closed again by
+/// now, RM0383 §10.2.3: PR latches the edge); only the bits read are
+/// cleared, so an edge arriving meanwhile pends again.
 #[interrupt]
 fn EXTI15_10() {
+    super::drivers::stop_step_timer();
+    let pr = pac::EXTI.pr(0).read();
+    let (estop, alarm) = (pr.line(ESTOP), pr.line(ALARM));
     pac::EXTI.pr(0).write(|w| {
-        w.set_line(ESTOP, true);
-        w.set_line(ALARM, true);
+        w.set_line(ESTOP, estop);
+        w.set_line(ALARM, alarm);
     });
-    let (estop, alarm) = (estop_open(), alarm());
-    if estop || alarm {
-        stop_outputs();
-        HALTS.fetch_add(1, Ordering::Relaxed);
-        FIRED.fetch_or((estop as u8 * FIRED_ESTOP) | (alarm as u8 * FIRED_ALARM), Ordering::Relaxed);
-    }
+    stop_outputs();
+    HALTS.fetch_add(1, Ordering::Relaxed);
+    FIRED.fetch_or((estop as u8 * FIRED_ESTOP) | (alarm as u8 * FIRED_ALARM), Ordering::Relaxed);
 }
 
 /// The E-stop's stop: no STEP rises after it (a high pulse ends at full

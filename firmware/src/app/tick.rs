@@ -96,9 +96,9 @@ fn TIM1_TRG_COM_TIM11() {
     // ended under it (`program::arm`, its `Sync`)
     pac::TIM11.sr().write_value(pac::timer::regs::Sr1ch(0));
     // SAFETY: the token `IO` asks for, without raising BASEPRI: everything
-    // else that opens `IO` runs in thread mode under `locked`, which masks
-    // this handler, and the only interrupt above it (the E-stop) never
-    // opens it. (`.ci/qemu` checks no BASEPRI write is reachable from here.)
+    // else that opens `IO` runs at a lower priority (thread mode, or the
+    // planning executor's interrupt) under `locked`, which masks this
+    // handler, and the only interrupt above it (the E-stop) never opens it. (`.ci/qemu` checks no BASEPRI write is reachable from here.)
     run(unsafe { &CriticalSection::new() });
     TICKS.fetch_add(1, Ordering::Relaxed);
     let cost = cortex_m::peripheral::DWT::cycle_count().wrapping_sub(start);
@@ -145,7 +145,9 @@ fn run(cs: &CriticalSection) {
     io.pins.set_enable(out.enable);
     drivers::set_x_pins(io.x.tick(&out.x_plan, out.halt));
     // the E-stop pre-empts the tick: if it ran during this one, a write
-    // above (an arm, the ESC's pulse) may have undone its stop
+    // above (an arm, the ESC's pulse) may have undone its stop. (The fence
+    // keeps this load after those writes.)
+    compiler_fence(Ordering::SeqCst);
     if safety::halts() != halts_at_entry {
         safety::stop_outputs();
         heard_of_halts(io);

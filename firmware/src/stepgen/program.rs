@@ -97,6 +97,10 @@ const STREAM5_FLAGS: u32 = hifcr::CDMEIF5_TO_CTCIF5.mask() | hifcr::CFEIF5.mask(
 pub const COUNTER_INIT: [Op; 3] =
     [Op::Write(TIM2 + SMCR, SMS_ECM1), Op::Write(TIM2 + ARR, u32::MAX), Op::Write(TIM2 + CR1, CEN)];
 
+/// `halt`'s first write, alone: the counter stops, so no STEP pulse rises
+/// after it. The E-stop interrupt writes it before anything else.
+pub const STOP: Op = Op::Write(TIM1 + CR1, CR1_STOPPED);
+
 /// Stops the output at once without a runt: the counter stops first, so no
 /// pulse rises after it (§12.3.2: the counter counts only while CEN = 1,
 /// and OC1REF follows CNT against CCR1); a pulse that is high stays high
@@ -104,13 +108,7 @@ pub const COUNTER_INIT: [Op; 3] =
 /// counted; then STEP is forced low (§12.4.7, OC1M = 100), DMA requests
 /// end and the stream stops.
 pub const fn halt(pulse: u32) -> [Op; 5] {
-    [
-        Op::Write(TIM1 + CR1, CR1_STOPPED),
-        Op::Delay(pulse),
-        Op::Write(TIM1 + CCMR1, CCMR1_HALT),
-        Op::Write(TIM1 + DIER, 0),
-        Op::Write(S5CR, S5CR_RUN),
-    ]
+    [STOP, Op::Delay(pulse), Op::Write(TIM1 + CCMR1, CCMR1_HALT), Op::Write(TIM1 + DIER, 0), Op::Write(S5CR, S5CR_RUN)]
 }
 
 /// Cycles from reading TIM11's counter to the write of TIM1's landing, in
