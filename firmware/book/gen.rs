@@ -60,7 +60,7 @@ fn pins() -> String {
 
 /// Every fault, in the order of their codes (a new one fails to compile
 /// here until it is listed).
-fn all_faults() -> [Fault; 7] {
+fn all_faults() -> [Fault; 8] {
     let listed = |f: Fault| match f {
         Fault::Overspeed
         | Fault::FollowingError
@@ -68,7 +68,8 @@ fn all_faults() -> [Fault; 7] {
         | Fault::EStop
         | Fault::DriveAlarm
         | Fault::Stall
-        | Fault::StepOutput => f,
+        | Fault::StepOutput
+        | Fault::LostSteps => f,
     };
     Fault::ALL.map(listed)
 }
@@ -172,8 +173,8 @@ const PARTS: &[(&str, &str)] = &[
     ("CUTTER_ENABLE", "cutter driver (stepper or step/dir servo)"),
     ("DRIVE_ALARM", "cutter driver (stepper or step/dir servo)"),
     ("ESTOP", "E-stop switch"),
-    ("CUTTER_A", "cutter encoder (BLDC option)"),
-    ("CUTTER_B", "cutter encoder (BLDC option)"),
+    ("CUTTER_A", "cutter encoder (BLDC, or a stepper's lost-step alarm)"),
+    ("CUTTER_B", "cutter encoder (BLDC, or a stepper's lost-step alarm)"),
     ("BLDC_", "ESC (BLDC option)"),
     ("X_", "X axis driver (noncircular mode)"),
     ("USB_", "USB cable to the PC"),

@@ -23,6 +23,7 @@ pub fn fault_code(f: Fault) -> u32 {
         Fault::DriveAlarm => 5,
         Fault::Stall => 6,
         Fault::StepOutput => 7,
+        Fault::LostSteps => 8,
     }
 }
 

@@ -23,6 +23,11 @@ const MARKER: [u8; 4] = *b"PTOK";
 const BODY: usize = 4 + 52 + 4;
 pub const RECORD: usize = BODY + 4;
 
+/// The settings added after the first layout (`codec::ext`), written before
+/// the marker too. A slot saved before they existed holds erased flash
+/// there: it loads with their defaults.
+pub const EXT_AT: u32 = 128;
+
 /// The cam table follows the settings record in the same slot and is
 /// written before the commit marker, so the marker vouches for both:
 /// magic, the five header words, the CRC, then the points.
@@ -68,7 +73,10 @@ fn parse(rec: &[u8; RECORD]) -> Option<(u32, Config)> {
 fn read_slot<F: SlotFlash>(f: &mut F, slot: usize) -> Option<(u32, Config)> {
     let mut rec = [0u8; RECORD];
     f.read(slot, 0, &mut rec).ok()?;
-    parse(&rec)
+    let (seq, base) = parse(&rec)?;
+    let mut ext = [0u8; codec::ext::LEN];
+    f.read(slot, EXT_AT, &mut ext).ok()?;
+    codec::ext::decode(base, &ext).ok().map(|c| (seq, c))
 }
 
 /// Newer of two sequence numbers, wrapping.
@@ -136,6 +144,7 @@ fn write_record<F: SlotFlash>(f: &mut F, cfg: &Config, cam: Option<(CamHeader, &
     if let Some((h, points)) = cam {
         write_cam(f, slot, &h, points)?;
     }
+    f.write(slot, EXT_AT, &codec::ext::encode(cfg))?;
     f.write(slot, 0, &body(cfg, seq))?;
     f.write(slot, BODY as u32, &MARKER)?;
     Ok(seq)

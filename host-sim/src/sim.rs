@@ -10,6 +10,7 @@ pub mod lathe;
 pub mod report;
 mod rng;
 mod run;
+pub mod shaft;
 pub mod single_point;
 mod stepper;
 
@@ -29,6 +30,9 @@ pub enum Event {
     EStop(f64),
     /// (tick, counts): the lathe encoder gains or drops counts
     Glitch(u64, i64),
+    /// the cutter jams in the cut at this time: the stepper's rotor stops
+    /// while its driver takes the pulses (the lost-step alarm's case)
+    Jam(f64),
 }
 
 /// Everything a run needs. `Scenario::standard` builds the CLI's runs.
@@ -52,6 +56,9 @@ pub struct Scenario {
     pub cut_revolutions: Option<f64>,
     /// an X axis (cross-slide) driven by the core's cam, if fitted
     pub x_axis: Option<XSim>,
+    /// the stepper's step-to-step position error, fraction of a step, seen
+    /// by a shaft encoder (`core.cutter_encoder_cpr`, if set)
+    pub step_error: f64,
     /// a deliberately broken core for the "can the check fail" test:
     /// the gear's ratio numerator is off by this much
     pub sabotage_ratio_num: i32,
@@ -96,6 +103,9 @@ pub struct SimResult {
     /// (time s, min error, max error) in steps, decimated, for the plot
     pub error_trace: Vec<(f64, f64, f64)>,
     pub stalled: bool,
+    /// with a shaft encoder: the largest distance the core measured between
+    /// the steps sent and the shaft, steps (the lost-step alarm's margin)
+    pub max_shaft_error_steps: f64,
 }
 
 impl Scenario {
@@ -150,6 +160,7 @@ impl Scenario {
             bldc_cut_torque: 0.2,
             cut_revolutions: Some(revolutions),
             x_axis: None,
+            step_error: 0.0,
             sabotage_ratio_num: 0,
         }
     }

@@ -23,6 +23,8 @@ const UNITS: &[(&str, &str)] = &[
     ("dir-setup", "ns"),
     ("pulse", "ns"),
     ("max-rpm", "rpm"),
+    ("cutter-cpr", "counts/rev"),
+    ("lost-steps", "steps"),
 ];
 
 /// What the page needs to draw each setting's field, asked of the console

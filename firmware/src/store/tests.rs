@@ -167,3 +167,29 @@ fn a_cam_that_does_not_read_back_fails_the_save() {
     let mut d = CamDeaf(f);
     assert_eq!(save(&mut d, &settings("5"), Some((HEADER, &CAM_NEW[..]))), Err(SaveError::Verify));
 }
+
+#[test]
+fn a_slot_saved_before_the_extension_block_loads_with_its_defaults() {
+    // what the previous firmware wrote: the record and the marker, the
+    // extension's place left erased
+    let mut f = MockFlash::new();
+    let old = settings("11/3");
+    f.write(0, 0, &body(&old, 7)).unwrap();
+    f.write(0, BODY as u32, &MARKER).unwrap();
+    assert_eq!(load(&mut f), (old, Loaded::Saved { seq: 7, slot: 0 }));
+    // and a save now keeps the new settings beside it
+    let new = old.with("cutter-cpr", "1000").unwrap().with("lost-steps", "40").unwrap();
+    assert_eq!(save(&mut f, &new, None), Ok(8));
+    assert_eq!(load(&mut f).0, new);
+}
+
+#[test]
+fn a_damaged_extension_block_refuses_its_slot() {
+    let mut f = MockFlash::new();
+    let a = settings("3").with("cutter-cpr", "4000").unwrap();
+    let b = settings("5/2").with("cutter-cpr", "1000").unwrap();
+    assert_eq!(save(&mut f, &a, None), Ok(1));
+    assert_eq!(save(&mut f, &b, None), Ok(2));
+    f.slots[1][EXT_AT as usize + 5] ^= 0x10; // the newer slot's cutter-cpr
+    assert_eq!(load(&mut f).0, a, "the older intact slot, not b with a wrong encoder");
+}

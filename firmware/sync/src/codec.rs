@@ -117,6 +117,8 @@ pub fn decode(bytes: &[u8]) -> Result<Config, DecodeError> {
         dir_setup_ns: r.u32(),
         step_pulse_ns: r.u32(),
         max_lathe_rpm: r.u16() as u32,
+        // later settings are in their own block (`ext`), defaults here
+        ..Config::default()
     };
     c.validate().map_err(|e| DecodeError::Invalid(e.field))?;
     // Every field above is checked to be in its encoded form; this keeps the
@@ -177,6 +179,7 @@ impl Reader<'_> {
     }
 }
 
+pub mod ext;
 #[cfg(test)]
 mod layout_tests;
 

@@ -48,6 +48,13 @@ pub struct Config {
     pub enable_active_high: bool,
     /// the fastest the lathe can turn: above it, encoder jumps are implausible
     pub max_lathe_rpm: u32,
+    /// counts per cutter revolution (after ×4 decoding) of an encoder on a
+    /// stepper's or step/dir servo's shaft, on TIM4: the lost-step alarm
+    /// compares it with the steps sent. 0: none (no alarm)
+    pub cutter_encoder_cpr: u32,
+    /// how far, in motor steps, the shaft may be from the steps sent before
+    /// the `lost-steps` fault (with a cutter encoder)
+    pub lost_step_limit_steps: u32,
 }
 
 /// A refused value: the field and the allowed range, for one error line.
@@ -76,9 +83,16 @@ impl Default for Config {
             step_pulse_ns: 2_000,
             enable_active_high: false,
             max_lathe_rpm: 1500,
+            cutter_encoder_cpr: 0,
+            // two full steps of a 200-step motor at 1/16: a loaded rotor
+            // lags by up to one before it slips, and a slip loses four
+            lost_step_limit_steps: 32,
         }
     }
 }
+
+const CUTTER_CPR: &str = "4..=1000000 counts per cutter rev, or off";
+const LOST_STEPS: &str = "1..=1000000 steps";
 
 const fn range(field: &'static str, allowed: &'static str) -> ConfigError {
     ConfigError { field, allowed }
@@ -118,7 +132,11 @@ impl Config {
         }
         within(self.dir_setup_ns, 0, 100_000, range("dir-setup", "0..=100000 ns"))?;
         within(self.step_pulse_ns, 100, 100_000, range("pulse", "100..=100000 ns"))?;
-        within(self.max_lathe_rpm, 1, 10_000, range("max-rpm", "1..=10000 rpm"))
+        within(self.max_lathe_rpm, 1, 10_000, range("max-rpm", "1..=10000 rpm"))?;
+        if self.cutter_encoder_cpr != 0 {
+            within(self.cutter_encoder_cpr, 4, 1_000_000, range("cutter-cpr", CUTTER_CPR))?;
+        }
+        within(self.lost_step_limit_steps, 1, 1_000_000, range("lost-steps", LOST_STEPS))
     }
 
     /// The limits that join several settings. The error names one of them
@@ -161,7 +179,9 @@ impl Config {
             "pulse" => c.step_pulse_ns = num("pulse", "100..=100000 ns")?,
             "enable" => c.enable_active_high = parse_polarity(value)?,
             "max-rpm" => c.max_lathe_rpm = num("max-rpm", "1..=10000 rpm")?,
-            _ => return Err(range("name", "one of: cpr steps ratio dir edges max-rate max-accel ferror phase drive dir-setup pulse enable max-rpm")),
+            "cutter-cpr" => c.cutter_encoder_cpr = parse_cutter_cpr(value)?,
+            "lost-steps" => c.lost_step_limit_steps = num("lost-steps", LOST_STEPS)?,
+            _ => return Err(range("name", "one of: cpr steps ratio dir edges max-rate max-accel ferror phase drive dir-setup pulse enable max-rpm cutter-cpr lost-steps")),
         }
         c.validate_fields()?;
         // Valid alone but not with the others: name the setting being set,
@@ -176,7 +196,7 @@ impl Config {
 }
 
 /// The settable names, in `get` order.
-pub const NAMES: [&str; 14] = [
+pub const NAMES: [&str; 16] = [
     "cpr",
     "steps",
     "ratio",
@@ -191,6 +211,8 @@ pub const NAMES: [&str; 14] = [
     "pulse",
     "enable",
     "max-rpm",
+    "cutter-cpr",
+    "lost-steps",
 ];
 
 fn ratio_error(e: RatioError) -> ConfigError {
@@ -211,6 +233,14 @@ fn parse_drive(v: &str) -> Result<DriveKind, ConfigError> {
         "bldc" => Ok(DriveKind::Bldc),
         "none" => Ok(DriveKind::None),
         _ => Err(range("drive", "stepper, bldc or none")),
+    }
+}
+
+/// `off` (no cutter encoder) or a count in range; 0 is refused as a count.
+fn parse_cutter_cpr(v: &str) -> Result<u32, ConfigError> {
+    match v.trim() {
+        "off" => Ok(0),
+        n => unsigned(n).filter(|n| (4..=1_000_000).contains(n)).ok_or(range("cutter-cpr", CUTTER_CPR)),
     }
 }
 

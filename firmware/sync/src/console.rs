@@ -16,7 +16,7 @@ mod status;
 pub use selftest::SelfTestOp;
 
 /// Longest reply line.
-pub const REPLY_LEN: usize = 320;
+pub const REPLY_LEN: usize = 384;
 pub type Reply = heapless::String<REPLY_LEN>;
 
 /// What the firmware must do besides sending the reply.
@@ -35,7 +35,7 @@ pub enum Action {
 
 pub use status::{write_status as status_line, Snapshot};
 
-pub const HELP: &str = "ok commands: get [name] | set <name> <value> | engage | stop | status | watch | save | defaults | clear | cam begin|data|end|off | check-encoder [start|stop] | jog <deg> | selftest [start [rpm]|stop] | dfu | help; names: cpr steps ratio dir edges max-rate max-accel ferror phase drive dir-setup pulse enable max-rpm";
+pub const HELP: &str = "ok commands: get [name] | set <name> <value> | engage | stop | status | watch | save | defaults | clear | cam begin|data|end|off | check-encoder [start|stop] | jog <deg> | selftest [start [rpm]|stop] | dfu | help; names: cpr steps ratio dir edges max-rate max-accel ferror phase drive dir-setup pulse enable max-rpm cutter-cpr lost-steps";
 
 /// A parsed command line (no controller needed: parse outside any lock).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -151,16 +151,25 @@ pub fn apply(cmd: Command<'_>, ctl: &mut Controller) -> Outcome {
     apply_prepared(cmd, pre, ctl)
 }
 
+fn refused((field, text): (Option<&'static str>, &'static str)) -> Outcome {
+    match field {
+        Some(f) => Outcome::FieldError(f, text),
+        None => Outcome::Error(text),
+    }
+}
+
 /// Applies a command prepared by `prepare`: short, no formatting, no
 /// derivation (the firmware holds the tick's lock for this only).
 pub fn apply_prepared(cmd: Command<'_>, pre: Option<Prepared>, ctl: &mut Controller) -> Outcome {
-    let installed = |ctl: &mut Controller| -> Result<Config, Outcome> {
-        let Some(p) = pre else { return Err(Outcome::Error("internal: command not prepared")) };
+    // (the error as (field, text), not an `Outcome`: a small Err keeps
+    // the Result small; `Outcome` carries a whole status snapshot)
+    let installed = |ctl: &mut Controller| -> Result<Config, (Option<&'static str>, &'static str)> {
+        let Some(p) = pre else { return Err((None, "internal: command not prepared")) };
         if p.generation != ctl.config_generation() {
-            return Err(Outcome::Error("the settings changed meanwhile: nothing changed, send it again"));
+            return Err((None, "the settings changed meanwhile: nothing changed, send it again"));
         }
-        let next = p.next.map_err(|e| Outcome::FieldError(e.field, e.allowed))?;
-        ctl.install_config(next).map_err(|r| Outcome::Error(r.describe()))?;
+        let next = p.next.map_err(|e| (Some(e.field), e.allowed))?;
+        ctl.install_config(next).map_err(|r| (None, r.describe()))?;
         Ok(*next.config())
     };
     match cmd {
@@ -170,7 +179,7 @@ pub fn apply_prepared(cmd: Command<'_>, pre: Option<Prepared>, ctl: &mut Control
         Command::Get(name) => Outcome::Value(*ctl.config(), name),
         Command::Set(name, _) => match installed(ctl) {
             Ok(c) => Outcome::Value(c, NAMES.iter().find(|n| **n == name).copied().unwrap_or("name")),
-            Err(o) => o,
+            Err(e) => refused(e),
         },
         Command::Engage => match ctl.engage() {
             Ok(()) => Outcome::Text("ok engaging"),
@@ -195,7 +204,7 @@ pub fn apply_prepared(cmd: Command<'_>, pre: Option<Prepared>, ctl: &mut Control
         Command::Save => Outcome::Save,
         Command::Defaults => match installed(ctl) {
             Ok(_) => Outcome::Text("ok defaults loaded (not saved: use save)"),
-            Err(o) => o,
+            Err(e) => refused(e),
         },
         Command::CheckEncoder(op) => checks::encoder(op, ctl),
         Command::Jog(mdeg) => match ctl.jog(mdeg) {
@@ -311,6 +320,9 @@ fn value_of(c: &Config, name: &str, out: &mut Reply) -> bool {
         "pulse" => write!(out, "pulse={}", c.step_pulse_ns),
         "enable" => write!(out, "enable={}", if c.enable_active_high { "high" } else { "low" }),
         "max-rpm" => write!(out, "max-rpm={}", c.max_lathe_rpm),
+        "cutter-cpr" if c.cutter_encoder_cpr == 0 => write!(out, "cutter-cpr=off"),
+        "cutter-cpr" => write!(out, "cutter-cpr={}", c.cutter_encoder_cpr),
+        "lost-steps" => write!(out, "lost-steps={}", c.lost_step_limit_steps),
         _ => return false,
     };
     true

@@ -151,6 +151,8 @@ pub struct Controller {
     check: Option<crate::check::EncoderCheck>,
     jog: Option<jog::Jog>,
     selftest: Option<selftest::Run>,
+    /// the shaft encoder against the books (`lost`)
+    lost: lost::LostSteps,
 }
 
 impl Controller {
@@ -184,6 +186,7 @@ impl Controller {
             check: None,
             jog: None,
             selftest: None,
+            lost: lost::LostSteps::default(),
         }
     }
 
@@ -192,6 +195,7 @@ impl Controller {
         self.lathe = Extender::new(lathe);
         self.steps.start(emitted);
         self.bldc.start(cutter);
+        self.lost.start(cutter);
     }
 
     /// The control tick.
@@ -287,6 +291,7 @@ impl Controller {
                     self.trip(Fault::StepOutput);
                     self.steps.halted(io.emitted);
                 }
+                self.check_lost_steps(io.cutter);
                 self.steps.position() << 16
             }
             DriveKind::Bldc => self.bldc.read(io.cutter) << 16,
@@ -361,13 +366,18 @@ impl Controller {
         }
     }
 
-    fn output(&mut self, cutter: i64) -> TickOutput {
-        let (enable, halt) = match self.state {
+    /// (ENABLE, halt) in the present state.
+    fn enable_and_halt(&self) -> (bool, bool) {
+        match self.state {
             State::Engaging | State::Synced | State::Disengaging | State::Jogging => (true, false),
             State::Fault(f) if f.immediate() => (false, true),
             State::Fault(_) => (self.follower.velocity != 0, false),
             State::Idle => (false, false),
-        };
+        }
+    }
+
+    fn output(&mut self, cutter: i64) -> TickOutput {
+        let (enable, halt) = self.enable_and_halt();
         let mut out = TickOutput { enable, halt, ..TickOutput::default() };
         if !enable {
             self.bldc.reset();
@@ -410,6 +420,9 @@ mod fault_tests;
 #[cfg(test)]
 mod index_tests;
 pub mod jog;
+mod lost;
+#[cfg(test)]
+mod lost_tests;
 #[cfg(test)]
 mod rig;
 pub mod selftest;

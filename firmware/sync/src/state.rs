@@ -18,11 +18,14 @@ pub enum Fault {
     /// the step output's pulse count does not match what was planned: the
     /// hardware did not do what it was told
     StepOutput,
+    /// the cutter's shaft encoder is further from the steps sent than
+    /// `lost-steps`: the stepper lost steps (overload, a jam)
+    LostSteps,
 }
 
 impl Fault {
     /// Every fault, in the order of their LED codes (`led::fault_code`).
-    pub const ALL: [Fault; 7] = [
+    pub const ALL: [Fault; 8] = [
         Fault::Overspeed,
         Fault::FollowingError,
         Fault::EncoderImplausible,
@@ -30,12 +33,13 @@ impl Fault {
         Fault::DriveAlarm,
         Fault::Stall,
         Fault::StepOutput,
+        Fault::LostSteps,
     ];
 
-    /// E-stop, alarm and a step-output fault stop motion at once; the
-    /// others ramp down.
+    /// E-stop, alarm, a step-output fault and lost steps stop motion at
+    /// once; the others ramp down.
     pub fn immediate(self) -> bool {
-        matches!(self, Fault::EStop | Fault::DriveAlarm | Fault::StepOutput)
+        matches!(self, Fault::EStop | Fault::DriveAlarm | Fault::StepOutput | Fault::LostSteps)
     }
 
     pub fn name(self) -> &'static str {
@@ -47,6 +51,7 @@ impl Fault {
             Fault::DriveAlarm => "drive-alarm",
             Fault::Stall => "stall",
             Fault::StepOutput => "step-output",
+            Fault::LostSteps => "lost-steps",
         }
     }
 
@@ -60,6 +65,7 @@ impl Fault {
             Fault::DriveAlarm => "drive reports an alarm: check the drive, then clear",
             Fault::Stall => "cutter encoder not following: check motor and its encoder",
             Fault::StepOutput => "step pulses did not match the plan: a firmware or board fault, please report it",
+            Fault::LostSteps => "the cutter's shaft is not where the steps put it: lost steps (overload, a jam, or the encoder's A/B swapped); check, then clear",
         }
     }
 }

@@ -25,6 +25,7 @@ pub fn json(sc: &Scenario, r: &SimResult) -> serde_json::Value {
         "synced_ticks": r.synced_ticks,
         "tick_hz": sc.tick_hz,
         "motor_stalled": r.stalled,
+        "max_shaft_error_steps": r.max_shaft_error_steps,
     })
 }
 

@@ -3,6 +3,7 @@
 use super::bldc::Bldc;
 use super::encoder::Encoder;
 use super::lathe::Lathe;
+use super::shaft::ShaftEncoder;
 use super::stepper::Stepper;
 use super::{CutRecorder, Event, Scenario, SimResult};
 use crate::geometry::Section;
@@ -19,6 +20,8 @@ struct Plants {
     stepper: Stepper,
     bldc: Bldc,
     x: Stepper,
+    /// an encoder on the stepper's shaft, if the core has one set
+    shaft: ShaftEncoder,
 }
 
 /// Fits the scenario's X axis to the core.
@@ -66,6 +69,7 @@ impl Plants {
             ),
             bldc: Bldc::new(sc.core.motor_steps_per_rev),
             x: Stepper::new(1e9, 1e12, 2e-6, 0),
+            shaft: ShaftEncoder::new(sc.core.cutter_encoder_cpr, sc.core.motor_steps_per_rev, sc.step_error, sc.seed),
         };
         p.bldc.max_torque = sc.bldc_max_torque;
         p.bldc.cut_torque = sc.bldc_cut_torque;
@@ -133,17 +137,24 @@ fn event_loop(sc: &Scenario, ctl: &mut Controller, p: &mut Plants, bins: usize) 
             lathe: count as u16,
             index,
             emitted: p.stepper.pulses as u16,
-            cutter: p.bldc.count() as u16,
+            cutter: p.cutter_count(sc) as u16,
             estop_open: estop,
             alarm: false,
             x_emitted: p.x.pulses as u16,
         };
         let o = ctl.tick(&input);
         ctl.service();
+        if let Some(m) = ctl.lost_milli_steps() {
+            out.max_shaft = out.max_shaft.max(m.unsigned_abs() as f64 / 1e3);
+        }
+        if jammed(sc, t) {
+            p.stepper.stalled = true; // the rotor held; the driver counts on
+        }
         let steps_now = match sc.core.drive {
             DriveKind::Stepper | DriveKind::None => p.stepper.execute(&o.plan, t, dt, TIMER_HZ as f64, o.halt),
             DriveKind::Bldc => p.bldc.angle / TAU * m,
         };
+        p.shaft.update(steps_now);
         let theta = steps_now / m * TAU;
         let dx = match &sc.x_axis {
             Some(x) => p.x.execute(&o.x_plan, t, dt, TIMER_HZ as f64, o.halt) / x.steps_per_mm,
@@ -186,6 +197,22 @@ fn event_loop(sc: &Scenario, ctl: &mut Controller, p: &mut Plants, bins: usize) 
 
 /// The scenario's events due in the tick starting at `t`: an engagement
 /// that the core takes starts a new pass.
+/// True once the scenario's jam (if any) has come.
+fn jammed(sc: &Scenario, t: f64) -> bool {
+    sc.events.iter().any(|e| matches!(*e, Event::Jam(at) if at <= t))
+}
+
+impl Plants {
+    /// What TIM4 reads: the shaft encoder on a stepper that has one, else
+    /// the BLDC's encoder.
+    fn cutter_count(&self, sc: &Scenario) -> i64 {
+        match sc.core.drive {
+            DriveKind::Stepper if self.shaft.cpr != 0 => self.shaft.count,
+            _ => self.bldc.count(),
+        }
+    }
+}
+
 fn scheduled(
     sc: &Scenario,
     t: f64,
@@ -289,6 +316,7 @@ fn result(sc: &Scenario, ctl: &Controller, p: &mut Plants, bins: usize, ran: Ran
         synced_ticks: out.synced,
         error_trace: out.trace,
         stalled: p.stepper.stalled,
+        max_shaft_error_steps: out.max_shaft,
     })
 }
 
@@ -300,6 +328,7 @@ fn tip_in_stock(setup: &crate::geometry::Setup, theta: f64) -> bool {
 
 #[derive(Default)]
 struct Tally {
+    max_shaft: f64,
     max_abs: f64,
     max_cutting: f64,
     synced: u64,

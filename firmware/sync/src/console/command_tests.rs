@@ -70,6 +70,8 @@ fn get_shows_every_setting_as_set() {
         ("pulse", "1500", "1500"),
         ("enable", "high", "high"),
         ("max-rpm", "900", "900"),
+        ("cutter-cpr", "4000", "4000"),
+        ("lost-steps", "48", "48"),
     ] {
         let want = std::format!("ok {name}={shown}");
         assert_eq!(say(&mut c, &std::format!("set {name} {value}")).0, want);
@@ -78,8 +80,15 @@ fn get_shows_every_setting_as_set() {
     assert_eq!(
         say(&mut c, "get").0,
         "ok cpr=4000 steps=1600 ratio=5/2 dir=opposite edges=5 max-rate=150000 max-accel=300000 ferror=32 \
-         phase=-12.500 drive=bldc dir-setup=2500 pulse=1500 enable=high max-rpm=900"
+         phase=-12.500 drive=bldc dir-setup=2500 pulse=1500 enable=high max-rpm=900 cutter-cpr=4000 lost-steps=48"
     );
+    assert_eq!(say(&mut c, "set cutter-cpr off").0, "ok cutter-cpr=off");
+    assert_eq!(
+        say(&mut c, "set cutter-cpr 2").0,
+        "error: cutter-cpr 4..=1000000 counts per cutter rev, or off",
+        "the range named"
+    );
+    assert_eq!(say(&mut c, "get cutter-cpr").0, "ok cutter-cpr=off", "a refusal changes nothing");
 }
 
 #[test]

@@ -18,6 +18,9 @@ pub struct Snapshot {
     /// the points of the cam table fitted to the X axis, if one is (at most
     /// CAM_POINTS, 1024; a u16 keeps `Outcome` small)
     pub cam_points: Option<u16>,
+    /// with a cutter encoder: the shaft's distance from the steps sent,
+    /// thousandths of a step (`lost-steps`)
+    pub lost_milli_steps: Option<i64>,
 }
 
 impl Snapshot {
@@ -28,12 +31,14 @@ impl Snapshot {
             tick_hz: ctl.derived().tick_hz,
             fault: ctl.fault(),
             cam_points: ctl.x_axis().map(|x| x.cam.points().len() as u16),
+            lost_milli_steps: ctl.lost_milli_steps(),
         }
     }
 
     /// Writes `ok state=... fault=... lathe_rpm=... cutter_rpm=... phase_err_steps=...`,
     /// then `cam=N` (its points) while a cam table is fitted: whether an
-    /// upload, or the one saved, took is seen without the upload's reply.
+    /// upload, or the one saved, took is seen without the upload's reply;
+    /// with a cutter encoder, `shaft_err_steps` (steps sent − shaft).
     pub fn write(&self, out: &mut Reply) {
         let (s, c) = (&self.status, &self.config);
         // rpm ×10 = v[Q16 counts/tick] · hz · 600 / (2^16 · E), all within
@@ -61,6 +66,9 @@ impl Snapshot {
         );
         if let Some(n) = self.cam_points {
             let _ = write!(out, " cam={n}");
+        }
+        if let Some(m) = self.lost_milli_steps {
+            let _ = write!(out, " shaft_err_steps={}", Milli(m));
         }
         if let Some(f) = self.fault {
             let _ = write!(out, " reason=\"{}\"", f.reason());

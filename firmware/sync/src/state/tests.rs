@@ -4,14 +4,23 @@
 
 use super::*;
 
-const ALL: [Fault; 7] = Fault::ALL;
+const ALL: [Fault; 8] = Fault::ALL;
 
 #[test]
 fn each_fault_has_its_console_name() {
     let names = ALL.map(Fault::name);
     assert_eq!(
         names,
-        ["overspeed", "following-error", "encoder-implausible", "estop", "drive-alarm", "stall", "step-output"]
+        [
+            "overspeed",
+            "following-error",
+            "encoder-implausible",
+            "estop",
+            "drive-alarm",
+            "stall",
+            "step-output",
+            "lost-steps"
+        ]
     );
 }
 
@@ -28,14 +37,15 @@ fn each_fault_gives_the_reason_the_manual_quotes() {
             "drive reports an alarm: check the drive, then clear",
             "cutter encoder not following: check motor and its encoder",
             "step pulses did not match the plan: a firmware or board fault, please report it",
+            "the cutter's shaft is not where the steps put it: lost steps (overload, a jam, or the encoder's A/B swapped); check, then clear",
         ]
     );
 }
 
 #[test]
-fn estop_alarm_and_step_output_stop_at_once_the_others_ramp_down() {
+fn estop_alarm_step_output_and_lost_steps_stop_at_once_the_others_ramp_down() {
     let immediate = ALL.map(Fault::immediate);
-    assert_eq!(immediate, [false, false, false, true, true, false, true]);
+    assert_eq!(immediate, [false, false, false, true, true, false, true, true]);
 }
 
 #[test]

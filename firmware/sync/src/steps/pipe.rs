@@ -85,6 +85,26 @@ impl StepPipe {
         self.position
     }
 
+    /// Where the pulses counted so far put the motor: the windows in
+    /// flight given those pulses in order (`settle`'s sum, without ending
+    /// anything). The committed `position` less what is still to come.
+    #[inline]
+    pub fn emitted(&self) -> i64 {
+        if self.halt.is_some() {
+            return self.position; // settled: the count is the truth
+        }
+        let pulses: i64 = self.kept.iter().map(|w| w.count as i64).sum();
+        let steps: i64 = self.kept.iter().map(|w| w.signed()).sum();
+        let mut extra = (self.counted - (self.planned - pulses)).max(0);
+        let mut at = self.position - steps;
+        for w in self.kept {
+            let n = extra.min(w.count as i64);
+            extra -= n;
+            at += if w.dir == Dir::Forward { n } else { -n };
+        }
+        at
+    }
+
     fn read(&mut self, raw: u16) {
         self.counted += self.counter.update(raw) as i64;
     }

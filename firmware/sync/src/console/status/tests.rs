@@ -22,7 +22,7 @@ fn snapshot(v_q32: i64, phase_error_q16: i64, fault: Option<Fault>) -> Snapshot 
         ticks: 7,
     };
     let config = Config::default().with("max-rpm", "600").unwrap().with("ratio", "11/3").unwrap();
-    Snapshot { status, config, tick_hz: 25_000, fault, cam_points: None }
+    Snapshot { status, config, tick_hz: 25_000, fault, cam_points: None, lost_milli_steps: None }
 }
 
 fn line(s: &Snapshot) -> std::string::String {
@@ -63,7 +63,14 @@ fn the_idle_line_reads_as_the_manual_shows_it() {
         indexed: false,
         ticks: 0,
     };
-    let s = Snapshot { status, config: Config::default(), tick_hz: 25_000, fault: None, cam_points: None };
+    let s = Snapshot {
+        status,
+        config: Config::default(),
+        tick_hz: 25_000,
+        fault: None,
+        cam_points: None,
+        lost_milli_steps: None,
+    };
     assert_eq!(
         line(&s),
         "ok state=idle fault=none lathe_rpm=0.0 cutter_rpm=0.0 phase_err_steps=0.000 target=0 cutter=0 indexed=no"

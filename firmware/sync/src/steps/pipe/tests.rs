@@ -206,3 +206,40 @@ fn idle_ticks_between_plans_keep_the_windows_in_step() {
     hw.end_window();
     assert_eq!(books.position(), hw.position);
 }
+
+#[test]
+fn emitted_is_where_the_pulses_counted_put_the_motor_both_ways_mid_window() {
+    // moves that reverse every few ticks, some pulses of the running window
+    // counted early: after each read the books' `emitted` is the hardware's
+    // signed position, never the plans still in flight
+    let moves: Vec<i64> = (0..300).map(|k| ((k % 11) as i64 - 5) * 90_000).collect();
+    for early in [0, 1, 2, u16::MAX] {
+        let (mut books, mut hw, mut to) = (StepPipe::default(), Hardware::new(), 0i64);
+        books.start(0);
+        for dv in &moves {
+            hw.emit(early);
+            assert!(books.check(hw.counted as u16));
+            assert_eq!(books.emitted(), hw.position, "early {early}");
+            to += dv;
+            hw.queue.push_back(books.plan(to, &T));
+            hw.end_window();
+        }
+        assert_ne!(books.emitted(), books.position(), "plans were in flight at the end");
+    }
+}
+
+#[test]
+fn emitted_after_a_halt_is_the_settled_count() {
+    let mut books = StepPipe::default();
+    books.start(0);
+    let mut hw = Hardware::new();
+    for k in 0..5 {
+        assert!(books.check(hw.counted as u16));
+        hw.queue.push_back(books.plan((k + 1) * 4 * 65_536, &T));
+        hw.end_window();
+    }
+    hw.emit(1); // one pulse of the running window, then the halt
+    books.halted(hw.counted as u16);
+    assert_eq!(books.emitted(), hw.position);
+    assert_eq!(books.emitted(), books.position());
+}

@@ -1,0 +1,102 @@
+//! The settings added after the first record layout (`codec::VERSION` 1),
+//! in a block of their own: magic `PX`, version, a reserved 0, the fields
+//! little-endian, CRC-32. The store writes it beside the first record,
+//! before the commit marker; a slot saved by a firmware without it holds
+//! erased flash there (all 0xFF), which loads as the new fields' defaults.
+//! As for the first record, decoding is one-to-one: a block decodes only
+//! if `encode` writes exactly its bytes.
+
+use super::{crc32, DecodeError};
+use crate::config::Config;
+
+pub const MAGIC: [u8; 2] = *b"PX";
+pub const VERSION: u8 = 1;
+/// magic 2, version 1, reserved 1, cutter-cpr 4, lost-steps 4, crc 4: a
+/// multiple of the flash's 4-byte writes.
+pub const LEN: usize = 16;
+
+pub fn encode(c: &Config) -> [u8; LEN] {
+    let mut out = [0u8; LEN];
+    out[..2].copy_from_slice(&MAGIC);
+    out[2] = VERSION;
+    out[4..8].copy_from_slice(&c.cutter_encoder_cpr.to_le_bytes());
+    out[8..12].copy_from_slice(&c.lost_step_limit_steps.to_le_bytes());
+    let crc = crc32(&out[..LEN - 4]);
+    out[LEN - 4..].copy_from_slice(&crc.to_le_bytes());
+    out
+}
+
+/// `base` (from the first record) with the block's fields: erased flash
+/// (every byte 0xFF) gives the defaults of the new fields.
+pub fn decode(base: Config, bytes: &[u8]) -> Result<Config, DecodeError> {
+    if bytes.len() != LEN {
+        return Err(DecodeError::Length);
+    }
+    let defaults = Config::default();
+    if bytes.iter().all(|&b| b == 0xFF) {
+        return Ok(Config {
+            cutter_encoder_cpr: defaults.cutter_encoder_cpr,
+            lost_step_limit_steps: defaults.lost_step_limit_steps,
+            ..base
+        });
+    }
+    if bytes[..2] != MAGIC {
+        return Err(DecodeError::Magic);
+    }
+    if bytes[2] != VERSION {
+        return Err(DecodeError::Version(bytes[2]));
+    }
+    let word = |i: usize| u32::from_le_bytes([bytes[i], bytes[i + 1], bytes[i + 2], bytes[i + 3]]);
+    if crc32(&bytes[..LEN - 4]) != word(LEN - 4) {
+        return Err(DecodeError::Checksum);
+    }
+    let c = Config { cutter_encoder_cpr: word(4), lost_step_limit_steps: word(8), ..base };
+    c.validate().map_err(|e| DecodeError::Invalid(e.field))?;
+    if encode(&c) != *bytes {
+        return Err(DecodeError::NonCanonical("extension"));
+    }
+    Ok(c)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn with_encoder() -> Config {
+        Config::default().with("cutter-cpr", "4000").unwrap().with("lost-steps", "48").unwrap()
+    }
+
+    #[test]
+    fn round_trips_and_detects_every_single_bit_flip() {
+        let c = with_encoder();
+        let bytes = encode(&c);
+        assert_eq!(decode(Config::default(), &bytes), Ok(c));
+        for bit in 0..LEN * 8 {
+            let mut b = bytes;
+            b[bit / 8] ^= 1 << (bit % 8);
+            assert!(decode(Config::default(), &b).is_err(), "bit {bit} flipped still decodes");
+        }
+    }
+
+    #[test]
+    fn erased_flash_is_a_record_from_before_the_block_with_the_defaults() {
+        let base = Config::default().with("ratio", "5/2").unwrap();
+        let c = decode(base, &[0xFF; LEN]).unwrap();
+        assert_eq!(c, base);
+        assert_eq!((c.cutter_encoder_cpr, c.lost_step_limit_steps), (0, 32));
+    }
+
+    #[test]
+    fn an_out_of_range_or_non_canonical_block_is_refused() {
+        let mut b = encode(&with_encoder());
+        b[4..8].copy_from_slice(&2u32.to_le_bytes()); // cutter-cpr 2: below 4
+        let crc = crc32(&b[..LEN - 4]);
+        b[LEN - 4..].copy_from_slice(&crc.to_le_bytes());
+        assert_eq!(decode(Config::default(), &b), Err(DecodeError::Invalid("cutter-cpr")));
+        let mut b = encode(&with_encoder());
+        b[3] = 1; // the reserved byte
+        let crc = crc32(&b[..LEN - 4]);
+        b[LEN - 4..].copy_from_slice(&crc.to_le_bytes());
+        assert_eq!(decode(Config::default(), &b), Err(DecodeError::NonCanonical("extension")));
+    }
+}
