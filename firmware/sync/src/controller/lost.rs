@@ -84,7 +84,9 @@ impl Controller {
     pub fn lost_milli_steps(&self) -> Option<i64> {
         let cpr = self.config.cutter_encoder_cpr as i64;
         let stepper = self.config.drive == crate::config::DriveKind::Stepper;
-        (cpr != 0 && stepper).then(|| (self.lost.diff as i128 * 1000 / cpr as i128) as i64)
+        // (clamped to ±2^52 so ×1000 fits an i64: a shaft that far off has
+        // tripped long before)
+        (cpr != 0 && stepper).then(|| self.lost.diff.clamp(-(1 << 52), 1 << 52) * 1000 / cpr)
     }
 }
 
