@@ -57,11 +57,5 @@ fn an_encoder_glitch_is_flagged_as_implausible() {
     assert_eq!(r.faults.first().map(|f| f.1), Some(Fault::EncoderImplausible), "{:?}", r.faults);
 }
 
-#[test]
-fn bldc_under_cutting_load_stays_within_its_phase_window() {
-    let sc = scenario(hexagon(), 600.0, 10.0, 0.02, Start::Spinning, DriveKind::Bldc);
-    let r = simulate(&sc);
-    assert!(r.faults.is_empty(), "{:?}", r.faults);
-    assert!(r.max_error_steps_cutting < 16.0, "{} counts", r.max_error_steps_cutting);
-    assert!(r.max_profile_deviation < 0.05, "{}", r.max_profile_deviation);
-}
+// (the BLDC under cutting load: tests/bldc_drives.rs, on the drive the
+// firmware really feeds and on the idealised one)

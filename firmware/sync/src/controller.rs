@@ -195,7 +195,6 @@ impl Controller {
         self.lathe = Extender::new(lathe);
         self.steps.start(emitted);
         self.bldc.start(cutter);
-        self.lost.start(cutter);
     }
 
     /// The control tick.

@@ -131,6 +131,9 @@ pub fn changes(f: &Facts) -> Vec<(String, String)> {
 }
 
 /// What the settings mean, for the machinist.
+/// What a machinist choosing `drive bldc` must know (`tests/bldc_drives.rs`).
+pub const BLDC_WARNING: &str = "warning: drive bldc: through an RC ESC's 50 Hz pulse the cutter does not hold phase yet (in simulation the hexagon loses it 0.45 s after engaging): use a stepper or a step/dir servo for cutting";
+
 pub fn summary(c: &polyturn_sync::Config, sent: &[(String, String)]) -> String {
     let set: Vec<String> = sent.iter().map(|(n, v)| format!("{n}={v}")).collect();
     let (n, d) = figures::steps_per_count(c);
@@ -142,6 +145,9 @@ pub fn summary(c: &polyturn_sync::Config, sent: &[(String, String)]) -> String {
     for &(num, den, what) in COMMON_RATIOS {
         let r = if den == 1 { format!("{num}") } else { format!("{num}/{den}") };
         out.push(format!("  ratio {r:>4}: {:>5} rpm  {what}", figures::fastest_lathe_rpm(c, num, den)));
+    }
+    if c.drive == polyturn_sync::DriveKind::Bldc {
+        out.push(BLDC_WARNING.to_string());
     }
     out.join("\n")
 }

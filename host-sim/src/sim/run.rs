@@ -73,6 +73,9 @@ impl Plants {
         };
         p.bldc.max_torque = sc.bldc_max_torque;
         p.bldc.cut_torque = sc.bldc_cut_torque;
+        p.bldc.drive = sc.bldc_drive;
+        // the ESC's full scale: `max-rate` counts/s as rad/s
+        p.bldc.full_speed = sc.core.max_step_rate_hz as f64 / sc.core.motor_steps_per_rev as f64 * TAU;
         for e in &sc.events {
             if let Event::Glitch(t, n) = *e {
                 p.encoder.glitches.push((t, n));
@@ -180,8 +183,13 @@ fn event_loop(sc: &Scenario, ctl: &mut Controller, p: &mut Plants, bins: usize) 
         machinist.cut(sc, cutting, &mut p.lathe, passes.last_mut(), (a, theta, dx));
         if sc.core.drive == DriveKind::Bldc {
             let cmd = o.speed_q16 as f64 / 65536.0 * sc.tick_hz as f64 * TAU / m;
+            // the pulse the firmware makes of it (`app/tick.rs`), and the way
+            // the motor is wired: the gear's
+            let max = ctl.derived().limits.max_velocity;
+            let pulse = polyturn_firmware::esc::command(true, o.enable, o.halt, o.speed_q16, max);
+            p.bldc.take(t, pulse, cmd, sense);
             let load = cutting && tip_in_stock(&sc.setup, p.bldc.angle);
-            p.bldc.advance(cmd, load, o.enable, dt);
+            p.bldc.advance(load, o.enable, dt);
         }
         p.lathe.advance(dt);
         tick += 1;

@@ -23,6 +23,8 @@ use crate::encoder::Extender;
 /// Ticks after ENABLE before the comparison starts: 10 ms at 25 kHz.
 pub const SETTLE_TICKS: u32 = 250;
 
+/// (No `start`: the first ticks are never energised, so the reference
+/// takes whatever the encoder first reads.)
 #[derive(Clone, Copy, Debug, Default)]
 pub struct LostSteps {
     encoder: Extender,
@@ -36,10 +38,6 @@ pub struct LostSteps {
 }
 
 impl LostSteps {
-    pub fn start(&mut self, raw: u16) {
-        self.encoder = Extender::new(raw);
-    }
-
     /// One tick: true when the shaft is further than `limit` steps from
     /// the books. `energised`: ENABLE as the last tick left it.
     #[inline]
@@ -104,7 +102,6 @@ mod tests {
     #[test]
     fn a_shaft_that_follows_never_trips_and_one_that_stops_does_past_the_limit() {
         let mut l = LostSteps::default();
-        l.start(0);
         for t in 0..SETTLE_TICKS as i64 + 1000 {
             assert!(!l.tick(raw(t * 7), t * 7, true, SCALE), "tick {t}");
         }
@@ -117,7 +114,6 @@ mod tests {
     #[test]
     fn moves_while_unpowered_or_settling_are_not_lost_steps() {
         let mut l = LostSteps::default();
-        l.start(0);
         assert!(!l.tick(raw(500), 0, false, SCALE), "turned by hand, disabled");
         for _ in 0..SETTLE_TICKS {
             // the rotor jumps 2 full steps on enable
@@ -128,11 +124,24 @@ mod tests {
     }
 
     #[test]
+    fn the_comparison_starts_on_the_tick_after_settling_and_the_limit_itself_is_within() {
+        // one count a step: 32 steps off is within, 33 is not; and the
+        // first compared tick is the one after SETTLE_TICKS energised
+        let scale = (1, 1, 32);
+        for (off, trips) in [(32, false), (33, true)] {
+            let mut l = LostSteps::default();
+            for _ in 0..SETTLE_TICKS {
+                assert!(!l.tick(100, 0, true, scale));
+            }
+            assert_eq!(l.tick(100, off, true, scale), trips, "{off} steps off");
+        }
+    }
+
+    #[test]
     fn the_comparison_is_exact_over_a_long_run() {
         // 10^9 steps at 3 steps per 7 counts...: still exact, no drift
         let mut l = LostSteps::default();
         let scale = (7, 3, 1);
-        l.start(0);
         let mut counts: i64 = 0;
         for t in 0..SETTLE_TICKS as i64 + 2 {
             assert!(!l.tick(counts as u16, t * 3, true, scale));

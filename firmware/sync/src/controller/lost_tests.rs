@@ -138,4 +138,10 @@ fn status_shows_the_shaft_against_the_steps_sent() {
     crate::console::status_line(&r.c, &mut out);
     let want = std::format!(" shaft_err_steps={}.{:03}", m / 1000, m % 1000);
     assert!(out.contains(&want), "{out}");
+    // and ahead of them: negative
+    for _ in 0..20 {
+        follow(&mut r, per_tick(1.0), -16);
+    }
+    let m = r.c.lost_milli_steps().unwrap();
+    assert!((-19_200..=-12_800).contains(&m), "16 steps ahead, within a count: {m}");
 }
