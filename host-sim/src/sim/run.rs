@@ -8,7 +8,7 @@ use super::stepper::Stepper;
 use super::{CutRecorder, Event, Scenario, SimResult};
 use crate::geometry::Section;
 use polyturn_sync::gear::Scale;
-use polyturn_sync::{Controller, DriveKind, Fault, State, TickInput, Timing};
+use polyturn_sync::{Controller, DriveKind, Fault, State, TickInput, TickOutput, Timing};
 use std::f64::consts::TAU;
 
 /// The board's step timer clock: the simulated tick plans in its cycles.
@@ -182,14 +182,7 @@ fn event_loop(sc: &Scenario, ctl: &mut Controller, p: &mut Plants, bins: usize) 
         }
         machinist.cut(sc, cutting, &mut p.lathe, passes.last_mut(), (a, theta, dx));
         if sc.core.drive == DriveKind::Bldc {
-            let cmd = o.speed_q16 as f64 / 65536.0 * sc.tick_hz as f64 * TAU / m;
-            // the pulse the firmware makes of it (`app/tick.rs`), and the way
-            // the motor is wired: the gear's
-            let max = ctl.derived().limits.max_velocity;
-            let pulse = polyturn_firmware::esc::command(true, o.enable, o.halt, o.speed_q16, max);
-            p.bldc.take(t, pulse, cmd, sense);
-            let load = cutting && tip_in_stock(&sc.setup, p.bldc.angle);
-            p.bldc.advance(load, o.enable, dt);
+            p.drive_bldc(sc, ctl, &o, (t, dt), cutting);
         }
         p.lathe.advance(dt);
         tick += 1;
@@ -211,6 +204,19 @@ fn jammed(sc: &Scenario, t: f64) -> bool {
 }
 
 impl Plants {
+    /// The BLDC for a tick: the drive takes the pulse the firmware makes of
+    /// the core's command (`app/tick.rs`), and the motor turns the way it is
+    /// wired (the gear's), under the cut's load while an edge is in it.
+    fn drive_bldc(&mut self, sc: &Scenario, ctl: &Controller, o: &TickOutput, (t, dt): (f64, f64), cutting: bool) {
+        let Gearing { m, sense, .. } = Gearing::of(sc);
+        let cmd = o.speed_q16 as f64 / 65536.0 * sc.tick_hz as f64 * TAU / m;
+        let max = ctl.derived().limits.max_velocity;
+        let pulse = polyturn_firmware::esc::command(true, o.enable, o.halt, o.speed_q16, max);
+        self.bldc.take(t, pulse, cmd, sense);
+        let load = cutting && tip_in_stock(&sc.setup, self.bldc.angle);
+        self.bldc.advance(load, o.enable, dt);
+    }
+
     /// What TIM4 reads: the shaft encoder on a stepper that has one, else
     /// the BLDC's encoder.
     fn cutter_count(&self, sc: &Scenario) -> i64 {
