@@ -90,8 +90,9 @@ pub struct Chip {
     pub jumpers: Jumpers,
     /// TIM1/TIM9 pin edges already passed through the jumpers
     mcu_edges_seen: usize,
-    pub primask: crate::primask::PrimaskLog,
-    pub tickmask: crate::tickmask::TickMaskLog,
+    pub primask: crate::primask::SectionLog,
+    /// the sections that hold off the tick (`tickmask`)
+    pub tickmask: crate::primask::SectionLog,
     /// the tick's inputs and ENABLE, recorded when a job asks (`tape`)
     pub tape: Option<crate::tape::Tape>,
     /// the image mapped system memory at 0 (SYSCFG_MEMRMP.MEM_MODE = 01, §7.2.1)

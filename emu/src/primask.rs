@@ -13,12 +13,38 @@ pub struct Section {
     pub pc: u32,
 }
 
+/// Sections of one kind: the one open, and the longest so far (of all, and
+/// of those begun with the tick's interrupt enabled).
 #[derive(Default)]
-pub struct PrimaskLog {
+pub struct SectionLog {
     since: Option<(u64, u32, bool)>,
     pub longest: Section,
     pub ticking: Section,
     pub sections: u64,
+}
+
+impl SectionLog {
+    pub fn is_open(&self) -> bool {
+        self.since.is_some()
+    }
+
+    /// A section begins at instruction `t`, at `pc`.
+    pub fn open(&mut self, t: u64, pc: u32, tick_on: bool) {
+        self.since = Some((t, pc, tick_on));
+    }
+
+    /// The open section (if any) ends at instruction `t`.
+    pub fn close(&mut self, t: u64) {
+        let Some((t0, pc, ticking)) = self.since.take() else { return };
+        let s = Section { instructions: t - t0, pc };
+        self.sections += 1;
+        if s.instructions > self.longest.instructions {
+            self.longest = s;
+        }
+        if ticking && s.instructions > self.ticking.instructions {
+            self.ticking = s;
+        }
+    }
 }
 
 pub fn hooks(m: &mut Machine) -> Result<(), String> {
@@ -95,18 +121,10 @@ fn at(uc: &mut Unicorn<Chip>, addr: u32, value: Option<bool>) {
     let deliverable = crate::cpu::deliverable(uc, Some(false)).is_some();
     let c = uc.get_data_mut();
     let log = &mut c.primask;
-    match (value, log.since) {
-        (true, None) if !primask => log.since = Some((t, addr, tick_on)),
-        (false, Some((t0, pc, ticking))) => {
-            let s = Section { instructions: t - t0, pc };
-            log.sections += 1;
-            if s.instructions > log.longest.instructions {
-                log.longest = s;
-            }
-            if ticking && s.instructions > log.ticking.instructions {
-                log.ticking = s;
-            }
-            log.since = None;
+    match (value, log.is_open()) {
+        (true, false) if !primask => log.open(t, addr, tick_on),
+        (false, true) => {
+            log.close(t);
             if deliverable {
                 c.deadline = 0; // taken as soon as this block ends
             }

@@ -8,17 +8,7 @@
 //! non-zero and more urgent than the current one, or anything over 0).
 
 use crate::chip::Chip;
-use crate::primask::Section;
 use unicorn_engine::{RegisterARM as R, Unicorn};
-
-#[derive(Default)]
-pub struct TickMaskLog {
-    since: Option<(u64, u32, bool)>,
-    pub longest: Section,
-    /// the longest begun while the tick's interrupt was enabled
-    pub ticking: Section,
-    pub sections: u64,
-}
 
 /// The tick's priority byte as the NVIC holds it (`board::TICK_LEVEL`).
 const TICK_PRIO: u32 = (polyturn_firmware::board::TICK_LEVEL as u32) << 4;
@@ -51,19 +41,9 @@ pub fn change(uc: &mut Unicorn<Chip>, t: u64, addr: u32, primask: bool, basepri:
     let c = uc.get_data_mut();
     let tick_on = c.nvic.enabled[crate::svd::irq(polyturn_firmware::board::TICK_IRQ)];
     let log = &mut c.tickmask;
-    match (was, now, log.since) {
-        (false, true, _) => log.since = Some((t, addr, tick_on)),
-        (true, false, Some((t0, pc, ticking))) => {
-            let s = Section { instructions: t - t0, pc };
-            log.sections += 1;
-            if s.instructions > log.longest.instructions {
-                log.longest = s;
-            }
-            if ticking && s.instructions > log.ticking.instructions {
-                log.ticking = s;
-            }
-            log.since = None;
-        }
+    match (was, now) {
+        (false, true) => log.open(t, addr, tick_on),
+        (true, false) => log.close(t),
         _ => {}
     }
 }
