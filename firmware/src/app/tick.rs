@@ -141,7 +141,8 @@ fn run(cs: &CriticalSection) {
     // every tick, whatever the drive: a fault or halt stops the ESC too
     let bldc = io.core.config().drive == DriveKind::Bldc;
     let max = io.core.derived().limits.max_velocity;
-    drivers::set_esc_pulse_us(esc::command(bldc, out.enable, out.halt, out.speed_q16, max));
+    let forward = io.core.config().sense == polyturn_sync::Sense::Same;
+    drivers::set_esc_pulse_us(esc::command(bldc, out.enable, out.halt, out.speed_q16, max, forward));
     io.pins.set_enable(out.enable);
     drivers::set_x_pins(io.x.tick(&out.x_plan, out.halt));
     // the E-stop pre-empts the tick: if it ran during this one, a write

@@ -211,7 +211,8 @@ impl Plants {
         let Gearing { m, sense, .. } = Gearing::of(sc);
         let cmd = o.speed_q16 as f64 / 65536.0 * sc.tick_hz as f64 * TAU / m;
         let max = ctl.derived().limits.max_velocity;
-        let pulse = polyturn_firmware::esc::command(true, o.enable, o.halt, o.speed_q16, max);
+        let forward = sc.core.sense == polyturn_sync::Sense::Same;
+        let pulse = polyturn_firmware::esc::command(true, o.enable, o.halt, o.speed_q16, max, forward);
         self.bldc.take(t, pulse, cmd, sense);
         let load = cutting && tip_in_stock(&sc.setup, self.bldc.angle);
         self.bldc.advance(load, o.enable, dt);
