@@ -73,7 +73,7 @@ pub fn alarm() -> bool {
 /// opening, FTSR for the alarm), so every entry is a stop: TIM1 stops
 /// first, before anything is read. Which line fired comes from the pending
 /// bits, not the pin levels (a bouncing contact may read closed again by
-/// now, RM0383 §10.2.3: PR latches the edge); only the bits read are
+/// now: EXTI_PR latches the edge, RM0383 §10.2, §10.3.6); only the bits read are
 /// cleared, so an edge arriving meanwhile pends again.
 #[interrupt]
 fn EXTI15_10() {
