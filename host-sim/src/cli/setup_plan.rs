@@ -54,6 +54,9 @@ pub struct SetupArgs {
     /// With dir=same, a jog turned the cutter against the chuck's forward turn
     #[arg(long)]
     pub motor_reversed: bool,
+    /// Counts per cutter turn of an encoder on the motor's shaft or the cutter spindle (4 x lines x belt), for the lost-step alarm (the console's `cutter-cpr`; 0: none)
+    #[arg(long, value_name = "N", value_parser = cutter_cpr)]
+    pub cutter_encoder_cpr: Option<u32>,
     /// Send the settings but do not save them
     #[arg(long)]
     pub no_save: bool,
@@ -70,6 +73,17 @@ pub struct Facts {
     pub sense: Sense,
     pub encoder_reversed: bool,
     pub motor_reversed: bool,
+    /// the shaft encoder's counts per cutter turn: Some(0) none, None not
+    /// asked (the board's setting stays)
+    pub cutter_cpr: Option<u32>,
+}
+
+/// `--cutter-encoder-cpr`: 0 (none) or the console's 4..=1000000.
+fn cutter_cpr(v: &str) -> Result<u32, String> {
+    match v.parse::<u32>() {
+        Ok(n) if n == 0 || (4..=1_000_000).contains(&n) => Ok(n),
+        _ => Err("0 (none) or 4..=1000000 counts per cutter turn".to_string()),
+    }
 }
 
 pub fn from_flags(a: &SetupArgs) -> CliResult<Facts> {
@@ -88,6 +102,7 @@ pub fn from_flags(a: &SetupArgs) -> CliResult<Facts> {
         sense: sense_of(a.sense),
         encoder_reversed: a.encoder_reversed,
         motor_reversed: a.motor_reversed,
+        cutter_cpr: a.cutter_encoder_cpr,
     })
 }
 
@@ -127,13 +142,18 @@ pub fn changes(f: &Facts) -> Vec<(String, String)> {
     if let Some(d) = f.dir_setup_ns {
         c.push(("dir-setup".into(), d.to_string()));
     }
+    match f.cutter_cpr {
+        Some(0) => c.push(("cutter-cpr".into(), "off".into())),
+        Some(n) => c.push(("cutter-cpr".into(), n.to_string())),
+        None => {}
+    }
     c
 }
 
-/// What the settings mean, for the machinist.
 /// What a machinist choosing `drive bldc` must know (`tests/bldc_drives.rs`).
 pub const BLDC_WARNING: &str = "warning: drive bldc: through an RC ESC's 50 Hz pulse the cutter does not hold phase yet (in simulation the hexagon loses it 0.45 s after engaging): use a stepper or a step/dir servo for cutting";
 
+/// What the settings mean, for the machinist.
 pub fn summary(c: &polyturn_sync::Config, sent: &[(String, String)]) -> String {
     let set: Vec<String> = sent.iter().map(|(n, v)| format!("{n}={v}")).collect();
     let (n, d) = figures::steps_per_count(c);
@@ -145,6 +165,12 @@ pub fn summary(c: &polyturn_sync::Config, sent: &[(String, String)]) -> String {
     for &(num, den, what) in COMMON_RATIOS {
         let r = if den == 1 { format!("{num}") } else { format!("{num}/{den}") };
         out.push(format!("  ratio {r:>4}: {:>5} rpm  {what}", figures::fastest_lathe_rpm(c, num, den)));
+    }
+    if c.cutter_encoder_cpr != 0 && c.drive == polyturn_sync::DriveKind::Stepper {
+        out.push(format!(
+            "lost-step alarm: the shaft encoder's {} counts per cutter turn against the steps sent; it stops the cutter beyond {} steps (lost-steps)",
+            c.cutter_encoder_cpr, c.lost_step_limit_steps
+        ));
     }
     if c.drive == polyturn_sync::DriveKind::Bldc {
         out.push(BLDC_WARNING.to_string());

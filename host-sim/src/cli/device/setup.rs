@@ -88,10 +88,21 @@ fn interview<P: Read + Write>(s: &mut Session<P>, a: &SetupArgs, ask: &mut dyn A
             1_000_000,
         )?),
         dir_setup_ns: Some(ask.number("The driver's DIR setup time, ns (5000 if unsure)", Some(5000), 0, 1_000_000)?),
+        cutter_cpr: Some(shaft_encoder(ask, a)?),
         sense,
         encoder_reversed: f.moved < 0,
         motor_reversed: false,
     })
+}
+
+/// The lost-step alarm's encoder, if there is one: its counts per cutter
+/// turn, 0 for none.
+fn shaft_encoder(ask: &mut dyn Ask, a: &SetupArgs) -> CliResult<u32> {
+    let q = "Is there an encoder on the motor's shaft or the cutter spindle, wired to PB6/PB7 (the lost-step alarm)?";
+    if !ask.yes(q, a.cutter_encoder_cpr.is_some_and(|n| n != 0))? {
+        return Ok(0);
+    }
+    ask.number("Its counts per cutter turn (4 x lines x belt)", a.cutter_encoder_cpr.filter(|&n| n != 0), 4, 1_000_000)
 }
 
 /// The encoder check turns the lathe under the old cpr, whose index

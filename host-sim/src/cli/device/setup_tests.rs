@@ -16,7 +16,11 @@ struct Line {
 }
 
 fn args(flags: &str) -> SetupArgs {
-    Line::try_parse_from(std::iter::once("setup").chain(flags.split_whitespace())).unwrap().a
+    try_args(flags).unwrap()
+}
+
+fn try_args(flags: &str) -> Result<SetupArgs, clap::Error> {
+    Line::try_parse_from(std::iter::once("setup").chain(flags.split_whitespace())).map(|l| l.a)
 }
 
 /// The commands the board received, tags removed.
@@ -35,6 +39,21 @@ fn the_non_interactive_setup_derives_sends_and_saves_the_settings() {
     assert_eq!(sent(&s).last().map(String::as_str), Some("save"));
     assert!(out.contains("at ratio 2: 8/5 motor steps per encoder count"), "{out}");
     assert!(out.contains("ratio    4:   600 rpm"), "{out}");
+}
+
+#[test]
+fn a_shaft_encoder_is_set_for_the_lost_step_alarm_and_the_summary_says_what_it_does() {
+    let mut s = session(FakeDevice::new());
+    let a = args("--non-interactive --encoder-lines 600 --max-lathe-rpm 600 --cutter-encoder-cpr 4000 --no-save");
+    let out = run(&mut s, &a, &mut Scripted::new(&[])).unwrap();
+    assert_eq!(s.io.ctl.config().cutter_encoder_cpr, 4_000);
+    assert!(out.contains("lost-step alarm: the shaft encoder's 4000 counts per cutter turn"), "{out}");
+    // without the flag the board's setting stays; out of range is refused
+    let mut s = session(FakeDevice::new());
+    run(&mut s, &args("--non-interactive --encoder-lines 600 --max-lathe-rpm 600 --no-save"), &mut Scripted::new(&[]))
+        .unwrap();
+    assert!(!sent(&s).iter().any(|c| c.starts_with("set cutter-cpr")), "{:?}", sent(&s));
+    assert!(try_args("--non-interactive --cutter-encoder-cpr 2").is_err());
 }
 
 #[test]
@@ -79,6 +98,7 @@ fn the_interview_measures_the_encoder_jogs_the_cutter_and_saves() {
     let mut ask = Scripted::new(&[
         "y", "", "y", // index; turn the chuck; use the measured cpr
         "200", "16", "direct", "same", "1000", "2500", "5000", // motor, sense, lathe, driver
+        "n",    // no shaft encoder (the fake board has none: a jog would trip lost-steps)
         "", "one turn", "n", // the jog: one turn, but the wrong way
     ]);
     let out = run(&mut s, &args(""), &mut ask).unwrap_or_else(|e| panic!("{e:?} after {:?}", sent(&s)));
@@ -86,6 +106,8 @@ fn the_interview_measures_the_encoder_jogs_the_cutter_and_saves() {
     assert_eq!(c.encoder_counts_per_rev, 2_000, "measured by the check, not the default 2400");
     assert_eq!((c.motor_steps_per_rev, c.max_lathe_rpm), (3_200, 1_000));
     assert_eq!(c.sense, polyturn_sync::Sense::Opposite, "the jog turned the wrong way: dir flipped");
+    assert_eq!(c.cutter_encoder_cpr, 0);
+    assert!(sent(&s).contains(&"set cutter-cpr off".to_string()), "{:?}", sent(&s));
     let cmds = sent(&s);
     assert!(cmds.contains(&"jog 360".to_string()) && cmds.last().unwrap() == "save", "{cmds:?}");
     assert!(ask.said.iter().any(|l| l.contains("proposed: set cpr 2000")), "{:?}", ask.said);
