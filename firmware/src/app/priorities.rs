@@ -52,7 +52,7 @@ pub fn check() -> bool {
     if !ok {
         defmt::error!("AIRCR.PRIGROUP is {}: priority levels split", prigroup);
     }
-    if u8::from(interrupt::EXTI15_10.get_priority()) >= u8::from(tick) {
+    if NVIC::get_priority(Irq(estop())) >= u8::from(tick) {
         defmt::error!("the E-stop does not pre-empt the tick");
         ok = false;
     }

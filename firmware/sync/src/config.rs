@@ -236,11 +236,12 @@ fn parse_drive(v: &str) -> Result<DriveKind, ConfigError> {
     }
 }
 
-/// `off` (no cutter encoder) or a count in range; 0 is refused as a count.
+/// `off` (no cutter encoder) or a count (its range: `validate_fields`); 0
+/// is refused as a count (`off` says it).
 fn parse_cutter_cpr(v: &str) -> Result<u32, ConfigError> {
     match v.trim() {
         "off" => Ok(0),
-        n => unsigned(n).filter(|n| (4..=1_000_000).contains(n)).ok_or(range("cutter-cpr", CUTTER_CPR)),
+        n => unsigned(n).filter(|&n| n != 0).ok_or(range("cutter-cpr", CUTTER_CPR)),
     }
 }
 

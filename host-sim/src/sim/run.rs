@@ -127,12 +127,12 @@ fn event_loop(sc: &Scenario, ctl: &mut Controller, p: &mut Plants, bins: usize) 
     // One recorder per engagement; the whole run's section is their minimum.
     let mut passes: Vec<CutRecorder> = Vec::new();
     let mut out = Tally::default();
-    let (mut estop, mut tick, mut settle) = (false, 0u64, 0u32);
+    let (mut latched, mut tick, mut settle) = (Latched::default(), 0u64, 0u32);
     let mut last_state = ctl.state();
     let mut machinist = Machinist::default();
     loop {
         let t = tick as f64 * dt;
-        scheduled(sc, t, dt, ctl, &mut passes, bins, &mut estop);
+        scheduled(sc, t, dt, ctl, &mut passes, bins, &mut latched);
         let a = p.lathe.angle;
         let count = p.encoder.count(a, tick);
         let index = p.encoder.index(a);
@@ -141,7 +141,7 @@ fn event_loop(sc: &Scenario, ctl: &mut Controller, p: &mut Plants, bins: usize) 
             index,
             emitted: p.stepper.pulses as u16,
             cutter: p.cutter_count(sc) as u16,
-            estop_open: estop,
+            estop_open: latched.estop,
             alarm: false,
             x_emitted: p.x.pulses as u16,
         };
@@ -150,7 +150,7 @@ fn event_loop(sc: &Scenario, ctl: &mut Controller, p: &mut Plants, bins: usize) 
         if let Some(m) = ctl.lost_milli_steps() {
             out.max_shaft = out.max_shaft.max(m.unsigned_abs() as f64 / 1e3);
         }
-        if jammed(sc, t) {
+        if latched.jam {
             p.stepper.stalled = true; // the rotor held; the driver counts on
         }
         let steps_now = match sc.core.drive {
@@ -196,11 +196,12 @@ fn event_loop(sc: &Scenario, ctl: &mut Controller, p: &mut Plants, bins: usize) 
     Ran { passes, out, tick }
 }
 
-/// The scenario's events due in the tick starting at `t`: an engagement
-/// that the core takes starts a new pass.
-/// True once the scenario's jam (if any) has come.
-fn jammed(sc: &Scenario, t: f64) -> bool {
-    sc.events.iter().any(|e| matches!(*e, Event::Jam(at) if at <= t))
+/// The events that hold once they have come: the E-stop open, the cutter
+/// jammed.
+#[derive(Default)]
+struct Latched {
+    estop: bool,
+    jam: bool,
 }
 
 impl Plants {
@@ -211,7 +212,7 @@ impl Plants {
         let Gearing { m, sense, .. } = Gearing::of(sc);
         let cmd = o.speed_q16 as f64 / 65536.0 * sc.tick_hz as f64 * TAU / m;
         let max = ctl.derived().limits.max_velocity;
-        let forward = sc.core.sense == polyturn_sync::Sense::Same;
+        let forward = sense > 0.0;
         let pulse = polyturn_firmware::esc::command(true, o.enable, o.halt, o.speed_q16, max, forward);
         self.bldc.take(t, pulse, cmd, sense);
         let load = cutting && tip_in_stock(&sc.setup, self.bldc.angle);
@@ -228,6 +229,8 @@ impl Plants {
     }
 }
 
+/// The scenario's events due in the tick starting at `t`: an engagement
+/// that the core takes starts a new pass.
 fn scheduled(
     sc: &Scenario,
     t: f64,
@@ -235,7 +238,7 @@ fn scheduled(
     ctl: &mut Controller,
     passes: &mut Vec<CutRecorder>,
     bins: usize,
-    estop: &mut bool,
+    latched: &mut Latched,
 ) {
     for ev in &sc.events {
         match *ev {
@@ -243,7 +246,8 @@ fn scheduled(
                 passes.push(CutRecorder::new(&sc.setup, bins));
             }
             Event::Disengage(at) if at <= t && at > t - dt => ctl.disengage(),
-            Event::EStop(at) if at <= t => *estop = true,
+            Event::EStop(at) if at <= t => latched.estop = true,
+            Event::Jam(at) if at <= t => latched.jam = true,
             _ => {}
         }
     }

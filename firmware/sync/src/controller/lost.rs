@@ -2,9 +2,9 @@
 //! servo's) shaft, on TIM4 (`cutter-cpr`), every tick compares the steps
 //! sent so far (the pulses counted, signed by the books' windows:
 //! `StepPipe::emitted`, not the plans still in flight) with where the
-//! encoder says the shaft is. Both
-//! are integers and the scale is exact: steps × cpr against counts × steps
-//! per rev, a multiply each, no division in the tick. Beyond `lost-steps`
+//! encoder says the shaft is. Both are integers and the scale is exact:
+//! steps × cpr against counts × steps per rev, a multiply each, no
+//! division in the tick. Beyond `lost-steps`
 //! steps: `Fault::LostSteps`, which stops at once like the E-stop.
 //!
 //! Why a few steps of slack, not one: a loaded rotor lags its command by up
