@@ -140,6 +140,7 @@ impl Tape {
             estop_open: idr >> port_b("ESTOP") & 1 == 1,
             alarm: idr >> port_b("DRIVE_ALARM") & 1 == 0,
             x_emitted: 0,
+            lathe_edge: None,
         };
         self.ticks.push(TickSeen { at: p.at, input, enable });
     }

@@ -135,6 +135,7 @@ impl Bench {
             estop_open: self.estop,
             alarm: self.alarm,
             x_emitted: self.x.emitted,
+            lathe_edge: None,
         };
         let out = self.ctl.tick(&io);
         self.check(&io, &out, state, velocity);

@@ -126,6 +126,7 @@ fn run(cs: &CriticalSection) {
         estop_open: safety::estop_open() || fired.0,
         alarm: safety::alarm() || fired.1,
         x_emitted: io.x.emitted,
+        lathe_edge: None,
     };
     let out = io.core.tick(&input);
     heard_of_halts(io);

@@ -31,6 +31,9 @@ pub struct TickInput {
     pub alarm: bool,
     /// X-axis step pulses emitted (free-running 16-bit count), if fitted
     pub x_emitted: u16,
+    /// the lathe encoder's last timed edge, on a board that times them
+    /// (`edges`); `None`: the count alone
+    pub lathe_edge: Option<crate::edges::EdgeRegs>,
 }
 
 /// An X axis (cross-slide) driven by the electronic cam.
@@ -153,6 +156,8 @@ pub struct Controller {
     selftest: Option<selftest::Run>,
     /// the shaft encoder against the books (`lost`)
     lost: lost::LostSteps,
+    /// the lathe's edge times, once the board has said how they line up
+    edges: Option<crate::edges::EdgeTimer>,
 }
 
 impl Controller {
@@ -187,6 +192,7 @@ impl Controller {
             jog: None,
             selftest: None,
             lost: lost::LostSteps::default(),
+            edges: None,
         }
     }
 
@@ -195,6 +201,12 @@ impl Controller {
         self.lathe = Extender::new(lathe);
         self.steps.start(emitted);
         self.bldc.start(cutter);
+    }
+
+    /// Turns the edge times on (`edges`): the board times A's rising
+    /// edges, and `clock` says how its stamps meet the ticks.
+    pub fn start_edges(&mut self, clock: crate::edges::EdgeClock) {
+        self.edges = Some(crate::edges::EdgeTimer::new(clock));
     }
 
     /// The control tick.

@@ -18,6 +18,7 @@ pub mod console;
 pub mod controller;
 pub mod derived;
 pub mod drive;
+pub mod edges;
 pub mod encoder;
 pub mod estimator;
 pub mod follower;

@@ -144,6 +144,7 @@ fn event_loop(sc: &Scenario, ctl: &mut Controller, p: &mut Plants, bins: usize) 
             estop_open: latched.estop,
             alarm: false,
             x_emitted: p.x.pulses as u16,
+            lathe_edge: None,
         };
         let o = ctl.tick(&input);
         ctl.service();

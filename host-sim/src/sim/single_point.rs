@@ -78,6 +78,7 @@ pub fn run(sc: &SinglePoint, planned: &dyn ToolPath) -> Result<SinglePointResult
             lathe: encoder.count(a, tick) as u16,
             index: encoder.index(a),
             x_emitted: x.pulses as u16,
+            lathe_edge: None,
             ..TickInput::default()
         };
         let o = ctl.tick(&input);
