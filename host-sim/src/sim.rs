@@ -62,6 +62,10 @@ pub struct Scenario {
     /// the stepper's step-to-step position error, fraction of a step, seen
     /// by a shaft encoder (`core.cutter_encoder_cpr`, if set)
     pub step_error: f64,
+    /// the lathe encoder's disc, and whether the board times its edges
+    /// (`polyturn_sync::edges`: the firmware does; off, the count alone)
+    pub disc: encoder::Disc,
+    pub edge_timing: bool,
     /// a deliberately broken core for the "can the check fail" test:
     /// the gear's ratio numerator is off by this much
     pub sabotage_ratio_num: i32,
@@ -165,6 +169,8 @@ impl Scenario {
             cut_revolutions: Some(revolutions),
             x_axis: None,
             step_error: 0.0,
+            disc: encoder::Disc::default(),
+            edge_timing: true,
             sabotage_ratio_num: 0,
         }
     }

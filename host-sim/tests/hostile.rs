@@ -196,8 +196,11 @@ fn every_command_documents_every_flag() {
     for cmd in commands.into_iter().chain(["flash", "image"]) {
         let (code, out, _) = polyturn(&words(&format!("{cmd} --help")));
         assert_eq!(code, 0, "{cmd}");
-        for line in out.lines().filter(|l| l.trim_start().starts_with("--")) {
-            let help = line.trim_start().split_once("  ").map(|(_, h)| h.trim()).unwrap_or("");
+        let lines: Vec<&str> = out.lines().collect();
+        for (i, line) in lines.iter().enumerate().filter(|(_, l)| l.trim_start().starts_with("--")) {
+            // beside the flag, or (clap's layout for long flags) on the next line
+            let next = lines.get(i + 1).map(|l| l.trim()).filter(|l| !l.starts_with('-')).unwrap_or("");
+            let help = line.trim_start().split_once("  ").map(|(_, h)| h.trim()).unwrap_or(next);
             assert!(
                 !help.is_empty() || line.contains("--help") || line.contains("--version"),
                 "{cmd}: undocumented {line}"

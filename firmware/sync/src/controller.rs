@@ -209,6 +209,12 @@ impl Controller {
         self.edges = Some(crate::edges::EdgeTimer::new(clock));
     }
 
+    /// Whether the lathe's edge times are in use (off until `start_edges`,
+    /// and again after a save's stall lost ticks).
+    pub fn edge_timing(&self) -> bool {
+        self.edges.is_some()
+    }
+
     /// The control tick.
     pub fn tick(&mut self, io: &TickInput) -> TickOutput {
         self.ticks += 1;
@@ -229,9 +235,10 @@ impl Controller {
         // not speed, and a stopped lathe would read thousands of rpm after
         // it.
         let clamped = crate::q16::bound(delta as i64, self.d.max_counts_per_tick as i64) as i32;
+        let measured = self.measure_lathe(io, implausible);
         let sign = |v: i32| if self.d.sense_positive { v } else { -v };
         self.gear.advance(sign(clamped));
-        self.est.update(sign(if implausible { 0 } else { delta }));
+        self.est.update_measured(sign(if implausible { 0 } else { delta }), measured);
         if io.estop_open {
             self.trip(Fault::EStop);
         }
@@ -279,6 +286,16 @@ impl Controller {
             self.trip(Fault::FollowingError);
         }
         plan
+    }
+
+    /// The lathe's position from its last timed edge, as an offset from
+    /// the count in the core's sense (`edges`); none without edge times,
+    /// or on a jump no lathe makes.
+    #[inline]
+    fn measure_lathe(&mut self, io: &TickInput, implausible: bool) -> Option<i64> {
+        let m = self.edges.as_mut()?.measure(io.lathe_edge, &self.lathe);
+        let m = if implausible { None } else { m }?;
+        Some(if self.d.sense_positive { m } else { -m })
     }
 
     fn on_index(&mut self, raw: u16) {
@@ -426,6 +443,8 @@ impl Controller {
 
 mod checks;
 mod commands;
+#[cfg(test)]
+mod edge_tests;
 #[cfg(test)]
 mod fault_tests;
 #[cfg(test)]

@@ -64,6 +64,10 @@ pub fn boundary_half_counts(count: i64, low_low_odd: bool) -> i64 {
     2 * count + if even { 1 } else { -1 }
 }
 
+mod timer;
+mod track;
+pub use timer::EdgeTimer;
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -96,17 +100,5 @@ mod tests {
         assert!(!EdgeClock::low_low_odd(13, false, true));
         assert!(EdgeClock::low_low_odd(14, true, false));
         assert!(EdgeClock::low_low_odd(0, false, true));
-    }
-}
-
-/// The edge-timed measurement of the lathe's position (filled in next).
-#[derive(Clone, Copy, Debug)]
-pub struct EdgeTimer {
-    clock: EdgeClock,
-}
-
-impl EdgeTimer {
-    pub fn new(clock: EdgeClock) -> EdgeTimer {
-        EdgeTimer { clock }
     }
 }

@@ -13,6 +13,10 @@ use fixed::types::I32F32;
 const KP: u32 = 4;
 /// Integral shift (K2·T² = 2^−11).
 const KI: u32 = 9;
+/// The shifts on a timed edge's measurement: K1·T = 2^−2, K2·T² = 2^−6,
+/// ω_n·T = 2^−3 (≈ 3 100 rad/s at 25 kHz), ζ ≈ 0.7.
+const KP_EDGE: u32 = 2;
+const KI_EDGE: u32 = 6;
 
 #[derive(Clone, Copy, Debug, Default)]
 pub struct Estimator {
@@ -33,6 +37,15 @@ impl Estimator {
     /// One tick with the measured count change `delta`.
     #[inline]
     pub fn update(&mut self, delta: i32) {
+        self.update_measured(delta, None);
+    }
+
+    /// One tick with the count change `delta` and, where an edge's time
+    /// places the lathe (`edges`), its offset from the count (Q16 counts).
+    /// A timed measurement is far finer than the count's ±½, so it is
+    /// followed with a wider loop (`KP_EDGE`, `KI_EDGE`).
+    #[inline]
+    pub fn update_measured(&mut self, delta: i32, measured_q16: Option<i64>) {
         if delta == 0 {
             self.still_ticks = self.still_ticks.saturating_add(1);
             if self.still_ticks >= self.still_limit {
@@ -43,10 +56,21 @@ impl Estimator {
         } else {
             self.still_ticks = 0;
         }
-        // predict, then correct on the error (measured − estimate = −offset)
+        // predict, then correct on the error (measured − estimate)
         let predicted = self.offset + self.velocity - I32F32::from(delta);
-        self.velocity -= predicted >> KI;
-        self.offset = (predicted - (predicted >> KP)).max(-I32F32::ONE).min(I32F32::ONE);
+        let corrected = match measured_q16 {
+            Some(m) => {
+                let error = I32F32::from_bits(m << 16) - predicted;
+                self.velocity += error >> KI_EDGE;
+                predicted + (error >> KP_EDGE)
+            }
+            // the count's middle: the error is −predicted
+            None => {
+                self.velocity -= predicted >> KI;
+                predicted - (predicted >> KP)
+            }
+        };
+        self.offset = corrected.max(-I32F32::ONE).min(I32F32::ONE);
     }
 
     /// Sub-count offset of the estimate from the measured count, Q16 counts.

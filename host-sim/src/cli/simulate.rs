@@ -46,12 +46,35 @@ pub struct SimulateArgs {
     /// Seed of the simulated encoder noise and speed ripple (0..=2^64-1)
     #[arg(long, value_name = "S", default_value = "1", allow_hyphen_values = true, value_parser = whole(0, u64::MAX))]
     pub seed: u64,
+    /// The cutter's `max-accel`, steps/s² (10..=5000000)
+    #[arg(long, value_name = "STEPS/S2", default_value = "400000", allow_hyphen_values = true, value_parser = whole32(10, 5_000_000))]
+    pub max_accel: u32,
+    /// Time the encoder's edges as the board does: on, or off (the count alone)
+    #[arg(long, value_name = "on|off", default_value = "on", action = clap::ArgAction::Set, value_parser = on_off)]
+    pub edge_timing: bool,
+    /// Encoder disc eccentricity: edge error once a turn, counts (0..=2)
+    #[arg(long, value_name = "COUNTS", default_value = "0", allow_hyphen_values = true, value_parser = within(0.0, 2.0, "counts"))]
+    pub encoder_eccentricity: f64,
+    /// Encoder B edges off their 90°, counts (-0.45..=0.45)
+    #[arg(long, value_name = "COUNTS", default_value = "0", allow_hyphen_values = true, value_parser = within(-0.45, 0.45, "counts"))]
+    pub encoder_quadrature_error: f64,
+    /// Encoder A's duty-cycle error, counts (-0.45..=0.45)
+    #[arg(long, value_name = "COUNTS", default_value = "0", allow_hyphen_values = true, value_parser = within(-0.45, 0.45, "counts"))]
+    pub encoder_duty_error: f64,
     /// Print the report as one JSON object
     #[arg(long)]
     pub json: bool,
     /// Also draw the simulated section against the ideal to this SVG file (- for stdout)
     #[arg(long, value_name = "FILE", value_parser = out_file)]
     pub svg: Option<PathBuf>,
+}
+
+fn on_off(s: &str) -> Result<bool, String> {
+    match s.trim() {
+        "on" => Ok(true),
+        "off" => Ok(false),
+        _ => Err("must be 'on' or 'off'".into()),
+    }
 }
 
 fn start(s: &str) -> Result<Start, String> {
@@ -72,7 +95,14 @@ pub fn scenario_from(a: &SimulateArgs) -> CliResult<Scenario> {
             format!("would simulate {seconds:.0} s of cutting at {rpm} rpm: at most {MAX_CUT_S} s (lower it, or raise --rpm)"),
         ));
     }
-    let sc = Scenario::standard(setup, rpm, revs, a.ripple, a.start, a.encoder_cpr, a.motor_steps, a.drive, a.seed);
+    let mut sc = Scenario::standard(setup, rpm, revs, a.ripple, a.start, a.encoder_cpr, a.motor_steps, a.drive, a.seed);
+    sc.edge_timing = a.edge_timing;
+    sc.core.max_accel_steps_per_s2 = a.max_accel;
+    sc.disc = crate::sim::encoder::Disc {
+        eccentricity_counts: a.encoder_eccentricity,
+        quadrature_counts: a.encoder_quadrature_error,
+        duty_counts: a.encoder_duty_error,
+    };
     // Refuse, with the reason, a run whose motor would overspeed. The
     // simulated controller is set up for 30 % above --rpm (`max-rpm`: the
     // ripple and the lathe's overshoot), and the check is made there.

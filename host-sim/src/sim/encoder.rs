@@ -1,30 +1,118 @@
-//! An incremental encoder: counts = round(angle·E/2π) (the angle of count c
-//! is the middle of its interval), an index at angle 0 of every turn, and
-//! optional glitches (dropped or extra counts) for fault tests.
+//! An incremental encoder as the board sees it: the A/B cycle of RM0383
+//! Table 53 (counting up: (A,B) = (0,0) → (1,0) → (1,1) → (0,1)), the
+//! count's value in state (0,0) a multiple of 4, and A's rising edges
+//! latched as the board latches them (`polyturn_sync::edges`): the count
+//! after the edge and the whole µs it fell in.
+//!
+//! Ideal, count c holds the angles whose position u = angle·E/2π is within
+//! ½ of c, and an index is at angle 0 of every turn. A real disc is not
+//! ideal; each imperfection is a field, 0 by default:
+//! - eccentricity: every edge moved by `eccentricity_counts`·sin(angle),
+//!   once a turn (a disc off its shaft's centre by e at code radius r moves
+//!   its edges by e/r radians: 0.1 % is 0.38 count on a 600-line disc);
+//! - quadrature error: B's edges moved by `quadrature_counts` (A and B not
+//!   at 90°: ±3 % of a cycle is ±0.12 count);
+//! - duty error: A's falling edge moved by `duty_counts`.
+//!
+//! Glitches (dropped or extra counts) are injected for fault tests.
 
+use polyturn_sync::edges::EdgeRegs;
 use std::f64::consts::TAU;
+
+/// The disc's imperfections, in counts (see the module's header).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Disc {
+    pub eccentricity_counts: f64,
+    pub quadrature_counts: f64,
+    pub duty_counts: f64,
+}
 
 #[derive(Clone, Debug, Default)]
 pub struct Encoder {
     pub counts_per_rev: u32,
+    pub disc: Disc,
     /// (tick, extra counts): injected at that tick
     pub glitches: Vec<(u64, i64)>,
     offset: i64,
     last_turn: Option<i64>,
+    /// A's last rise: the count latched and its time (s)
+    rise: Option<(i64, f64)>,
 }
+
+/// Stamps a second: the board's TIM5 at 1 MHz.
+pub const STAMP_HZ: f64 = 1e6;
+/// The stamp at t = 0: not 0, so runs cross the stamp's wrap.
+pub const STAMP_ORIGIN: f64 = 60_000.0;
 
 impl Encoder {
     pub fn new(counts_per_rev: u32) -> Encoder {
         Encoder { counts_per_rev, ..Encoder::default() }
     }
 
+    pub fn with_disc(counts_per_rev: u32, disc: Disc) -> Encoder {
+        Encoder { disc, ..Encoder::new(counts_per_rev) }
+    }
+
+    /// The edge position u of the lathe's angle, counts.
+    fn position(&self, angle: f64) -> f64 {
+        let e = self.counts_per_rev as f64;
+        angle / TAU * e + self.disc.eccentricity_counts * angle.sin()
+    }
+
+    /// The count at `angle` (glitches due by `tick` applied).
     pub fn count(&mut self, angle: f64, tick: u64) -> i64 {
         for &(t, extra) in &self.glitches {
             if t == tick {
                 self.offset += extra;
             }
         }
-        (angle / TAU * self.counts_per_rev as f64).round() as i64 + self.offset
+        self.count_at(self.position(angle)) + self.offset
+    }
+
+    /// The count at position u: the edges of u's cycle at or below it.
+    fn count_at(&self, u: f64) -> i64 {
+        let v = u - 0.5;
+        let j = (v / 4.0).floor();
+        let w = v - 4.0 * j;
+        let Disc { quadrature_counts: q, duty_counts: d, .. } = self.disc;
+        let edges = [0.0, 1.0 + q, 2.0 + d, 3.0 + q];
+        4 * j as i64 + edges.iter().filter(|&&b| b <= w).count() as i64
+    }
+
+    /// Follows the lathe from `angle_before` (at `t − dt`) to `angle` (at
+    /// `t`), turning at a steady speed between, and latches A's last rise.
+    pub fn follow(&mut self, angle_before: f64, angle: f64, t: f64, dt: f64) {
+        let (u0, u1) = (self.position(angle_before), self.position(angle));
+        if u0 == u1 {
+            return;
+        }
+        // A rises at the cycle's first edge counting up, and at its third
+        // (A's fall, moved by the duty error) counting down
+        let up = u1 > u0;
+        let phase = if up { 0.5 } else { 2.5 + self.disc.duty_counts };
+        let (lo, hi) = (u0.min(u1), u0.max(u1));
+        let mut b = ((lo - phase) / 4.0).floor() * 4.0 + phase;
+        let mut crossed = (f64::INFINITY, f64::NEG_INFINITY);
+        while b <= hi {
+            if b > lo {
+                crossed = (crossed.0.min(b), crossed.1.max(b));
+            }
+            b += 4.0;
+        }
+        // the last rise in time: the highest going up, the lowest going down
+        let b = Some(if up { crossed.1 } else { crossed.0 }).filter(|b| b.is_finite());
+        if let Some(b) = b {
+            let at = t - dt + dt * (b - u0) / (u1 - u0);
+            let after = if up { b + 0.5 } else { b - 0.5 };
+            self.rise = Some((after.round() as i64 + self.offset, at));
+        }
+    }
+
+    /// The registers the tick reads: the count and the stamp of A's last rise.
+    pub fn edge_regs(&self) -> Option<EdgeRegs> {
+        let (count, at) = self.rise?;
+        let stamp = (STAMP_ORIGIN + at * STAMP_HZ).floor() as i64;
+        Some(EdgeRegs { count: count as u16, stamp: stamp as u16 })
     }
 
     /// The raw 16-bit counter value latched at an index crossed since the
@@ -39,3 +127,7 @@ impl Encoder {
         Some((at * self.counts_per_rev as i64 + self.offset) as u16)
     }
 }
+
+#[cfg(test)]
+#[path = "encoder_tests.rs"]
+mod tests;

@@ -7,6 +7,7 @@ use super::shaft::ShaftEncoder;
 use super::stepper::Stepper;
 use super::{CutRecorder, Event, Scenario, SimResult};
 use crate::geometry::Section;
+use polyturn_sync::edges::EdgeClock;
 use polyturn_sync::gear::Scale;
 use polyturn_sync::{Controller, DriveKind, Fault, State, TickInput, TickOutput, Timing};
 use std::f64::consts::TAU;
@@ -37,11 +38,23 @@ fn fit_x(ctl: &mut Controller, sc: &Scenario) -> Result<(), String> {
 pub fn run(sc: &Scenario) -> Result<SimResult, String> {
     let mut ctl = Controller::new(core_config(sc)?, Timing { tick_hz: sc.tick_hz, step_timer_hz: TIMER_HZ });
     ctl.start(0, 0, 0);
+    start_edges(&mut ctl, sc);
     fit_x(&mut ctl, sc)?;
     let mut p = Plants::new(sc);
     let bins = Section::default_bins(sc.setup.sides()).min(2048);
     let ran = event_loop(sc, &mut ctl, &mut p, bins);
     result(sc, &ctl, &mut p, bins, ran)
+}
+
+/// The board's edge times, as the firmware starts them: the first tick's
+/// instant on the encoder's stamp, the count 0 in state (A,B) = (0,0).
+fn start_edges(ctl: &mut Controller, sc: &Scenario) {
+    let per_tick = super::encoder::STAMP_HZ as u32 / sc.tick_hz.max(1);
+    let whole = per_tick * sc.tick_hz == super::encoder::STAMP_HZ as u32;
+    if sc.edge_timing && whole {
+        let first_instant = super::encoder::STAMP_ORIGIN as u16;
+        ctl.start_edges(EdgeClock { first_instant, stamps_per_tick: per_tick as u16, low_low_odd: false });
+    }
 }
 
 /// The scenario's settings, checked, with its sabotage applied.
@@ -60,7 +73,7 @@ impl Plants {
     fn new(sc: &Scenario) -> Plants {
         let mut p = Plants {
             lathe: Lathe::new(sc.lathe.clone(), sc.seed),
-            encoder: Encoder::new(sc.core.encoder_counts_per_rev),
+            encoder: Encoder::with_disc(sc.core.encoder_counts_per_rev, sc.disc),
             stepper: Stepper::new(
                 sc.motor_max_rate_hz,
                 sc.motor_max_accel,
@@ -130,12 +143,15 @@ fn event_loop(sc: &Scenario, ctl: &mut Controller, p: &mut Plants, bins: usize) 
     let (mut latched, mut tick, mut settle) = (Latched::default(), 0u64, 0u32);
     let mut last_state = ctl.state();
     let mut machinist = Machinist::default();
+    let mut last_angle = p.lathe.angle;
     loop {
         let t = tick as f64 * dt;
         scheduled(sc, t, dt, ctl, &mut passes, bins, &mut latched);
         let a = p.lathe.angle;
         let count = p.encoder.count(a, tick);
         let index = p.encoder.index(a);
+        p.encoder.follow(last_angle, a, t, dt);
+        last_angle = a;
         let input = TickInput {
             lathe: count as u16,
             index,
@@ -144,7 +160,7 @@ fn event_loop(sc: &Scenario, ctl: &mut Controller, p: &mut Plants, bins: usize) 
             estop_open: latched.estop,
             alarm: false,
             x_emitted: p.x.pulses as u16,
-            lathe_edge: None,
+            lathe_edge: p.encoder.edge_regs(),
         };
         let o = ctl.tick(&input);
         ctl.service();

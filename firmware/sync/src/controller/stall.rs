@@ -54,6 +54,9 @@ impl Controller {
     /// says what happened.
     pub fn end_stall(&mut self) -> Stall {
         let Some(w) = self.stall.take() else { return Stall::Still };
+        // ticks were lost: the instants the edge timer counts are off until
+        // the board measures them again (`start_edges`)
+        self.edges = None;
         if let Stall::Lost { reindexed } = w.outcome {
             if reindexed {
                 self.origin = self.index.reference().unwrap_or(self.origin);

@@ -1,0 +1,118 @@
+//! The lathe's position at a tick's instant from its last timed edge: the
+//! edge's place (exact: `boundary_half_counts`) plus its age times the
+//! speed between the last two timed edges. Between two counts the count
+//! alone knows the position to ±½ count; an edge's time knows it to the
+//! stamp's ±½ µs times the speed.
+//!
+//! The tick's instants are counted here (`stamps_per_tick` a tick), so the
+//! latency with which the interrupt reads the registers never reaches the
+//! position. Integer adds, multiplies and one 32-bit division per new edge
+//! (no 64-bit division on the tick).
+
+use super::track::Track;
+use super::{boundary_half_counts, EdgeClock, EdgeRegs};
+use crate::encoder::Extender;
+
+/// How far past its count's interval the measurement may stand, Q16
+/// counts: the count is read a little after the instant (1/32 count).
+const SLACK_Q16: i64 = 1 << 11;
+/// Q8 stamps in 24 bits: the instant's wrap.
+pub(super) const WRAP_Q8: u32 = 0xFF_FFFF;
+/// Timed edges from which the acceleration is taken: at least this many
+/// stamps apart. Its error from the stamps' ±1 µs grows as 1/interval².
+const RISE_ACCEL_MIN_STAMPS: i32 = 200;
+/// The same for the count's changes, whose time is known only to the
+/// tick (±½ tick): far slower crossings before the acceleration tells.
+const COUNT_ACCEL_MIN_STAMPS: i32 = super::track::LATE_ACCEL;
+
+#[derive(Clone, Copy, Debug)]
+pub struct EdgeTimer {
+    clock: EdgeClock,
+    /// this tick's instant, Q8 stamps, wrapping at 2^24
+    instant_q8: u32,
+    started: bool,
+    /// A's rises, timed to the µs by the board
+    rises: Track,
+    last_regs: Option<EdgeRegs>,
+    /// the count's changes, timed to the tick: what a lathe starting from
+    /// rest gives before A has risen three times
+    changes: Track,
+    last_count: i64,
+    /// Q16 ticks a stamp (1/40 at 1 MHz and 25 kHz)
+    ticks_per_stamp_q16: i64,
+}
+
+impl EdgeTimer {
+    /// At low priority (it divides).
+    pub fn new(clock: EdgeClock) -> EdgeTimer {
+        let per_tick = clock.stamps_per_tick.max(1) as i64;
+        EdgeTimer {
+            clock,
+            instant_q8: 0,
+            started: false,
+            rises: Track::default(),
+            last_regs: None,
+            changes: Track::default(),
+            last_count: 0,
+            ticks_per_stamp_q16: (1 << 16) / per_tick,
+        }
+    }
+
+    /// One tick: the registers the board latched, and the lathe's count as
+    /// read this tick. Returns the measured position's offset from that
+    /// count (Q16 counts), or `None` where no crossing tells more than the
+    /// count: before two, or once the lathe has slowed to less than half
+    /// their speed (the count's middle beats a runaway guess).
+    #[inline]
+    pub fn measure(&mut self, regs: Option<EdgeRegs>, lathe: &Extender) -> Option<i64> {
+        let per_tick = self.clock.stamps_per_tick as i32;
+        self.instant_q8 = if self.started {
+            self.instant_q8.wrapping_add((per_tick << 8) as u32) & WRAP_Q8
+        } else {
+            self.started = true;
+            (self.clock.first_instant as u32) << 8
+        };
+        self.follow_rises(regs, lathe);
+        self.follow_changes(lathe.position());
+        let at = match self.rises.position_q16(self.ticks_per_stamp_q16) {
+            Some(at) => at,
+            None => self.changes.position_q16(self.ticks_per_stamp_q16)?,
+        };
+        let offset = at - (lathe.position() << 16);
+        Some(crate::q16::bound(offset, crate::q16::HALF + SLACK_Q16))
+    }
+
+    /// A new rise: its place, and its time (the middle of its stamp: a
+    /// stamp s holds the edges of [s, s + 1) µs).
+    fn follow_rises(&mut self, regs: Option<EdgeRegs>, lathe: &Extender) {
+        let per_tick = self.clock.stamps_per_tick as i32;
+        let Some(r) = regs.filter(|r| self.last_regs != Some(*r)) else {
+            return self.rises.age(per_tick << 8);
+        };
+        self.last_regs = Some(r);
+        // the parity is the raw count's; positions start at 0 (raw ≡ pos + raw₀)
+        let pos = lathe.position_of(r.count);
+        let start_odd = (r.count as i64 - pos) & 1 == 1;
+        let half = boundary_half_counts(pos, self.clock.low_low_odd ^ start_odd);
+        let stamp_q8 = ((r.stamp as u32) << 8) + 128;
+        self.rises.observe(half, stamp_q8, self.instant_q8, per_tick, RISE_ACCEL_MIN_STAMPS);
+    }
+
+    /// A change of the count: the boundary it last crossed, in the middle
+    /// of the tick it crossed in.
+    fn follow_changes(&mut self, count: i64) {
+        let per_tick = self.clock.stamps_per_tick as i32;
+        let delta = count - self.last_count;
+        self.last_count = count;
+        if delta == 0 {
+            return self.changes.age(per_tick << 8);
+        }
+        let half = 2 * count - delta.signum();
+        let stamp_q8 = self.instant_q8.wrapping_sub((per_tick << 7) as u32) & WRAP_Q8;
+        self.changes.observe(half, stamp_q8, self.instant_q8, per_tick, COUNT_ACCEL_MIN_STAMPS);
+    }
+}
+
+#[cfg(test)]
+#[path = "timer_tests.rs"]
+mod tests;

@@ -1,0 +1,125 @@
+//! One source of timed boundaries: where the lathe last crossed one (in
+//! half counts), when (Q8 stamps), and the speed and acceleration from
+//! the crossings before. The position at an instant is the crossing's
+//! place plus the travel since, stopping where a slowing lathe stops.
+
+/// Timed crossings further apart than this many stamps give no speed: the
+/// 16-bit stamp wraps at 65 536 µs.
+const MAX_INTERVAL_STAMPS: i32 = 60_000;
+/// Half counts between two crossings beyond which no speed is taken:
+/// keeps the division's numerator (span · stamps a tick · 2^15) in 31 bits.
+const MAX_SPAN_HALF: i32 = 512;
+/// A track whose acceleration comes this late (`accel_min` at least this)
+/// uses the mean speed alone until it comes: the count's changes, the only
+/// news of a lathe starting from rest.
+pub(super) const LATE_ACCEL: i32 = 1_000;
+
+#[derive(Clone, Copy, Debug, Default)]
+pub(super) struct Track {
+    /// the last crossing's place, half counts
+    half: Option<i64>,
+    stamp_q8: u32,
+    /// Q8 stamps from the last crossing to this tick's instant (saturating)
+    age_q8: i32,
+    /// Q8 stamps between the last two crossings
+    interval_q8: i32,
+    /// Q16 counts a tick between the last two crossings, once usable
+    velocity_q16: Option<i64>,
+    /// the same, measured whether or not usable (the next acceleration's)
+    last_speed: Option<i64>,
+    /// Q22 counts a tick² (a starting lathe's 48 000 counts/s² is 5 in
+    /// Q16: too coarse)
+    accel_q22: i64,
+    /// the furthest travel since the last crossing (a slowing lathe's stop)
+    peak_q16: Option<i64>,
+    /// the last position given, Q16 counts (held once the crossings stop)
+    held: Option<i64>,
+}
+
+/// The acceleration between two mean speeds (Q16 counts a tick) taken
+/// over intervals summing `stamps`: Δv over the time between the
+/// intervals' middles. Slow crossings only (≤ 2 counts a tick), so the
+/// numerator Δv·2·per_tick·2^6 stays in 31 bits: a 32-bit division.
+fn accel_q22(dv_q16: i64, per_tick: i32, stamps: i32) -> i64 {
+    let dv = dv_q16.clamp(-(1 << 17), 1 << 17) as i32;
+    (((dv * 2 * per_tick.min(255)) << 6) / stamps.max(1)) as i64
+}
+
+impl Track {
+    /// A tick with no new crossing.
+    #[inline]
+    pub fn age(&mut self, tick_q8: i32) {
+        self.age_q8 = self.age_q8.saturating_add(tick_q8);
+    }
+
+    /// A new crossing at `half` at `stamp_q8`, seen at `instant_q8`. Its
+    /// speed needs the one before; from slow crossings (`accel_min`
+    /// stamps or more apart) it takes the acceleration too, and needs it:
+    /// the last interval's mean speed lags a starting lathe by a·T/2.
+    pub fn observe(&mut self, half: i64, stamp_q8: u32, instant_q8: u32, per_tick: i32, accel_min: i32) {
+        let since = instant_q8.wrapping_sub(stamp_q8) & super::timer::WRAP_Q8;
+        let age_q8 = ((since << 8) as i32) >> 8;
+        let prev_age_q8 = self.age_q8.saturating_add(per_tick << 8);
+        let old_speed = self.last_speed.take();
+        let old_interval = self.interval_q8 >> 8;
+        (self.velocity_q16, self.accel_q22) = (None, 0);
+        if let Some(prev) = self.half.filter(|_| prev_age_q8 < MAX_INTERVAL_STAMPS << 8) {
+            let interval = ((stamp_q8.wrapping_sub(self.stamp_q8) & super::timer::WRAP_Q8) >> 8) as i32;
+            let span = (half - prev) as i32;
+            if interval > 0 && span.abs() <= MAX_SPAN_HALF {
+                let v = (((span * per_tick) << 15) / interval) as i64;
+                self.interval_q8 = interval << 8;
+                self.last_speed = Some(v);
+                let slow = interval >= accel_min;
+                match old_speed {
+                    Some(v1) if slow && old_interval >= accel_min => {
+                        self.accel_q22 = accel_q22(v - v1, per_tick, interval + old_interval);
+                        self.velocity_q16 = Some(v);
+                    }
+                    _ if slow && accel_min < LATE_ACCEL => {}
+                    _ => self.velocity_q16 = Some(v),
+                }
+            }
+        }
+        (self.half, self.stamp_q8, self.age_q8, self.peak_q16, self.held) = (Some(half), stamp_q8, age_q8, None, None);
+    }
+
+    /// The position now, Q16 counts; none without a usable speed. Once no
+    /// crossing has come for twice the last interval the lathe is stopping
+    /// or stopped: the position is held where it was then, neither run on
+    /// (a guess past what the crossings support) nor snapped back to the
+    /// count's middle (which would turn the cutter back).
+    #[inline]
+    pub fn position_q16(&mut self, ticks_per_stamp_q16: i64) -> Option<i64> {
+        let half = self.half?;
+        let velocity = self.velocity_q16?;
+        if self.age_q8 > 2 * self.interval_q8 {
+            return self.held;
+        }
+        let age_q16 = (self.age_q8 as i64 * ticks_per_stamp_q16) >> 8;
+        let at = (half << 15) + self.travel_q16(velocity, age_q16, ticks_per_stamp_q16);
+        self.held = Some(at);
+        Some(at)
+    }
+
+    /// Q16 counts travelled in `age` (Q16 ticks): the interval's mean
+    /// speed, plus the acceleration from that mean at the interval's
+    /// middle (a·(T/2·age + age²/2)), never past a stop.
+    fn travel_q16(&mut self, velocity: i64, age_q16: i64, ticks_per_stamp_q16: i64) -> i64 {
+        let plain = (velocity * age_q16) >> 16;
+        if self.accel_q22 == 0 {
+            return plain;
+        }
+        let age = age_q16.min(1 << 27);
+        let half_interval_q16 = (self.interval_q8 as i64 * ticks_per_stamp_q16) >> 9;
+        let time_q16 = ((half_interval_q16 * age) >> 16) + ((age * age) >> 17);
+        let travel = plain + ((self.accel_q22 * time_q16) >> 22);
+        // slowing: the lathe stops where its speed reaches 0, and stays
+        let peak = match self.peak_q16 {
+            Some(p) if (velocity > 0 && travel < p) || (velocity < 0 && travel > p) => p,
+            _ => travel,
+        };
+        self.peak_q16 = Some(peak);
+        peak
+    }
+}
