@@ -2,6 +2,7 @@
 //! Markdown table: `cargo run --release -p polyturn-host --example step_sweep`
 //! (`-- --all` for four interrupt-latency ranges instead of one).
 use polyturn_host::hwsim::scenarios::{lathe, ramp, rocking, steady, Outcome};
+use polyturn_host::hwsim::steady_lathe::steady_lathe;
 use polyturn_host::hwsim::Isr;
 use polyturn_stm32_model::Params;
 use polyturn_sync::Config;
@@ -48,5 +49,13 @@ fn main() {
         row(&format!("rocked by hand +-40 counts 3 Hz, 37 Hz jitter, {at}"), &o);
         let o = lathe(config("2", "2000"), &ramp(2400.0, 600.0, 0.3, 1.0), 3.0, isr, p, Some((0.6, 0.65)));
         row(&format!("E-stop at 600 rpm, clear, engage again, {at}"), &o);
+    }
+    println!("\nA steady lathe through the whole controller, its encoder's edges latched as the board latches them (ISR 200-2000 cycles):\n");
+    println!("| steps/s | steps judged | worst spacing, % of the period | driver reversals | faults |");
+    println!("|---|---|---|---|---|");
+    for hz in [1_000.0, 10_000.0, 64_000.0, 123_457.0, 240_000.0] {
+        let (o, s) = steady_lathe(hz, Isr::new((200, 2_000)), Params::default());
+        let faults = if o.faults.is_empty() { "-".to_string() } else { o.faults.join(",") };
+        println!("| {hz} | {} | {:.2} | {} | {faults} |", s.steps, 100.0 * s.worst_fraction, o.received.reversals);
     }
 }

@@ -8,7 +8,9 @@
 //! of steady rates and lathe motions is `scenarios`.
 
 pub mod driver;
+pub mod edges;
 pub mod scenarios;
+pub mod steady_lathe;
 
 use polyturn_firmware::stepgen::program::{self as prog, apply, Bus};
 use polyturn_firmware::stepgen::Generator;

@@ -46,8 +46,8 @@ pub struct SimulateArgs {
     /// Seed of the simulated encoder noise and speed ripple (0..=2^64-1)
     #[arg(long, value_name = "S", default_value = "1", allow_hyphen_values = true, value_parser = whole(0, u64::MAX))]
     pub seed: u64,
-    /// The cutter's `max-accel`, steps/s² (10..=5000000)
-    #[arg(long, value_name = "STEPS/S2", default_value = "400000", allow_hyphen_values = true, value_parser = whole32(10, 5_000_000))]
+    /// The cutter's `max-accel`, steps/s² (10..=2000000; the simulated motor stalls past 5000000)
+    #[arg(long, value_name = "STEPS/S2", default_value = "400000", allow_hyphen_values = true, value_parser = whole32(10, 2_000_000))]
     pub max_accel: u32,
     /// Time the encoder's edges as the board does: on, or off (the count alone)
     #[arg(long, value_name = "on|off", default_value = "on", action = clap::ArgAction::Set, value_parser = on_off)]

@@ -3,6 +3,7 @@
 //! model with the interrupt's latency drawn from a range.
 
 use super::driver::{receive, Received};
+use super::edges::Latches;
 use super::{Isr, Rig, TICK_LEN, TIMER_HZ};
 use polyturn_stm32_model::Params;
 use polyturn_sync::gear::Scale;
@@ -118,6 +119,8 @@ pub fn lathe(
     let mut ctl = Controller::new(config, TIMING);
     let mut rig = Rig::new(params, isr);
     ctl.start(0, 0, 0);
+    ctl.start_edges(Latches::clock());
+    let mut latches = Latches::new(rig.tick_start(0));
     let _ = ctl.engage();
     let scale = ctl.derived().scale;
     let ticks = (seconds * 25_000.0) as u64;
@@ -143,8 +146,14 @@ pub fn lathe(
         }
         rig.tick(|counted, read_at| {
             lathe_now = counts(read_at as f64 / TIMER_HZ as f64).floor() as i64;
-            let input =
-                TickInput { lathe: lathe_now as u16, emitted: counted, estop_open: open, ..TickInput::default() };
+            let lathe_edge = latches.read(counts, read_at);
+            let input = TickInput {
+                lathe: lathe_now as u16,
+                emitted: counted,
+                estop_open: open,
+                lathe_edge,
+                ..TickInput::default()
+            };
             let out = ctl.tick(&input);
             (out.plan, out.halt, t)
         });
