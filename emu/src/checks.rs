@@ -101,6 +101,7 @@ pub fn registers(r: &mut Report, m: &mut Machine) {
     if rate != board::TICK_HZ as f64 {
         bad.push(format!("tick {rate:.1} Hz, board.rs {}", board::TICK_HZ));
     }
+    bad.extend(edge_time_words(m));
     let misplaced = svd::misplaced_handlers(&m.image);
     if !misplaced.is_empty() {
         bad.push(format!("handlers not at their SVD vectors: {misplaced:?}"));
@@ -118,6 +119,27 @@ pub fn registers(r: &mut Report, m: &mut Machine) {
         if bad.is_empty() { String::new() } else { format!("; {}", bad.join("; ")) }
     );
     r.line(bad.is_empty(), "registers", &text);
+}
+
+/// TIM3's and TIM5's words of `edgetime::program::CONFIG` as the timers hold
+/// them after boot (CR1 and SR left out: DIR and the flags move by
+/// themselves).
+fn edge_time_words(m: &mut Machine) -> Vec<String> {
+    use polyturn_firmware::edgetime::{off, program::Op, program::CONFIG, TIM3, TIM5};
+    let c = m.chip();
+    let mut bad = Vec::new();
+    for op in CONFIG {
+        let Op::Write(a, want) = op else { continue };
+        let (i, base) = if a >= TIM5 { (2, TIM5) } else { (0, TIM3) };
+        if [off::CR1, off::SR].contains(&(a - base)) {
+            continue;
+        }
+        let got = c.gp[i].get(a - base);
+        if got != want {
+            bad.push(format!("{} +{:#x}: {got:#x}, edgetime::program {want:#x}", crate::chip::GP_NAMES[i], a - base));
+        }
+    }
+    bad
 }
 
 /// Tick handler runs, TIM11 updates and UIF clears over a window.

@@ -133,6 +133,9 @@ impl Chip {
             map.push((svd::base(t), 0x400, Periph::Gp(i)));
         }
         map.sort_by_key(|m| m.0);
+        // TIM3/TIM4 16-bit, TIM5 32-bit (§13.1), TIM10 one channel (§14.1)
+        let mut gp = [GpTimer::new(16, 4), GpTimer::new(16, 4), GpTimer::new(32, 4), GpTimer::new(16, 1)];
+        gp[0].set_encoder_capture(params.encoder_capture);
         Chip {
             mcu: Mcu::new(params),
             rcc: rcc::Rcc::default(),
@@ -144,8 +147,7 @@ impl Chip {
             syscfg: exti::Syscfg::default(),
             exti: exti::Exti::default(),
             gpio: [Port::new('A'), Port::new('B'), Port::new('C')],
-            // TIM3/TIM4 16-bit, TIM5 32-bit (§13.1), TIM10 one channel (§14.1)
-            gp: [GpTimer::new(16, 4), GpTimer::new(16, 4), GpTimer::new(32, 4), GpTimer::new(16, 1)],
+            gp,
             iwdg: Iwdg::default(),
             usb: Otg::default(),
             host: None,
@@ -198,6 +200,7 @@ impl Chip {
             self.gp[i].advance(t, sysclk, clk);
         }
         self.mcu_run(t);
+        self.note_first_tick();
         if self.jumpers.ab {
             self.wire_ab();
         }
@@ -210,6 +213,16 @@ impl Chip {
         // a flag raised while time moved is latched as pending now (PM0214 §4.3.9),
         // even if the access that follows clears it
         self.update_lines();
+    }
+
+    /// TIM5's count at TIM11's first update event (the first tick's instant),
+    /// for the tape: time has just been brought to the first block boundary at
+    /// or after it (the update is an event the run stops at).
+    fn note_first_tick(&mut self) {
+        let Some(t) = self.tape.as_mut() else { return };
+        if t.first_update_stamp.is_none() && self.mcu.tim11_updates() > 0 {
+            t.first_update_stamp = Some(self.gp[2].read(polyturn_stm32_model::addr::off::CNT) as u16);
+        }
     }
 
     /// TIM9's outputs on PA2/PA3 reach PA6/PA7 through the jumpers, edge by edge

@@ -3,6 +3,7 @@
 //! STOP pressed on their pins, and STEP/DIR judged at the pins by the driver model
 //! the step-output tests use (`polyturn_host::hwsim::driver`).
 
+pub mod edgecheck;
 pub mod estop;
 pub mod host;
 pub mod lathe;
@@ -46,6 +47,9 @@ pub struct Spec {
     /// the reading of DMA2 stream 5's NDTR the model follows (the step output must
     /// work on both: `NdtrReading`)
     pub ndtr: polyturn_stm32_model::NdtrReading,
+    /// the count TIM3's capture takes on A's rise (the edge times must work on
+    /// both: `EncoderCapture`)
+    pub capture: polyturn_stm32_model::EncoderCapture,
     /// how long the lathe turns before ENGAGE when it starts spinning
     pub engage_after_ms: u64,
     pub ratio: &'static str,
@@ -82,6 +86,8 @@ pub struct Outcome {
     pub tick_lock: u64,
     /// the step stream against the host core fed the image's own tick inputs
     pub replay: Option<replay::Replay>,
+    /// the edge times the image's tick read (`edges`)
+    pub edges: Option<edgecheck::EdgeCheck>,
 }
 
 fn setup(s: &Spec) -> Setup {
@@ -113,7 +119,7 @@ pub(crate) fn press(m: &mut Machine, pin: u8) {
 }
 
 pub fn run(image: &Rc<Image>, spec: &Spec) -> Result<Outcome, String> {
-    let params = Params { ndtr: spec.ndtr, ..Params::default() };
+    let params = Params { ndtr: spec.ndtr, encoder_capture: spec.capture, ..Params::default() };
     let wall = Instant::now();
     let sc = scenario(spec);
     let flash = settings::saved(&sc.core)?;
@@ -164,8 +170,13 @@ pub fn run(image: &Rc<Image>, spec: &Spec) -> Result<Outcome, String> {
     let until = m.chip().now;
     press(&mut m, STOP);
     let mut o = outcome(&mut m, spec, &sc.core, wall);
+    let clock = crate::edges::clock(&m);
     let c = m.chip();
-    o.replay = c.tape.take().map(|t| replay::compare(&sc.core, &t, c.mcu.edges(), until));
+    if let Some(mut t) = c.tape.take() {
+        t.edge_clock = clock.map(|k| k.0);
+        o.edges = Some(edgecheck::judge(&t, clock.map(|k| k.1)));
+        o.replay = Some(replay::compare(&sc.core, &t, c.mcu.edges(), until));
+    }
     o.engage_count = engage_count;
     o.estop = estop;
     Ok(o)
@@ -212,5 +223,6 @@ fn outcome(m: &mut Machine, spec: &Spec, cfg: &Config, wall: Instant) -> Outcome
         irq_off: c.primask.longest.instructions,
         tick_lock: c.tickmask.ticking.instructions,
         replay: None,
+        edges: None,
     }
 }

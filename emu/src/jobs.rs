@@ -7,12 +7,14 @@ use polyturn_host::sim::Start;
 use std::rc::Rc;
 
 use crate::job::Kind;
+use polyturn_stm32_model::EncoderCapture::{CountAfter, CountBefore};
 use polyturn_stm32_model::NdtrReading::{AfterTransfer, AtPreload};
 
 /// (a): 2:1 × 3 edges, 600 rpm with 2 % ripple, engaged at rest, 20 turns.
 const HEXAGON: Spec = Spec {
     name: "a hexagon",
     ndtr: AfterTransfer,
+    capture: CountBefore,
     kind: Kind::Cut,
     engage_after_ms: 0,
     ratio: "2",
@@ -24,6 +26,22 @@ const HEXAGON: Spec = Spec {
     seed: 7,
 };
 
+/// (f): the chuck rocked by hand at rest, ±40 counts at 3 Hz.
+const ROCKED: Spec = Spec {
+    name: "f rocked",
+    ndtr: AfterTransfer,
+    capture: CountBefore,
+    kind: Kind::Rock,
+    engage_after_ms: 0,
+    ratio: "2",
+    edges: 3,
+    rpm: 600.0,
+    ripple: 0.0,
+    turns: 1.0,
+    start: Start::Rest,
+    seed: 7,
+};
+
 /// Issue 25's job scenarios; (d) save-reset and (e) the self-test run on the
 /// USB console (`job::save`, `job::selftest`).
 pub const SPECS: &[Spec] = &[
@@ -31,6 +49,7 @@ pub const SPECS: &[Spec] = &[
     Spec {
         name: "b 11/3",
         ndtr: AfterTransfer,
+        capture: CountBefore,
         kind: Kind::Cut,
         engage_after_ms: 400,
         ratio: "11/3",
@@ -44,6 +63,7 @@ pub const SPECS: &[Spec] = &[
     Spec {
         name: "c e-stop",
         ndtr: AfterTransfer,
+        capture: CountBefore,
         kind: Kind::EStop { at_s: 1.5 },
         engage_after_ms: 0,
         ratio: "2",
@@ -55,19 +75,10 @@ pub const SPECS: &[Spec] = &[
         start: Start::Rest,
         seed: 7,
     },
-    Spec {
-        name: "f rocked",
-        ndtr: AfterTransfer,
-        kind: Kind::Rock,
-        engage_after_ms: 0,
-        ratio: "2",
-        edges: 3,
-        rpm: 600.0,
-        ripple: 0.0,
-        turns: 1.0,
-        start: Start::Rest,
-        seed: 7,
-    },
+    ROCKED,
+    // rocked again with TIM3's capture taking the count after A's own
+    // (`EncoderCapture`: the manual does not say which)
+    Spec { name: "f after", capture: CountAfter, ..ROCKED },
     // the hexagon again with NDTR counting at the preload (§9.3.12's reading)
     Spec { name: "a preload", ndtr: AtPreload, ..HEXAGON },
 ];
@@ -89,6 +100,9 @@ pub fn run_all(image: &Rc<Image>, r: &mut Report, only: &str) -> Result<u64, Str
         }
         if let Some(rp) = &o.replay {
             replayed(r, o.name, rp);
+        }
+        if let Some(e) = &o.edges {
+            edge_times(r, o.name, e);
         }
     }
     Ok(total)
@@ -177,6 +191,23 @@ fn compare(r: &mut Report, o: &Outcome, h: &job::host::HostRun) {
         h.encoder_counts, o.lathe_count, h.steps_emitted, o.received.pulses, h.final_error_steps, o.phase_error_steps(), h.faults
     );
     r.line(ok, &format!("host {}", o.name), &text);
+}
+
+/// The lathe's edge times the image's tick read (`job::edgecheck`).
+fn edge_times(r: &mut Report, name: &str, e: &job::edgecheck::EdgeCheck) {
+    let show = |v: Option<u16>| v.map_or("-".to_string(), |v| v.to_string());
+    let text = format!(
+        "{} of {} ticks passed an edge (TIM3 and TIM5 latched {} A rises), {}, {} ticks after a rise without one; first tick at stamp {} (TIM5 at TIM11's first update: {}); A and B low at a count {} mod 4",
+        e.timed,
+        e.ticks,
+        e.captures,
+        e.wrong.as_deref().unwrap_or("each A's last rise, count and µs"),
+        e.missing,
+        show(e.first_instant),
+        show(e.first_update),
+        show(e.low_low)
+    );
+    r.line(e.ok(), &format!("edge times {name}"), &text);
 }
 
 /// The host's sync core fed the inputs the image's tick read: the same step at

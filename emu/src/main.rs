@@ -28,6 +28,7 @@ mod checks;
 mod chip;
 mod cpu;
 mod disasm;
+mod edges;
 mod image;
 mod job;
 mod jobs;

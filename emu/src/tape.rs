@@ -30,6 +30,8 @@ pub struct TickSeen {
     pub input: TickInput,
     /// ENABLE at its active level when the handler returned
     pub enable: bool,
+    /// the cycle of its last read of the edge registers, if it read them
+    pub edge_read_at: Option<u64>,
 }
 
 /// A command the lower priorities gave the image's controller (under its lock,
@@ -56,6 +58,14 @@ pub struct Tape {
     pub ticks: Vec<TickSeen>,
     pub commands: Vec<(usize, Command)>,
     now: Option<Partial>,
+    /// every A rise TIM3 captured and TRGO timed (`edges`)
+    pub captures: Vec<crate::edges::Capture>,
+    /// TIM5's count at TIM11's first update event: the first tick's instant
+    pub first_update_stamp: Option<u16>,
+    /// the edge clock the image gave its core (`edges::clock`), set at the end
+    pub edge_clock: Option<polyturn_sync::edges::EdgeClock>,
+    /// ticks whose edge-register reads were not the firmware's read: the first
+    pub edge_read_wrong: Option<String>,
 }
 
 /// Hooks the entry of each `COMMANDS` method of the sync core's `Controller`.
@@ -92,12 +102,17 @@ struct Partial {
     emitted: Option<u16>,
     cutter: Option<u16>,
     idr: Option<u32>,
+    /// the edge-time reads (`edges::is_edge_read`), in order, and the cycle
+    /// of the last
+    edge_reads: Vec<(u32, u32)>,
+    edge_at: Option<u64>,
 }
 
 impl Tape {
-    /// A register read of `word` that gave `value`; `entered` is when the
-    /// tick's handler making it was entered, if the tick's handler made it.
-    pub fn read(&mut self, word: u32, value: u32, entered: Option<u64>) {
+    /// A register read of `word` that gave `value` at cycle `now`; `entered`
+    /// is when the tick's handler making it was entered, if the tick's
+    /// handler made it.
+    pub fn read(&mut self, word: u32, value: u32, entered: Option<u64>, now: u64) {
         let Some(at) = entered else {
             if self.ticks.is_empty() {
                 self.before_first_tick(word, value);
@@ -106,6 +121,10 @@ impl Tape {
         };
         let p = self.now.get_or_insert_with(|| Partial { at, ..Partial::default() });
         let v = Some(value as u16);
+        if crate::edges::is_edge_read(word) {
+            p.edge_reads.push((word, value));
+            p.edge_at = Some(now);
+        }
         match word {
             w if w == TIM3 + off::CNT => p.lathe = p.lathe.or(v),
             w if w == TIM3 + CCR3 => p.index = p.index.or(v),
@@ -132,6 +151,10 @@ impl Tape {
         let Some(p) = self.now.take() else { return };
         let Some(lathe) = p.lathe else { return };
         let idr = p.idr.unwrap_or(0);
+        let lathe_edge = crate::edges::pair(&p.edge_reads).unwrap_or_else(|e| {
+            self.edge_read_wrong.get_or_insert(format!("tick {}: {e}", self.ticks.len()));
+            None
+        });
         let input = TickInput {
             lathe,
             index: p.index,
@@ -140,9 +163,10 @@ impl Tape {
             estop_open: idr >> port_b("ESTOP") & 1 == 1,
             alarm: idr >> port_b("DRIVE_ALARM") & 1 == 0,
             x_emitted: 0,
-            lathe_edge: None,
+            lathe_edge,
         };
-        self.ticks.push(TickSeen { at: p.at, input, enable });
+        let edge_read_at = p.edge_reads.iter().any(|r| r.0 != TIM3 + off::CNT).then_some(p.edge_at).flatten();
+        self.ticks.push(TickSeen { at: p.at, input, enable, edge_read_at });
     }
 }
 
@@ -150,8 +174,9 @@ impl Chip {
     /// Feeds a read to the tape, if one is running.
     pub(crate) fn tape_read(&mut self, word: u32, value: u32) {
         let entered = self.probe.tick_entered();
+        let now = self.blk;
         if let Some(t) = self.tape.as_mut() {
-            t.read(word, value, entered);
+            t.read(word, value, entered, now);
         }
     }
 }

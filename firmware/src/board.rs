@@ -83,7 +83,14 @@ const fn pin(signal: &'static str, pin: &'static str, function: &'static str, ft
 
 /// The full pin map. `main.rs` takes the same pins by name.
 pub const PINS: &[Pin] = &[
-    pin("LATHE_A", "PA6", "TIM3_CH1, encoder mode, input filter", true, AF2, Pull::None),
+    pin(
+        "LATHE_A",
+        "PA6",
+        "TIM3_CH1, encoder mode, input filter; each rising edge latches the count and its µs in hardware (edgetime)",
+        true,
+        AF2,
+        Pull::None,
+    ),
     pin("LATHE_B", "PA7", "TIM3_CH2, encoder mode, input filter", true, AF2, Pull::None),
     pin(
         "LATHE_INDEX",
@@ -147,13 +154,21 @@ pub const TICK_HZ: u32 = 25_000;
 /// 48 MHz from the same PLL. Every timer runs at 96 MHz (`clocks`).
 pub const SYSCLK_HZ: u32 = crate::clocks::CLOCKS.sysclk_hz();
 
-/// Timers the firmware uses, and what for (none shared).
+/// Timers the firmware uses, and what for (none shared but TIM5: embassy's
+/// time driver uses its counter, CC1 and CC2; the edge times only read its
+/// counter through channel 3, with its slave mode off, `edgetime`).
 pub const TIMERS: &[(&str, &str)] = &[
     ("TIM1", "STEP (CH1) and DIR (CH2): segments loaded by DMA2 stream 5 at each update event"),
     ("TIM2", "counts the step pulses (slave of TIM1's OC1REF via ITR0)"),
-    ("TIM3", "lathe encoder (encoder mode, input filter)"),
+    (
+        "TIM3",
+        "lathe encoder (encoder mode, input filter); CC1 captures the count at A's rising edge, CC3 at the index's; TRGO pulses at each CC1 capture (edgetime)",
+    ),
     ("TIM4", "cutter encoder (BLDC mode, or on a stepper's shaft for the lost-step alarm)"),
-    ("TIM5", "embassy time driver"),
+    (
+        "TIM5",
+        "embassy time driver (1 MHz, CC1 and CC2); CC3 timestamps the lathe's A rises: TRC from TIM3's TRGO via ITR1 (edgetime)",
+    ),
     ("TIM9", "the bench self-test's quadrature generator (CH1 PA2, CH2 PA3)"),
     ("TIM10", "ESC PWM (BLDC mode)"),
     ("TIM11", "control tick, 25 kHz update interrupt below only the E-stop"),

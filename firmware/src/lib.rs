@@ -7,6 +7,7 @@
 pub mod board;
 pub mod clocks;
 pub mod dfu;
+pub mod edgetime;
 pub mod esc;
 pub mod flashprog;
 pub mod iwdg;

@@ -4,7 +4,9 @@
 
 use super::{Chip, Periph, SYSTEM_VECTORS, ZERO_READS};
 use polyturn_stm32_model::chip::gpio::{ALTERNATE, MODER};
+use polyturn_stm32_model::chip::gptimer::trigger;
 use polyturn_stm32_model::chip::rcc;
+use polyturn_sync::edges::EdgeRegs;
 use std::panic::{catch_unwind, AssertUnwindSafe};
 
 /// A model's "not modelled" panic as a message.
@@ -147,12 +149,27 @@ impl Chip {
             };
             let levels = [ti(self, 0, 6), ti(self, 0, 7), ti(self, 1, 0)];
             self.gp[0].inputs(levels);
+            self.tim3_trgo();
         }
         if pa4 {
             // the index jumper: PA4 (driven by software) to PB0 (TIM3_CH3)
             let level = self.gpio[0].level(4);
             let edges = self.gpio[1].drive(0, Some(level));
             self.pin_edges(1, edges);
+        }
+    }
+
+    /// TIM3's TRGO to the timers whose ITR table row names it (TIM4 on ITR2,
+    /// TIM5 on ITR1: RM0383 §13.4.3). Each CC1 capture goes on the tape with
+    /// TIM5's count at that moment, the stamp the image must read (not
+    /// TIM5_CCR3, which a wrong configuration would leave behind).
+    fn tim3_trgo(&mut self) {
+        use polyturn_stm32_model::addr::off::{CCR1, CNT};
+        let [tim3, tim4, tim5, _] = &mut self.gp;
+        let pulses = trigger::route("TIM3", tim3, &mut [("TIM4", tim4), ("TIM5", tim5)]);
+        if let (true, Some(t)) = (pulses > 0, self.tape.as_mut()) {
+            let regs = EdgeRegs { count: self.gp[0].get(CCR1) as u16, stamp: self.gp[2].read(CNT) as u16 };
+            t.captures.push(crate::edges::Capture { at: self.blk, regs });
         }
     }
 

@@ -79,6 +79,9 @@ fn plan(config: &Config, tape: &Tape, until: u64) -> (Vec<(u64, bool)>, usize, u
     let mut core = Controller::new(*config, Timing::FIRMWARE);
     let (l, e, c) = tape.start;
     core.start(l, e, c);
+    if let Some(clock) = tape.edge_clock {
+        core.start_edges(clock);
+    }
     let len = core.derived().steps.tick_len as u64;
     let (mut steps, mut differs, mut n) = (Vec::new(), 0, 0);
     let mut commands = tape.commands.iter().peekable();
@@ -168,7 +171,7 @@ mod tests {
     #[test]
     fn an_idle_tape_is_not_called_equal_and_a_step_the_host_did_not_plan_is_found() {
         let config = Config::default();
-        let idle = TickSeen { at: 0, input: TickInput::default(), enable: false };
+        let idle = TickSeen { at: 0, input: TickInput::default(), enable: false, edge_read_at: None };
         let mut tape = Tape::default();
         let len = polyturn_sync::derived::Derived::new(&config, Timing::FIRMWARE).steps.tick_len as u64;
         tape.ticks = (0..10).map(|k| TickSeen { at: k * len, ..idle }).collect();

@@ -2,6 +2,7 @@ use crate::meter::{calibration_loop, measure, TIMING};
 use cortex_m::peripheral::{syst::SystClkSource, SYST};
 use cortex_m_rt::entry;
 use cortex_m_semihosting::{debug, hprintln};
+use polyturn_sync::edges::{EdgeClock, EdgeRegs};
 use polyturn_sync::gear::Scale;
 use polyturn_sync::steps::Dir;
 use polyturn_sync::{Config, Controller, State, TickInput, TickOutput};
@@ -11,6 +12,19 @@ fn panic(info: &core::panic::PanicInfo) -> ! {
     hprintln!("panic: {}", info);
     debug::exit(debug::EXIT_FAILURE);
     loop {}
+}
+
+/// A's last rise while the lathe went from `before` to `after` (24.8
+/// counts) in tick `k` (instant 40 + 40k µs): A rises as the count becomes
+/// 1 (mod 4), the count after it latched, at the µs it crossed.
+fn rise_between(before: u32, after: u32, k: u32) -> Option<EdgeRegs> {
+    let top = after >> 8;
+    let count = top - (top + 3) % 4;
+    if count << 8 <= before || after == before {
+        return None;
+    }
+    let into = ((count << 8) - before) * 40 / (after - before);
+    Some(EdgeRegs { count: count as u16, stamp: (40 * k + into) as u16 })
 }
 
 /// The tick under test, kept out of line so its cost is measured alone.
@@ -35,9 +49,19 @@ fn parts(syst: &SYST, per_1201: u32) {
     let lim = Limits { max_velocity: 8 << 16, max_accel: 42 };
     let mut f = Follower { position: 0, velocity: 174_763 };
     let t = StepTiming { tick_len: 3840, min_period: 384, dir_setup: 480, pulse: 192 };
-    let (mut g, mut e, mut x, mut fo, mut p) = (0, 0, 0, 0, 0);
+    let (mut g, mut e, mut x, mut fo, mut p, mut ed) = (0, 0, 0, 0, 0, 0);
     let mut target = 0i64;
+    let mut timer =
+        polyturn_sync::edges::EdgeTimer::new(EdgeClock { first_instant: 40, stamps_per_tick: 40, low_low_odd: false });
+    let mut lathe = Extender::new(0);
+    let mut rise = None;
     for k in 0..n {
+        // a count a tick, A rising every fourth (as at 600 rpm)
+        lathe.update(k as u16);
+        rise = rise_between(k.saturating_sub(1) << 8, k << 8, k).or(rise);
+        ed += measure(syst, || {
+            core::hint::black_box(timer.measure(core::hint::black_box(rise), &lathe));
+        });
         g += measure(syst, || gear.advance(core::hint::black_box(1)));
         e += measure(syst, || est.update(core::hint::black_box((k % 25 != 0) as i32)));
         x += measure(syst, || {
@@ -52,12 +76,13 @@ fn parts(syst: &SYST, per_1201: u32) {
         });
     }
     hprintln!(
-        "parts (instructions each, incl. ~6 of measurement): gear {} estimator {} counter {} follower {} step plan {}",
+        "parts (instructions each, incl. ~6 of measurement): gear {} estimator {} counter {} follower {} step plan {} edge timer {}",
         instr(g) / n as u64,
         instr(e) / n as u64,
         instr(x) / n as u64,
         instr(fo) / n as u64,
-        instr(p) / n as u64
+        instr(p) / n as u64,
+        instr(ed) / n as u64
     );
 }
 
@@ -75,6 +100,10 @@ fn main() -> ! {
     let config = Config::default().with("max-rpm", "1000").unwrap();
     let mut ctl = Controller::new(config, TIMING);
     ctl.start(0, 0, 0);
+    // the board times A's rises (`edges`): the first tick's instant at
+    // stamp 40, the count 0 with A and B low
+    ctl.start_edges(EdgeClock { first_instant: 40, stamps_per_tick: 40, low_low_odd: false });
+    let mut rise: Option<EdgeRegs> = None;
     // A synthetic lathe: up to 600 rpm (0.96 counts per tick, 24.8 fixed
     // point) in 0.2 s, hold, down in 0.2 s, then at rest.
     let (mut pos_q8, mut emitted) = (0u32, 0u32);
@@ -94,8 +123,15 @@ fn main() -> ! {
     let mut engaged = false;
     for k in 0..total {
         let speed_q8 = ramp(k);
+        let before = pos_q8;
         pos_q8 += speed_q8;
-        let input = TickInput { lathe: (pos_q8 >> 8) as u16, emitted: emitted as u16, ..TickInput::default() };
+        rise = rise_between(before, pos_q8, k).or(rise);
+        let input = TickInput {
+            lathe: (pos_q8 >> 8) as u16,
+            emitted: emitted as u16,
+            lathe_edge: rise,
+            ..TickInput::default()
+        };
         let mut out = TickOutput::default();
         let cost = measure(syst, || out = polyturn_tick(&mut ctl, &input));
         // A perfect step generator: every planned step is emitted, two

@@ -1,6 +1,7 @@
 //! Register-level drivers behind the sync core's seams (emit a step plan,
-//! read the pulses emitted; the tick reads the encoder counters itself). Only register
-//! writes live here; their values come from host-tested code.
+//! read the pulses emitted; the tick reads the encoder counters and the
+//! lathe's edge times itself). Only register writes live here; their values
+//! come from host-tested code.
 
 use embassy_stm32::gpio::{Level, Output, OutputType, Speed};
 use embassy_stm32::pac;
@@ -9,6 +10,7 @@ use embassy_stm32::peripherals as P;
 use embassy_stm32::timer::qei::{Qei, QeiMode};
 use embassy_stm32::timer::simple_pwm::PwmPin;
 use embassy_stm32::Peri;
+use polyturn_firmware::edgetime;
 use polyturn_firmware::stepgen;
 use polyturn_firmware::stepgen::program::Bus;
 use polyturn_sync::steps::Dir;
@@ -82,6 +84,7 @@ impl OutputPins {
     }
 }
 
+/// TIM4's input filter (TIM3's is in `edgetime::program`'s words).
 fn encoder_filter(t: pac::timer::TimGp16) {
     // 8 samples at 96 MHz: rejects glitches under 83 ns, passes > 1 MHz edges.
     t.ccmr_input(0).modify(|w| {
@@ -90,6 +93,13 @@ fn encoder_filter(t: pac::timer::TimGp16) {
     });
 }
 
+/// The lathe encoder on TIM3, with its index and its edge times. Embassy's
+/// Qei takes the pins (A, B: AF2) and TIM3's clock and starts it in encoder
+/// mode 3; then `edgetime::program::CONFIG`, verbatim: TIM3's whole input
+/// configuration (the filters, the index on channel 3, the count captured
+/// on channel 1 at A's rise, TRGO's compare pulse) and TIM5's capture of
+/// that pulse, its time (after embassy's time driver set TIM5 up, in
+/// `embassy_stm32::init`).
 pub fn lathe_encoder(
     tim: Peri<'static, P::TIM3>,
     a: Peri<'static, P::PA6>,
@@ -98,36 +108,33 @@ pub fn lathe_encoder(
 ) {
     let cfg = embassy_stm32::timer::qei::Config { mode: QeiMode::Mode3, ..Default::default() };
     core::mem::forget(Qei::new(tim, a, b, cfg));
-    encoder_filter(pac::TIM3);
-    index_capture(index);
+    index_pin(index);
+    let _ = edgetime::program::apply(&edgetime::program::CONFIG, &mut Mmio);
 }
 
-/// The index on PB0 = TIM3_CH3 (AF2, DS10314 table 9): channel 3 captures
-/// the encoder count at the index's rising edge in hardware (RM0383
-/// §13.3.5 input capture; CC3S = 01, IC3 on TI3, §13.4.8; CC3E, rising,
-/// §13.4.9), so the latched count does not wait for any interrupt.
-fn index_capture(pin: Peri<'static, P::PB0>) {
+/// The index on PB0 = TIM3_CH3 (AF2, DS10314 table 9), pulled down: channel
+/// 3 captures the encoder count at the index's rising edge in hardware
+/// (RM0383 §13.3.5; `edgetime::program` sets the channel up), so the
+/// latched count does not wait for any interrupt.
+fn index_pin(pin: Peri<'static, P::PB0>) {
     let _ = pin;
     pac::GPIOB.pupdr().modify(|w| w.set_pupdr(0, pac::gpio::vals::Pupdr::PULL_DOWN));
     pac::GPIOB.afr(0).modify(|w| w.set_afr(0, 2));
     pac::GPIOB.moder().modify(|w| w.set_moder(0, pac::gpio::vals::Moder::ALTERNATE));
-    let t = pac::TIM3;
-    t.ccmr_input(1).modify(|w| {
-        w.set_ccs(0, pac::timer::vals::CcmrInputCcs::from_bits(0b01));
-        w.set_icf(0, FilterValue::FCK_INT_N8);
-    });
-    t.ccer().modify(|w| {
-        w.set_ccp(2, false);
-        w.set_ccnp(2, false);
-        w.set_cce(2, true);
-    });
+}
+
+/// TIM3_SR, read once a tick for the index (CC3IF) and the edge times'
+/// gate (CC1IF, `edgetime::read::Gate`), before CCR1 or CCR3 is read.
+#[inline(always)]
+pub fn lathe_flags() -> u32 {
+    pac::TIM3.sr().read().0
 }
 
 /// The lathe count latched at the last index edge, once (reading CCR3
-/// clears CC3IF, §13.4.5).
-pub fn take_index() -> Option<u16> {
-    let t = pac::TIM3;
-    t.sr().read().ccif(2).then(|| t.ccr(2).read().ccr())
+/// clears CC3IF, §13.4.5), from the flags `lathe_flags` read.
+#[inline(always)]
+pub fn index(flags: u32) -> Option<u16> {
+    (flags & edgetime::program::CC3IF != 0).then(|| pac::TIM3.ccr(2).read().ccr())
 }
 
 pub fn cutter_encoder(tim: Peri<'static, P::TIM4>, a: Peri<'static, P::PB6>, b: Peri<'static, P::PB7>) {
@@ -143,9 +150,9 @@ pub struct Mmio;
 impl Bus for Mmio {
     fn write(&mut self, addr: u32, value: u32) {
         // SAFETY: the register programs (`stepgen::program`, `flashprog`,
-        // `quadgen::program`) name only TIM1, TIM2, TIM9, TIM11, DMA2,
-        // FLASH and GPIOA_BSRR registers (RM0383 §2.3) and the RING below,
-        // all word-aligned.
+        // `quadgen::program`, `edgetime`) name only TIM1, TIM2, TIM3, TIM5,
+        // TIM9, TIM11, DMA2, FLASH, GPIOA_BSRR and GPIOA_IDR registers
+        // (RM0383 §2.3) and the RING below, all word-aligned.
         unsafe { (addr as *mut u32).write_volatile(value) }
     }
     fn read(&mut self, addr: u32) -> u32 {

@@ -1,12 +1,39 @@
-//! Once a second over defmt: lathe and cutter rpm, phase error, tick cost.
+//! Once a second over defmt: lathe and cutter rpm, phase error, tick cost,
+//! and two of the lathe's timed edges in a row (the bench's check of the
+//! edge registers, docs/src/bench.md).
 
 use super::tick;
 use defmt::info;
 use embassy_time::Timer;
+use polyturn_sync::edges::EdgeRegs;
+
+/// Polls for the next timed edge: every `EDGE_POLL_US`, `EDGE_POLLS` times
+/// (5 ms: A at 200 Hz or faster; consecutive rises up to A at 20 kHz).
+const EDGE_POLL_US: u64 = 50;
+const EDGE_POLLS: u32 = 100;
+
+/// The last timed edge now, the next one after it, and k0 mod 4; `None` if
+/// no edge is timed, none came since the last call (`seen`: the lathe at
+/// rest is not polled), or none within the polls.
+async fn edge_pair(seen: &mut Option<EdgeRegs>) -> Option<(EdgeRegs, EdgeRegs, u16)> {
+    let (first, k0) = tick::last_edge()?;
+    if seen.replace(first) == Some(first) {
+        return None;
+    }
+    for _ in 0..EDGE_POLLS {
+        Timer::after_micros(EDGE_POLL_US).await;
+        let (next, _) = tick::last_edge()?;
+        if next.stamp != first.stamp {
+            return Some((first, next, k0));
+        }
+    }
+    None
+}
 
 #[embassy_executor::task]
 pub async fn every_second() {
     let mut checked = false;
+    let mut edge_seen = None;
     loop {
         Timer::after_millis(1000).await;
         // again once everything is up (USB, the self-test's timer and the
@@ -34,6 +61,19 @@ pub async fn every_second() {
                 ticks,
                 late,
                 tick::ndtr_lead()
+            );
+        }
+        if let Some((a, b, k0)) = edge_pair(&mut edge_seen).await {
+            // CCR1 − k0 mod 4, A rising while counting up: 0 if the capture
+            // takes the count before its edge's, 1 after (3 and 2 counting
+            // down); the next rise's µs and counts (±4: A's period)
+            info!(
+                "edge: CCR1 {} ({} past A,B low), CCR3 {} us; next rise {} us later, {} counts on",
+                a.count,
+                a.count.wrapping_sub(k0) & 3,
+                a.stamp,
+                b.stamp.wrapping_sub(a.stamp),
+                b.count.wrapping_sub(a.count) as i16
             );
         }
     }

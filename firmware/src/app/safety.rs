@@ -3,7 +3,7 @@
 //! their own interrupt, at once: it is the most urgent (`board::PRIORITIES`),
 //! so it pre-empts even the tick, and the tick re-applies the stop if it
 //! ran inside it; the tick then latches the fault. (The
-//! lathe index is latched by TIM3 in hardware: `drivers::take_index`.)
+//! lathe index is latched by TIM3 in hardware: `drivers::index`.)
 
 use core::sync::atomic::{AtomicU32, AtomicU8, Ordering};
 use embassy_stm32::gpio::{Input, Pull};

@@ -9,9 +9,11 @@ use super::safety;
 use core::cell::RefCell;
 use core::sync::atomic::{compiler_fence, AtomicU32, Ordering};
 use cortex_m::interrupt::{CriticalSection, Mutex};
+use defmt::{info, warn};
 use embassy_stm32::interrupt;
 use embassy_stm32::interrupt::InterruptExt;
 use embassy_stm32::pac;
+use polyturn_firmware::edgetime::{self, read::Gate};
 use polyturn_firmware::stepgen::Generator;
 use polyturn_firmware::xsteps::XSteps;
 use polyturn_firmware::{board, esc};
@@ -24,6 +26,8 @@ struct Io {
     x: XSteps,
     /// `safety::halts()` when the generator last heard of an E-stop halt
     halts_seen: u32,
+    /// whether the lathe's edge registers hold an edge (`edgetime::read`)
+    gate: Gate,
 }
 
 /// cortex-m's Mutex: its token comes only from `locked` here, so a
@@ -63,30 +67,70 @@ static NDTR_LEAD: AtomicU32 = AtomicU32::new(0);
 
 pub const TIMING: Timing = polyturn_firmware::clocks::TIMING;
 
+/// The edge clock the start measured, for the log and the emulator's
+/// replay: `first_instant`, then k0 mod 4 (the count in state (A, B) =
+/// (0, 0), `edgetime::start::low_low`) at bit 16, and bit 18 set if the
+/// core times edges. 0 until the start.
+static EDGE_CLOCK: AtomicU32 = AtomicU32::new(0);
+const EDGES_ON: u32 = 1 << 18;
+
+// The stamps are embassy-time's ticks (TIM5, `edgetime`): one a µs, and a
+// whole number of them per tick, as `edgetime` assumes.
+const _: () = assert!(embassy_time::TICK_HZ == edgetime::STAMP_HZ as u64);
+const _: () = assert!(TIMER_HZ.is_multiple_of(board::TICK_HZ) && TIMER_HZ / board::TICK_HZ <= 1 << 16);
+
 pub fn start(config: Config, mut pins: OutputPins) {
     pins.set_polarity(config.enable_active_high);
     pins.set_enable(false);
-    let mut core = Controller::new(config, TIMING);
+    let core = Controller::new(config, TIMING);
     let mut steps = Generator::new(drivers::ring_address());
     // STEP/DIR driven quietly from now on, the ring silent: before any tick
     steps.prepare(core.derived().steps.tick_len, &mut Mmio);
     drivers::set_halt_pulse(core.derived().steps.pulse);
-    core.start(pac::TIM3.cnt().read().cnt(), drivers::steps_counted(), pac::TIM4.cnt().read().cnt());
-    locked(|cs| {
-        IO.borrow(cs).replace(Some(Io { core, steps, pins, x: XSteps::default(), halts_seen: safety::halts() }))
-    });
     // SAFETY: DWT is only used here, for the tick's cycle count.
     let mut cp = unsafe { cortex_m::Peripherals::steal() };
     cp.DCB.enable_trace();
     cp.DWT.enable_cycle_counter();
+    tick_timer();
+    let io = Io { core, steps, pins, x: XSteps::default(), halts_seen: safety::halts(), gate: Gate::Off };
+    // Under the lock nothing but the E-stop runs: not the tick (its
+    // interrupt is enabled in here, and waits for the lock's end), nor
+    // anything that could come between TIM5's step and TIM11's start.
+    let (low_low, s) = locked(|cs| {
+        let low_low = edgetime::start::low_low(&mut Mmio);
+        let mut io = io;
+        // the lathe's count last: the first tick's count is counted from it
+        io.core.start(pac::TIM3.cnt().read().cnt(), drivers::steps_counted(), pac::TIM4.cnt().read().cnt());
+        IO.borrow(cs).replace(Some(io));
+        let s = edgetime::start::start_tick(&mut Mmio);
+        // SAFETY: the handler below is ready and the shared state is set.
+        unsafe { interrupt::TIM1_TRG_COM_TIM11.enable() };
+        if let (Some(s), Some(k0), Some(io)) = (s, low_low, IO.borrow(cs).borrow_mut().as_mut()) {
+            let clock = edgetime::start::clock(s, k0);
+            io.core.start_edges(clock);
+            io.gate = Gate::Waiting;
+            EDGE_CLOCK.store(clock.first_instant as u32 | ((k0 & 3) as u32) << 16 | EDGES_ON, Ordering::Relaxed);
+        }
+        (low_low, s)
+    });
+    match (low_low, s) {
+        (Some(k0), Some(s)) => {
+            let first = s.wrapping_add(edgetime::STAMPS_PER_TICK);
+            info!("edge times on: first tick at stamp {}, A and B low at count {}", first, k0)
+        }
+        (None, _) => warn!("edge times off: the lathe never held still between two reads of its count"),
+        (_, None) => warn!("edge times off: TIM5 did not step, or the start was interrupted at every try"),
+    }
+}
+
+/// TIM11 clocked and set up as the tick's timer, stopped: PSC 0, ARR one
+/// tick less one (its update every tick), UIE; `edgetime::start` starts it.
+fn tick_timer() {
     embassy_stm32::rcc::enable_and_reset::<embassy_stm32::peripherals::TIM11>();
     let t = pac::TIM11;
     t.psc().write_value(0);
     t.arr().write(|w| w.set_arr((TIMER_HZ / board::TICK_HZ - 1) as u16));
     t.dier().modify(|w| w.set_uie(true));
-    t.cr1().modify(|w| w.set_cen(true));
-    // SAFETY: the handler below is ready and the shared state is set.
-    unsafe { interrupt::TIM1_TRG_COM_TIM11.enable() };
 }
 
 #[interrupt]
@@ -114,19 +158,24 @@ fn run(cs: &CriticalSection) {
     // keeps no panic path)
     let Ok(mut io) = IO.borrow(cs).try_borrow_mut() else { return };
     let Some(io) = io.as_mut() else { return };
-    // the encoder counters (lathe TIM3, cutter TIM4) read straight
-    // into the core's seam; the E-stop and alarm as they are, or as the
-    // E-stop interrupt saw them if it fired since
+    // the encoder counters (lathe TIM3, cutter TIM4) and the lathe's last
+    // timed edge read straight into the core's seam; the E-stop and alarm
+    // as they are, or as the E-stop interrupt saw them if it fired since
     let fired = safety::take_fired();
+    // TIM3_SR first (the index, and whether an edge has been timed yet),
+    // then the count and the last timed edge (`edgetime::read`)
+    let flags = drivers::lathe_flags();
+    io.gate.note(flags);
+    let (lathe, lathe_edge) = edgetime::read::lathe(io.gate, &mut Mmio);
     let input = TickInput {
-        lathe: pac::TIM3.cnt().read().cnt(),
-        index: drivers::take_index(),
+        lathe,
+        index: drivers::index(flags),
         emitted: drivers::steps_counted(),
         cutter: pac::TIM4.cnt().read().cnt(),
         estop_open: safety::estop_open() || fired.0,
         alarm: safety::alarm() || fired.1,
         x_emitted: io.x.emitted,
-        lathe_edge: None,
+        lathe_edge,
     };
     let out = io.core.tick(&input);
     heard_of_halts(io);
@@ -164,6 +213,38 @@ fn heard_of_halts(io: &mut Io) {
         io.halts_seen = now;
         io.steps.halted_elsewhere();
     }
+}
+
+/// After lost ticks (a save's flash erase: `Controller::end_stall` drops the
+/// core's edge clock), the clock measured again and given back to the core,
+/// under the lock, so that its instants are the ticks it runs from here
+/// (`edgetime::start::next_instant`). Nothing if the start timed no edges.
+pub fn restart_edges() {
+    let on = EDGE_CLOCK.load(Ordering::Relaxed);
+    if on & EDGES_ON == 0 {
+        return;
+    }
+    let restarted = locked(|cs| {
+        let first = edgetime::start::next_instant(&mut Mmio)?;
+        let clock = edgetime::start::restarted(first, (on >> 16 & 3) as u16);
+        IO.borrow(cs).borrow_mut().as_mut().map(|io| io.core.start_edges(clock))
+    });
+    if restarted.is_none() {
+        warn!("edge times off: the tick's instant could not be measured again after the save");
+    }
+}
+
+/// The lathe's last timed edge, read as the tick reads it, with k0 mod 4
+/// (A and B low: `EDGE_CLOCK`), for the bench's log; `None` until the tick
+/// has seen a capture (the read clears CC1IF, which nothing looks at from
+/// then on).
+pub fn last_edge() -> Option<(polyturn_sync::edges::EdgeRegs, u16)> {
+    let gate = locked(|cs| IO.borrow(cs).borrow().as_ref().map(|io| io.gate));
+    if gate != Some(Gate::Open) {
+        return None;
+    }
+    let k0 = (EDGE_CLOCK.load(Ordering::Relaxed) >> 16 & 3) as u16;
+    edgetime::read::lathe(Gate::Open, &mut Mmio).1.map(|e| (e, k0))
 }
 
 /// Runs `f` on the controller (console, planning, reports).

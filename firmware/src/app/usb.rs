@@ -175,6 +175,8 @@ fn persist(
     tick::with_core(|c| c.begin_stall());
     let saved = settings::save(flash, cfg, cam);
     let stall = tick::with_core(|c| c.end_stall()).unwrap_or_default();
+    // the erase lost ticks: the edge times' clock is measured again
+    tick::restart_edges();
     let stored = saved?;
     *fitted = stored;
     let Some((h, t)) = stored else { return Ok((stall, Fit::NoCam)) };

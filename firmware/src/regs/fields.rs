@@ -39,19 +39,24 @@ pub mod cr1 {
     pub const ARPE: Field = Field::bit(7);
 }
 
-/// TIMx_CR2 (§12.4.2): MMS = 100, OC1REF is TRGO
+/// TIMx_CR2 (§12.4.2, §13.4.2): MMS = 100, OC1REF is TRGO; 011, the compare
+/// pulse, TRGO pulses at each CC1 capture or match
 pub mod cr2 {
     use super::Field;
     pub const MMS: Field = Field::new(4, 3);
+    pub const MMS_COMPARE_PULSE: u32 = 0b011;
     pub const MMS_OC1REF: u32 = 0b100;
 }
 
-/// TIMx_SMCR (§13.4.3): SMS = 111 external clock mode 1, TS = 000 ITR0
+/// TIMx_SMCR (§13.4.3): SMS = 111 external clock mode 1, 011 encoder mode
+/// 3, 000 slave mode off; TS = 000 ITR0, 001 ITR1
 pub mod smcr {
     use super::Field;
     pub const SMS: Field = Field::new(0, 3);
     pub const TS: Field = Field::new(4, 3);
+    pub const SMS_ENCODER_3: u32 = 0b011;
     pub const SMS_EXT_CLOCK_1: u32 = 0b111;
+    pub const TS_ITR1: u32 = 0b001;
 }
 
 /// TIMx_DIER (§12.4.4)
@@ -61,10 +66,16 @@ pub mod dier {
     pub const UDE: Field = Field::bit(8);
 }
 
-/// TIMx_SR (§12.4.5)
+/// TIMx_SR (§12.4.5, §13.4.5): rc_w0 flags
 pub mod sr {
     use super::Field;
     pub const UIF: Field = Field::bit(0);
+    pub const CC1IF: Field = Field::bit(1);
+    pub const CC3IF: Field = Field::bit(3);
+    pub const CC1OF: Field = Field::bit(9);
+    /// every flag of a four-channel general-purpose timer (§13.4.5): UIF,
+    /// CC1IF..CC4IF, TIF, CC1OF..CC4OF; writing 1 to one leaves it as it is
+    pub const GP_FLAGS: u32 = 0x1E5F;
 }
 
 /// TIMx_EGR (§12.4.6)
@@ -86,11 +97,29 @@ pub mod ccmr1 {
     pub const PWM2: u32 = 0b111;
 }
 
-/// TIMx_CCER (§12.4.9): outputs enabled, active high
+/// TIMx_CCMR1/CCMR2 in input mode (§13.4.7, §13.4.8): CCMR2's CC3S, IC3F
+/// are CC1S, IC1F's bits, CC4S, IC4F CC2S, IC2F's
+pub mod ccmr_in {
+    use super::Field;
+    pub const CC1S: Field = Field::new(0, 2);
+    pub const IC1PSC: Field = Field::new(2, 2);
+    pub const IC1F: Field = Field::new(4, 4);
+    pub const CC2S: Field = Field::new(8, 2);
+    pub const IC2F: Field = Field::new(12, 4);
+    /// CCxS = 01: ICx on TIx; 11: ICx on TRC
+    pub const CCS_TI: u32 = 0b01;
+    pub const CCS_TRC: u32 = 0b11;
+    /// ICxF = 0011: 8 samples at f_CK_INT
+    pub const ICF_CK_INT_N8: u32 = 0b0011;
+}
+
+/// TIMx_CCER (§12.4.9, §13.4.9): outputs enabled, active high; an input's
+/// capture enabled, on the rising edge (CCxP = CCxNP = 0)
 pub mod ccer {
     use super::Field;
     pub const CC1E: Field = Field::bit(0);
     pub const CC2E: Field = Field::bit(4);
+    pub const CC3E: Field = Field::bit(8);
 }
 
 /// TIMx_BDTR (§12.4.18): an advanced timer's outputs need MOE

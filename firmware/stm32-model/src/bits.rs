@@ -82,8 +82,11 @@ pub mod smcr {
     pub const ECE: Field = bit(14);
     pub const ETP: Field = bit(15);
     pub const SMS_DISABLED: u32 = 0b000;
+    /// §13.4.3: encoder mode 3, counting on both TI1FP1 and TI2FP2 edges
+    pub const SMS_ENCODER_3: u32 = 0b011;
     pub const SMS_EXT_CLOCK_1: u32 = 0b111;
     pub const TS_ITR0: u32 = 0b000;
+    pub const TS_ITR1: u32 = 0b001;
 }
 
 /// TIMx_DIER (RM0383 §12.4.4): interrupt enables at bits 0..7, DMA enables at 8..14.
@@ -149,6 +152,26 @@ pub mod ccmr {
     pub const fn occe(ch: u32) -> Field {
         bit(7 + 8 * ch)
     }
+}
+
+/// TIMx_CCMRx in input mode (RM0383 §13.4.7, §13.4.8); `ch` is 0 or 1 within the
+/// register (CCMR2 holds channels 3 and 4). CCxS is the same field as in output mode.
+pub mod ccmr_in {
+    use super::Field;
+    pub const fn icpsc(ch: u32) -> Field {
+        Field::new(2 + 8 * ch, 2)
+    }
+    pub const fn icf(ch: u32) -> Field {
+        Field::new(4 + 8 * ch, 4)
+    }
+    /// CCxS values: 00 output, 01 ICx on its own TIx, 10 on the other TI of the pair,
+    /// 11 on TRC ("working only if an internal trigger input is selected through TS")
+    pub const CCS_OUTPUT: u32 = 0b00;
+    pub const CCS_TI: u32 = 0b01;
+    pub const CCS_TI_OTHER: u32 = 0b10;
+    pub const CCS_TRC: u32 = 0b11;
+    /// ICxF = 0011: f_SAMPLING = f_CK_INT, N = 8
+    pub const ICF_CK_INT_N8: u32 = 0b0011;
 }
 
 /// OCxM values (RM0383 §12.4.7).

@@ -66,6 +66,22 @@ pub enum PwmModeSwitch {
     OnlyFromFrozen,
 }
 
+/// Which count an input capture latches when its edge is also one the encoder interface
+/// counts: channel 1 capturing on TI1FP1's rising edge with the counter in encoder mode
+/// (TIM3 timing the lathe's A rises). §13.3.5 says "the TIMx_CCR1 register gets the value
+/// of the counter on the active transition", §13.3.12 that the same transition clocks
+/// the counter; neither says whether the latch takes CNT before or after that count. The
+/// firmware works either way (`polyturn_sync::edges::boundary_half_counts`); the bench
+/// procedure ("Bench check of the lathe's edge times") records which the silicon does.
+/// Default [`CountBefore`](Self::CountBefore): the capture and the count come from the
+/// same synchronised edge, and the latch is taken as sampling CNT as it stood.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub enum EncoderCapture {
+    #[default]
+    CountBefore,
+    CountAfter,
+}
+
 /// Panic for a register, field or configuration the model does not implement.
 #[track_caller]
 pub(crate) fn unmodelled(what: &str) -> ! {

@@ -9,7 +9,7 @@ use crate::tim1::Tim1;
 use crate::tim11::Tim11;
 use crate::tim2::Tim2;
 use crate::tim9::Tim9;
-use crate::PwmModeSwitch;
+use crate::{EncoderCapture, PwmModeSwitch};
 
 /// Figures the manual does not give.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -30,6 +30,10 @@ pub struct Params {
     pub pwm_mode_switch: PwmModeSwitch,
     /// When DMA2_S5NDTR counts a word; see [`NdtrReading`].
     pub ndtr: NdtrReading,
+    /// What TIM3's channel 1 latches on the A edge it also counts; see
+    /// [`EncoderCapture`] (for the event-driven `chip::gptimer`, which the emulator
+    /// builds with it).
+    pub encoder_capture: EncoderCapture,
 }
 
 /// Two readings of when NDTR counts a word in direct mode, memory to
@@ -53,6 +57,7 @@ impl Default for Params {
             tim2_resync_cycles: 2,
             pwm_mode_switch: PwmModeSwitch::Reevaluate,
             ndtr: NdtrReading::AfterTransfer,
+            encoder_capture: EncoderCapture::CountBefore,
         }
     }
 }

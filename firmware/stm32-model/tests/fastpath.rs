@@ -94,6 +94,7 @@ fn run_until_agrees_with_single_steps_on_random_programs() {
             tim2_resync_cycles: r.below(6),
             pwm_mode_switch: if r.bit() == 0 { PwmModeSwitch::Reevaluate } else { PwmModeSwitch::OnlyFromFrozen },
             ndtr: if r.bit() == 0 { NdtrReading::AfterTransfer } else { NdtrReading::AtPreload },
+            ..Params::default()
         };
         let (mut a, mut b) = (Mcu::new(params), Mcu::new(params));
         for m in [&mut a, &mut b] {

@@ -49,6 +49,8 @@ fn timer_bit_fields_match_metapac() {
     assert_eq!(bits!(SmcrGp16, |r| r.set_sms(vals::Sms::EXT_CLOCK_MODE)), smcr::SMS.mask());
     assert_eq!(bits!(SmcrGp16, |r| r.set_ts(vals::Ts::ETRF)), smcr::TS.mask());
     assert_eq!(bits!(SmcrGp16, |r| r.set_ts(vals::Ts::ITR0)), smcr::TS.val(smcr::TS_ITR0));
+    assert_eq!(bits!(SmcrGp16, |r| r.set_ts(vals::Ts::ITR1)), smcr::TS.val(smcr::TS_ITR1));
+    assert_eq!(bits!(SmcrGp16, |r| r.set_sms(vals::Sms::ENCODER_MODE_3)), smcr::SMS.val(smcr::SMS_ENCODER_3));
     assert_eq!(bits!(SmcrGp16, |r| r.set_msm(vals::Msm::SYNC)), smcr::MSM.mask());
     assert_eq!(bits!(SmcrGp16, |r| r.set_etf(vals::FilterValue::from_bits(15))), smcr::ETF.mask());
     assert_eq!(bits!(SmcrGp16, |r| r.set_etps(vals::Etps::DIV8)), smcr::ETPS.mask());
@@ -104,6 +106,23 @@ fn timer_bit_fields_match_metapac() {
         assert_eq!(bits!(CcmrOutputGp16, |r| r.set_ocfe(c, true)), ccmr::ocfe(cu).mask());
         assert_eq!(bits!(CcmrOutputGp16, |r| r.set_occe(c, true)), ccmr::occe(cu).mask());
         assert_eq!(bits!(CcmrOutputGp16, |r| r.set_ccs(c, vals::CcmrOutputCcs::from_bits(3))), ccmr::ccs(cu).mask());
+    }
+
+    use regs::CcmrInput2ch;
+    let inputs = [
+        (vals::CcmrInputCcs::TI4, ccmr_in::CCS_TI),
+        (vals::CcmrInputCcs::TI3, ccmr_in::CCS_TI_OTHER),
+        (vals::CcmrInputCcs::TRC, ccmr_in::CCS_TRC),
+    ];
+    for c in 0..2 {
+        let cu = c as u32;
+        for (v, ours) in inputs {
+            assert_eq!(bits!(CcmrInput2ch, |r| r.set_ccs(c, v)), ccmr::ccs(cu).val(ours));
+        }
+        assert_eq!(bits!(CcmrInput2ch, |r| r.set_icpsc(c, 3)), ccmr_in::icpsc(cu).mask());
+        assert_eq!(bits!(CcmrInput2ch, |r| r.set_icf(c, vals::FilterValue::from_bits(15))), ccmr_in::icf(cu).mask());
+        let n8 = bits!(CcmrInput2ch, |r| r.set_icf(c, vals::FilterValue::FCK_INT_N8));
+        assert_eq!(n8, ccmr_in::icf(cu).val(ccmr_in::ICF_CK_INT_N8));
     }
 
     assert_eq!(bits!(BdtrAdv, |r| r.set_dtg(0xFF)), bdtr::DTG.mask());

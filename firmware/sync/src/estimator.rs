@@ -141,3 +141,46 @@ mod tests {
         assert_eq!((e.offset_q16(), e.velocity_q32()), (0, 0));
     }
 }
+
+#[cfg(test)]
+mod measured_tests {
+    use super::*;
+
+    /// Fed the true offset from the count (as an edge's time gives it), the
+    /// loop settles on it and on the speed within a few hundred ticks; the
+    /// bare count's loop, fed the same steady lathe, interpolates it only
+    /// to a few hundredths of a count.
+    #[test]
+    fn a_timed_measurement_is_followed_to_its_own_resolution() {
+        let run = |timed: bool| {
+            let mut e = Estimator::new(2500);
+            let (mut x, mut last, mut worst) = (0.3f64, 0i64, 0.0f64);
+            for k in 0..4000 {
+                x += 0.37;
+                let c = x.round() as i64;
+                let m = timed.then(|| ((x - c as f64) * 65536.0) as i64);
+                e.update_measured((c - last) as i32, m);
+                last = c;
+                if k > 500 {
+                    worst = worst.max((c as f64 + e.offset_q16() as f64 / 65536.0 - x).abs());
+                }
+            }
+            (worst, e.velocity_q32() as f64 / 4_294_967_296.0)
+        };
+        let (timed, v) = run(true);
+        assert!(timed < 0.001, "{timed}");
+        assert!((v - 0.37).abs() < 1e-4, "{v}");
+        let (bare, _) = run(false);
+        assert!(bare > 0.02, "{bare}");
+    }
+
+    /// A step in the measurement is taken at the edge loop's gains: a
+    /// sixteenth at once, the rest over the following ticks.
+    #[test]
+    fn the_edge_loop_takes_a_sixteenth_of_an_error_at_once() {
+        let mut e = Estimator::new(2500);
+        e.update_measured(0, Some(1 << 15));
+        assert_eq!(e.offset_q16(), (1 << 15) >> KP_EDGE);
+        assert_eq!(e.velocity_q32(), (1i64 << 31) >> KI_EDGE);
+    }
+}

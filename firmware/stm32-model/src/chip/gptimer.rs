@@ -7,13 +7,20 @@
 //! match (CNT reaching CCRx) sets CCxIF (§13.3.8). SR flags are rc_w0 (§13.4.5). The
 //! interrupt line is SR & DIER. Encoder mode counts the transitions
 //! [`GpTimer::inputs`] is given as §13.3.12 table 53 says (with
-//! [`crate::encoder::table_53`]), and channel 3 captures CNT on TI3's rising edge
-//! (§13.3.5). Not modelled: down and centre-aligned counting, the input filters
-//! (they delay an edge by a few samples, §13.4.7), capture on channels 1, 2 and 4,
-//! one-pulse mode, DMA requests, TIM5's OR remap.
+//! [`crate::encoder::table_53`]); input channels capture CNT on their input's rising
+//! edge, TI1..TI3 or TRC from an internal trigger, and MMS = 011 makes TRGO pulse at
+//! each CC1 capture (`inputs`, `trigger`). Not modelled: down and centre-aligned
+//! counting, the input filters (they delay an edge by a few samples, §13.4.7), TI4,
+//! capture on falling edges or with a prescaler, TRGO other than the compare pulse,
+//! slave modes other than the encoder's, one-pulse mode, DMA requests, TIM5's OR
+//! remap.
+
+mod inputs;
+pub mod trigger;
 
 use super::RegFile;
 use crate::addr::off::{ARR, CCER, CCMR1, CCMR2, CCR1, CNT, CR1, DIER, EGR, PSC, SMCR, SR};
+use crate::EncoderCapture;
 
 const CEN: u32 = 1;
 const UDIS: u32 = 2;
@@ -39,6 +46,10 @@ pub struct GpTimer {
     ti: [bool; 3],
     /// update events so far
     pub updates: u64,
+    /// what a CC1 capture on a counted TI1 edge latches
+    encoder_capture: EncoderCapture,
+    /// TRGO pulses made and not yet taken by `take_trgo`
+    trgo: u32,
 }
 
 impl GpTimer {
@@ -58,7 +69,15 @@ impl GpTimer {
             ccr: [0; 4],
             ti: [false; 3],
             updates: 0,
+            encoder_capture: EncoderCapture::default(),
+            trgo: 0,
         }
+    }
+
+    /// The reading of a capture on a counted edge this timer follows (the emulator's
+    /// `Params::encoder_capture`).
+    pub fn set_encoder_capture(&mut self, c: EncoderCapture) {
+        self.encoder_capture = c;
     }
 
     pub fn get(&self, off: u32) -> u32 {
@@ -109,54 +128,6 @@ impl GpTimer {
         }
     }
 
-    /// New levels of TI1, TI2 (the encoder's A and B) and TI3 (the index). In encoder
-    /// mode a change of TI1 or TI2 counts as table 53 says for SMS (§13.4.3: 001
-    /// counts on TI1 edges, 010 on TI2's, 011 on both; §13.3.12's text swaps the first
-    /// two, so only 011 is relied on) and sets CR1.DIR (§13.4.1). A rising TI3 edge
-    /// captures while CC3S = 01 and CC3E = 1 (§13.3.5).
-    pub fn inputs(&mut self, ti: [bool; 3]) {
-        use crate::encoder::{table_53, Count, Counting};
-        let counting = match self.regs.get(SMCR) & 7 {
-            1 => Some(Counting::Ti1Only),
-            2 => Some(Counting::Ti2Only),
-            3 => Some(Counting::Both),
-            _ => None,
-        };
-        for (i, &level) in ti.iter().enumerate().take(2) {
-            if level == self.ti[i] {
-                continue;
-            }
-            self.ti[i] = level;
-            let (col, opposite) = (2 * i + !level as usize, self.ti[1 - i]);
-            let Some(c) = counting else { continue };
-            let dir_down = table_53(Counting::Both, opposite)[col] == Count::Down;
-            self.regs.set(CR1, self.regs.get(CR1) & !0x10 | (dir_down as u32) << 4);
-            match table_53(c, opposite)[col] {
-                Count::Up => self.count_by(1),
-                Count::Down => self.count_by(-1),
-                Count::None => {}
-            }
-        }
-        if ti[2] && !self.ti[2] {
-            self.capture3();
-        }
-        self.ti[2] = ti[2];
-    }
-
-    /// §13.3.5: "the TIMx_CCR1 register gets the value of the counter on the active
-    /// transition. CC1IF flag is set ... CC1OF is also set if at least two
-    /// consecutive captures occurred whereas the flag was not cleared" (channel 3:
-    /// CCR3, CC3IF bit 3, CC3OF bit 11).
-    fn capture3(&mut self) {
-        let (ccmr2, ccer) = (self.regs.get(CCMR2), self.regs.get(CCER));
-        if ccmr2 & 3 != 1 || ccer >> 8 & 1 == 0 || ccer >> 9 & 1 == 1 {
-            return; // not IC3 on TI3, not enabled, or on the falling edge
-        }
-        self.regs.set(CCR1 + 8, self.cnt);
-        let sr = self.regs.get(SR);
-        self.regs.set(SR, sr | 1 << 3 | (sr & 1 << 3) << 8);
-    }
-
     /// Encoder counts (±) from the encoder interface (§13.3.12): up through ARR to
     /// 0 is an overflow, down through 0 to ARR an underflow; both are update events.
     pub fn count_by(&mut self, d: i64) {
@@ -195,6 +166,9 @@ impl GpTimer {
             let c = self.ccr[i];
             if (lo..=hi).contains(&c) || (wrapped && c == 0) {
                 self.regs.set(SR, self.regs.get(SR) | 2 << i); // CCxIF
+                if i == 0 {
+                    self.cc1_event();
+                }
             }
         }
     }
@@ -245,11 +219,12 @@ impl GpTimer {
         self.regs.get(off) >> (3 + 8 * (i % 2)) & 1 == 1
     }
 
-    /// A read; reading CCR3 while channel 3 captures clears CC3IF (§13.4.5: "cleared
-    /// by software reading the TIMx_CCRx register").
+    /// A read; reading CCRx of an input channel clears CCxIF (§13.4.5: "cleared by
+    /// software reading the TIMx_CCRx register").
     pub fn read(&mut self, off: u32) -> u32 {
-        if off == CCR1 + 8 && self.regs.get(CCMR2) & 3 != 0 {
-            self.regs.set(SR, self.regs.get(SR) & !(1 << 3));
+        let ch = off.wrapping_sub(CCR1) / 4;
+        if (CCR1..CCR1 + 16).contains(&off) && (ch as usize) < self.channels && !self.is_output(ch as usize) {
+            self.regs.set(SR, self.regs.get(SR) & !(2 << ch));
         }
         match off {
             CNT => self.cnt,

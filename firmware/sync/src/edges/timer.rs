@@ -9,7 +9,7 @@
 //! position. Integer adds, multiplies and one 32-bit division per new edge
 //! (no 64-bit division on the tick).
 
-use super::track::Track;
+use super::track::{Clock, Track};
 use super::{boundary_half_counts, EdgeClock, EdgeRegs};
 use crate::encoder::Extender;
 
@@ -24,6 +24,10 @@ const RISE_ACCEL_MIN_STAMPS: i32 = 200;
 /// The same for the count's changes, whose time is known only to the
 /// tick (±½ tick): far slower crossings before the acceleration tells.
 const COUNT_ACCEL_MIN_STAMPS: i32 = super::track::LATE_ACCEL;
+/// The count's changes tell a speed only 10 ticks or more apart: their
+/// times' ±½ tick is then at most 5 % of the interval. Closer, A rises
+/// often enough to take over within a few ticks.
+const CHANGE_MIN_TICKS: i32 = 10;
 
 #[derive(Clone, Copy, Debug)]
 pub struct EdgeTimer {
@@ -38,6 +42,8 @@ pub struct EdgeTimer {
     /// rest gives before A has risen three times
     changes: Track,
     last_count: i64,
+    /// the rises told last tick, and the changes were not followed
+    changes_idle: bool,
     /// Q16 ticks a stamp (1/40 at 1 MHz and 25 kHz)
     ticks_per_stamp_q16: i64,
 }
@@ -54,6 +60,7 @@ impl EdgeTimer {
             last_regs: None,
             changes: Track::default(),
             last_count: 0,
+            changes_idle: false,
             ticks_per_stamp_q16: (1 << 16) / per_tick,
         }
     }
@@ -73,21 +80,37 @@ impl EdgeTimer {
             (self.clock.first_instant as u32) << 8
         };
         self.follow_rises(regs, lathe);
-        self.follow_changes(lathe.position());
-        let at = match self.rises.position_q16(self.ticks_per_stamp_q16) {
-            Some(at) => at,
-            None => self.changes.position_q16(self.ticks_per_stamp_q16)?,
+        let count = lathe.position();
+        let at = match self.rises.position_q16() {
+            // the rises tell: the count's changes wait (the tick's cost)
+            Some(at) => {
+                (self.last_count, self.changes_idle) = (count, true);
+                at
+            }
+            None => {
+                self.follow_changes(count);
+                self.changes.position_q16()?
+            }
         };
-        let offset = at - (lathe.position() << 16);
+        let offset = at - (count << 16);
         Some(crate::q16::bound(offset, crate::q16::HALF + SLACK_Q16))
+    }
+
+    fn clock_for(&self, accel_min: i32, interval_min: i32) -> Clock {
+        Clock {
+            instant_q8: self.instant_q8,
+            per_tick: self.clock.stamps_per_tick as i32,
+            ticks_per_stamp_q16: self.ticks_per_stamp_q16,
+            accel_min,
+            interval_min,
+        }
     }
 
     /// A new rise: its place, and its time (the middle of its stamp: a
     /// stamp s holds the edges of [s, s + 1) µs).
     fn follow_rises(&mut self, regs: Option<EdgeRegs>, lathe: &Extender) {
-        let per_tick = self.clock.stamps_per_tick as i32;
         let Some(r) = regs.filter(|r| self.last_regs != Some(*r)) else {
-            return self.rises.age(per_tick << 8);
+            return self.rises.age();
         };
         self.last_regs = Some(r);
         // the parity is the raw count's; positions start at 0 (raw ≡ pos + raw₀)
@@ -95,21 +118,26 @@ impl EdgeTimer {
         let start_odd = (r.count as i64 - pos) & 1 == 1;
         let half = boundary_half_counts(pos, self.clock.low_low_odd ^ start_odd);
         let stamp_q8 = ((r.stamp as u32) << 8) + 128;
-        self.rises.observe(half, stamp_q8, self.instant_q8, per_tick, RISE_ACCEL_MIN_STAMPS);
+        self.rises.observe(half, stamp_q8, self.clock_for(RISE_ACCEL_MIN_STAMPS, 1));
     }
 
     /// A change of the count: the boundary it last crossed, in the middle
     /// of the tick it crossed in.
     fn follow_changes(&mut self, count: i64) {
+        if self.changes_idle {
+            // what they knew is old: start again from the next change
+            (self.changes, self.changes_idle) = (Track::default(), false);
+        }
         let per_tick = self.clock.stamps_per_tick as i32;
         let delta = count - self.last_count;
         self.last_count = count;
         if delta == 0 {
-            return self.changes.age(per_tick << 8);
+            return self.changes.age();
         }
         let half = 2 * count - delta.signum();
         let stamp_q8 = self.instant_q8.wrapping_sub((per_tick << 7) as u32) & WRAP_Q8;
-        self.changes.observe(half, stamp_q8, self.instant_q8, per_tick, COUNT_ACCEL_MIN_STAMPS);
+        let interval_min = CHANGE_MIN_TICKS * self.clock.stamps_per_tick as i32;
+        self.changes.observe(half, stamp_q8, self.clock_for(COUNT_ACCEL_MIN_STAMPS, interval_min));
     }
 }
 

@@ -19,10 +19,14 @@ pub(super) struct Track {
     /// the last crossing's place, half counts
     half: Option<i64>,
     stamp_q8: u32,
-    /// Q8 stamps from the last crossing to this tick's instant (saturating)
-    age_q8: i32,
-    /// Q8 stamps between the last two crossings
-    interval_q8: i32,
+    /// Q16 ticks from the last crossing to this tick's instant (saturating)
+    age_q16: i32,
+    /// stamps between the last two crossings
+    interval: i32,
+    /// Q16 ticks: half that interval, and the age past which the lathe is
+    /// stopping (twice it): worked out once a crossing, not every tick
+    half_interval_q16: i64,
+    stale_q16: i32,
     /// Q16 counts a tick between the last two crossings, once usable
     velocity_q16: Option<i64>,
     /// the same, measured whether or not usable (the next acceleration's)
@@ -45,43 +49,63 @@ fn accel_q22(dv_q16: i64, per_tick: i32, stamps: i32) -> i64 {
     (((dv * 2 * per_tick.min(255)) << 6) / stamps.max(1)) as i64
 }
 
+/// What a crossing is judged by: this tick's instant, the stamps a tick
+/// and their inverse, and the interval from which the acceleration counts.
+#[derive(Clone, Copy, Debug)]
+pub(super) struct Clock {
+    pub instant_q8: u32,
+    pub per_tick: i32,
+    pub ticks_per_stamp_q16: i64,
+    pub accel_min: i32,
+    /// crossings closer than this many stamps give no speed: their times'
+    /// error is too large a share of the interval
+    pub interval_min: i32,
+}
+
 impl Track {
     /// A tick with no new crossing.
     #[inline]
-    pub fn age(&mut self, tick_q8: i32) {
-        self.age_q8 = self.age_q8.saturating_add(tick_q8);
+    pub fn age(&mut self) {
+        self.age_q16 = self.age_q16.saturating_add(1 << 16);
     }
 
     /// A new crossing at `half` at `stamp_q8`, seen at `instant_q8`. Its
     /// speed needs the one before; from slow crossings (`accel_min`
     /// stamps or more apart) it takes the acceleration too, and needs it:
     /// the last interval's mean speed lags a starting lathe by a·T/2.
-    pub fn observe(&mut self, half: i64, stamp_q8: u32, instant_q8: u32, per_tick: i32, accel_min: i32) {
-        let since = instant_q8.wrapping_sub(stamp_q8) & super::timer::WRAP_Q8;
+    #[inline(never)]
+    pub fn observe(&mut self, half: i64, stamp_q8: u32, clock: Clock) {
+        let since = clock.instant_q8.wrapping_sub(stamp_q8) & super::timer::WRAP_Q8;
         let age_q8 = ((since << 8) as i32) >> 8;
-        let prev_age_q8 = self.age_q8.saturating_add(per_tick << 8);
+        let prev_age_q16 = self.age_q16.saturating_add(1 << 16) as i64;
         let old_speed = self.last_speed.take();
-        let old_interval = self.interval_q8 >> 8;
+        let old_interval = self.interval;
         (self.velocity_q16, self.accel_q22) = (None, 0);
-        if let Some(prev) = self.half.filter(|_| prev_age_q8 < MAX_INTERVAL_STAMPS << 8) {
+        let fresh = prev_age_q16 < MAX_INTERVAL_STAMPS as i64 * clock.ticks_per_stamp_q16;
+        if let Some(prev) = self.half.filter(|_| fresh) {
             let interval = ((stamp_q8.wrapping_sub(self.stamp_q8) & super::timer::WRAP_Q8) >> 8) as i32;
             let span = (half - prev) as i32;
-            if interval > 0 && span.abs() <= MAX_SPAN_HALF {
+            if interval > 0 && interval >= clock.interval_min && span.abs() <= MAX_SPAN_HALF {
+                let per_tick = clock.per_tick;
                 let v = (((span * per_tick) << 15) / interval) as i64;
-                self.interval_q8 = interval << 8;
+                self.interval = interval;
+                self.half_interval_q16 = (interval as i64 * clock.ticks_per_stamp_q16) >> 1;
+                self.stale_q16 = (2 * self.half_interval_q16 * 2).min(i32::MAX as i64) as i32;
                 self.last_speed = Some(v);
-                let slow = interval >= accel_min;
+                let slow = interval >= clock.accel_min;
                 match old_speed {
-                    Some(v1) if slow && old_interval >= accel_min => {
+                    Some(v1) if slow && old_interval >= clock.accel_min => {
                         self.accel_q22 = accel_q22(v - v1, per_tick, interval + old_interval);
                         self.velocity_q16 = Some(v);
                     }
-                    _ if slow && accel_min < LATE_ACCEL => {}
+                    _ if slow && clock.accel_min < LATE_ACCEL => {}
                     _ => self.velocity_q16 = Some(v),
                 }
             }
         }
-        (self.half, self.stamp_q8, self.age_q8, self.peak_q16, self.held) = (Some(half), stamp_q8, age_q8, None, None);
+        let age_q16 = ((age_q8 as i64 * clock.ticks_per_stamp_q16) >> 8) as i32;
+        (self.half, self.stamp_q8, self.age_q16, self.peak_q16, self.held) =
+            (Some(half), stamp_q8, age_q16, None, None);
     }
 
     /// The position now, Q16 counts; none without a usable speed. Once no
@@ -90,14 +114,13 @@ impl Track {
     /// (a guess past what the crossings support) nor snapped back to the
     /// count's middle (which would turn the cutter back).
     #[inline]
-    pub fn position_q16(&mut self, ticks_per_stamp_q16: i64) -> Option<i64> {
+    pub fn position_q16(&mut self) -> Option<i64> {
         let half = self.half?;
         let velocity = self.velocity_q16?;
-        if self.age_q8 > 2 * self.interval_q8 {
+        if self.age_q16 > self.stale_q16 {
             return self.held;
         }
-        let age_q16 = (self.age_q8 as i64 * ticks_per_stamp_q16) >> 8;
-        let at = (half << 15) + self.travel_q16(velocity, age_q16, ticks_per_stamp_q16);
+        let at = (half << 15) + self.travel_q16(velocity, self.age_q16 as i64);
         self.held = Some(at);
         Some(at)
     }
@@ -105,14 +128,21 @@ impl Track {
     /// Q16 counts travelled in `age` (Q16 ticks): the interval's mean
     /// speed, plus the acceleration from that mean at the interval's
     /// middle (a·(T/2·age + age²/2)), never past a stop.
-    fn travel_q16(&mut self, velocity: i64, age_q16: i64, ticks_per_stamp_q16: i64) -> i64 {
+    #[inline]
+    fn travel_q16(&mut self, velocity: i64, age_q16: i64) -> i64 {
         let plain = (velocity * age_q16) >> 16;
         if self.accel_q22 == 0 {
             return plain;
         }
+        self.accelerated(plain, velocity, age_q16)
+    }
+
+    /// The acceleration's part (slow crossings only: out of the common
+    /// path, whose registers it would otherwise crowd).
+    #[inline(never)]
+    fn accelerated(&mut self, plain: i64, velocity: i64, age_q16: i64) -> i64 {
         let age = age_q16.min(1 << 27);
-        let half_interval_q16 = (self.interval_q8 as i64 * ticks_per_stamp_q16) >> 9;
-        let time_q16 = ((half_interval_q16 * age) >> 16) + ((age * age) >> 17);
+        let time_q16 = ((self.half_interval_q16 * age) >> 16) + ((age * age) >> 17);
         let travel = plain + ((self.accel_q22 * time_q16) >> 22);
         // slowing: the lathe stops where its speed reaches 0, and stays
         let peak = match self.peak_q16 {
