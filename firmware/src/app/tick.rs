@@ -103,6 +103,9 @@ pub fn start(config: Config, mut pins: OutputPins) {
         io.core.start(pac::TIM3.cnt().read().cnt(), drivers::steps_counted(), pac::TIM4.cnt().read().cnt());
         IO.borrow(cs).replace(Some(io));
         let s = edgetime::start::start_tick(&mut Mmio);
+        // an E-stop longer than a tick inside the start may have let an
+        // update pend the interrupt before TIM11 was rewound: not a tick
+        interrupt::TIM1_TRG_COM_TIM11.unpend();
         // SAFETY: the handler below is ready and the shared state is set.
         unsafe { interrupt::TIM1_TRG_COM_TIM11.enable() };
         if let (Some(s), Some(k0), Some(io)) = (s, low_low, IO.borrow(cs).borrow_mut().as_mut()) {
@@ -227,6 +230,7 @@ pub fn restart_edges() {
     let restarted = locked(|cs| {
         let first = edgetime::start::next_instant(&mut Mmio)?;
         let clock = edgetime::start::restarted(first, (on >> 16 & 3) as u16);
+        EDGE_CLOCK.store(clock.first_instant as u32 | (on & !0xFFFF), Ordering::Relaxed);
         IO.borrow(cs).borrow_mut().as_mut().map(|io| io.core.start_edges(clock))
     });
     if restarted.is_none() {

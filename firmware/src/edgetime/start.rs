@@ -25,18 +25,20 @@ use polyturn_sync::edges::EdgeClock;
 pub const PARITY_TRIES: u32 = 16;
 /// CK_INT cycles between the pin read and the count read after it: more
 /// than TIM3's input path (§13.3.5: resynchronisation, then the 8-sample
-/// filter of `program`, then the edge detector, about 12 cycles), so an
+/// filter of `program`, then the edge detector: about 12 cycles by our
+/// reading, which the manual gives no figure for), so an
 /// edge the pins already show has reached the count by then.
 pub const FILTER_WAIT_CYCLES: u32 = 32;
-/// Reads of TIM5_CNT waiting for it to step (it steps every 96 cycles; a
-/// read takes at least 4): about 10 µs at most.
+/// Reads of TIM5_CNT waiting for it to step (it steps every 96 cycles, a
+/// read takes at least 4, so 24 reads cover a step): a bound, not a
+/// figure; at 4 cycles a read it is 8 µs, longer if the bus is slower.
 pub const SPIN_READS: u32 = 200;
 /// Tries at starting TIM11 within the stamp it was timed to.
 pub const SYNC_TRIES: u32 = 4;
 
 /// TIM11 started (TIM11_CR1, §14.5.1: CEN alone, as the tick's timer runs).
 pub const TICK_START: Op = Op::Write(TIM11 + off::CR1, cr1::CEN.mask());
-/// TIM11 stopped and rewound, its update flag cleared (§14.5.1, §14.5.5):
+/// TIM11 stopped and rewound, its update flag cleared (§14.5.1, §14.5.3):
 /// as before `TICK_START`, for another try.
 pub const TICK_REWIND: [Op; 3] =
     [Op::Write(TIM11 + off::CR1, 0), Op::Write(TIM11 + off::CNT, 0), Op::Write(TIM11 + off::SR, 0)];
@@ -105,7 +107,7 @@ pub fn start_tick(bus: &mut impl Bus) -> Option<u16> {
 /// TIM11's and TIM5's cycles: a tick (3 840) and a stamp (96).
 const TICK_CYCLES: u32 = crate::clocks::CLOCKS.apb2_timer_hz() / crate::board::TICK_HZ;
 const STAMP_CYCLES: u32 = super::TIM5_CLOCK_HZ / super::STAMP_HZ;
-/// TIM11_SR.UIF (§14.5.5): an update the tick has not answered yet.
+/// TIM11_SR.UIF (§14.5.3): an update the tick has not answered yet.
 const UIF: u32 = crate::regs::fields::sr::UIF.mask();
 
 /// The stamp of the instant of the next tick the core runs, TIM11 running

@@ -102,7 +102,8 @@ impl EdgeTimer {
             per_tick: self.clock.stamps_per_tick as i32,
             ticks_per_stamp_q16: self.ticks_per_stamp_q16,
             accel_min,
-            interval_min,
+            // never 0: the interval divides
+            interval_min: interval_min.max(1),
         }
     }
 

@@ -98,8 +98,13 @@ fn no_measurement_before_two_crossings_and_a_stopped_lathe_is_held_not_run_on() 
         let t = 40.0 * k as f64;
         lathe.update(rig.count(t) as u16);
         let regs = rig.last_rise(t).map(|(c, at)| EdgeRegs { count: c as u16, stamp: at.floor() as u16 });
-        if timer.measure(regs, &lathe).is_some() && first.is_none() {
+        if let (Some(m), None) = (timer.measure(regs, &lathe), first) {
             first = Some(t);
+            // the boundary crossed (1.5), in the middle of its tick, run
+            // on at one count a ms: the lathe's own place to the count's
+            // change's ±½ tick
+            let at = lathe.position() as f64 + m as f64 / 65536.0;
+            assert!((at - rig.x(t)).abs() < 0.005, "{at} against {}", rig.x(t));
         }
     }
     // the count changes at 0.5 (500 µs) and 1.5 (1 500 µs): measured from
@@ -114,10 +119,10 @@ fn no_measurement_before_two_crossings_and_a_stopped_lathe_is_held_not_run_on() 
     // (a count every 25 ticks: held after 50)
     assert!(seen.windows(2).all(|w| w[1] >= w[0]), "turned back");
     assert!(seen[100..].iter().all(|&m| m == seen[199]), "ran on");
-    assert!(seen[199].abs() <= crate::q16::HALF + SLACK_Q16_TEST);
+    // run on to its count's edge and a 32nd of a count past it (the count
+    // is read a little after the instant)
+    assert_eq!(seen[199], crate::q16::HALF + (1 << 11));
 }
-
-const SLACK_Q16_TEST: i64 = 1 << 11;
 
 /// A lathe moving as `x(t)` (counts, t in µs, one way at a time), its A
 /// rises latched (the count after, k0 = 0), ticked every 40 µs from t = 40:
@@ -168,7 +173,13 @@ fn a_lathe_starting_from_rest_is_placed_with_its_acceleration() {
     let acc = 48_000e-12;
     let x = |t: f64| 0.3 + 0.5 * acc * t * t;
     let seen = follow(&x, 1500);
+    // between the second and third rise the count's changes tell
+    let second_rise = (2.0 * (4.5 - 0.3) / acc).sqrt();
     let third_rise = (2.0 * (8.5 - 0.3) / acc).sqrt();
+    let between =
+        seen.iter().enumerate().filter(|(k, _)| (second_rise..third_rise).contains(&(40.0 * (*k + 1) as f64)));
+    let worst = between.map(|(_, (truth, m))| m.map_or(1.0, |m| (m - truth).abs())).fold(0.0, f64::max);
+    assert!(worst < 0.1, "between the second and third rises: {worst}");
     let after: std::vec::Vec<_> =
         seen.iter().enumerate().filter(|(k, _)| 40.0 * (*k + 1) as f64 > third_rise + 40.0).collect();
     assert!(after.len() > 1000);
@@ -196,4 +207,68 @@ fn a_lathe_running_down_is_followed_to_its_stop_and_held_without_turning_back() 
     assert!(worst < 0.1, "worst {worst}");
     let last = measured[measured.len() - 1];
     assert!((last.1 - last.0).abs() < 0.1, "held at {} against {}", last.1, last.0);
+}
+
+/// An edge after the tick's instant (while the interrupt was on its way to
+/// the registers): its age is negative, and the lathe is placed before it.
+#[test]
+fn an_edge_after_the_instant_places_the_lathe_before_it() {
+    // 0.005 counts a µs (steady), A rising at 43 + 800j µs, 3 µs after
+    // the instant 40 + 800j; the tick at that instant reads the rise's
+    // registers and the count after it, as an interrupt 4 µs late would
+    let clock = EdgeClock { first_instant: 40, stamps_per_tick: 40, low_low_odd: false };
+    let mut timer = EdgeTimer::new(clock);
+    let x = |t: f64| 0.5 + 0.005 * (t - 43.0);
+    let mut lathe = Extender::new(0);
+    let mut checked = 0;
+    for k in 1..=400u32 {
+        let t = 40.0 * k as f64;
+        let early = (t - 40.0) % 800.0 == 0.0;
+        let j = ((t - 43.0) / 800.0).floor() + if early { 1.0 } else { 0.0 };
+        let count = if early { 1.0 + 4.0 * j } else { x(t).round() };
+        let regs = (j >= 0.0).then(|| EdgeRegs { count: (1.0 + 4.0 * j) as u16, stamp: (43.0 + 800.0 * j) as u16 });
+        lathe.update(count as i64 as u16);
+        let m = timer.measure(regs, &lathe);
+        if let (true, Some(m), true) = (early, m, k > 100) {
+            let at = lathe.position() as f64 + m as f64 / 65536.0;
+            assert!((at - x(t)).abs() < 0.005, "t {t}: {at} against {}", x(t));
+            checked += 1;
+        }
+    }
+    assert!(checked >= 10, "{checked}");
+}
+
+/// Slowing from fast rises (133 µs apart) through the 200 µs from which the
+/// acceleration counts, to a stop: the measurement never lapses on the way.
+#[test]
+fn a_lathe_slowing_through_the_acceleration_limit_keeps_its_measurement() {
+    let (acc, v0) = (480_000e-12, 0.03);
+    let stop = v0 / acc;
+    let x = move |t: f64| {
+        let t = t.min(stop);
+        0.3 + v0 * t - 0.5 * acc * t * t
+    };
+    let seen = follow(&x, 1700);
+    for (k, (truth, m)) in seen.iter().enumerate().skip(20) {
+        let m = m.unwrap_or_else(|| panic!("tick {k}: no measurement"));
+        assert!((m - truth).abs() < 0.1, "tick {k}: {m} against {truth}");
+    }
+}
+
+/// The same run-down the other way: the lathe is followed down to its
+/// stop and never turned back up.
+#[test]
+fn a_lathe_running_down_backwards_is_never_turned_back() {
+    let (acc, v0) = (48_000e-12, 0.006);
+    let stop = v0 / acc;
+    let x = move |t: f64| {
+        let t = t.min(stop);
+        0.3 - v0 * t + 0.5 * acc * t * t
+    };
+    let seen = follow(&x, 5000);
+    let measured: std::vec::Vec<(f64, f64)> = seen.iter().filter_map(|&(t, m)| m.map(|m| (t, m))).collect();
+    assert!(measured.len() > 4000);
+    assert!(measured.windows(2).all(|w| w[1].1 <= w[0].1 + 1e-9), "turned back");
+    let worst = measured.iter().map(|(t, m)| (m - t).abs()).fold(0.0, f64::max);
+    assert!(worst < 0.1, "worst {worst}");
 }

@@ -23,10 +23,9 @@ pub(super) struct Track {
     age_q16: i32,
     /// stamps between the last two crossings
     interval: i32,
-    /// Q16 ticks: half that interval, and the age past which the lathe is
-    /// stopping (twice it): worked out once a crossing, not every tick
+    /// Q16 ticks: half that interval (worked out once a crossing, not
+    /// every tick)
     half_interval_q16: i64,
-    stale_q16: i32,
     /// Q16 counts a tick between the last two crossings, once usable
     velocity_q16: Option<i64>,
     /// the same, measured whether or not usable (the next acceleration's)
@@ -36,8 +35,6 @@ pub(super) struct Track {
     accel_q22: i64,
     /// the furthest travel since the last crossing (a slowing lathe's stop)
     peak_q16: Option<i64>,
-    /// the last position given, Q16 counts (held once the crossings stop)
-    held: Option<i64>,
 }
 
 /// The acceleration between two mean speeds (Q16 counts a tick) taken
@@ -85,16 +82,18 @@ impl Track {
         if let Some(prev) = self.half.filter(|_| fresh) {
             let interval = ((stamp_q8.wrapping_sub(self.stamp_q8) & super::timer::WRAP_Q8) >> 8) as i32;
             let span = (half - prev) as i32;
-            if interval > 0 && interval >= clock.interval_min && span.abs() <= MAX_SPAN_HALF {
+            // (`interval_min` ≥ 1: no division by 0)
+            if interval >= clock.interval_min && span.abs() <= MAX_SPAN_HALF {
                 let per_tick = clock.per_tick;
                 let v = (((span * per_tick) << 15) / interval) as i64;
                 self.interval = interval;
                 self.half_interval_q16 = (interval as i64 * clock.ticks_per_stamp_q16) >> 1;
-                self.stale_q16 = (2 * self.half_interval_q16 * 2).min(i32::MAX as i64) as i32;
                 self.last_speed = Some(v);
                 let slow = interval >= clock.accel_min;
                 match old_speed {
-                    Some(v1) if slow && old_interval >= clock.accel_min => {
+                    // either interval slow: a lathe slowing through the
+                    // limit keeps its measurement
+                    Some(v1) if slow || old_interval >= clock.accel_min => {
                         self.accel_q22 = accel_q22(v - v1, per_tick, interval + old_interval);
                         self.velocity_q16 = Some(v);
                     }
@@ -104,25 +103,19 @@ impl Track {
             }
         }
         let age_q16 = ((age_q8 as i64 * clock.ticks_per_stamp_q16) >> 8) as i32;
-        (self.half, self.stamp_q8, self.age_q16, self.peak_q16, self.held) =
-            (Some(half), stamp_q8, age_q16, None, None);
+        (self.half, self.stamp_q8, self.age_q16, self.peak_q16) = (Some(half), stamp_q8, age_q16, None);
     }
 
-    /// The position now, Q16 counts; none without a usable speed. Once no
-    /// crossing has come for twice the last interval the lathe is stopping
-    /// or stopped: the position is held where it was then, neither run on
-    /// (a guess past what the crossings support) nor snapped back to the
-    /// count's middle (which would turn the cutter back).
+    /// The position now, Q16 counts; none without a usable speed. A lathe
+    /// that stops between crossings is run on only to its count's edge
+    /// (`EdgeTimer::measure` bounds it there), and a slowing one stops
+    /// where its speed reaches 0 (`accelerated`): neither runs away, and
+    /// neither turns the cutter back.
     #[inline]
     pub fn position_q16(&mut self) -> Option<i64> {
         let half = self.half?;
         let velocity = self.velocity_q16?;
-        if self.age_q16 > self.stale_q16 {
-            return self.held;
-        }
-        let at = (half << 15) + self.travel_q16(velocity, self.age_q16 as i64);
-        self.held = Some(at);
-        Some(at)
+        Some((half << 15) + self.travel_q16(velocity, self.age_q16 as i64))
     }
 
     /// Q16 counts travelled in `age` (Q16 ticks): the interval's mean
@@ -145,8 +138,9 @@ impl Track {
         let time_q16 = ((self.half_interval_q16 * age) >> 16) + ((age * age) >> 17);
         let travel = plain + ((self.accel_q22 * time_q16) >> 22);
         // slowing: the lathe stops where its speed reaches 0, and stays
+        // (the travel turning back against the speed's sign)
         let peak = match self.peak_q16 {
-            Some(p) if (velocity > 0 && travel < p) || (velocity < 0 && travel > p) => p,
+            Some(p) if (travel - p).signum() * velocity.signum() < 0 => p,
             _ => travel,
         };
         self.peak_q16 = Some(peak);
