@@ -158,7 +158,7 @@ mod measured_tests {
             for k in 0..4000 {
                 x += 0.37;
                 let c = x.round() as i64;
-                let m = timed.then(|| ((x - c as f64) * 65536.0) as i64);
+                let m = timed.then_some(((x - c as f64) * 65536.0) as i64);
                 e.update_measured((c - last) as i32, m);
                 last = c;
                 if k > 500 {

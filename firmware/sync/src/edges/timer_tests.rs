@@ -226,7 +226,7 @@ fn an_edge_after_the_instant_places_the_lathe_before_it() {
         let early = (t - 40.0) % 800.0 == 0.0;
         let j = ((t - 43.0) / 800.0).floor() + if early { 1.0 } else { 0.0 };
         let count = if early { 1.0 + 4.0 * j } else { x(t).round() };
-        let regs = (j >= 0.0).then(|| EdgeRegs { count: (1.0 + 4.0 * j) as u16, stamp: (43.0 + 800.0 * j) as u16 });
+        let regs = (j >= 0.0).then_some(EdgeRegs { count: (1.0 + 4.0 * j) as u16, stamp: (43.0 + 800.0 * j) as u16 });
         lathe.update(count as i64 as u16);
         let m = timer.measure(regs, &lathe);
         if let (true, Some(m), true) = (early, m, k > 100) {

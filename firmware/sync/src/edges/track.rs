@@ -74,7 +74,8 @@ impl Track {
     pub fn observe(&mut self, half: i64, stamp_q8: u32, clock: Clock) {
         let since = clock.instant_q8.wrapping_sub(stamp_q8) & super::timer::WRAP_Q8;
         let age_q8 = ((since << 8) as i32) >> 8;
-        let prev_age_q16 = self.age_q16.saturating_add(1 << 16) as i64;
+        // (as of the last tick: a tick more or less is nothing to the limit)
+        let prev_age_q16 = self.age_q16 as i64;
         let old_speed = self.last_speed.take();
         let old_interval = self.interval;
         (self.velocity_q16, self.accel_q22) = (None, 0);
@@ -94,7 +95,11 @@ impl Track {
                     // either interval slow: a lathe slowing through the
                     // limit keeps its measurement
                     Some(v1) if slow || old_interval >= clock.accel_min => {
-                        self.accel_q22 = accel_q22(v - v1, per_tick, interval + old_interval);
+                        // (none at a standstill between two rises at one
+                        // place: `accelerated` takes its sense from v)
+                        if v != 0 {
+                            self.accel_q22 = accel_q22(v - v1, per_tick, interval + old_interval);
+                        }
                         self.velocity_q16 = Some(v);
                     }
                     _ if slow && clock.accel_min < LATE_ACCEL => {}
