@@ -83,10 +83,12 @@ impl Track {
         if let Some(prev) = self.half.filter(|_| fresh) {
             let interval = ((stamp_q8.wrapping_sub(self.stamp_q8) & super::timer::WRAP_Q8) >> 8) as i32;
             let span = (half - prev) as i32;
-            // (`interval_min` ≥ 1: no division by 0)
-            if interval >= clock.interval_min && span.abs() <= MAX_SPAN_HALF {
-                let per_tick = clock.per_tick;
-                let v = (((span * per_tick) << 15) / interval) as i64;
+            // (`checked_div`: no panic path on the tick, though
+            // `interval_min` ≥ 1 already keeps 0 out)
+            let per_tick = clock.per_tick;
+            let speed = ((span * per_tick) << 15).checked_div(interval);
+            if let (true, Some(v)) = (interval >= clock.interval_min && span.abs() <= MAX_SPAN_HALF, speed) {
+                let v = v as i64;
                 self.interval = interval;
                 self.half_interval_q16 = (interval as i64 * clock.ticks_per_stamp_q16) >> 1;
                 self.last_speed = Some(v);
