@@ -67,9 +67,9 @@ impl EdgeTimer {
 
     /// One tick: the registers the board latched, and the lathe's count as
     /// read this tick. Returns the measured position's offset from that
-    /// count (Q16 counts), or `None` where no crossing tells more than the
-    /// count: before two, or once the lathe has slowed to less than half
-    /// their speed (the count's middle beats a runaway guess).
+    /// count (Q16 counts), bounded to that count's interval (a stopped
+    /// lathe is run on no further), or `None` where no crossing tells
+    /// more than the count: before two with a speed they can give.
     #[inline]
     pub fn measure(&mut self, regs: Option<EdgeRegs>, lathe: &Extender) -> Option<i64> {
         let per_tick = self.clock.stamps_per_tick as i32;

@@ -87,7 +87,7 @@ fn a_steady_lathe_is_placed_to_the_stamps_resolution_both_ways_and_either_captur
 }
 
 #[test]
-fn no_measurement_before_two_crossings_and_a_stopped_lathe_is_held_not_run_on() {
+fn no_measurement_before_two_crossings_and_a_stopped_lathe_runs_on_only_to_its_counts_edge() {
     // a count every 1 000 µs (25 ticks)
     let rig = Rig { x0: 0.0, speed: 0.001, k0: 0, after: true, t0: 0.0 };
     let clock = EdgeClock { first_instant: 40, stamps_per_tick: 40, low_low_odd: false };
@@ -111,12 +111,11 @@ fn no_measurement_before_two_crossings_and_a_stopped_lathe_is_held_not_run_on() 
     // the second (A rises only at 0.5 and 4.5)
     assert_eq!(first, Some(1520.0));
     // then it stops: the same registers and count for ever after. The
-    // position runs on for twice the last interval, then holds: it neither
+    // position runs on to its count's edge and stays there: it neither
     // runs away nor turns back
     let still = rig.last_rise(16_000.0).map(|(c, at)| EdgeRegs { count: c as u16, stamp: at.floor() as u16 });
     let seen: std::vec::Vec<i64> = (0..200).filter_map(|_| timer.measure(still, &lathe)).collect();
     assert_eq!(seen.len(), 200);
-    // (a count every 25 ticks: held after 50)
     assert!(seen.windows(2).all(|w| w[1] >= w[0]), "turned back");
     assert!(seen[100..].iter().all(|&m| m == seen[199]), "ran on");
     // run on to its count's edge and a 32nd of a count past it (the count
