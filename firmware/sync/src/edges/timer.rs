@@ -99,7 +99,8 @@ impl EdgeTimer {
     fn clock_for(&self, accel_min: i32, interval_min: i32) -> Clock {
         Clock {
             instant_q8: self.instant_q8,
-            per_tick: self.clock.stamps_per_tick as i32,
+            // (40 at 25 kHz: bounded, so that no product can overflow)
+            per_tick: (self.clock.stamps_per_tick as i32).min(64),
             ticks_per_stamp_q16: self.ticks_per_stamp_q16,
             accel_min,
             // never 0: the interval divides

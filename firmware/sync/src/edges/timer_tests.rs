@@ -271,3 +271,17 @@ fn a_lathe_running_down_backwards_is_never_turned_back() {
     let worst = measured.iter().map(|(t, m)| (m - t).abs()).fold(0.0, f64::max);
     assert!(worst < 0.1, "worst {worst}");
 }
+
+/// Two rises thousands of counts apart (a count jump no lathe makes, or a
+/// fast high-resolution encoder seen once a tick): no speed from them,
+/// and no overflow on the way.
+#[test]
+fn rises_too_far_apart_give_no_speed_and_no_overflow() {
+    let clock = EdgeClock { first_instant: 40, stamps_per_tick: 40, low_low_odd: false };
+    let mut timer = EdgeTimer::new(clock);
+    let mut lathe = Extender::new(0);
+    lathe.update(1);
+    assert_eq!(timer.measure(Some(EdgeRegs { count: 1, stamp: 30 }), &lathe), None);
+    lathe.update(30_001);
+    assert_eq!(timer.measure(Some(EdgeRegs { count: 30_001, stamp: 70 }), &lathe), None);
+}

@@ -8,7 +8,7 @@
 const MAX_INTERVAL_STAMPS: i32 = 60_000;
 /// Half counts between two crossings beyond which no speed is taken:
 /// keeps the division's numerator (span · stamps a tick · 2^15) in 31 bits.
-const MAX_SPAN_HALF: i32 = 512;
+const MAX_SPAN_HALF: i64 = 512;
 /// A track whose acceleration comes this late (`accel_min` at least this)
 /// uses the mean speed alone until it comes: the count's changes, the only
 /// news of a lathe starting from rest.
@@ -82,12 +82,14 @@ impl Track {
         let fresh = prev_age_q16 < MAX_INTERVAL_STAMPS as i64 * clock.ticks_per_stamp_q16;
         if let Some(prev) = self.half.filter(|_| fresh) {
             let interval = ((stamp_q8.wrapping_sub(self.stamp_q8) & super::timer::WRAP_Q8) >> 8) as i32;
-            let span = (half - prev) as i32;
-            // (`checked_div`: no panic path on the tick, though
-            // `interval_min` ≥ 1 already keeps 0 out)
+            let span = half - prev;
             let per_tick = clock.per_tick;
-            let speed = ((span * per_tick) << 15).checked_div(interval);
-            if let (true, Some(v)) = (interval >= clock.interval_min && span.abs() <= MAX_SPAN_HALF, speed) {
+            let usable = interval >= clock.interval_min && span.abs() <= MAX_SPAN_HALF;
+            // only then the division: a span within the limit and at most 64
+            // stamps a tick keep its numerator in 31 bits (`checked_div`:
+            // no panic path on the tick, though `interval_min` ≥ 1 keeps 0 out)
+            let speed = usable.then(|| (((span as i32) * per_tick) << 15).checked_div(interval));
+            if let Some(Some(v)) = speed {
                 let v = v as i64;
                 self.interval = interval;
                 self.half_interval_q16 = (interval as i64 * clock.ticks_per_stamp_q16) >> 1;
