@@ -219,9 +219,13 @@ await test('a simulation runs in the worker and reports what polyturn simulate -
   await view('simulate', ['#sim-form', '#sim-figures', '#sim-svg svg', '#sim-explain']);
 });
 
-// `polyturn <command> --help`'s [default: X] and (a..=b) for a flag.
+// `polyturn <command> --help`'s [default: X] and (a..=b) for a flag: on
+// the flag's line, or (clap's layout when a flag is long) the line after.
 const help = (command, flag) => {
-  const line = execFileSync(POLYTURN, [command, '--help'], { encoding: 'utf8' }).split('\n').find((l) => l.trim().startsWith(`${flag} `)) ?? '';
+  const lines = execFileSync(POLYTURN, [command, '--help'], { encoding: 'utf8' }).split('\n');
+  const i = lines.findIndex((l) => l.trim().startsWith(`${flag} `));
+  const next = lines[i + 1]?.trim() ?? '';
+  const line = i < 0 ? '' : lines[i] + (next.startsWith('-') ? '' : ` ${next}`);
   const range = /\((\d+)\.\.=(\d+)/.exec(line);
   return { default: /\[default: ([^\]]+)\]/.exec(line)?.[1], min: range?.[1], max: range?.[2] };
 };
