@@ -56,24 +56,18 @@ const _: () = {
     assert!(tick_cycles == STAMPS_PER_TICK as u32 * (TIM5_CLOCK_HZ / STAMP_HZ));
 };
 
-/// Register blocks (RM0383 §2.3 Table 1).
+/// Register blocks (RM0383 §2.3 Table 1); TIM11 is the tick's, as the
+/// step output programs it.
 pub const TIM3: u32 = 0x4000_0400;
 pub const TIM5: u32 = 0x4000_0C00;
-pub const TIM11: u32 = 0x4001_4800;
+pub use crate::stepgen::program::TIM11;
 pub const GPIOA: u32 = 0x4002_0000;
 
-/// Timer register offsets (§13.4.21, §14.5.12).
+/// Timer register offsets (§13.4.21, §14.5.12): the step output's, and the
+/// two of channel 3 that only the edge times use.
 pub mod off {
-    pub const CR1: u32 = 0x00;
-    pub const CR2: u32 = 0x04;
-    pub const SMCR: u32 = 0x08;
-    pub const SR: u32 = 0x10;
-    pub const CCMR1: u32 = 0x18;
+    pub use crate::stepgen::program::{ARR, CCER, CCMR1, CCR1, CNT, CR1, CR2, SMCR, SR};
     pub const CCMR2: u32 = 0x1C;
-    pub const CCER: u32 = 0x20;
-    pub const CNT: u32 = 0x24;
-    pub const ARR: u32 = 0x2C;
-    pub const CCR1: u32 = 0x34;
     pub const CCR3: u32 = 0x3C;
 }
 

@@ -10,5 +10,7 @@ pub mod flash;
 pub mod geometry;
 pub mod hwsim;
 pub mod noncircular;
+pub mod peers;
 pub mod planner;
+pub mod round;
 pub mod sim;

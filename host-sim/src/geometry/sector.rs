@@ -279,6 +279,20 @@ mod tests {
         out
     }
 
+    /// The simulator's ideal (`Section::ideal_tiled`) is the sampled one.
+    #[test]
+    fn the_whole_circle_tiled_from_the_solved_sector_matches_the_sampled_section() {
+        for s in planner_like_setups() {
+            let bins = 128;
+            let (a, b) = (Section::ideal(&s, bins), Section::ideal_tiled(&s, bins));
+            assert_eq!(b.envelope.bins(), a.envelope.bins());
+            for (i, (x, y)) in a.envelope.radius.iter().zip(&b.envelope.radius).enumerate() {
+                assert!((x - y).abs() <= 1e-7, "{s:?} bin {i}: {x} vs {y}");
+            }
+            assert_eq!((a.envelope.start, a.envelope.span), (b.envelope.start, b.envelope.span));
+        }
+    }
+
     /// The sector solved on the pass against the 0.5 µm polyline, bin by bin:
     /// they differ by the polyline's interpolation alone (the solved bins
     /// match a ten times finer polyline to ~1e-13 mm).

@@ -12,6 +12,9 @@ pub struct CutRecorder {
     window: f64,
     last: Option<(f64, f64, f64)>,
     pub passes_cut: u64,
+    /// the points of the segment being cut (kept: one allocation a run,
+    /// not one a tick)
+    points: Vec<(f64, f64)>,
 }
 
 /// Largest straight piece of a sampled tip path, mm. The tip path's radius
@@ -28,6 +31,7 @@ impl CutRecorder {
             window: setup.in_stock_cos().acos(),
             last: None,
             passes_cut: 0,
+            points: Vec::new(),
         }
     }
 
@@ -53,7 +57,7 @@ impl CutRecorder {
         let (lo, hi) = if p0 <= p1 { (p0, p1) } else { (p1, p0) };
         let w = self.window;
         // the nearest multiple of 2π at or above lo − w must not pass hi + w
-        let k = ((lo - w) / TAU).ceil();
+        let k = crate::round::ceil((lo - w) / TAU);
         k * TAU <= hi + w
     }
 
@@ -63,8 +67,9 @@ impl CutRecorder {
         }
         let (x0, y0) = self.setup.tip_at(a0, p0);
         let (x1, y1) = self.setup.tip_at(a1, p1);
-        let ddx = (dx1 - dx0) / (((x1 - x0).hypot(y1 - y0) / PIECE_MM).ceil().clamp(1.0, 4096.0));
-        let n = (((x1 - x0).hypot(y1 - y0) / PIECE_MM).ceil() as usize).clamp(1, 4096);
+        let pieces = crate::round::ceil((x1 - x0).hypot(y1 - y0) / PIECE_MM);
+        let ddx = (dx1 - dx0) / pieces.clamp(1.0, 4096.0);
+        let n = (pieces as usize).clamp(1, 4096);
         // Both angles are linear in i, so their phasors turn by a constant
         // step: `tip_at` = X0·e^{−ia} − R1·e^{−i(a−θ)}, without trig per point.
         let (x0c, r1) = (self.setup.centre_distance(), self.setup.cutter_radius_mm);
@@ -73,7 +78,8 @@ impl CutRecorder {
         let (da, du) = (((a1 - a0) / n as f64).sin_cos(), ub.sin_cos());
         let turn = |(s, c): (f64, f64), (ds, dc): (f64, f64)| (s * dc + c * ds, c * dc - s * ds);
         let limit = self.setup.stock_radius_mm * 1.05;
-        let mut pts: Vec<(f64, f64)> = Vec::with_capacity(n + 1);
+        let mut pts = std::mem::take(&mut self.points);
+        pts.clear();
         for i in 0..=n {
             let xc = x0c + dx0 + ddx * i as f64;
             let p = (xc * ea.1 - r1 * eu.1, -xc * ea.0 + r1 * eu.0);
@@ -87,6 +93,7 @@ impl CutRecorder {
             self.passes_cut += 1;
             self.env.add_polyline(&pts);
         }
+        self.points = pts;
     }
 
     pub fn section(&self) -> Section {

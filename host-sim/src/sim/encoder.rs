@@ -16,6 +16,7 @@
 //!
 //! Glitches (dropped or extra counts) are injected for fault tests.
 
+use crate::round::floor;
 use polyturn_sync::edges::EdgeRegs;
 use std::f64::consts::TAU;
 
@@ -54,9 +55,14 @@ impl Encoder {
     }
 
     /// The edge position u of the lathe's angle, counts.
-    fn position(&self, angle: f64) -> f64 {
+    pub fn position(&self, angle: f64) -> f64 {
         let e = self.counts_per_rev as f64;
-        angle / TAU * e + self.disc.eccentricity_counts * angle.sin()
+        let ideal = angle / TAU * e;
+        // (no sine for a true disc: the simulator's hottest call)
+        match self.disc.eccentricity_counts {
+            0.0 => ideal,
+            ecc => ideal + ecc * angle.sin(),
+        }
     }
 
     /// The count at `angle` (glitches due by `tick` applied).
@@ -69,10 +75,19 @@ impl Encoder {
         self.count_at(self.position(angle)) + self.offset
     }
 
+    /// Where count `n` begins, counting up (position u, counts): the edge
+    /// of `count_at`'s cycle that takes it there.
+    pub fn boundary_up(&self, n: i64) -> f64 {
+        let j = (n - 1).div_euclid(4);
+        let Disc { quadrature_counts: q, duty_counts: d, .. } = self.disc;
+        let edges = [0.0, 1.0 + q, 2.0 + d, 3.0 + q];
+        4.0 * j as f64 + 0.5 + edges[(n - 1 - 4 * j) as usize]
+    }
+
     /// The count at position u: the edges of u's cycle at or below it.
     fn count_at(&self, u: f64) -> i64 {
         let v = u - 0.5;
-        let j = (v / 4.0).floor();
+        let j = floor(v * 0.25); // (÷4 exactly, without a division's latency)
         let w = v - 4.0 * j;
         let Disc { quadrature_counts: q, duty_counts: d, .. } = self.disc;
         let edges = [0.0, 1.0 + q, 2.0 + d, 3.0 + q];
@@ -91,7 +106,7 @@ impl Encoder {
         let up = u1 > u0;
         let phase = if up { 0.5 } else { 2.5 + self.disc.duty_counts };
         let (lo, hi) = (u0.min(u1), u0.max(u1));
-        let mut b = ((lo - phase) / 4.0).floor() * 4.0 + phase;
+        let mut b = floor((lo - phase) * 0.25) * 4.0 + phase;
         let mut crossed = (f64::INFINITY, f64::NEG_INFINITY);
         while b <= hi {
             if b > lo {
@@ -111,14 +126,14 @@ impl Encoder {
     /// The registers the tick reads: the count and the stamp of A's last rise.
     pub fn edge_regs(&self) -> Option<EdgeRegs> {
         let (count, at) = self.rise?;
-        let stamp = (STAMP_ORIGIN + at * STAMP_HZ).floor() as i64;
+        let stamp = floor(STAMP_ORIGIN + at * STAMP_HZ) as i64;
         Some(EdgeRegs { count: count as u16, stamp: stamp as u16 })
     }
 
     /// The raw 16-bit counter value latched at an index crossed since the
     /// last call, if any.
     pub fn index(&mut self, angle: f64) -> Option<u16> {
-        let turn = (angle / TAU).floor() as i64;
+        let turn = floor(angle / TAU) as i64;
         let last = self.last_turn.replace(turn)?;
         if turn == last {
             return None;

@@ -38,3 +38,17 @@ fn quadrature_and_duty_errors_move_only_their_own_edges() {
     assert_eq!(at(&mut e, 1.63), 2);
     assert_eq!(at(&mut e, 2.41), 3); // A's fall moved to 2.4
 }
+
+/// Every count begins at its `boundary_up`, on a true disc and a skewed one.
+#[test]
+fn each_count_begins_at_its_boundary() {
+    for disc in [Disc::default(), Disc { quadrature_counts: 0.12, duty_counts: -0.1, ..Disc::default() }] {
+        let e = Encoder::with_disc(2400, disc);
+        for n in -9i64..20 {
+            let b = e.boundary_up(n);
+            // (to within rounding: count_at subtracts what this adds)
+            assert_eq!(e.count_at(b + 1e-9), n, "{disc:?} {n} at {b}");
+            assert_eq!(e.count_at(b - 1e-9), n - 1, "{disc:?} {n} below {b}");
+        }
+    }
+}

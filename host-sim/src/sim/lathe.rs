@@ -120,7 +120,10 @@ impl Lathe {
     /// exact to 1e-13 for the < 0.05 rad a tick turns), renormalised.
     fn rotate(&mut self, da: f64) {
         let d2 = da * da;
-        let (sd, cd) = (da * (1.0 - d2 / 6.0 * (1.0 - d2 / 20.0)), 1.0 - d2 / 2.0 * (1.0 - d2 / 12.0));
+        // (reciprocals, not divisions: the phasor's chain carries into the
+        // next tick's speed, and a division's latency held the whole loop)
+        let (sd, cd) =
+            (da * (1.0 - d2 * (1.0 / 6.0) * (1.0 - d2 * (1.0 / 20.0))), 1.0 - d2 * 0.5 * (1.0 - d2 * (1.0 / 12.0)));
         let (s, c) = self.phasor;
         let (s, c) = (s * cd + c * sd, c * cd - s * sd);
         let norm = 1.5 - 0.5 * (s * s + c * c); // one Newton step toward |z| = 1

@@ -241,7 +241,9 @@ impl Plants {
     fn cutter_count(&self, sc: &Scenario) -> i64 {
         match sc.core.drive {
             DriveKind::Stepper if self.shaft.cpr != 0 => self.shaft.count,
-            _ => self.bldc.count(),
+            DriveKind::Bldc => self.bldc.count(),
+            // nothing on TIM4 (the BLDC plant never turns without its drive)
+            _ => 0,
         }
     }
 }
@@ -328,7 +330,7 @@ fn result(sc: &Scenario, ctl: &Controller, p: &mut Plants, bins: usize, ran: Ran
             *r = r.min(*q);
         }
     }
-    let ideal = Section::ideal(&sc.setup, bins);
+    let ideal = Section::ideal_tiled(&sc.setup, bins);
     let max_profile_deviation = section
         .envelope
         .radius

@@ -36,6 +36,9 @@ impl ShaftEncoder {
 
     /// Takes the rotor's position (steps, smooth) and returns the count.
     pub fn update(&mut self, steps: f64) -> i64 {
+        if self.cpr == 0 {
+            return 0; // no encoder: nothing counts
+        }
         let angle = steps + self.error_at(steps.round() as i64);
         self.count = (angle * self.cpr as f64 / self.steps_per_rev as f64).floor() as i64;
         self.count

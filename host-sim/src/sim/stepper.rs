@@ -78,12 +78,12 @@ impl Stepper {
             self.stalled = false; // at rest the rotor re-locks to the driver
         }
         self.last_rate = rate;
-        for i in 0..n {
-            self.pulses += 1;
-            if !self.stalled {
-                self.position += sign as i64;
-                self.last_event = Some((at(i), self.position as f64 - 0.5 * sign));
-            }
+        // every pulse counts; a turning rotor moves a step each, and its last
+        // step's middle is where the smooth position next starts from
+        self.pulses += n as u64;
+        if n > 0 && !self.stalled {
+            self.position += sign as i64 * n as i64;
+            self.last_event = Some((at(n - 1), self.position as f64 - 0.5 * sign));
         }
         smooth_now
     }

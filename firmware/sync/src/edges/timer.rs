@@ -32,9 +32,9 @@ const CHANGE_MIN_TICKS: i32 = 10;
 #[derive(Clone, Copy, Debug)]
 pub struct EdgeTimer {
     clock: EdgeClock,
-    /// this tick's instant, Q8 stamps, wrapping at 2^24
+    /// this tick's instant, Q8 stamps, wrapping at 2^24 (before the first
+    /// tick: a tick before `first_instant`)
     instant_q8: u32,
-    started: bool,
     /// A's rises, timed to the µs by the board
     rises: Track,
     last_regs: Option<EdgeRegs>,
@@ -52,10 +52,10 @@ impl EdgeTimer {
     /// At low priority (it divides).
     pub fn new(clock: EdgeClock) -> EdgeTimer {
         let per_tick = clock.stamps_per_tick.max(1) as i64;
+        let before_first = ((clock.first_instant as u32) << 8).wrapping_sub((clock.stamps_per_tick as u32) << 8);
         EdgeTimer {
             clock,
-            instant_q8: 0,
-            started: false,
+            instant_q8: before_first & WRAP_Q8,
             rises: Track::default(),
             last_regs: None,
             changes: Track::default(),
@@ -73,12 +73,7 @@ impl EdgeTimer {
     #[inline]
     pub fn measure(&mut self, regs: Option<EdgeRegs>, lathe: &Extender) -> Option<i64> {
         let per_tick = self.clock.stamps_per_tick as i32;
-        self.instant_q8 = if self.started {
-            self.instant_q8.wrapping_add((per_tick << 8) as u32) & WRAP_Q8
-        } else {
-            self.started = true;
-            (self.clock.first_instant as u32) << 8
-        };
+        self.instant_q8 = self.instant_q8.wrapping_add((per_tick << 8) as u32) & WRAP_Q8;
         self.follow_rises(regs, lathe);
         let count = lathe.position();
         let at = match self.rises.position_q16() {
