@@ -92,6 +92,28 @@ fn engaged_while_spinning_the_synced_error_is_within_the_counts_own_half() {
     }
 }
 
+/// With a start rate (`start-rate 3200`: one turn a second, 200 full
+/// steps/s at 1/16, what nanoELS starts its steppers at), every scenario,
+/// engaged at rest or spinning, is within the synchronised limit: the
+/// cutter takes the lathe's speed at its first count instead of catching
+/// up at `max-accel`. Without it, from rest, it is not (the bound in
+/// docs/src/performance.md). (A cheap encoder's skewed B edges place the
+/// count's changes that stand in before A has risen three times: 7/2
+/// from rest then reads 3.07 steps, over its 2.83.)
+#[test]
+fn with_a_start_rate_every_scenario_is_within_its_synchronised_limit() {
+    for mut r in rows() {
+        let limit = synced_limit(&r);
+        if r.sc.lathe.start_rpm == 0.0 {
+            let without = run_with(&r, true, Disc::default()).max_error_steps;
+            assert!(without > limit, "{}: {without} without a start rate", r.sc.setup.ratio);
+        }
+        r.sc.core.start_rate_hz = 3200;
+        let got = run_with(&r, true, Disc::default()).max_error_steps;
+        assert!(got <= limit, "{}: {got} > {limit}", r.sc.setup.ratio);
+    }
+}
+
 /// A cheap 600-line encoder: B ±3 % of a cycle off 90° (0.12 count) and A's
 /// duty 1 % off. Only A's rises are timed, and A rises at the same place
 /// of every cycle, so neither error reaches the timing.

@@ -2,10 +2,11 @@
 //! scenario (`polyturn_host::peers`):
 //!   cargo run --release -p polyturn-host --example peers [cheap]
 //! Phase error in steps (each controller's constant phase taken out),
-//! and the largest change of one step interval to the next while cutting.
+//! and the largest change of one step interval to the next while cutting;
+//! polyturn as set by default and with `start-rate 3200`.
 
 use polyturn_host::geometry::{Direction, Setup};
-use polyturn_host::peers::{compare, Case};
+use polyturn_host::peers::{compare, Case, Figures};
 use polyturn_host::sim::encoder::Disc;
 use polyturn_host::sim::{Scenario, Start};
 use polyturn_sync::{DriveKind, Ratio};
@@ -32,13 +33,20 @@ fn main() {
         ("7/2 × 2 opposite, 400 rpm, 2 %", case("7/2", 2, Direction::Opposite, 400.0, 0.02)),
         ("4/3 × 3, 900 rpm, 2 %", case("4/3", 3, Direction::Same, 900.0, 0.02)),
     ];
-    for (_, c) in cases.iter_mut().filter(|_| cheap) {
-        c.sc.disc = Disc { quadrature_counts: 0.12, duty_counts: 0.04, ..Disc::default() };
+    for (_, c) in cases.iter_mut() {
+        if cheap {
+            c.sc.disc = Disc { quadrature_counts: 0.12, duty_counts: 0.04, ..Disc::default() };
+        }
     }
     for (title, c) in &cases {
         println!("{title}");
         println!("  {:<22} {:>8} {:>8} {:>8} {:>10}", "controller", "synced", "cutting", "bias", "jerk");
-        for f in compare(c).expect("runs") {
+        // and polyturn again with a start rate: one turn a second
+        let mut started = Case { sc: c.sc.clone(), ..*c };
+        started.sc.core.start_rate_hz = 3200;
+        let mut rows = compare(c).expect("runs");
+        rows.insert(1, Figures { name: "  start-rate 3200", ..compare(&started).expect("runs").remove(0) });
+        for f in rows {
             println!("  {:<22} {:>8.2} {:>8.2} {:>8.2} {:>10.4}", f.name, f.synced, f.cutting, f.bias, f.jerk);
         }
     }

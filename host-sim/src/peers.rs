@@ -23,7 +23,13 @@ use crate::sim::Scenario;
 
 /// The controllers, in `trace::Trace::steps`'s order.
 pub const NAMES: [&str; 6] =
-    ["polyturn", "Clough42 (f32)", "Clough42 (integer)", "nanoELS", "Didge (bursts)", "Didge (predicted)"];
+    ["polyturn", "Clough42 (f32)", "Clough42 (integer)", "nanoELS", "Didge*, no delay", "Didge*, delayed"];
+
+/// The peers that run here as published (Didge runs generalised: it
+/// refuses more than one step a count, `didge`).
+pub fn as_published(name: &str) -> bool {
+    name.starts_with("Clough42") || name == "nanoELS"
+}
 
 /// A scenario of the comparison: the simulator's settings, run from rest.
 pub struct Case {

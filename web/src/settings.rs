@@ -25,6 +25,7 @@ const UNITS: &[(&str, &str)] = &[
     ("max-rpm", "rpm"),
     ("cutter-cpr", "counts/rev"),
     ("lost-steps", "steps"),
+    ("start-rate", "steps/s"),
 ];
 
 /// What the page needs to draw each setting's field, asked of the console

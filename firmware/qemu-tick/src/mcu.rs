@@ -46,7 +46,7 @@ fn parts(syst: &SYST, per_1201: u32) {
     let mut gear = Gear::new(Scale::new(2, 1, 3200, 2400).unwrap());
     let mut est = Estimator::new(2500);
     let mut ext = Extender::new(0);
-    let lim = Limits { max_velocity: 8 << 16, max_accel: 42 };
+    let lim = Limits { max_velocity: 8 << 16, max_accel: 42, start_velocity: 0 };
     let mut f = Follower { position: 0, velocity: 174_763 };
     let t = StepTiming { tick_len: 3840, min_period: 384, dir_setup: 480, pulse: 192 };
     let (mut g, mut e, mut x, mut fo, mut p, mut ed) = (0, 0, 0, 0, 0, 0);

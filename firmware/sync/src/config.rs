@@ -55,6 +55,10 @@ pub struct Config {
     /// how far, in motor steps, the shaft may be from the steps sent before
     /// the `lost-steps` fault (with a cutter encoder)
     pub lost_step_limit_steps: u32,
+    /// the speed the cutter may take at once from rest, or leave at once to
+    /// rest (its motor's start/stop rate, below the pull-in rate with the
+    /// cutter's inertia), steps/s; 0: every change at `max-accel`
+    pub start_rate_hz: u32,
 }
 
 /// A refused value: the field and the allowed range, for one error line.
@@ -87,12 +91,17 @@ impl Default for Config {
             // two full steps of a 200-step motor at 1/16: a loaded rotor
             // lags by up to one before it slips, and a slip loses four
             lost_step_limit_steps: 32,
+            // off until the machinist has found the motor's start rate
+            // (the bench procedure): a start faster than the motor can pull
+            // in loses steps
+            start_rate_hz: 0,
         }
     }
 }
 
 const CUTTER_CPR: &str = "4..=1000000 counts per cutter rev, or off";
 const LOST_STEPS: &str = "1..=1000000 steps";
+const START_RATE: &str = "0..=250000 Hz (0: off)";
 
 const fn range(field: &'static str, allowed: &'static str) -> ConfigError {
     ConfigError { field, allowed }
@@ -136,7 +145,8 @@ impl Config {
         if self.cutter_encoder_cpr != 0 {
             within(self.cutter_encoder_cpr, 4, 1_000_000, range("cutter-cpr", CUTTER_CPR))?;
         }
-        within(self.lost_step_limit_steps, 1, 1_000_000, range("lost-steps", LOST_STEPS))
+        within(self.lost_step_limit_steps, 1, 1_000_000, range("lost-steps", LOST_STEPS))?;
+        within(self.start_rate_hz, 0, 250_000, range("start-rate", START_RATE))
     }
 
     /// The limits that join several settings. The error names one of them
@@ -150,6 +160,9 @@ impl Config {
         let need = self.max_lathe_rpm as u64 * self.ratio.num() as u64 * self.motor_steps_per_rev as u64;
         if need > 60 * self.ratio.den() as u64 * self.max_step_rate_hz as u64 {
             return Err(range("ratio", "does not fit with the others: max-rpm x ratio x steps/60 must not exceed max-rate (the motor must keep up at the lathe's top speed)"));
+        }
+        if self.start_rate_hz > self.max_step_rate_hz {
+            return Err(range("start-rate", "does not fit with the others: start-rate must not exceed max-rate"));
         }
         Ok(())
     }
@@ -181,7 +194,8 @@ impl Config {
             "max-rpm" => c.max_lathe_rpm = num("max-rpm", "1..=10000 rpm")?,
             "cutter-cpr" => c.cutter_encoder_cpr = parse_cutter_cpr(value)?,
             "lost-steps" => c.lost_step_limit_steps = num("lost-steps", LOST_STEPS)?,
-            _ => return Err(range("name", "one of: cpr steps ratio dir edges max-rate max-accel ferror phase drive dir-setup pulse enable max-rpm cutter-cpr lost-steps")),
+            "start-rate" => c.start_rate_hz = num("start-rate", START_RATE)?,
+            _ => return Err(range("name", "one of: cpr steps ratio dir edges max-rate max-accel ferror phase drive dir-setup pulse enable max-rpm cutter-cpr lost-steps start-rate")),
         }
         c.validate_fields()?;
         // Valid alone but not with the others: name the setting being set,
@@ -196,7 +210,7 @@ impl Config {
 }
 
 /// The settable names, in `get` order.
-pub const NAMES: [&str; 16] = [
+pub const NAMES: [&str; 17] = [
     "cpr",
     "steps",
     "ratio",
@@ -213,6 +227,7 @@ pub const NAMES: [&str; 16] = [
     "max-rpm",
     "cutter-cpr",
     "lost-steps",
+    "start-rate",
 ];
 
 fn ratio_error(e: RatioError) -> ConfigError {

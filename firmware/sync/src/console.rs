@@ -35,7 +35,7 @@ pub enum Action {
 
 pub use status::{write_status as status_line, Snapshot};
 
-pub const HELP: &str = "ok commands: get [name] | set <name> <value> | engage | stop | status | watch | save | defaults | clear | cam begin|data|end|off | check-encoder [start|stop] | jog <deg> | selftest [start [rpm]|stop] | dfu | help; names: cpr steps ratio dir edges max-rate max-accel ferror phase drive dir-setup pulse enable max-rpm cutter-cpr lost-steps";
+pub const HELP: &str = "ok commands: get [name] | set <name> <value> | engage | stop | status | watch | save | defaults | clear | cam begin|data|end|off | check-encoder [start|stop] | jog <deg> | selftest [start [rpm]|stop] | dfu | help; names: cpr steps ratio dir edges max-rate max-accel ferror phase drive dir-setup pulse enable max-rpm cutter-cpr lost-steps start-rate";
 
 /// A parsed command line (no controller needed: parse outside any lock).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -323,6 +323,7 @@ fn value_of(c: &Config, name: &str, out: &mut Reply) -> bool {
         "cutter-cpr" if c.cutter_encoder_cpr == 0 => write!(out, "cutter-cpr=off"),
         "cutter-cpr" => write!(out, "cutter-cpr={}", c.cutter_encoder_cpr),
         "lost-steps" => write!(out, "lost-steps={}", c.lost_step_limit_steps),
+        "start-rate" => write!(out, "start-rate={}", c.start_rate_hz),
         _ => return false,
     };
     true

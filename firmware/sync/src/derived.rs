@@ -72,7 +72,8 @@ impl Derived {
             steps_per_count_q16: ((scale.num << 16) / scale.den) as i64,
             rem_inv: ((1u64 << (15 + REM_FRAC)) / scale.den) as i64,
             max_counts_per_tick: counts.min(16_000) as i32,
-            limits: Limits::from_rates(c.max_step_rate_hz as u64, c.max_accel_steps_per_s2 as u64, hz),
+            limits: Limits::from_rates(c.max_step_rate_hz as u64, c.max_accel_steps_per_s2 as u64, hz)
+                .with_start(c.start_rate_hz as u64, hz),
             following_limit_q16: (c.following_error_limit_steps as i64) << 16,
             phase_offset_q16: ((c.phase_offset_mdeg as i64 * c.motor_steps_per_rev as i64) << 16) / 360_000,
             steps: StepTiming {

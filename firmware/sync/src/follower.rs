@@ -1,7 +1,9 @@
 //! The commanded cutter position follows the target within a maximum step
 //! rate and acceleration: feed-forward of the target's speed plus a
 //! proportional pull, with a braking check (v² ≥ 2·a·|e|) so catching up to
-//! the exact phase never overshoots by more than the limits force.
+//! the exact phase never overshoots by more than the limits force. Below
+//! the motor's start rate (`start-rate`, 0 by default) speed changes at
+//! once, as a stepper starts and stops below its pull-in rate.
 //! All in Q16 steps, Q16 steps/tick and Q16 steps/tick²; adds, multiplies
 //! and compares only.
 
@@ -14,6 +16,9 @@ pub struct Limits {
     pub max_velocity: i64,
     /// Q16 steps per tick per tick
     pub max_accel: i64,
+    /// Q16 steps per tick: speeds within it are taken and left at once
+    /// (0: every change at `max_accel`)
+    pub start_velocity: i64,
 }
 
 impl Limits {
@@ -24,7 +29,20 @@ impl Limits {
         Limits {
             max_velocity: (rate_hz << 16).div_ceil(hz) as i64,
             max_accel: ((accel << 16) / (hz * hz)).max(1) as i64,
+            start_velocity: 0,
         }
+    }
+
+    /// With a start rate of `rate_hz` steps/s at `tick_hz` (low priority:
+    /// divides), rounded down: never faster than the rate set.
+    pub fn with_start(self, rate_hz: u64, tick_hz: u64) -> Limits {
+        Limits { start_velocity: ((rate_hz << 16) / tick_hz.max(1)) as i64, ..self }
+    }
+
+    /// Whether `velocity` (Q16 steps per tick) is within the start rate.
+    #[inline]
+    fn startable(&self, velocity: i64) -> bool {
+        self.start_velocity != 0 && velocity.abs() <= self.start_velocity
     }
 }
 
@@ -44,7 +62,12 @@ impl Follower {
     pub fn track(&mut self, target: i64, target_velocity: i64, lim: &Limits) {
         let error = target - self.position - target_velocity;
         let relative = self.velocity - target_velocity;
-        let mut dv = crate::q16::bound(target_velocity + (error >> KF_SHIFT) - self.velocity, lim.max_accel);
+        let want = target_velocity + (error >> KF_SHIFT) - self.velocity;
+        // (one compare on the tick without a start rate, the default)
+        if lim.start_velocity != 0 && self.started(want, lim) {
+            return;
+        }
+        let mut dv = crate::q16::bound(want, lim.max_accel);
         // Closing in faster than we can brake: brake at the limit.
         if relative != 0 && (relative > 0) == (error > 0) {
             // Q16 units on both sides: v² and 2·a·e both carry 2^32. With
@@ -63,10 +86,25 @@ impl Follower {
         self.step(dv, lim);
     }
 
+    /// From and to speeds below the start rate: at once, as the motor can
+    /// (a cutter engaged at rest takes the lathe's speed at its first count
+    /// instead of catching up at `max_accel`: docs/src/performance.md,
+    /// "From rest"). True if it moved so.
+    #[inline(never)]
+    fn started(&mut self, want: i64, lim: &Limits) -> bool {
+        let within = lim.startable(self.velocity) && lim.startable(self.velocity + want);
+        if within {
+            self.step(want, lim);
+        }
+        within
+    }
+
     /// Ramps the speed to zero at the acceleration limit.
     #[inline]
     pub fn ramp_down(&mut self, lim: &Limits) {
-        let dv = crate::q16::bound(-self.velocity, lim.max_accel);
+        // (below the start rate the motor stops at once)
+        let ramp = if lim.startable(self.velocity) { self.velocity.abs() } else { lim.max_accel };
+        let dv = crate::q16::bound(-self.velocity, ramp);
         self.step(dv, lim);
     }
 

@@ -49,6 +49,9 @@ pub struct SimulateArgs {
     /// The cutter's `max-accel`, steps/s² (10..=2000000; the simulated motor stalls past 5000000)
     #[arg(long, value_name = "STEPS/S2", default_value = "400000", allow_hyphen_values = true, value_parser = whole32(10, 2_000_000))]
     pub max_accel: u32,
+    /// The cutter's `start-rate`: speeds it takes and leaves at once, steps/s (0..=250000, 0: off)
+    #[arg(long, value_name = "STEPS/S", default_value = "0", allow_hyphen_values = true, value_parser = whole32(0, 250_000))]
+    pub start_rate: u32,
     /// Time the encoder's edges as the board does: on, or off (the count alone)
     #[arg(long, value_name = "on|off", default_value = "on", action = clap::ArgAction::Set, value_parser = on_off)]
     pub edge_timing: bool,
@@ -98,6 +101,7 @@ pub fn scenario_from(a: &SimulateArgs) -> CliResult<Scenario> {
     let mut sc = Scenario::standard(setup, rpm, revs, a.ripple, a.start, a.encoder_cpr, a.motor_steps, a.drive, a.seed);
     sc.edge_timing = a.edge_timing;
     sc.core.max_accel_steps_per_s2 = a.max_accel;
+    sc.core.start_rate_hz = a.start_rate;
     sc.disc = crate::sim::encoder::Disc {
         eccentricity_counts: a.encoder_eccentricity,
         quadrature_counts: a.encoder_quadrature_error,

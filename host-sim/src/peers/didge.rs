@@ -6,15 +6,15 @@
 //! where the line N/D·x crosses the step's level.
 //!
 //! Didge refuses N/D ≥ 1 (`verify_thread`): at most one step a count.
-//! Every scenario here needs more (2.7 to 4.7 steps a count), so Didge
+//! Every scenario here needs more (1.8 to 4.9 steps a count), so Didge
 //! runs generalised, two ways:
-//! - *bursts*: at each edge the Bresenham's due steps (round half up,
-//!   `gear.hpp`) fire at once, `MIN_GAP_S` apart: its count-and-step;
-//! - *predicted*: the way How.md argues for its delay, every step whose
-//!   level the line crosses before the next edge is delayed to its
-//!   crossing, predicted from T (before A has a period, as *bursts*).
-//!   This is edge timing with no tick and no stamp: the ceiling of the
-//!   idea on this model, not a published controller.
+//! - *with its delay*: each step delayed to where the line crosses its
+//!   level, predicted from T, as Didge delays its one step a count,
+//!   applied to every step whose crossing comes before the next edge
+//!   (before A has a period: the Bresenham's due steps at once). On this
+//!   model's exact edges that is edge timing with no tick and no stamp;
+//! - *without it*: at each edge the Bresenham's due steps (round half up,
+//!   `gear.hpp`) fire at once: a count-and-step Bresenham.
 //!
 //! Steps are at least `MIN_GAP_S` apart (its 1.2 µs pulse and 0.4 µs
 //! hold, rounded up). The lathe turns one way in every scenario here:

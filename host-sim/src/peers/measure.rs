@@ -1,10 +1,13 @@
-//! The same plant and the same measurement for every controller: the
-//! rotor of `sim::stepper` (it passes through the middle of each step at
-//! the step's instant, and sits on its step when the next is over 2 ms
-//! away), read at every polyturn tick against the exact gear.
+//! The same plant and the same measurement for every controller: a rotor
+//! after `sim::stepper`'s (it passes through the middle of each step at
+//! the step's instant, straight between two steps' middles, and sits on
+//! its step when the next is over 2 ms away), read at every polyturn tick
+//! (40 µs) against the exact gear. Read between ticks, a burst's peak can
+//! fall between two readings: that flatters the bursty peers.
 //!
-//! The rotor follows every pulse here: no stall is modelled, which
-//! flatters the peers that step with no acceleration limit.
+//! The rotor follows every pulse: no stall is modelled (the simulator's
+//! stall model would pass the peers' starts too: they jump to speeds a
+//! motor starts at).
 
 use super::trace::Instant;
 
@@ -32,14 +35,15 @@ pub fn rotor(steps: &[(f64, i32)], instants: &[Instant]) -> Vec<f64> {
 }
 
 /// The largest change of one step interval to the next, as a fraction of
-/// the interval, over the steps taken while cutting (`from`..`to`, s).
+/// the shorter of the two, over the steps taken while cutting
+/// (`from`..`to`, s).
 pub fn interval_jerk(steps: &[(f64, i32)], (from, to): (f64, f64)) -> f64 {
     let times: Vec<f64> = steps.iter().map(|s| s.0).filter(|t| (from..to).contains(t)).collect();
     times
         .windows(3)
         .map(|w| {
             let (d0, d1) = (w[1] - w[0], w[2] - w[1]);
-            (d1 - d0).abs() / d0.max(1e-9)
+            (d1 - d0).abs() / d0.min(d1).max(1e-9)
         })
         .fold(0.0, f64::max)
 }

@@ -23,7 +23,9 @@ const BACKLASH: i64 = 3;
 const DIR_DELAY_S: f64 = 10e-6;
 
 pub struct NanoEls {
-    steps_per_count: f32,
+    /// the chain's terms: motor steps, the pitch's denominator, encoder
+    /// counts, the pitch's numerator with the sense (`posFromSpindle`)
+    chain: [f32; 4],
     speed_start: i64,
     accel: i64,
     speed: i64,
@@ -35,10 +37,13 @@ pub struct NanoEls {
 }
 
 impl NanoEls {
-    /// `steps_per_count` signed by the sense; start speed steps/s, accel steps/s².
-    pub fn new(steps_per_count: f64, speed_start: i64, accel: i64) -> NanoEls {
+    /// Steps per count as nanoELS's chain computes them: `motor_steps` ·
+    /// `num` / (`den` · `counts`), `num` signed by the sense (its screw
+    /// pitch is our ratio's denominator, its thread pitch the numerator);
+    /// start speed steps/s, accel steps/s².
+    pub fn new((motor_steps, num, den, counts): (u32, i64, u64, u32), speed_start: i64, accel: i64) -> NanoEls {
         NanoEls {
-            steps_per_count: steps_per_count as f32,
+            chain: [motor_steps as f32, den as f32, counts as f32, num as f32],
             speed_start,
             accel,
             speed: speed_start,
@@ -57,7 +62,10 @@ impl NanoEls {
         } else if count < self.avg - BACKLASH {
             self.avg = count + BACKLASH;
         }
-        let target = (self.avg as f32 * self.steps_per_count) as i64;
+        // `s * motorSteps / screwPitch / ENCODER_STEPS_FLOAT * pitch`, in
+        // f32 from left to right, truncated
+        let [m, den, e, num] = self.chain;
+        let target = (self.avg as f32 * m / den / e * num) as i64;
         let pending = target - self.pos;
         if pending == 0 {
             self.speed = (self.speed - 1).max(self.speed_start);

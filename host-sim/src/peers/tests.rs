@@ -23,7 +23,7 @@ fn clough42_chases_the_truncated_target_a_step_every_second_interrupt() {
 /// pass once 1e6/speed − 5 µs have passed; the plateau is accel + 1.
 #[test]
 fn nanoels_ramps_by_accel_over_speed_to_its_plateau() {
-    let mut n = NanoEls::new(1.0, 800, 20_000);
+    let mut n = NanoEls::new((2400, 1, 1, 2400), 800, 20_000); // a step a count
     let mut last = None;
     let mut gaps = Vec::new();
     for k in 0..3_000_000u64 {

@@ -85,11 +85,12 @@ pub fn run(case: &Case) -> Result<Trace, String> {
     let (num, den) =
         (sc.core.ratio.num() as u64 * sc.core.motor_steps_per_rev as u64, sc.core.ratio.den() as u64 * cpr as u64);
     let sense = if sc.core.sense == polyturn_sync::Sense::Same { 1 } else { -1 };
-    let spc = num as f64 / den as f64;
     let accel = sc.core.max_accel_steps_per_s2 as i64;
     let mut poly = Polyturn::new(case)?;
     let mut clough = [Clough42::new(num, den, sense, false), Clough42::new(num, den, sense, true)];
-    let mut nano = NanoEls::new(spc * sense as f64, sc.core.motor_steps_per_rev as i64, accel);
+    let chain =
+        (sc.core.motor_steps_per_rev, sc.core.ratio.num() as i64 * sense as i64, sc.core.ratio.den() as u64, cpr);
+    let mut nano = NanoEls::new(chain, sc.core.motor_steps_per_rev as i64, accel);
     let mut didge = [Didge::new(num, den, sense, false), Didge::new(num, den, sense, true)];
     let mut steps: [Vec<(f64, i32)>; 6] = Default::default();
     let mut lathe = Lathe::new(case.profile(), sc.seed);

@@ -4,16 +4,20 @@
 //! before the commit marker; a slot saved by a firmware without it holds
 //! erased flash there (all 0xFF), which loads as the new fields' defaults.
 //! As for the first record, decoding is one-to-one: a block decodes only
-//! if `encode` writes exactly its bytes.
+//! if `encode` writes exactly its bytes, or, saved by the previous
+//! firmware, the version-1 block (no `start-rate`) followed by erased flash.
 
 use super::{crc32, DecodeError};
 use crate::config::Config;
 
 pub const MAGIC: [u8; 2] = *b"PX";
-pub const VERSION: u8 = 1;
-/// magic 2, version 1, reserved 1, cutter-cpr 4, lost-steps 4, crc 4: a
-/// multiple of the flash's 4-byte writes.
-pub const LEN: usize = 16;
+/// 2: `start-rate` added (version 1 held cutter-cpr and lost-steps).
+pub const VERSION: u8 = 2;
+/// magic 2, version 1, reserved 1, cutter-cpr 4, lost-steps 4, start-rate
+/// 4, crc 4: a multiple of the flash's 4-byte writes.
+pub const LEN: usize = 20;
+/// Version 1's length: its CRC where start-rate now is, erased flash after.
+const LEN_V1: usize = 16;
 
 pub fn encode(c: &Config) -> [u8; LEN] {
     let mut out = [0u8; LEN];
@@ -21,6 +25,7 @@ pub fn encode(c: &Config) -> [u8; LEN] {
     out[2] = VERSION;
     out[4..8].copy_from_slice(&c.cutter_encoder_cpr.to_le_bytes());
     out[8..12].copy_from_slice(&c.lost_step_limit_steps.to_le_bytes());
+    out[12..16].copy_from_slice(&c.start_rate_hz.to_le_bytes());
     let crc = crc32(&out[..LEN - 4]);
     out[LEN - 4..].copy_from_slice(&crc.to_le_bytes());
     out
@@ -37,25 +42,42 @@ pub fn decode(base: Config, bytes: &[u8]) -> Result<Config, DecodeError> {
         return Ok(Config {
             cutter_encoder_cpr: defaults.cutter_encoder_cpr,
             lost_step_limit_steps: defaults.lost_step_limit_steps,
+            start_rate_hz: defaults.start_rate_hz,
             ..base
         });
     }
     if bytes[..2] != MAGIC {
         return Err(DecodeError::Magic);
     }
-    if bytes[2] != VERSION {
-        return Err(DecodeError::Version(bytes[2]));
-    }
     let word = |i: usize| u32::from_le_bytes([bytes[i], bytes[i + 1], bytes[i + 2], bytes[i + 3]]);
-    if crc32(&bytes[..LEN - 4]) != word(LEN - 4) {
+    let (len, start_rate_hz) = match bytes[2] {
+        VERSION => (LEN, word(12)),
+        1 if bytes[LEN_V1..].iter().all(|&b| b == 0xFF) => (LEN_V1, defaults.start_rate_hz),
+        v => return Err(DecodeError::Version(v)),
+    };
+    if crc32(&bytes[..len - 4]) != word(len - 4) {
         return Err(DecodeError::Checksum);
     }
-    let c = Config { cutter_encoder_cpr: word(4), lost_step_limit_steps: word(8), ..base };
+    let c = Config { cutter_encoder_cpr: word(4), lost_step_limit_steps: word(8), start_rate_hz, ..base };
     c.validate().map_err(|e| DecodeError::Invalid(e.field))?;
-    if encode(&c) != *bytes {
+    if encode_version(&c, bytes[2]) != *bytes {
         return Err(DecodeError::NonCanonical("extension"));
     }
     Ok(c)
+}
+
+/// The block `c` would have been saved as in `version` (1: the previous
+/// firmware's, erased flash after it).
+fn encode_version(c: &Config, version: u8) -> [u8; LEN] {
+    if version == VERSION {
+        return encode(c);
+    }
+    let mut out = [0xFFu8; LEN];
+    out[..LEN_V1 - 4].copy_from_slice(&encode(c)[..LEN_V1 - 4]);
+    out[2] = version;
+    let crc = crc32(&out[..LEN_V1 - 4]);
+    out[12..LEN_V1].copy_from_slice(&crc.to_le_bytes());
+    out
 }
 
 #[cfg(test)]
@@ -64,6 +86,13 @@ mod tests {
 
     fn with_encoder() -> Config {
         Config::default().with("cutter-cpr", "4000").unwrap().with("lost-steps", "48").unwrap()
+    }
+
+    #[test]
+    fn the_start_rate_round_trips() {
+        let c = with_encoder().with("start-rate", "1600").unwrap();
+        assert_eq!(decode(Config::default(), &encode(&c)), Ok(c));
+        assert_eq!(&encode(&c)[12..16], &1600u32.to_le_bytes());
     }
 
     #[test]
@@ -84,7 +113,31 @@ mod tests {
         // the defaults, whatever the base)
         let base = with_encoder().with("ratio", "5/2").unwrap();
         let c = decode(base, &[0xFF; LEN]).unwrap();
-        assert_eq!(c, Config { cutter_encoder_cpr: 0, lost_step_limit_steps: 32, ..base });
+        assert_eq!(c, Config { cutter_encoder_cpr: 0, lost_step_limit_steps: 32, start_rate_hz: 0, ..base });
+    }
+
+    /// A block saved by the previous firmware (version 1: no start-rate,
+    /// erased flash after its CRC) loads with start-rate's default; one
+    /// with anything but erased flash there is refused, and so is a flip.
+    #[test]
+    fn a_version_1_block_loads_with_the_start_rates_default() {
+        let base = Config::default().with("start-rate", "1600").unwrap();
+        let mut v1 = [0xFFu8; LEN];
+        v1[..4].copy_from_slice(&[b'P', b'X', 1, 0]);
+        v1[4..8].copy_from_slice(&4000u32.to_le_bytes());
+        v1[8..12].copy_from_slice(&48u32.to_le_bytes());
+        let crc = crc32(&v1[..12]);
+        v1[12..16].copy_from_slice(&crc.to_le_bytes());
+        let c = decode(base, &v1).unwrap();
+        assert_eq!(c, Config { start_rate_hz: 0, ..with_encoder() });
+        let mut tail = v1;
+        tail[17] = 0;
+        assert!(decode(base, &tail).is_err());
+        for bit in 0..16 * 8 {
+            let mut b = v1;
+            b[bit / 8] ^= 1 << (bit % 8);
+            assert!(decode(base, &b).is_err(), "bit {bit} flipped still decodes");
+        }
     }
 
     #[test]

@@ -133,3 +133,22 @@ fn a_whole_number_setting_takes_digits_without_sign_or_leading_zero() {
         "spaces around are not part of it"
     );
 }
+
+/// `start-rate` is 0 (off) to 250 000 Hz, and no faster than `max-rate`:
+/// either way the refusal names the setting being set and changes nothing.
+#[test]
+fn the_start_rate_is_off_by_default_and_within_max_rate() {
+    let d = Config::default();
+    assert_eq!(d.start_rate_hz, 0);
+    assert_eq!(set("start-rate", "1600"), Ok(Config { start_rate_hz: 1600, ..d }));
+    assert_eq!(set("start-rate", "0"), Ok(d));
+    let e = set("start-rate", "250001").unwrap_err();
+    assert_eq!((e.field, e.allowed), ("start-rate", "0..=250000 Hz (0: off)"));
+    let slow = d.with("max-rate", "180000").unwrap();
+    let e = slow.with("start-rate", "180001").unwrap_err();
+    assert_eq!(e.field, "start-rate");
+    assert!(e.allowed.contains("must not exceed max-rate"), "{}", e.allowed);
+    let started = d.with("start-rate", "5000").unwrap();
+    assert_eq!(started.with("start-rate", "200001").unwrap_err().field, "start-rate");
+    assert_eq!(started.with("start-rate", "200000").map(|c| c.start_rate_hz), Ok(200000));
+}

@@ -72,6 +72,7 @@ fn get_shows_every_setting_as_set() {
         ("max-rpm", "900", "900"),
         ("cutter-cpr", "4000", "4000"),
         ("lost-steps", "48", "48"),
+        ("start-rate", "1600", "1600"),
     ] {
         let want = std::format!("ok {name}={shown}");
         assert_eq!(say(&mut c, &std::format!("set {name} {value}")).0, want);
@@ -80,7 +81,7 @@ fn get_shows_every_setting_as_set() {
     assert_eq!(
         say(&mut c, "get").0,
         "ok cpr=4000 steps=1600 ratio=5/2 dir=opposite edges=5 max-rate=150000 max-accel=300000 ferror=32 \
-         phase=-12.500 drive=bldc dir-setup=2500 pulse=1500 enable=high max-rpm=900 cutter-cpr=4000 lost-steps=48"
+         phase=-12.500 drive=bldc dir-setup=2500 pulse=1500 enable=high max-rpm=900 cutter-cpr=4000 lost-steps=48 start-rate=1600"
     );
     assert_eq!(say(&mut c, "set cutter-cpr off").0, "ok cutter-cpr=off");
     assert_eq!(

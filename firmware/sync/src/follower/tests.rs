@@ -2,7 +2,7 @@ use super::*;
 use proptest::prelude::*;
 
 fn limits(v_steps: f64, a_steps: f64) -> Limits {
-    Limits { max_velocity: (v_steps * 65536.0) as i64, max_accel: (a_steps * 65536.0) as i64 }
+    Limits { max_velocity: (v_steps * 65536.0) as i64, max_accel: (a_steps * 65536.0) as i64, start_velocity: 0 }
 }
 
 proptest! {
@@ -80,4 +80,52 @@ fn ramp_down_stops_within_the_acceleration_limit() {
     }
     let a = lim.max_accel;
     assert_eq!(ticks as i64, ((5 << 16) + a - 1) / a);
+}
+
+proptest! {
+    /// With a start rate, a change of speed beyond `max_accel` happens only
+    /// between two speeds within it; the top speed still holds.
+    #[test]
+    fn only_speeds_within_the_start_rate_change_at_once(
+        vmax in 0.5f64..8.0, amax in 0.0005f64..0.05, startv in 0.01f64..0.5,
+        start in -100_000i64..100_000, tv in -7.0f64..7.0, ticks in 100usize..3000,
+    ) {
+        let lim = Limits { start_velocity: (startv * 65536.0) as i64, ..limits(vmax, amax) };
+        let mut f = Follower::default();
+        let (mut target, tvq) = (start << 16, (tv * 65536.0) as i64);
+        for k in 0..ticks {
+            let before = f.velocity;
+            target += tvq;
+            if k % 500 < 250 { f.track(target, tvq, &lim) } else { f.ramp_down(&lim) }
+            prop_assert!(f.velocity.abs() <= lim.max_velocity);
+            let within = before.abs() <= lim.start_velocity && f.velocity.abs() <= lim.start_velocity;
+            prop_assert!(within || (f.velocity - before).abs() <= lim.max_accel);
+        }
+    }
+}
+
+/// A lathe that starts from rest: with a start rate the follower takes the
+/// target's speed at once and lags it by no more than the pull closes;
+/// without, it catches up at `max_accel` and lags far more. Ramping down
+/// from within the start rate stops at once.
+#[test]
+fn a_start_rate_takes_a_slow_targets_speed_at_once() {
+    let slow = limits(6.0, 0.0005);
+    let lim = Limits { start_velocity: 1 << 14, ..slow }; // a quarter step a tick
+    let lag = |lim: &Limits| {
+        let mut f = Follower::default();
+        let (mut target, tv) = (1 << 16, 1 << 13); // an eighth of a step a tick
+        let mut worst = 0;
+        for _ in 0..2000 {
+            target += tv;
+            f.track(target, tv, lim);
+            worst = worst.max(target - f.position);
+        }
+        (worst, f)
+    };
+    let ((with, mut f), (without, _)) = (lag(&lim), lag(&slow));
+    assert!(with <= 1 << 16, "with: {with}");
+    assert!(without > 3 * with, "without {without} against with {with}");
+    f.ramp_down(&lim);
+    assert_eq!(f.velocity, 0, "stops at once from within the start rate");
 }
