@@ -52,7 +52,8 @@ pub fn decode(base: Config, bytes: &[u8]) -> Result<Config, DecodeError> {
     let word = |i: usize| u32::from_le_bytes([bytes[i], bytes[i + 1], bytes[i + 2], bytes[i + 3]]);
     let (len, start_rate_hz) = match bytes[2] {
         VERSION => (LEN, word(12)),
-        1 if bytes[LEN_V1..].iter().all(|&b| b == 0xFF) => (LEN_V1, defaults.start_rate_hz),
+        // (erased flash after it: `encode_version` checks that too)
+        1 => (LEN_V1, defaults.start_rate_hz),
         v => return Err(DecodeError::Version(v)),
     };
     if crc32(&bytes[..len - 4]) != word(len - 4) {
@@ -111,7 +112,7 @@ mod tests {
     fn erased_flash_is_a_record_from_before_the_block_with_the_defaults() {
         // (a base holding other values for them: the block's absence means
         // the defaults, whatever the base)
-        let base = with_encoder().with("ratio", "5/2").unwrap();
+        let base = with_encoder().with("ratio", "5/2").unwrap().with("start-rate", "1600").unwrap();
         let c = decode(base, &[0xFF; LEN]).unwrap();
         assert_eq!(c, Config { cutter_encoder_cpr: 0, lost_step_limit_steps: 32, start_rate_hz: 0, ..base });
     }

@@ -129,3 +129,15 @@ fn a_start_rate_takes_a_slow_targets_speed_at_once() {
     f.ramp_down(&lim);
     assert_eq!(f.velocity, 0, "stops at once from within the start rate");
 }
+
+/// The start rate in Q16 steps a tick, rounded down: 3 200 steps/s at
+/// 25 kHz is 0.128 step a tick; the other limits as they were.
+#[test]
+fn the_start_rate_becomes_steps_a_tick_rounded_down() {
+    let lim = Limits::from_rates(200_000, 400_000, 25_000);
+    let started = lim.with_start(3_200, 25_000);
+    assert_eq!(started.start_velocity, 8_388, "0.128 × 65 536 = 8 388.6");
+    assert_eq!(Limits { start_velocity: 0, ..started }, lim);
+    assert_eq!(lim.with_start(1, 25_000).start_velocity, 2, "65 536 / 25 000");
+    assert_eq!(lim.with_start(0, 25_000).start_velocity, 0);
+}
