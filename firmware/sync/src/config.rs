@@ -55,9 +55,10 @@ pub struct Config {
     /// how far, in motor steps, the shaft may be from the steps sent before
     /// the `lost-steps` fault (with a cutter encoder)
     pub lost_step_limit_steps: u32,
-    /// the speed the cutter may take at once from rest, or leave at once to
-    /// rest (its motor's start/stop rate, below the pull-in rate with the
-    /// cutter's inertia), steps/s; 0: every change at `max-accel`
+    /// while following, a change of speed the cutter may make at once
+    /// between speeds within it (its motor's start rate, below the pull-in
+    /// rate with the cutter's inertia), steps/s; 0: every change at
+    /// `max-accel` (a stop ramps at `max-accel` whatever it is)
     pub start_rate_hz: u32,
 }
 

@@ -1,9 +1,12 @@
 //! The commanded cutter position follows the target within a maximum step
 //! rate and acceleration: feed-forward of the target's speed plus a
 //! proportional pull, with a braking check (v² ≥ 2·a·|e|) so catching up to
-//! the exact phase never overshoots by more than the limits force. Below
-//! the motor's start rate (`start-rate`, 0 by default) speed changes at
-//! once, as a stepper starts and stops below its pull-in rate.
+//! the exact phase never overshoots by more than the limits force. While
+//! tracking, a change of speed within the motor's start rate
+//! (`start-rate`, 0 by default), between two speeds within it, is taken at
+//! once, as a stepper starts below its pull-in rate. Ramping down (stop,
+//! faults) keeps to the acceleration limit: ENABLE goes off only once the
+//! cutter is at rest.
 //! All in Q16 steps, Q16 steps/tick and Q16 steps/tick²; adds, multiplies
 //! and compares only.
 
@@ -16,8 +19,9 @@ pub struct Limits {
     pub max_velocity: i64,
     /// Q16 steps per tick per tick
     pub max_accel: i64,
-    /// Q16 steps per tick: speeds within it are taken and left at once
-    /// (0: every change at `max_accel`)
+    /// Q16 steps per tick: while tracking, a change of speed within it
+    /// between two speeds within it is taken at once (0: every change at
+    /// `max_accel`)
     pub start_velocity: i64,
 }
 
@@ -86,25 +90,30 @@ impl Follower {
         self.step(dv, lim);
     }
 
-    /// From and to speeds below the start rate: at once, as the motor can
-    /// (a cutter engaged at rest takes the lathe's speed at its first count
-    /// instead of catching up at `max_accel`: docs/src/performance.md,
-    /// "From rest"). True if it moved so.
+    /// A change of speed within the start rate, from and to speeds within
+    /// it: at once, as the motor can (a cutter engaged at rest takes the
+    /// lathe's speed at its first count instead of catching up at
+    /// `max_accel`: docs/src/performance.md, "From rest"). No more than
+    /// the start rate at once: +S to −S is a reversal of 2S. True if it
+    /// moved so.
     #[inline(never)]
     fn started(&mut self, want: i64, lim: &Limits) -> bool {
-        let within = lim.startable(self.velocity) && lim.startable(self.velocity + want);
+        let v = self.velocity;
+        let within = lim.startable(want) && lim.startable(v) && lim.startable(v + want);
         if within {
             self.step(want, lim);
         }
         within
     }
 
-    /// Ramps the speed to zero at the acceleration limit.
+    /// Ramps the speed to zero at the acceleration limit, whatever the
+    /// start rate: the controller drops ENABLE when the speed reaches 0,
+    /// with two ticks of steps still in flight (`steps::pipe`), so the
+    /// speed must be all but 0 by then, and a rotor left unpowered at
+    /// speed would coast off its phase.
     #[inline]
     pub fn ramp_down(&mut self, lim: &Limits) {
-        // (below the start rate the motor stops at once)
-        let ramp = if lim.startable(self.velocity) { self.velocity.abs() } else { lim.max_accel };
-        let dv = crate::q16::bound(-self.velocity, ramp);
+        let dv = crate::q16::bound(-self.velocity, lim.max_accel);
         self.step(dv, lim);
     }
 

@@ -83,8 +83,9 @@ fn ramp_down_stops_within_the_acceleration_limit() {
 }
 
 proptest! {
-    /// With a start rate, a change of speed beyond `max_accel` happens only
-    /// between two speeds within it; the top speed still holds.
+    /// With a start rate, a change of speed beyond `max_accel` is at most
+    /// the start rate, between two speeds within it; ramping down keeps to
+    /// `max_accel`.
     #[test]
     fn only_speeds_within_the_start_rate_change_at_once(
         vmax in 0.5f64..8.0, amax in 0.0005f64..0.05, startv in 0.01f64..0.5,
@@ -96,10 +97,11 @@ proptest! {
         for k in 0..ticks {
             let before = f.velocity;
             target += tvq;
-            if k % 500 < 250 { f.track(target, tvq, &lim) } else { f.ramp_down(&lim) }
-            prop_assert!(f.velocity.abs() <= lim.max_velocity);
-            let within = before.abs() <= lim.start_velocity && f.velocity.abs() <= lim.start_velocity;
-            prop_assert!(within || (f.velocity - before).abs() <= lim.max_accel);
+            let tracking = k % 500 < 250;
+            if tracking { f.track(target, tvq, &lim) } else { f.ramp_down(&lim) }
+            let (s, dv) = (lim.start_velocity, (f.velocity - before).abs());
+            let within = tracking && before.abs() <= s && f.velocity.abs() <= s && dv <= s;
+            prop_assert!(within || dv <= lim.max_accel, "{before} -> {}", f.velocity);
         }
     }
 }
@@ -126,8 +128,27 @@ fn a_start_rate_takes_a_slow_targets_speed_at_once() {
     let ((with, mut f), (without, _)) = (lag(&lim), lag(&slow));
     assert!(with <= 1 << 16, "with: {with}");
     assert!(without > 3 * with, "without {without} against with {with}");
+    let v = f.velocity;
     f.ramp_down(&lim);
-    assert_eq!(f.velocity, 0, "stops at once from within the start rate");
+    assert_eq!(f.velocity, v - slow.max_accel, "a stop ramps at max-accel, start rate or not");
+}
+
+/// The band is for changes within the start rate between speeds within
+/// it: from 0.8 S a pull of +0.5 S would leave it, and from +S a pull to
+/// −S would reverse by 2 S; both keep to `max_accel`.
+#[test]
+fn no_change_leaves_the_start_rate_or_reverses_across_it_at_once() {
+    let s = 1 << 14;
+    let lim = Limits { start_velocity: s, ..limits(6.0, 0.0005) };
+    let pull = |v: i64, want: i64| {
+        // the target at our speed, `16 · want` ahead: the pull is 1/16 of it
+        let mut f = Follower { position: 0, velocity: v };
+        f.track(v + 16 * want, v, &lim);
+        f.velocity - v
+    };
+    assert_eq!(pull(s * 8 / 10, s / 2), lim.max_accel, "would leave the band");
+    assert_eq!(pull(s, -2 * s), -lim.max_accel, "a reversal across it");
+    assert_eq!(pull(s / 4, s / 2), s / 2, "within it: at once");
 }
 
 /// The start rate in Q16 steps a tick, rounded down: 3 200 steps/s at
