@@ -64,7 +64,9 @@ impl Envelope {
     pub fn add_polyline(&mut self, points: &[(f64, f64)]) {
         let mut prev: Option<(f64, f64)> = None;
         for &(x, y) in points {
-            let r = x.hypot(y);
+            // (no overflow to guard against at a lathe's millimetres: the
+            // square root, not `hypot`'s care)
+            let r = (x * x + y * y).sqrt();
             let mut t = y.atan2(x);
             if let Some((pt, pr)) = prev {
                 t += ((pt - t) / TAU).round() * TAU;

@@ -57,7 +57,10 @@ impl CutRecorder {
         let (lo, hi) = if p0 <= p1 { (p0, p1) } else { (p1, p0) };
         let w = self.window;
         // the nearest multiple of 2π at or above lo − w must not pass hi + w
-        let k = crate::round::ceil((lo - w) / TAU);
+        // (× 1/2π, not ÷ 2π: a division's latency a tick an edge; an ulp at
+        // the window's edge decides only for a path that grazes the stock's
+        // surface, which cuts nothing)
+        let k = crate::round::ceil((lo - w) * (1.0 / TAU));
         k * TAU <= hi + w
     }
 
@@ -77,13 +80,14 @@ impl CutRecorder {
         let (mut ea, mut eu) = (a0.sin_cos(), ua.sin_cos());
         let (da, du) = (((a1 - a0) / n as f64).sin_cos(), ub.sin_cos());
         let turn = |(s, c): (f64, f64), (ds, dc): (f64, f64)| (s * dc + c * ds, c * dc - s * ds);
-        let limit = self.setup.stock_radius_mm * 1.05;
+        // (squared: no `hypot` a point, and a point on the bound cuts nothing)
+        let limit2 = (self.setup.stock_radius_mm * 1.05).powi(2);
         let mut pts = std::mem::take(&mut self.points);
         pts.clear();
         for i in 0..=n {
             let xc = x0c + dx0 + ddx * i as f64;
             let p = (xc * ea.1 - r1 * eu.1, -xc * ea.0 + r1 * eu.0);
-            if p.0.hypot(p.1) < limit {
+            if p.0 * p.0 + p.1 * p.1 < limit2 {
                 pts.push(p);
             }
             ea = turn(ea, da);

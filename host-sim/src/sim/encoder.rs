@@ -36,8 +36,14 @@ pub struct Encoder {
     pub glitches: Vec<(u64, i64)>,
     offset: i64,
     last_turn: Option<i64>,
+    /// angles well inside the last turn (its turn without a division: the
+    /// edges, where rounding could tell otherwise, are left to `floor`)
+    inside_turn: (f64, f64),
     /// A's last rise: the count latched and its time (s)
     rise: Option<(i64, f64)>,
+    /// the last two positions worked out, (angle, eccentricity, u): a tick
+    /// asks for each angle two or three times
+    seen: [(f64, f64, f64); 2],
 }
 
 /// Stamps a second: the board's TIM5 at 1 MHz.
@@ -65,6 +71,17 @@ impl Encoder {
         }
     }
 
+    /// `position`, from `seen` when it holds `angle` on this disc.
+    fn u_of(&mut self, angle: f64) -> f64 {
+        let ecc = self.disc.eccentricity_counts;
+        if let Some(&(_, _, u)) = self.seen.iter().find(|s| s.0 == angle && s.1 == ecc) {
+            return u;
+        }
+        let u = self.position(angle);
+        self.seen = [self.seen[1], (angle, ecc, u)];
+        u
+    }
+
     /// The count at `angle` (glitches due by `tick` applied).
     pub fn count(&mut self, angle: f64, tick: u64) -> i64 {
         for &(t, extra) in &self.glitches {
@@ -72,7 +89,8 @@ impl Encoder {
                 self.offset += extra;
             }
         }
-        self.count_at(self.position(angle)) + self.offset
+        let u = self.u_of(angle);
+        self.count_at(u) + self.offset
     }
 
     /// Where count `n` begins, counting up (position u, counts): the edge
@@ -97,7 +115,7 @@ impl Encoder {
     /// Follows the lathe from `angle_before` (at `t − dt`) to `angle` (at
     /// `t`), turning at a steady speed between, and latches A's last rise.
     pub fn follow(&mut self, angle_before: f64, angle: f64, t: f64, dt: f64) {
-        let (u0, u1) = (self.position(angle_before), self.position(angle));
+        let (u0, u1) = (self.u_of(angle_before), self.u_of(angle));
         if u0 == u1 {
             return;
         }
@@ -133,7 +151,15 @@ impl Encoder {
     /// The raw 16-bit counter value latched at an index crossed since the
     /// last call, if any.
     pub fn index(&mut self, angle: f64) -> Option<u16> {
-        let turn = floor(angle / TAU) as i64;
+        let (lo, hi) = self.inside_turn;
+        let turn = match self.last_turn {
+            Some(t) if lo < angle && angle < hi => t,
+            _ => {
+                let t = floor(angle / TAU) as i64;
+                self.inside_turn = (t as f64 * TAU + 1e-6, (t + 1) as f64 * TAU - 1e-6);
+                t
+            }
+        };
         let last = self.last_turn.replace(turn)?;
         if turn == last {
             return None;

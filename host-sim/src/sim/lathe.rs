@@ -40,13 +40,21 @@ pub struct Lathe {
     /// sin and cos of the angle, advanced by rotation (no sin() per step)
     phasor: (f64, f64),
     steps: u32,
+    /// each leg's speed (rev/s) and acceleration (rev/s²), worked out once
+    /// (the simulator's loop ran these divisions every tick)
+    rates: Vec<(f64, f64)>,
+    /// the step at which the wander is next drawn, once a millisecond
+    next_draw: Option<u32>,
 }
 
 impl Lathe {
     pub fn new(profile: LatheProfile, seed: u64) -> Lathe {
         let base = profile.start_rpm / 60.0;
+        let rates = profile.legs.iter().map(|l| (l.rpm / 60.0, l.accel_rpm_per_s / 60.0)).collect();
         Lathe {
             profile,
+            rates,
+            next_draw: None,
             base,
             leg: 0,
             held: 0.0,
@@ -67,7 +75,7 @@ impl Lathe {
 
     /// True while the profile holds a steady set speed (not ramping).
     pub fn holding(&self) -> bool {
-        self.profile.legs.get(self.leg).is_some_and(|l| (l.rpm / 60.0 - self.base).abs() < 1e-12 && l.rpm != 0.0)
+        self.rates.get(self.leg).is_some_and(|&(goal, _)| (goal - self.base).abs() < 1e-12 && goal != 0.0)
     }
 
     /// Ends the current hold now (the machinist stops the lathe).
@@ -82,8 +90,8 @@ impl Lathe {
     pub fn advance(&mut self, dt: f64) {
         self.time += dt;
         if let Some(leg) = self.profile.legs.get(self.leg).copied() {
-            let goal = leg.rpm / 60.0;
-            let dv = leg.accel_rpm_per_s / 60.0 * dt;
+            let (goal, accel) = self.rates[self.leg];
+            let dv = accel * dt;
             if (goal - self.base).abs() <= dv {
                 self.base = goal;
                 self.held += dt;
@@ -98,8 +106,11 @@ impl Lathe {
         // Wander: a slow first-order random walk (≈ 20 ms correlation),
         // drawn once a millisecond.
         self.steps = self.steps.wrapping_add(1);
-        let every = ((1e-3 / dt) as u32).max(1);
-        if self.steps.is_multiple_of(every) {
+        let every = |dt: f64| ((1e-3 / dt) as u32).max(1);
+        let next = *self.next_draw.get_or_insert_with(|| every(dt));
+        if self.steps == next {
+            let every = every(dt);
+            self.next_draw = Some(next.wrapping_add(every));
             self.wander += (self.rng.normal() * 0.3 - self.wander) * (every as f64 * dt / 0.02).min(1.0);
         }
         let p = &self.profile;

@@ -5,7 +5,10 @@
 //! the step's instant (steps at half-step crossings, see `steps.rs`).
 
 use polyturn_sync::steps::{Dir, StepPlan};
-use std::collections::VecDeque;
+
+/// Plans a stepper holds in flight, at most: the cutter's pipeline is 2
+/// ticks, and the plan being pushed makes 3.
+const RING: usize = 4;
 
 #[derive(Clone, Debug)]
 pub struct Stepper {
@@ -18,7 +21,11 @@ pub struct Stepper {
     /// ticks between a plan and its emission: 0 for the tick-stepped X
     /// axis, 2 for the cutter's DMA-fed timer (`steps::pipe`)
     pub lead_ticks: usize,
-    queue: VecDeque<StepPlan>,
+    /// the plans in flight, oldest at `head` (a small ring: a `VecDeque`
+    /// here was 4 % of the simulator's time)
+    queue: [StepPlan; RING],
+    head: usize,
+    queued: usize,
     /// pulses received (the 16-bit counter the firmware reads)
     pub pulses: u64,
     /// rotor position in steps (whole steps moved)
@@ -35,8 +42,10 @@ impl Stepper {
             max_rate_hz,
             max_accel,
             latency_s,
-            lead_ticks,
-            queue: VecDeque::with_capacity(lead_ticks + 1),
+            lead_ticks: lead_ticks.min(RING - 1),
+            queue: [StepPlan::default(); RING],
+            head: 0,
+            queued: 0,
             pulses: 0,
             position: 0,
             stalled: false,
@@ -50,12 +59,17 @@ impl Stepper {
     /// position at `t0` (steps), now that the next step's time is known.
     /// A halt drops the plans in flight too.
     pub fn execute(&mut self, plan: &StepPlan, t0: f64, dt: f64, timer_hz: f64, halt: bool) -> f64 {
-        self.queue.push_back(*plan);
+        // a halt drops this plan and those in flight
         if halt {
-            self.queue.clear();
+            self.queued = 0;
+        } else {
+            self.queue[(self.head + self.queued) % RING] = *plan;
+            self.queued += 1;
         }
-        let plan = if self.queue.len() > self.lead_ticks {
-            self.queue.pop_front().unwrap_or_default()
+        let plan = if self.queued > self.lead_ticks {
+            let oldest = self.queue[self.head];
+            (self.head, self.queued) = ((self.head + 1) % RING, self.queued - 1);
+            oldest
         } else {
             StepPlan::default()
         };
