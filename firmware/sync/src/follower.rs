@@ -43,10 +43,11 @@ impl Limits {
         Limits { start_velocity: ((rate_hz << 16) / tick_hz.max(1)) as i64, ..self }
     }
 
-    /// Whether `velocity` (Q16 steps per tick) is within the start rate.
+    /// Whether `velocity` (Q16 steps per tick) is within the start rate
+    /// (asked only with one set: `track` tests that first).
     #[inline]
     fn startable(&self, velocity: i64) -> bool {
-        self.start_velocity != 0 && velocity.abs() <= self.start_velocity
+        velocity.abs() <= self.start_velocity
     }
 }
 

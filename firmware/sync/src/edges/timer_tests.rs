@@ -188,16 +188,22 @@ fn a_lathe_starting_from_rest_is_placed_with_its_acceleration() {
     }
 }
 
+/// A lathe at 0.3 count slowing from 0.006 count/µs to a stop at 48 000
+/// counts/s², `sense` +1 counting up, −1 down; still after its stop.
+fn running_down(sense: f64) -> impl Fn(f64) -> f64 + Copy {
+    let (acc, v0) = (48_000e-12, 0.006);
+    let stop = v0 / acc;
+    move |t: f64| {
+        let t = t.min(stop);
+        0.3 + sense * (v0 * t - 0.5 * acc * t * t)
+    }
+}
+
 /// Running down to a stop at 48 000 counts/s²: the measurement follows
 /// the slowing lathe, never turns back, and holds where the lathe stops.
 #[test]
 fn a_lathe_running_down_is_followed_to_its_stop_and_held_without_turning_back() {
-    let (acc, v0) = (48_000e-12, 0.006);
-    let stop = v0 / acc;
-    let x = move |t: f64| {
-        let t = t.min(stop);
-        0.3 + v0 * t - 0.5 * acc * t * t
-    };
+    let x = running_down(1.0);
     let seen = follow(&x, 5000);
     let measured: std::vec::Vec<(f64, f64)> = seen.iter().filter_map(|&(t, m)| m.map(|m| (t, m))).collect();
     assert!(measured.len() > 4000);
@@ -258,12 +264,7 @@ fn a_lathe_slowing_through_the_acceleration_limit_keeps_its_measurement() {
 /// stop and never turned back up.
 #[test]
 fn a_lathe_running_down_backwards_is_never_turned_back() {
-    let (acc, v0) = (48_000e-12, 0.006);
-    let stop = v0 / acc;
-    let x = move |t: f64| {
-        let t = t.min(stop);
-        0.3 - v0 * t + 0.5 * acc * t * t
-    };
+    let x = running_down(-1.0);
     let seen = follow(&x, 5000);
     let measured: std::vec::Vec<(f64, f64)> = seen.iter().filter_map(|&(t, m)| m.map(|m| (t, m))).collect();
     assert!(measured.len() > 4000);
