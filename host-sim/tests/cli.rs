@@ -278,8 +278,10 @@ fn a_dash_writes_the_file_to_stdout_and_the_report_to_stderr() {
 fn a_long_simulation_on_a_terminal_shows_it_is_alive_and_away_from_one_stays_quiet() {
     use serialport::{SerialPort, TTYPort};
     use std::io::Read;
-    // some seconds of work: 60 s of lathe time, 1.5 million ticks
-    let long = "simulate --cutter-radius 50 --stock-radius 10 --depth 1.5 --ratio 1000/999 --edges 12 --direction same --rpm 600 --revolutions 600 --motor-steps 100";
+    // some seconds of work: 240 s of lathe time, 6 million ticks (60 s
+    // of it ran in about 1 s once the simulator grew faster: the line
+    // comes only after a second)
+    let long = "simulate --cutter-radius 50 --stock-radius 10 --depth 1.5 --ratio 1000/999 --edges 12 --direction same --rpm 600 --revolutions 2400 --motor-steps 100";
     let (mut master, slave) = {
         let (master, slave) = TTYPort::pair().expect("a pty");
         (master.try_clone_native().expect("a close-on-exec master"), slave)
@@ -302,7 +304,7 @@ fn a_long_simulation_on_a_terminal_shows_it_is_alive_and_away_from_one_stays_qui
     assert!(out.status.success());
     let seen = reader.join().unwrap();
     let seen = String::from_utf8_lossy(&seen);
-    assert!(seen.contains("\rsimulating 600 lathe turns at 600 rpm (60 s of cutting"), "{seen:?}");
+    assert!(seen.contains("\rsimulating 2400 lathe turns at 600 rpm (240 s of cutting"), "{seen:?}");
     assert!(seen.ends_with("\r\x1b[K"), "the line is left behind: {seen:?}");
     let (code, _, err) = polyturn(long);
     assert_eq!((code, err.as_str()), (0, ""));
