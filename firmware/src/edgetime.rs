@@ -33,6 +33,7 @@
 pub mod program;
 pub mod read;
 pub mod start;
+pub mod watch;
 
 use crate::board::TICK_HZ;
 use crate::clocks::CLOCKS;

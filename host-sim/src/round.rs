@@ -14,7 +14,10 @@ pub fn floor(x: f64) -> f64 {
     if x.abs() >= WHOLE || x.is_nan() {
         return x;
     }
-    let t = x as i64 as f64;
+    // SAFETY: finite and below 2^52 in magnitude (tested above), so in
+    // i64's range: the plain truncating conversion, without the checks an
+    // `as` cast adds for NaN and out-of-range values (a third of the cost)
+    let t = unsafe { x.to_int_unchecked::<i64>() } as f64;
     if t > x {
         t - 1.0
     } else {

@@ -13,7 +13,7 @@ use defmt::{info, warn};
 use embassy_stm32::interrupt;
 use embassy_stm32::interrupt::InterruptExt;
 use embassy_stm32::pac;
-use polyturn_firmware::edgetime::{self, read::Gate};
+use polyturn_firmware::edgetime::{self, read::Gate, watch::Watch};
 use polyturn_firmware::stepgen::Generator;
 use polyturn_firmware::xsteps::XSteps;
 use polyturn_firmware::{board, esc};
@@ -28,6 +28,9 @@ struct Io {
     halts_seen: u32,
     /// whether the lathe's edge registers hold an edge (`edgetime::read`)
     gate: Gate,
+    /// the edge clock's instants against the ticks run (`check_ticks`);
+    /// none while the edge times are off, and through a save's stall
+    watch: Option<Watch>,
 }
 
 /// cortex-m's Mutex: its token comes only from `locked` here, so a
@@ -64,6 +67,8 @@ static COST_WORST: AtomicU32 = AtomicU32::new(0);
 static STEPS_LATE: AtomicU32 = AtomicU32::new(0);
 /// `Generator::ndtr_lead` of the last arm, for the bench's log.
 static NDTR_LEAD: AtomicU32 = AtomicU32::new(0);
+/// Ticks whose interrupt never ran (`check_ticks`), since boot.
+static TICKS_LOST: AtomicU32 = AtomicU32::new(0);
 
 pub const TIMING: Timing = polyturn_firmware::clocks::TIMING;
 
@@ -92,7 +97,7 @@ pub fn start(config: Config, mut pins: OutputPins) {
     cp.DCB.enable_trace();
     cp.DWT.enable_cycle_counter();
     tick_timer();
-    let io = Io { core, steps, pins, x: XSteps::default(), halts_seen: safety::halts(), gate: Gate::Off };
+    let io = Io { core, steps, pins, x: XSteps::default(), halts_seen: safety::halts(), gate: Gate::Off, watch: None };
     // Under the lock nothing but the E-stop runs: not the tick (its
     // interrupt is enabled in here, and waits for the lock's end), nor
     // anything that could come between TIM5's step and TIM11's start.
@@ -112,6 +117,7 @@ pub fn start(config: Config, mut pins: OutputPins) {
             let clock = edgetime::start::clock(s, k0);
             io.core.start_edges(clock);
             io.gate = Gate::Waiting;
+            io.watch = Some(watch_from(clock.first_instant));
             EDGE_CLOCK.store(clock.first_instant as u32 | ((k0 & 3) as u32) << 16 | EDGES_ON, Ordering::Relaxed);
         }
         (low_low, s)
@@ -231,11 +237,55 @@ pub fn restart_edges() {
         let first = edgetime::start::next_instant(&mut Mmio)?;
         let clock = edgetime::start::restarted(first, (on >> 16 & 3) as u16);
         EDGE_CLOCK.store(clock.first_instant as u32 | (on & !0xFFFF), Ordering::Relaxed);
-        IO.borrow(cs).borrow_mut().as_mut().map(|io| io.core.start_edges(clock))
+        IO.borrow(cs).borrow_mut().as_mut().map(|io| {
+            io.core.start_edges(clock);
+            io.watch = Some(watch_from(clock.first_instant));
+        })
     });
     if restarted.is_none() {
         warn!("edge times off: the tick's instant could not be measured again after the save");
     }
+}
+
+/// The watch on the instants from the next one's stamp, under the lock
+/// (the ticks run stand still): the µs clock's low 16 bits are TIM5_CNT
+/// (embassy-stm32 0.6 `time_driver::gp16::calc_now`), the stamps'.
+fn watch_from(first_instant: u16) -> Watch {
+    Watch::anchor(first_instant, embassy_time::Instant::now().as_ticks(), TICKS.load(Ordering::Relaxed))
+}
+
+/// A save is about to stall the CPU (its erase): the core is told
+/// (`Controller::begin_stall`), and the watch on the ticks stops until
+/// `restart_edges` measures the clock again.
+pub fn begin_stall() {
+    locked(|cs| {
+        if let Some(io) = IO.borrow(cs).borrow_mut().as_mut() {
+            io.core.begin_stall();
+            io.watch = None;
+        }
+    });
+}
+
+/// Every ms from the service task: ticks whose interrupt never ran, from
+/// the µs clock (`edgetime::watch`). Any lost puts the edge times' instants
+/// a tick early for good: the clock is measured again (`restart_edges`),
+/// as after a save. Returns the ticks lost.
+pub fn check_ticks() -> u32 {
+    let lost = locked(|cs| {
+        let io = IO.borrow(cs).borrow();
+        let w = io.as_ref().filter(|io| io.core.edge_timing())?.watch?;
+        // the µs, then UIF: an instant between the two counts as run
+        let now = embassy_time::Instant::now().as_ticks();
+        let pending = pac::TIM11.sr().read().uif();
+        Some(w.lost(now, TICKS.load(Ordering::Relaxed), pending))
+    });
+    let lost = lost.unwrap_or(0);
+    if lost > 0 {
+        let total = TICKS_LOST.fetch_add(lost, Ordering::Relaxed) + lost;
+        warn!("{} tick(s) never ran ({} since boot): the edge times' clock is measured again", lost, total);
+        restart_edges();
+    }
+    lost
 }
 
 /// The lathe's last timed edge, read as the tick reads it, with k0 mod 4

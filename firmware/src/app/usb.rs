@@ -172,7 +172,7 @@ fn persist(
     cfg: &polyturn_sync::Config,
     cam: Option<(CamHeader, &[i32])>,
 ) -> Result<(polyturn_sync::Stall, Fit), ()> {
-    tick::with_core(|c| c.begin_stall());
+    tick::begin_stall();
     let saved = settings::save(flash, cfg, cam);
     let stall = tick::with_core(|c| c.end_stall()).unwrap_or_default();
     // the erase lost ticks: the edge times' clock is measured again

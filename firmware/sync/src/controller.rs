@@ -234,7 +234,7 @@ impl Controller {
         // from a jump no lathe can make (a stall's, or a fault's): it is
         // not speed, and a stopped lathe would read thousands of rpm after
         // it.
-        let clamped = crate::q16::bound(delta as i64, self.d.max_counts_per_tick as i64) as i32;
+        let clamped = if implausible { self.bounded_jump(delta) } else { delta };
         let measured = self.measure_lathe(io, implausible);
         let sign = |v: i32| if self.d.sense_positive { v } else { -v };
         self.gear.advance(sign(clamped));
@@ -353,7 +353,7 @@ impl Controller {
         match self.state {
             State::Idle => self.follower = Follower { position: cutter, velocity: 0 },
             State::Engaging | State::Synced => {
-                if self.target_velocity.abs() > lim.max_velocity && self.config.drive != DriveKind::None {
+                if crate::q16::beyond(self.target_velocity, lim.max_velocity) && self.config.drive != DriveKind::None {
                     self.trip(Fault::Overspeed);
                     return self.follower.ramp_down(&lim);
                 }
@@ -389,9 +389,17 @@ impl Controller {
             DriveKind::Bldc => self.follower.position - cutter,
             DriveKind::None => 0,
         };
-        if lag.abs() > self.d.following_limit_q16 {
+        if crate::q16::beyond(lag, self.d.following_limit_q16) {
             self.trip(Fault::FollowingError);
         }
+    }
+
+    /// A jump no lathe makes, bounded to the most a tick can count (out of
+    /// line: it never comes on the common path).
+    #[cold]
+    #[inline(never)]
+    fn bounded_jump(&self, delta: i32) -> i32 {
+        delta.signum() * self.d.max_counts_per_tick
     }
 
     /// (ENABLE, halt) in the present state.

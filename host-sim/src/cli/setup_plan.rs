@@ -57,6 +57,9 @@ pub struct SetupArgs {
     /// Counts per cutter turn of an encoder on the motor's shaft or the cutter spindle (4 x lines x belt), for the lost-step alarm (the console's `cutter-cpr`; 0: none)
     #[arg(long, value_name = "N", value_parser = cutter_cpr)]
     pub cutter_encoder_cpr: Option<u32>,
+    /// The motor's start rate with the cutter fitted, steps/s: while following, a change of speed within it is made at once, so engaged at rest the cutter starts at the lathe's speed (0..=250000, at most the board's max-rate; 0: off, every change at max-accel; the console's `start-rate`, found on the bench)
+    #[arg(long, value_name = "STEPS_PER_S", value_parser = whole32(0, 250_000))]
+    pub start_rate: Option<u32>,
     /// Send the settings but do not save them
     #[arg(long)]
     pub no_save: bool,
@@ -76,6 +79,9 @@ pub struct Facts {
     /// the shaft encoder's counts per cutter turn: Some(0) none, None not
     /// asked (the board's setting stays)
     pub cutter_cpr: Option<u32>,
+    /// the motor's start rate, steps/s (0 off); None not asked (the
+    /// board's setting stays)
+    pub start_rate: Option<u32>,
 }
 
 /// `--cutter-encoder-cpr`: 0 (none) or the console's 4..=1000000.
@@ -103,6 +109,7 @@ pub fn from_flags(a: &SetupArgs) -> CliResult<Facts> {
         encoder_reversed: a.encoder_reversed,
         motor_reversed: a.motor_reversed,
         cutter_cpr: a.cutter_encoder_cpr,
+        start_rate: a.start_rate,
     })
 }
 
@@ -147,7 +154,24 @@ pub fn changes(f: &Facts) -> Vec<(String, String)> {
         Some(n) => c.push(("cutter-cpr".into(), n.to_string())),
         None => {}
     }
+    if let Some(r) = f.start_rate {
+        c.push(("start-rate".into(), r.to_string()));
+    }
     c
+}
+
+/// What a start rate does, and what it risks (docs/src/bench.md,
+/// "Finding the start rate").
+fn start_rate_line(c: &polyturn_sync::Config) -> String {
+    let caught = if c.cutter_encoder_cpr != 0 && c.drive == polyturn_sync::DriveKind::Stepper {
+        "the lost-step alarm stops it"
+    } else {
+        "silently, with no shaft encoder: check it on the bench"
+    };
+    format!(
+        "start-rate {} steps/s: engaged at rest, the cutter starts at the lathe's speed; a start faster than the motor pulls in with the cutter fitted loses steps ({caught})",
+        c.start_rate_hz
+    )
 }
 
 /// What a machinist choosing `drive bldc` must know (`tests/bldc_drives.rs`).
@@ -171,6 +195,9 @@ pub fn summary(c: &polyturn_sync::Config, sent: &[(String, String)]) -> String {
             "lost-step alarm: the shaft encoder's {} counts per cutter turn against the steps sent; it stops the cutter beyond {} steps (lost-steps)",
             c.cutter_encoder_cpr, c.lost_step_limit_steps
         ));
+    }
+    if c.start_rate_hz != 0 {
+        out.push(start_rate_line(c));
     }
     if c.drive == polyturn_sync::DriveKind::Bldc {
         out.push(BLDC_WARNING.to_string());

@@ -39,8 +39,9 @@ pub struct Encoder {
     /// angles well inside the last turn (its turn without a division: the
     /// edges, where rounding could tell otherwise, are left to `floor`)
     inside_turn: (f64, f64),
-    /// A's last rise: the count latched and its time (s)
-    rise: Option<(i64, f64)>,
+    /// A's last rise as the registers hold it (the count latched, and its
+    /// stamp): worked out once a rise, not every tick the tick reads them
+    rise: Option<EdgeRegs>,
     /// the last two positions worked out, (angle, eccentricity, u): a tick
     /// asks for each angle two or three times
     seen: [(f64, f64, f64); 2],
@@ -137,15 +138,15 @@ impl Encoder {
         if let Some(b) = b {
             let at = t - dt + dt * (b - u0) / (u1 - u0);
             let after = if up { b + 0.5 } else { b - 0.5 };
-            self.rise = Some((after.round() as i64 + self.offset, at));
+            let count = after.round() as i64 + self.offset;
+            let stamp = floor(STAMP_ORIGIN + at * STAMP_HZ) as i64;
+            self.rise = Some(EdgeRegs { count: count as u16, stamp: stamp as u16 });
         }
     }
 
     /// The registers the tick reads: the count and the stamp of A's last rise.
     pub fn edge_regs(&self) -> Option<EdgeRegs> {
-        let (count, at) = self.rise?;
-        let stamp = floor(STAMP_ORIGIN + at * STAMP_HZ) as i64;
-        Some(EdgeRegs { count: count as u16, stamp: stamp as u16 })
+        self.rise
     }
 
     /// The raw 16-bit counter value latched at an index crossed since the

@@ -89,6 +89,7 @@ fn interview<P: Read + Write>(s: &mut Session<P>, a: &SetupArgs, ask: &mut dyn A
         )?),
         dir_setup_ns: Some(ask.number("The driver's DIR setup time, ns (5000 if unsure)", Some(5000), 0, 1_000_000)?),
         cutter_cpr: Some(shaft_encoder(ask, a)?),
+        start_rate: Some(start_rate(s, ask, a)?),
         sense,
         encoder_reversed: f.moved < 0,
         motor_reversed: false,
@@ -103,6 +104,14 @@ fn shaft_encoder(ask: &mut dyn Ask, a: &SetupArgs) -> CliResult<u32> {
         return Ok(0);
     }
     ask.number("Its counts per cutter turn (4 x lines x belt)", a.cutter_encoder_cpr.filter(|&n| n != 0), 4, 1_000_000)
+}
+
+/// The motor's start rate, up to the board's `max-rate` (the rule the
+/// board holds it to): 0, off, unless the machinist has found it.
+fn start_rate<P: Read + Write>(s: &mut Session<P>, ask: &mut dyn Ask, a: &SetupArgs) -> CliResult<u32> {
+    let max = figures::parse_settings(&s.ask("get")?).map_or(250_000, |c| c.max_step_rate_hz.min(250_000));
+    let q = "The motor's start rate with the cutter fitted, steps/s: engaged at rest, the cutter then starts at the lathe's speed (0 if unsure: every change ramps; find it on the bench)";
+    ask.number(q, Some(a.start_rate.unwrap_or(0).min(max)), 0, max)
 }
 
 /// The encoder check turns the lathe under the old cpr, whose index

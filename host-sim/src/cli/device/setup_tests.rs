@@ -57,6 +57,31 @@ fn a_shaft_encoder_is_set_for_the_lost_step_alarm_and_the_summary_says_what_it_d
 }
 
 #[test]
+fn a_start_rate_is_set_and_the_summary_says_what_catches_a_start_too_fast() {
+    let base = "--non-interactive --encoder-lines 600 --max-lathe-rpm 600 --no-save";
+    let mut s = session(FakeDevice::new());
+    let out = run(&mut s, &args(&format!("{base} --start-rate 3200")), &mut Scripted::new(&[])).unwrap();
+    assert_eq!(s.io.ctl.config().start_rate_hz, 3_200);
+    assert!(out.contains("start-rate 3200 steps/s") && out.contains("silently, with no shaft encoder"), "{out}");
+    let mut s = session(FakeDevice::new());
+    let flags = format!("{base} --start-rate 3200 --cutter-encoder-cpr 4000");
+    let out = run(&mut s, &args(&flags), &mut Scripted::new(&[])).unwrap();
+    assert!(out.contains("the lost-step alarm stops it"), "{out}");
+    // without the flag the board's setting stays, and nothing is said
+    let mut s = session(FakeDevice::new());
+    let out = run(&mut s, &args(base), &mut Scripted::new(&[])).unwrap();
+    assert!(!sent(&s).iter().any(|c| c.starts_with("set start-rate")) && !out.contains("start-rate"), "{out}");
+    // past the console's range: refused by the flag; past max-rate: by the rule
+    assert!(try_args("--start-rate 250001").is_err());
+    let mut s = session(FakeDevice::new());
+    s.ask("set max-rpm 600").unwrap();
+    s.ask("set max-rate 100000").unwrap();
+    let e = run(&mut s, &args(&format!("{base} --start-rate 150000")), &mut Scripted::new(&[])).unwrap_err();
+    assert!(e.0.contains("start-rate must not exceed max-rate"), "{}", e.0);
+    assert!(!sent(&s).iter().any(|l| l.starts_with("set start-rate")), "{:?}", sent(&s));
+}
+
+#[test]
 fn settings_that_only_fit_in_one_order_are_sent_in_it() {
     // 8000 steps at the default 1500 rpm would need 400 kHz: max-rpm first
     let mut s = session(FakeDevice::new());
@@ -99,6 +124,7 @@ fn the_interview_measures_the_encoder_jogs_the_cutter_and_saves() {
         "y", "", "y", // index; turn the chuck; use the measured cpr
         "200", "16", "direct", "same", "1000", "2500", "5000", // motor, sense, lathe, driver
         "n",    // no shaft encoder (the fake board has none: a jog would trip lost-steps)
+        "1600", // the start rate found on the bench
         "", "one turn", "n", // the jog: one turn, but the wrong way
     ]);
     let out = run(&mut s, &args(""), &mut ask).unwrap_or_else(|e| panic!("{e:?} after {:?}", sent(&s)));
@@ -106,8 +132,9 @@ fn the_interview_measures_the_encoder_jogs_the_cutter_and_saves() {
     assert_eq!(c.encoder_counts_per_rev, 2_000, "measured by the check, not the default 2400");
     assert_eq!((c.motor_steps_per_rev, c.max_lathe_rpm), (3_200, 1_000));
     assert_eq!(c.sense, polyturn_sync::Sense::Opposite, "the jog turned the wrong way: dir flipped");
-    assert_eq!(c.cutter_encoder_cpr, 0);
+    assert_eq!((c.cutter_encoder_cpr, c.start_rate_hz), (0, 1_600));
     assert!(sent(&s).contains(&"set cutter-cpr off".to_string()), "{:?}", sent(&s));
+    assert!(out.contains("start-rate 1600 steps/s: engaged at rest"), "{out}");
     let cmds = sent(&s);
     assert!(cmds.contains(&"jog 360".to_string()) && cmds.last().unwrap() == "save", "{cmds:?}");
     assert!(ask.said.iter().any(|l| l.contains("proposed: set cpr 2000")), "{:?}", ask.said);
