@@ -20,6 +20,17 @@ fn an_implausible_jump_faults_and_clearing_rebases_the_gear_on_the_counter() {
 }
 
 #[test]
+fn an_implausible_jump_moves_the_gear_by_the_most_a_tick_counts_and_no_more() {
+    for jump in [1000i32, -1000] {
+        let mut c = ctl();
+        c.tick(&TickInput { lathe: jump as u16, ..TickInput::default() });
+        assert_eq!(c.state(), State::Fault(Fault::EncoderImplausible));
+        let (d, max) = (c.derived().scale, c.derived().max_counts_per_tick as i64);
+        assert_eq!(c.status().target_steps, Scale::round(d, max * jump.signum() as i64), "jump {jump}");
+    }
+}
+
+#[test]
 fn estop_and_alarm_halt_at_once_and_drop_enable() {
     for (estop, alarm, fault) in [(true, false, Fault::EStop), (false, true, Fault::DriveAlarm)] {
         let mut c = ctl();
