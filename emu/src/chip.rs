@@ -95,6 +95,9 @@ pub struct Chip {
     pub tickmask: crate::primask::SectionLog,
     /// the tick's inputs and ENABLE, recorded when a job asks (`tape`)
     pub tape: Option<crate::tape::Tape>,
+    /// until this cycle the tick is held off as a thread-mode section at its
+    /// level would hold it (`lines::deliverable`): a job's lost tick
+    pub tick_held_until: u64,
     /// the image mapped system memory at 0 (SYSCFG_MEMRMP.MEM_MODE = 01, §7.2.1)
     /// to jump to the ROM bootloader, which this emulator does not have
     pub rom_jump: bool,
@@ -155,6 +158,7 @@ impl Chip {
             map,
             now: 0,
             blk: 0,
+            tick_held_until: 0,
             faults: Vec::new(),
             active: Vec::new(),
             pc: 0,
@@ -250,7 +254,9 @@ impl Chip {
         let gp = (0..4).filter_map(|i| self.gp[i].next_event(sysclk, self.gp_clk(i)));
         let quiet = self.mcu.quiet_cycles();
         let mcu = (quiet < u64::MAX / 2).then(|| self.mcu.cycle() + quiet.max(1));
-        gp.chain(mcu).chain(self.usb_next()).min()
+        // (the end of a hold: the held tick is taken then, not at the next event)
+        let held = (self.now < self.tick_held_until).then_some(self.tick_held_until);
+        gp.chain(mcu).chain(self.usb_next()).chain(held).min()
     }
 
     pub fn fault(&mut self, text: String) {

@@ -7,6 +7,7 @@ pub mod edgecheck;
 pub mod estop;
 pub mod host;
 pub mod lathe;
+pub mod lost;
 pub mod replay;
 pub mod save;
 pub mod selftest;
@@ -39,6 +40,9 @@ pub enum Kind {
     EStop { at_s: f64 },
     /// the chuck is rocked by hand, ±40 counts at 3 Hz for 2 s
     Rock,
+    /// `at_s` after engaging the tick is held off for `hold_us`, as a
+    /// thread-mode section at its level would: updates merge, ticks are lost
+    LostTick { at_s: f64, hold_us: u64 },
 }
 
 pub struct Spec {
@@ -88,6 +92,11 @@ pub struct Outcome {
     pub replay: Option<replay::Replay>,
     /// the edge times the image's tick read (`edges`)
     pub edges: Option<edgecheck::EdgeCheck>,
+    /// ticks lost: as the image counted them (`app::tick::TICKS_LOST`), and
+    /// as the emulator saw them (updates no handler answered)
+    pub ticks_lost: lost::Counted,
+    /// a lost-tick job's hold (`Kind::LostTick`)
+    pub held: Option<lost::Held>,
 }
 
 fn setup(s: &Spec) -> Setup {
@@ -125,7 +134,9 @@ pub fn run(image: &Rc<Image>, spec: &Spec) -> Result<Outcome, String> {
     let flash = settings::saved(&sc.core)?;
     let mut m = Machine::new(image.clone(), params, &flash)?;
     m.cpr = sc.core.encoder_counts_per_rev;
-    if !matches!(spec.kind, Kind::EStop { .. }) {
+    // (no tape where the job stops the tick's flow: the replay follows one
+    // edge clock from the start, and a lost tick has it measured again)
+    if !matches!(spec.kind, Kind::EStop { .. } | Kind::LostTick { .. }) {
         m.chip().tape = Some(crate::tape::Tape::default());
     }
     m.drive(GPIOB, ESTOP, Some(false));
@@ -162,6 +173,10 @@ pub fn run(image: &Rc<Image>, spec: &Spec) -> Result<Outcome, String> {
         Kind::EStop { at_s } => Some(estop::open_mid_cut(&mut m, at_s, &sc.core)),
         _ => None,
     };
+    let held = match spec.kind {
+        Kind::LostTick { at_s, hold_us } => Some(lost::hold(&mut m, at_s, hold_us)),
+        _ => None,
+    };
     while !m.lathe.as_ref().is_some_and(|l| l.finished()) && m.chip().faults.is_empty() {
         m.run(10 * MS);
     }
@@ -179,6 +194,8 @@ pub fn run(image: &Rc<Image>, spec: &Spec) -> Result<Outcome, String> {
     }
     o.engage_count = engage_count;
     o.estop = estop;
+    o.ticks_lost = lost::counted(&mut m);
+    o.held = held.map(|h| h.judged(&mut m));
     Ok(o)
 }
 
@@ -224,5 +241,7 @@ fn outcome(m: &mut Machine, spec: &Spec, cfg: &Config, wall: Instant) -> Outcome
         tick_lock: c.tickmask.ticking.instructions,
         replay: None,
         edges: None,
+        ticks_lost: lost::Counted::default(),
+        held: None,
     }
 }

@@ -76,6 +76,8 @@ pub const SPECS: &[Spec] = &[
         seed: 7,
     },
     ROCKED,
+    // (g): the hexagon with its tick held off mid-cut for 100 µs
+    Spec { name: "g lost tick", kind: Kind::LostTick { at_s: 1.0, hold_us: 100 }, ..HEXAGON },
     // rocked again with TIM3's capture taking the count after A's own
     // (`EncoderCapture`: the manual does not say which)
     Spec { name: "f after", capture: CountAfter, ..ROCKED },
@@ -104,6 +106,7 @@ pub fn run_all(image: &Rc<Image>, r: &mut Report, only: &str) -> Result<u64, Str
         if let Some(e) = &o.edges {
             edge_times(r, o.name, e);
         }
+        lost_ticks(r, &o);
     }
     Ok(total)
 }
@@ -127,6 +130,34 @@ fn show(o: &Outcome) {
     );
 }
 
+/// The image's count of lost ticks is the emulator's, in every job: none
+/// where nothing held the tick off, and where a job held it off for longer
+/// than a tick, the updates no handler answered, the edge clock measured
+/// again, and the cutter stopped by `fault=step-output` (LED code 7): the
+/// lost tick's step window is gone (`job::lost`).
+fn lost_ticks(r: &mut Report, o: &Outcome) {
+    let c = o.ticks_lost;
+    let counted = c.image == Some(c.seen.min(u32::MAX as u64) as u32);
+    let Some(h) = &o.held else {
+        let text = format!(
+            "TIM11 updates no handler answered: {}; the image counted {:?} (its watch, `edgetime::watch`)",
+            c.seen, c.image
+        );
+        r.line(counted && c.seen == 0, &format!("ticks {}", o.name), &text);
+        return;
+    };
+    let restarted = h.clock_before.is_some() && h.clock_after.is_some() && h.clock_before != h.clock_after;
+    // the late tick has lost a step window: the books no longer fit the
+    // pulses counted, and the step output's check stops the cutter
+    let step_output = polyturn_firmware::led::fault_code(polyturn_sync::Fault::StepOutput);
+    let ok = counted && (1..=h.updates).contains(&c.seen) && restarted && h.led_code == step_output;
+    let text = format!(
+        "the tick held off {} µs mid-cut: {} TIM11 updates, {} never answered; the image counted {:?} and measured its edge clock again (first instant {:?}, then {:?}); step segments late {:?}, LED code {}",
+        h.hold_us, h.updates, c.seen, c.image, h.clock_before, h.clock_after, h.steps_late, h.led_code
+    );
+    r.line(ok, &format!("ticks {}", o.name), &text);
+}
+
 /// Cycles a Cortex-M4 takes to enter an exception (Cortex-M4 TRM §3.3.1).
 const EXCEPTION_ENTRY: u64 = 12;
 
@@ -136,7 +167,8 @@ fn judge(r: &mut Report, o: &Outcome) {
     let setup_ok = rx.reversals == 0 || rx.min_dir_setup >= o.dir_setup;
     // after an E-stop, `clear` and ENGAGE, the cutter lands on the first
     // pass's phase: the same exact-gear check
-    let phase_ok = o.phase_error_steps().abs() <= 0.5;
+    // (a lost tick stops the cutter with a fault: its phase is not kept)
+    let phase_ok = o.held.is_some() || o.phase_error_steps().abs() <= 0.5;
     let ok = o.faults.is_empty()
         && rx.unseen == 0
         && rx.dir_while_high == 0

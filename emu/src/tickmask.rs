@@ -11,7 +11,7 @@ use crate::chip::Chip;
 use unicorn_engine::{RegisterARM as R, Unicorn};
 
 /// The tick's priority byte as the NVIC holds it (`board::TICK_LEVEL`).
-const TICK_PRIO: u32 = (polyturn_firmware::board::TICK_LEVEL as u32) << 4;
+pub const TICK_PRIO: u32 = (polyturn_firmware::board::TICK_LEVEL as u32) << 4;
 
 /// BASEPRI after an `msr` to BASEPRI (`max` false) or BASEPRI_MAX of `value`.
 pub fn next_basepri(current: u32, value: u32, max: bool) -> u32 {

@@ -95,6 +95,35 @@ impl Chip {
     /// The pending exception that pre-empts now, if any (strictly higher priority).
     pub fn deliverable(&self, primask: bool, basepri: u32) -> Option<usize> {
         let e = self.nvic.best_pending()?;
+        // a job's hold: as if BASEPRI stood at the tick's level (the tick's
+        // own lock, `app/tick.rs`), unless something masks more already
+        let bp = basepri & 0xF0;
+        let held = self.now < self.tick_held_until && (bp == 0 || bp > crate::tickmask::TICK_PRIO);
+        let basepri = if held { crate::tickmask::TICK_PRIO } else { basepri };
         (self.nvic.group(self.nvic.prio[e]) < self.exec_priority(primask, basepri)).then_some(e)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use crate::chip::Chip;
+    use polyturn_stm32_model::Params;
+
+    /// A job's hold keeps the pending tick out exactly as BASEPRI at the
+    /// tick's level would, until its cycle, and leaves a more urgent mask
+    /// (PRIMASK) as it is.
+    #[test]
+    fn a_hold_keeps_the_pending_tick_out_until_its_end() {
+        let mut c = Chip::new(Params::default());
+        let tick = crate::probe::tick_exc();
+        c.nvic.prio[tick] = crate::tickmask::TICK_PRIO as u8;
+        (c.nvic.pending[tick], c.nvic.enabled[tick - 16]) = (true, true);
+        assert_eq!(c.deliverable(false, 0), Some(tick), "unheld: taken");
+        c.tick_held_until = c.now + 100;
+        assert_eq!(c.deliverable(false, 0), None, "held");
+        assert_eq!(c.deliverable(false, crate::tickmask::TICK_PRIO), None, "held, and its lock taken too");
+        assert_eq!(c.deliverable(true, 0), None, "PRIMASK");
+        c.now += 100;
+        assert_eq!(c.deliverable(false, 0), Some(tick), "the hold is over");
     }
 }

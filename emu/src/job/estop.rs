@@ -106,7 +106,7 @@ fn last_rise_after(m: &mut Machine, t0: u64) -> u64 {
 
 /// The blink code PC13 shows: sampled every ms for 6.5 s (two 3 s frames), the
 /// flashes between two pauses (the longest runs of one level).
-fn flashes(m: &mut Machine) -> u32 {
+pub(crate) fn flashes(m: &mut Machine) -> u32 {
     let mut runs: Vec<(bool, u32)> = Vec::new();
     for _ in 0..6500 {
         m.run(MS);

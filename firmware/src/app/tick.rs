@@ -117,7 +117,8 @@ pub fn start(config: Config, mut pins: OutputPins) {
             let clock = edgetime::start::clock(s, k0);
             io.core.start_edges(clock);
             io.gate = Gate::Waiting;
-            io.watch = Some(watch_from(clock.first_instant));
+            // the first tick (at that instant) has not run: the lock holds it
+            io.watch = Some(Watch::new(clock.first_instant, TICKS.load(Ordering::Relaxed)));
             EDGE_CLOCK.store(clock.first_instant as u32 | ((k0 & 3) as u32) << 16 | EDGES_ON, Ordering::Relaxed);
         }
         (low_low, s)
@@ -225,33 +226,35 @@ fn heard_of_halts(io: &mut Io) {
 }
 
 /// After lost ticks (a save's flash erase: `Controller::end_stall` drops the
-/// core's edge clock), the clock measured again and given back to the core,
-/// under the lock, so that its instants are the ticks it runs from here
-/// (`edgetime::start::next_instant`). Nothing if the start timed no edges.
+/// core's edge clock; or a tick that never ran: `check_ticks`), the clock
+/// measured again and given back to the core, under the lock, so that its
+/// instants are the ticks it runs from here (`edgetime::start::next_instant`),
+/// and the watch on the ticks started from it. If it cannot be measured the
+/// core's edge times go off, and the watch with them: a clock known to be
+/// off must not place the lathe. Nothing if the start timed no edges.
 pub fn restart_edges() {
     let on = EDGE_CLOCK.load(Ordering::Relaxed);
     if on & EDGES_ON == 0 {
         return;
     }
     let restarted = locked(|cs| {
-        let first = edgetime::start::next_instant(&mut Mmio)?;
+        let first = edgetime::start::next_instant(&mut Mmio);
+        let mut io = IO.borrow(cs).borrow_mut();
+        let io = io.as_mut()?;
+        let Some(first) = first else {
+            io.core.stop_edges();
+            io.watch = None;
+            return Some(false);
+        };
         let clock = edgetime::start::restarted(first, (on >> 16 & 3) as u16);
         EDGE_CLOCK.store(clock.first_instant as u32 | (on & !0xFFFF), Ordering::Relaxed);
-        IO.borrow(cs).borrow_mut().as_mut().map(|io| {
-            io.core.start_edges(clock);
-            io.watch = Some(watch_from(clock.first_instant));
-        })
+        io.core.start_edges(clock);
+        io.watch = Some(Watch::new(clock.first_instant, TICKS.load(Ordering::Relaxed)));
+        Some(true)
     });
-    if restarted.is_none() {
-        warn!("edge times off: the tick's instant could not be measured again after the save");
+    if restarted == Some(false) {
+        warn!("edge times off: the tick's instant could not be measured again after lost ticks (a save's, or a tick that never ran)");
     }
-}
-
-/// The watch on the instants from the next one's stamp, under the lock
-/// (the ticks run stand still): the µs clock's low 16 bits are TIM5_CNT
-/// (embassy-stm32 0.6 `time_driver::gp16::calc_now`), the stamps'.
-fn watch_from(first_instant: u16) -> Watch {
-    Watch::anchor(first_instant, embassy_time::Instant::now().as_ticks(), TICKS.load(Ordering::Relaxed))
 }
 
 /// A save is about to stall the CPU (its erase): the core is told
@@ -266,26 +269,26 @@ pub fn begin_stall() {
     });
 }
 
-/// Every ms from the service task: ticks whose interrupt never ran, from
-/// the µs clock (`edgetime::watch`). Any lost puts the edge times' instants
-/// a tick early for good: the clock is measured again (`restart_edges`),
-/// as after a save. Returns the ticks lost.
-pub fn check_ticks() -> u32 {
+/// Every ms from the service task: ticks whose interrupt never ran
+/// (`edgetime::watch`), from the next tick's instant as `next_instant`
+/// measures it and the ticks run, under the lock. Any lost puts the edge
+/// times' instants a tick early for good: the clock is measured again
+/// (`restart_edges`), as after a save.
+pub fn check_ticks() {
     let lost = locked(|cs| {
-        let io = IO.borrow(cs).borrow();
-        let w = io.as_ref().filter(|io| io.core.edge_timing())?.watch?;
-        // the µs, then UIF: an instant between the two counts as run
-        let now = embassy_time::Instant::now().as_ticks();
-        let pending = pac::TIM11.sr().read().uif();
-        Some(w.lost(now, TICKS.load(Ordering::Relaxed), pending))
+        let mut io = IO.borrow(cs).borrow_mut();
+        let io = io.as_mut().filter(|io| io.core.edge_timing())?;
+        let watch = io.watch.as_mut()?;
+        // (a measurement no try could make: looked at again next ms)
+        let next = edgetime::start::next_instant(&mut Mmio)?;
+        watch.look(next, TICKS.load(Ordering::Relaxed))
     });
     let lost = lost.unwrap_or(0);
     if lost > 0 {
-        let total = TICKS_LOST.fetch_add(lost, Ordering::Relaxed) + lost;
+        let total = TICKS_LOST.fetch_add(lost, Ordering::Relaxed).wrapping_add(lost);
         warn!("{} tick(s) never ran ({} since boot): the edge times' clock is measured again", lost, total);
         restart_edges();
     }
-    lost
 }
 
 /// The lathe's last timed edge, read as the tick reads it, with k0 mod 4

@@ -5,52 +5,52 @@
 //! already pending stays one pending interrupt, PM0214 §4.3's hardware and
 //! software control of interrupts) would leave every later instant a tick
 //! early: the lathe placed a tick's travel off (up to a count at speed),
-//! for good.
-//! The save's erase loses ticks knowingly and measures the clock again
-//! (`Controller::end_stall`, `app::tick::restart_edges`); this watch
-//! catches any other loss, from the µs clock (TIM5, embassy's time driver)
-//! and the ticks that ran.
+//! for good. The save's erase loses ticks knowingly and measures the clock
+//! again (`Controller::end_stall`, `app::tick::restart_edges`); this watch
+//! catches any other loss.
 //!
-//! Read under the tick's lock (it cannot run, so the count of ticks that
-//! ran stands still), µs first, then TIM11's UIF: an instant that comes
-//! between the two reads is counted as run (pending), never as lost. The
-//! watch counts only instants a whole µs behind the clock read, so an
-//! update within the µs the clock shows is not yet counted either.
+//! Each look, under the tick's lock (the ticks run stand still), takes the
+//! instant of the next tick the core will run as `start::next_instant`
+//! measures it (TIM5's and TIM11's counts, UIF: a pending update's instant
+//! is that one) and the ticks run. Between two looks every instant from
+//! the first look's to the second's should have had its tick: the ticks
+//! run in between tell how many did. Only the two measured instants and
+//! the tick count enter: no µs clock of embassy's, no margin for where in
+//! its µs an update falls, and the looks follow each other, so neither the
+//! 16-bit stamps nor the 32-bit count can wrap between them.
 
 use super::STAMPS_PER_TICK;
 
-/// Where the count of ticks stands against the µs clock: an instant and
-/// the tick count its tick leaves.
+/// The last look: the instant of the next tick then, and the ticks run.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct Watch {
-    /// the instant, on embassy's 64-bit µs clock
-    instant_us: u64,
-    /// `app::tick`'s tick count once that instant's tick has run
-    ticks_after: u32,
+    next: u16,
+    ticks: u32,
 }
 
 impl Watch {
-    /// From the edge clock's measurement: `first_instant` the stamp (the
-    /// µs clock's low 16 bits, `edgetime::start`) of the next tick's
-    /// instant, or of one whose tick is pending; `now_us` the µs clock
-    /// read with it, within half the stamp's wrap (32 ms); `ticks` the
-    /// ticks run so far (that instant's tick makes one more).
-    pub fn anchor(first_instant: u16, now_us: u64, ticks: u32) -> Watch {
-        // the instant's distance from now, signed: ahead, or just behind
-        let from_now = first_instant.wrapping_sub(now_us as u16) as i16 as i64;
-        Watch { instant_us: now_us.wrapping_add(from_now as u64), ticks_after: ticks.wrapping_add(1) }
+    /// A first look (or a look after the clock was measured again).
+    pub fn new(next: u16, ticks: u32) -> Watch {
+        Watch { next, ticks }
     }
 
-    /// Ticks lost by `now_us`: instants a whole µs behind it for which no
-    /// tick ran, with `ticks` the ticks run and `pending` TIM11's UIF (an
-    /// instant whose tick is still to run), read in that order under the
-    /// tick's lock. 0 while every instant has had its tick.
-    pub fn lost(&self, now_us: u64, ticks: u32, pending: bool) -> u32 {
-        let Some(since) = now_us.checked_sub(1).and_then(|t| t.checked_sub(self.instant_us)) else { return 0 };
-        // the anchor's instant and every one since, a tick apart
-        let instants = since / STAMPS_PER_TICK as u64 + 1;
-        let run = ticks.wrapping_sub(self.ticks_after).wrapping_add(1) as u64 + pending as u64;
-        instants.saturating_sub(run).min(u32::MAX as u64) as u32
+    /// Another look: the ticks lost since the last, which this look then
+    /// replaces. `None` when the two are half the stamps' wrap (32 ms) or
+    /// more apart, too far to tell the instants between (the service task
+    /// looks every ms): the next look judges from this one.
+    pub fn look(&mut self, next: u16, ticks: u32) -> Option<u32> {
+        // signed: the same instant may measure a stamp earlier the second
+        // time (an interrupt inside `next_instant`'s reads that no retry
+        // caught), so whole ticks are rounded
+        let span = next.wrapping_sub(self.next) as i16 as i32;
+        let ran = ticks.wrapping_sub(self.ticks);
+        *self = Watch { next, ticks };
+        let per = STAMPS_PER_TICK as i32;
+        if span < -per / 2 {
+            return None;
+        }
+        let instants = ((span + per / 2) / per) as u32;
+        Some(instants.saturating_sub(ran))
     }
 }
 

@@ -1,88 +1,87 @@
 use super::*;
 
 const T: u64 = STAMPS_PER_TICK as u64;
-/// The instant the watch is anchored on (its stamp the low 16 bits).
-const AT: u64 = 1_000_037;
 
-/// What the service reads at real time `r` µs (the clock shows its whole
-/// µs) when each instant's update comes 0.5 µs into its µs and its tick
-/// has run `latency` µs after the instant, the ticks of `dropped` never
-/// running (absorbed into the next one's pending interrupt): (ticks run,
-/// UIF pending). 500 ticks ran before `AT`.
-fn read(r: f64, latency: f64, dropped: &[u64]) -> (u32, bool) {
-    let (mut ran, mut pending) = (500u32, false);
-    for j in 0..=((r - AT as f64) / T as f64).max(0.0) as u64 + 1 {
-        let at = (AT + j * T) as f64;
-        if r >= at + latency {
-            ran += !dropped.contains(&j) as u32;
-        } else if r >= at + 0.5 {
-            pending = true;
-        }
-    }
-    (ran, pending)
+/// The board as a look finds it at real time `r` µs: instants every 40 µs
+/// from 0, each tick running `latency` µs after its instant, but the ticks
+/// of `dropped` never running: their update stays pending (UIF) until the
+/// next one's tick answers both. Returns what `next_instant` measures, `skew`
+/// µs off (the latest update's instant while one is pending, TIM11 counting
+/// from it; else the next), and the ticks run, from `base` at r = 0.
+fn board(r: f64, latency: f64, dropped: &[u64], skew: i64, base: u32) -> (u16, u32) {
+    let last = (r / T as f64) as u64;
+    let answered = |j: u64| {
+        let by = if dropped.contains(&j) { (j + 1) * T } else { j * T };
+        r >= by as f64 + latency
+    };
+    let ran = (0..=last).filter(|&j| !dropped.contains(&j) && answered(j)).count() as u32;
+    let pending = (0..=last).any(|j| !answered(j));
+    let next = if pending { last * T } else { (last + 1) * T };
+    ((next as i64 + skew) as u64 as u16, base.wrapping_add(ran))
 }
 
 #[test]
-fn on_time_nothing_is_lost_wherever_in_a_tick_the_service_reads() {
-    // anchored 7 µs before the instant, as the start measures it
-    let w = Watch::anchor(AT as u16, AT - 7, 500);
+fn on_time_nothing_is_lost_wherever_in_a_tick_it_looks() {
     for latency in [0.6, 3.0, 12.0, 39.0] {
-        for tenth in 0..(200 * T * 10) {
-            let r = AT as f64 - 3.0 + tenth as f64 / 10.0;
-            let (ran, pending) = read(r, latency, &[]);
-            assert_eq!(w.lost(r as u64, ran, pending), 0, "at {r} µs, latency {latency}");
+        let (n0, k0) = board(0.3, latency, &[], 0, 500);
+        let mut w = Watch::new(n0, k0);
+        // a look every 0.7 µs over 2 000 ticks (the stamps wrap past 65 536)
+        for tenth in (7..(2_000 * T * 10)).step_by(7) {
+            let r = tenth as f64 / 10.0;
+            let (n, k) = board(r, latency, &[], 0, 500);
+            assert_eq!(w.look(n, k), Some(0), "at {r} µs, latency {latency}");
         }
     }
 }
 
 #[test]
-fn a_tick_that_never_ran_is_counted_from_the_next_tick_on() {
-    let w = Watch::anchor(AT as u16, AT - 7, 500);
+fn a_dropped_tick_is_counted_once_at_the_next_look_after_it() {
     for latency in [0.6, 12.0, 39.0] {
-        for tenth in 0..(30 * T * 10) {
-            let r = AT as f64 + tenth as f64 / 10.0;
-            let (ran, pending) = read(r, latency, &[10]);
-            let lost = w.lost(r as u64, ran, pending);
-            assert!(lost <= 1, "at {r} µs, latency {latency}");
-            if r < (AT + 10 * T) as f64 + latency {
-                assert_eq!(lost, 0, "before tick 10 was due: {r} µs");
+        let mut w = Watch::new(board(0.0, latency, &[10], 0, 7).0, 7);
+        let mut counted = 0;
+        for ms_tenth in 1..(60 * T) {
+            let r = ms_tenth as f64 * 1.3;
+            let (n, k) = board(r, latency, &[10], 0, 7);
+            let lost = w.look(n, k).unwrap();
+            counted += lost;
+            // counted when the look finds tick 11's run (or pending) past it
+            if r >= (11 * T) as f64 + latency {
+                assert_eq!(counted, 1, "at {r} µs, latency {latency}");
             }
         }
-        // in the middle of every tick from the next one on: seen
-        for k in 11..30 {
-            let r = (AT + k * T) as f64 + 20.3;
-            let (ran, pending) = read(r, latency, &[10]);
-            assert_eq!(w.lost(r as u64, ran, pending), 1, "tick {k}, latency {latency}");
+        assert_eq!(counted, 1, "latency {latency}");
+    }
+}
+
+#[test]
+fn a_measurement_a_stamp_off_either_way_neither_makes_nor_hides_a_loss() {
+    let skews = [1i64, -1, 0, 1, 1, -1, 0, -1];
+    for turn in 0..skews.len() {
+        let skew = |k: u64| skews[(k as usize + turn) % skews.len()];
+        let (n0, k0) = board(5.0, 2.0, &[250], skew(0), 100);
+        let mut w = Watch::new(n0, k0);
+        let mut counted = 0;
+        for k in 1..500u64 {
+            let (n, ran) = board((k * T) as f64 + 5.0, 2.0, &[250], skew(k), 100);
+            counted += w.look(n, ran).unwrap();
+            assert_eq!(counted, (k > 250) as u32, "look {k}, turn {turn}");
         }
     }
 }
 
 #[test]
-fn the_anchor_takes_an_instant_behind_the_clock_when_its_tick_is_pending() {
-    // an instant 3 µs ago whose tick is pending: 41 ticks have run, that
-    // one makes 42
-    let now = (1u64 << 16) + 5_003;
-    let w = Watch::anchor(5_000, now, 41);
-    assert_eq!(w, Watch { instant_us: now - 3, ticks_after: 42 });
-    assert_eq!(w.lost(now, 41, true), 0);
-    assert_eq!(w.lost(now, 41, false), 1, "no tick and none pending: lost");
+fn the_tick_count_wraps_without_a_false_loss() {
+    // 2^32 ticks run: the counts between looks are what count
+    let mut w = Watch::new(1_000, u32::MAX - 2);
+    assert_eq!(w.look(1_000 + 10 * T as u16, 7), Some(0));
+    assert_eq!(w.look(1_000 + 20 * T as u16, 16), Some(1));
 }
 
 #[test]
-fn the_stamp_and_the_tick_count_wrap_without_a_false_loss() {
-    // an instant at stamp 0xFFF0 read 20 µs later, past the wrap; its tick
-    // takes the count from u32::MAX to 0
-    let now = (3u64 << 16) + 4;
-    let w = Watch::anchor(0xFFF0, now, u32::MAX);
-    assert_eq!(w.instant_us, (3u64 << 16) - 16);
-    assert_eq!(w.lost(now + 100 * T, 100, false), 0, "{w:?}");
-    assert_eq!(w.lost(now + 100 * T, 99, false), 1);
-}
-
-#[test]
-fn before_its_instant_nothing_is_lost() {
-    let w = Watch::anchor(AT as u16, AT - 7, 500);
-    assert_eq!(w.lost(AT - 1, 500, false), 0);
-    assert_eq!(w.lost(AT, 500, false), 0, "the instant's own µs: its update may be coming");
-    assert_eq!(w.lost(0, 0, false), 0);
+fn looks_half_the_wrap_apart_are_not_judged_and_the_next_judges_from_the_later() {
+    let mut w = Watch::new(0, 0);
+    // 33 ms on, a tick short: too far to tell
+    assert_eq!(w.look(825 * T as u16, 824), None);
+    assert_eq!(w.look(826 * T as u16, 825), Some(0));
+    assert_eq!(w.look(828 * T as u16, 826), Some(1));
 }

@@ -209,6 +209,13 @@ impl Controller {
         self.edges = Some(crate::edges::EdgeTimer::new(clock));
     }
 
+    /// Turns the edge times off: the board could not measure its clock
+    /// again after lost ticks, and a clock known to be off must not place
+    /// the lathe (the count alone does until `start_edges`).
+    pub fn stop_edges(&mut self) {
+        self.edges = None;
+    }
+
     /// Whether the lathe's edge times are in use (off until `start_edges`,
     /// and again after a save's stall lost ticks).
     pub fn edge_timing(&self) -> bool {
@@ -349,26 +356,28 @@ impl Controller {
     }
 
     fn step_state(&mut self, cutter: i64) {
-        let lim = self.d.limits;
+        // (the limits by reference: a copy is six words a tick)
         match self.state {
             State::Idle => self.follower = Follower { position: cutter, velocity: 0 },
             State::Engaging | State::Synced => {
-                if crate::q16::beyond(self.target_velocity, lim.max_velocity) && self.config.drive != DriveKind::None {
+                if crate::q16::beyond(self.target_velocity, self.d.limits.max_velocity)
+                    && self.config.drive != DriveKind::None
+                {
                     self.trip(Fault::Overspeed);
-                    return self.follower.ramp_down(&lim);
+                    return self.follower.ramp_down(&self.d.limits);
                 }
-                self.follower.track(self.target, self.target_velocity, &lim);
+                self.follower.track(self.target, self.target_velocity, &self.d.limits);
                 self.check_sync(cutter);
             }
             State::Disengaging => {
-                self.follower.ramp_down(&lim);
+                self.follower.ramp_down(&self.d.limits);
                 if self.follower.velocity == 0 {
                     self.state = State::Idle;
                 }
             }
             State::Jogging => self.step_jog(cutter),
             State::Fault(f) if f.immediate() => self.follower = Follower { position: cutter, velocity: 0 },
-            State::Fault(_) => self.follower.ramp_down(&lim),
+            State::Fault(_) => self.follower.ramp_down(&self.d.limits),
         }
     }
 

@@ -17,6 +17,8 @@ fn edge_times_are_off_until_the_board_starts_them() {
     assert!(!c.edge_timing());
     c.start_edges(CLOCK);
     assert!(c.edge_timing());
+    c.stop_edges();
+    assert!(!c.edge_timing(), "a clock that could not be measured again");
 }
 
 /// A save's erase stalls the CPU and ticks are lost: the instants the
