@@ -29,6 +29,13 @@ const COUNT_ACCEL_MIN_STAMPS: i32 = super::track::LATE_ACCEL;
 /// often enough to take over within a few ticks.
 const CHANGE_MIN_TICKS: i32 = 10;
 
+/// The registers as one word, to compare in one go (an `Option` of the
+/// pair costs the tick twice the instructions), and no pair's word.
+fn packed(r: &EdgeRegs) -> u64 {
+    (r.count as u64) << 16 | r.stamp as u64
+}
+const NONE_YET: u64 = u64::MAX;
+
 #[derive(Clone, Copy, Debug)]
 pub struct EdgeTimer {
     clock: EdgeClock,
@@ -37,7 +44,8 @@ pub struct EdgeTimer {
     instant_q8: u32,
     /// A's rises, timed to the µs by the board
     rises: Track,
-    last_regs: Option<EdgeRegs>,
+    /// the registers last followed, packed (`packed`; `NONE_YET` before)
+    last_regs: u64,
     /// the count's changes, timed to the tick: what a lathe starting from
     /// rest gives before A has risen three times
     changes: Track,
@@ -57,7 +65,7 @@ impl EdgeTimer {
             clock,
             instant_q8: before_first & WRAP_Q8,
             rises: Track::default(),
-            last_regs: None,
+            last_regs: NONE_YET,
             changes: Track::default(),
             last_count: 0,
             changes_idle: false,
@@ -106,10 +114,10 @@ impl EdgeTimer {
     /// A new rise: its place, and its time (the middle of its stamp: a
     /// stamp s holds the edges of [s, s + 1) µs).
     fn follow_rises(&mut self, regs: Option<EdgeRegs>, lathe: &Extender) {
-        let Some(r) = regs.filter(|r| self.last_regs != Some(*r)) else {
+        let Some(r) = regs.filter(|r| packed(r) != self.last_regs) else {
             return self.rises.age();
         };
-        self.last_regs = Some(r);
+        self.last_regs = packed(&r);
         // the parity is the raw count's; positions start at 0 (raw ≡ pos + raw₀)
         let pos = lathe.position_of(r.count);
         let start_odd = (r.count as i64 - pos) & 1 == 1;
