@@ -286,3 +286,14 @@ fn rises_too_far_apart_give_no_speed_and_no_overflow() {
     lathe.update(30_001);
     assert_eq!(timer.measure(Some(EdgeRegs { count: 30_001, stamp: 70 }), &lathe), None);
 }
+
+/// A slow lathe's next rise can come a whole wrap of the stamps later, at
+/// the same stamp with another count: still a new pair.
+#[test]
+fn each_pair_of_registers_packs_to_its_own_word() {
+    let a = EdgeRegs { count: 5, stamp: 700 };
+    assert_ne!(packed(&a), packed(&EdgeRegs { count: 9, stamp: 700 }), "the count alone differs");
+    assert_ne!(packed(&a), packed(&EdgeRegs { count: 5, stamp: 701 }), "the stamp alone differs");
+    assert_ne!(packed(&EdgeRegs { count: 0xFFFF, stamp: 0xFFFF }), NONE_YET);
+    assert_eq!(packed(&a), packed(&EdgeRegs { count: 5, stamp: 700 }));
+}
