@@ -4,9 +4,9 @@
 //! tick_held_until`), so TIM11's updates meet one pending interrupt and
 //! ticks are lost. The image must count exactly the ticks the emulator saw
 //! lost, here and in every other job (no false alarm), and measure its edge
-//! clock again. A lost tick also loses its step window (the tick writes
-//! each one two ticks ahead), so the step output's books no longer fit the
-//! pulses counted: the cutter stops with `fault=step-output`, LED code 7.
+//! clock again. After the late tick the pulses counted no longer fit the
+//! step windows the books hold (observed: which window went wrong is not
+//! looked at), and the cutter stops with `fault=step-output`, LED code 7.
 
 use super::MS;
 use crate::machine::Machine;

@@ -69,13 +69,24 @@ static STEPS_LATE: AtomicU32 = AtomicU32::new(0);
 static NDTR_LEAD: AtomicU32 = AtomicU32::new(0);
 /// Ticks whose interrupt never ran (`check_ticks`), since boot.
 static TICKS_LOST: AtomicU32 = AtomicU32::new(0);
+/// When the watch last looked (embassy's ms, read outside the lock: its
+/// clock is right there): looks further apart than `WATCH_GAP_MS` are not
+/// judged, the clock is measured again (`check_ticks`).
+static LAST_LOOK_MS: AtomicU32 = AtomicU32::new(0);
+/// Looks this far apart may alias the stamps (a look judges within 32 ms,
+/// `edgetime::watch`): the service task looks every ms, so only a hold of
+/// the whole MCU (a debugger's halt, a runaway section at the tick's
+/// level) makes such a gap, and it can hide lost ticks.
+const WATCH_GAP_MS: u32 = 20;
 
 pub const TIMING: Timing = polyturn_firmware::clocks::TIMING;
 
 /// The edge clock the start measured, for the log and the emulator's
 /// replay: `first_instant`, then k0 mod 4 (the count in state (A, B) =
 /// (0, 0), `edgetime::start::low_low`) at bit 16, and bit 18 set if the
-/// core times edges. 0 until the start.
+/// start timed edges (a clock that could not be measured again since has
+/// turned the core's off: `Controller::edge_timing`; a save tries again).
+/// 0 until the start.
 static EDGE_CLOCK: AtomicU32 = AtomicU32::new(0);
 const EDGES_ON: u32 = 1 << 18;
 
@@ -117,8 +128,6 @@ pub fn start(config: Config, mut pins: OutputPins) {
             let clock = edgetime::start::clock(s, k0);
             io.core.start_edges(clock);
             io.gate = Gate::Waiting;
-            // the first tick (at that instant) has not run: the lock holds it
-            io.watch = Some(Watch::new(clock.first_instant, TICKS.load(Ordering::Relaxed)));
             EDGE_CLOCK.store(clock.first_instant as u32 | ((k0 & 3) as u32) << 16 | EDGES_ON, Ordering::Relaxed);
         }
         (low_low, s)
@@ -229,7 +238,7 @@ fn heard_of_halts(io: &mut Io) {
 /// core's edge clock; or a tick that never ran: `check_ticks`), the clock
 /// measured again and given back to the core, under the lock, so that its
 /// instants are the ticks it runs from here (`edgetime::start::next_instant`),
-/// and the watch on the ticks started from it. If it cannot be measured the
+/// and the watch on the ticks started again from the next look. If it cannot be measured the
 /// core's edge times go off, and the watch with them: a clock known to be
 /// off must not place the lathe. Nothing if the start timed no edges.
 pub fn restart_edges() {
@@ -249,7 +258,8 @@ pub fn restart_edges() {
         let clock = edgetime::start::restarted(first, (on >> 16 & 3) as u16);
         EDGE_CLOCK.store(clock.first_instant as u32 | (on & !0xFFFF), Ordering::Relaxed);
         io.core.start_edges(clock);
-        io.watch = Some(Watch::new(clock.first_instant, TICKS.load(Ordering::Relaxed)));
+        // (the service task's next look starts the watch again)
+        io.watch = None;
         Some(true)
     });
     if restarted == Some(false) {
@@ -275,19 +285,34 @@ pub fn begin_stall() {
 /// times' instants a tick early for good: the clock is measured again
 /// (`restart_edges`), as after a save.
 pub fn check_ticks() {
+    let now_ms = embassy_time::Instant::now().as_millis() as u32;
+    let gap = now_ms.wrapping_sub(LAST_LOOK_MS.swap(now_ms, Ordering::Relaxed));
     let lost = locked(|cs| {
         let mut io = IO.borrow(cs).borrow_mut();
         let io = io.as_mut().filter(|io| io.core.edge_timing())?;
-        let watch = io.watch.as_mut()?;
         // (a measurement no try could make: looked at again next ms)
         let next = edgetime::start::next_instant(&mut Mmio)?;
-        watch.look(next, TICKS.load(Ordering::Relaxed))
+        let ticks = TICKS.load(Ordering::Relaxed);
+        let Some(watch) = io.watch.as_mut() else {
+            // the first look since the clock was measured: judged from here
+            io.watch = Some(Watch::new(next, ticks));
+            return None;
+        };
+        // a look too far from the last cannot tell: `None`, as the watch
+        // says itself of looks 32 ms apart
+        Some(watch.look(next, ticks).filter(|_| gap <= WATCH_GAP_MS))
     });
-    let lost = lost.unwrap_or(0);
-    if lost > 0 {
-        let total = TICKS_LOST.fetch_add(lost, Ordering::Relaxed).wrapping_add(lost);
-        warn!("{} tick(s) never ran ({} since boot): the edge times' clock is measured again", lost, total);
-        restart_edges();
+    match lost {
+        Some(Some(0)) | None => {}
+        Some(Some(n)) => {
+            let total = TICKS_LOST.fetch_add(n, Ordering::Relaxed).wrapping_add(n);
+            warn!("{} tick(s) never ran ({} since boot): the edge times' clock is measured again", n, total);
+            restart_edges();
+        }
+        Some(None) => {
+            warn!("the watch on lost ticks did not look for {} ms: the edge times' clock is measured again", gap);
+            restart_edges();
+        }
     }
 }
 
