@@ -268,6 +268,14 @@ impl Machine {
         self.uc.reg_read(RegisterARM::PC).unwrap_or(0) as u32
     }
 
+    /// A `u32` static of the image, by a part of its mangled name (e.g.
+    /// `4tick10TICKS_LOST17h`); `None` if the image has no such symbol.
+    pub fn static_u32(&self, name: &str) -> Option<u32> {
+        let addr = self.image.symbols.iter().find(|(n, _)| n.contains(name)).map(|(_, &a)| a)?;
+        let mut word = [0u8; 4];
+        self.uc.mem_read(addr as u64, &mut word).ok().map(|_| u32::from_le_bytes(word))
+    }
+
     /// Run `cycles` more CPU cycles (or until a fault).
     pub fn run(&mut self, cycles: u64) {
         let end = self.chip().now + cycles;

@@ -43,13 +43,6 @@ impl Held {
     }
 }
 
-/// A `u32` static of the image's `app::tick` by its mangled name's middle.
-fn tick_static(m: &Machine, name: &str) -> Option<u32> {
-    let addr = m.image.symbols.iter().find(|(n, _)| n.contains(name)).map(|(_, &a)| a)?;
-    let mut word = [0u8; 4];
-    m.uc.mem_read(addr as u64, &mut word).ok().map(|_| u32::from_le_bytes(word))
-}
-
 pub fn hold(m: &mut Machine, at_s: f64, hold_us: u64) -> Held {
     m.run((at_s * 1000.0) as u64 * MS);
     let clock_before = crate::edges::clock(m).map(|c| c.0.first_instant);
@@ -60,12 +53,12 @@ pub fn hold(m: &mut Machine, at_s: f64, hold_us: u64) -> Held {
     let updates = m.chip().mcu.tim11_updates() - before;
     // a few ms for the service task's watch (every ms) to see it
     m.run(10 * MS);
-    let steps_late = tick_static(m, "4tick10STEPS_LATE17h");
+    let steps_late = m.static_u32("4tick10STEPS_LATE17h");
     Held { hold_us, updates, clock_before, clock_after: None, steps_late, led_code: 0 }
 }
 
 pub fn counted(m: &mut Machine) -> Counted {
-    let image = tick_static(m, "4tick10TICKS_LOST17h");
+    let image = m.static_u32("4tick10TICKS_LOST17h");
     let c = m.chip();
     let tick = crate::probe::tick_exc();
     let entries = c.entries.get(&tick).copied().unwrap_or(0);

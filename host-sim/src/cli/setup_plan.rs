@@ -160,10 +160,16 @@ pub fn changes(f: &Facts) -> Vec<(String, String)> {
     c
 }
 
+/// Whether the lost-step alarm watches the cutter: a shaft encoder on a
+/// stepper (or a step/dir servo).
+fn lost_step_alarm(c: &polyturn_sync::Config) -> bool {
+    c.cutter_encoder_cpr != 0 && c.drive == polyturn_sync::DriveKind::Stepper
+}
+
 /// What a start rate does, and what it risks (docs/src/bench.md,
 /// "Finding the start rate").
 fn start_rate_line(c: &polyturn_sync::Config) -> String {
-    let caught = if c.cutter_encoder_cpr != 0 && c.drive == polyturn_sync::DriveKind::Stepper {
+    let caught = if lost_step_alarm(c) {
         "the lost-step alarm stops it"
     } else {
         "silently, with no shaft encoder: check it on the bench"
@@ -190,7 +196,7 @@ pub fn summary(c: &polyturn_sync::Config, sent: &[(String, String)]) -> String {
         let r = if den == 1 { format!("{num}") } else { format!("{num}/{den}") };
         out.push(format!("  ratio {r:>4}: {:>5} rpm  {what}", figures::fastest_lathe_rpm(c, num, den)));
     }
-    if c.cutter_encoder_cpr != 0 && c.drive == polyturn_sync::DriveKind::Stepper {
+    if lost_step_alarm(c) {
         out.push(format!(
             "lost-step alarm: the shaft encoder's {} counts per cutter turn against the steps sent; it stops the cutter beyond {} steps (lost-steps)",
             c.cutter_encoder_cpr, c.lost_step_limit_steps
