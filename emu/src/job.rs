@@ -3,6 +3,7 @@
 //! STOP pressed on their pins, and STEP/DIR judged at the pins by the driver model
 //! the step-output tests use (`polyturn_host::hwsim::driver`).
 
+pub mod bldc;
 pub mod edgecheck;
 pub mod estop;
 pub mod host;
@@ -24,7 +25,7 @@ use std::rc::Rc;
 use std::time::Instant;
 
 pub const MS: u64 = 96_000;
-const SYSCLK: u64 = 96_000_000;
+pub(crate) const SYSCLK: u64 = 96_000_000;
 /// Key pins (board.rs): ENGAGE PB12, STOP PB10; E-stop PB14.
 pub const ENGAGE: u8 = 12;
 const STOP: u8 = 10;

@@ -92,6 +92,9 @@ fn main() {
     }
     if !only_usb {
         total += jobs::run_all(&image, &mut r, job.unwrap_or("")).unwrap_or_else(exit);
+        if job.is_none_or(|j| "h bldc".starts_with(j)) {
+            total += job::bldc::run(&image, &mut r).unwrap_or_else(exit);
+        }
     }
     println!(
         "emulated {total} instructions ({:.1} ms of MCU time) in {:.1} s wall; {} check(s) failed",

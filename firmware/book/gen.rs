@@ -175,7 +175,7 @@ const PARTS: &[(&str, &str)] = &[
     ("ESTOP", "E-stop switch"),
     ("CUTTER_A", "cutter encoder (BLDC, or a stepper's lost-step alarm)"),
     ("CUTTER_B", "cutter encoder (BLDC, or a stepper's lost-step alarm)"),
-    ("BLDC_", "ESC (BLDC option)"),
+    ("BLDC_", "BLDC drive: RC ESC or spindle driver (BLDC option)"),
     ("X_", "X axis driver (noncircular mode)"),
     ("USB_", "USB cable to the PC"),
     ("STATUS_LED", "on the board"),

@@ -114,7 +114,23 @@ pub const PINS: &[Pin] = &[
     pin("DRIVE_ALARM", "PB15", "EXTI15, pull-up, alarm pulls to GND", true, Mode::Input, Pull::Up),
     pin("CUTTER_A", "PB6", "TIM4_CH1, encoder mode (BLDC mode, or the lost-step alarm)", true, AF2, Pull::None),
     pin("CUTTER_B", "PB7", "TIM4_CH2, encoder mode (BLDC mode, or the lost-step alarm)", true, AF2, Pull::None),
-    pin("BLDC_PWM", "PB8", "TIM10_CH1, ESC pulse 1-2 ms at 50 Hz (BLDC mode)", true, AF3, Pull::None),
+    pin(
+        "BLDC_PWM",
+        "PB8",
+        "TIM10_CH1: the BLDC drive's command (bldc-out: an RC ESC pulse at 50 or 400 Hz, OneShot125, or a 1-20 kHz PWM)",
+        true,
+        AF3,
+        Pull::None,
+    ),
+    // an output: taken as 3.3 V only, like the self-test's pins
+    pin(
+        "BLDC_DIR",
+        "PB1",
+        "push-pull output, low at reset: the cutter's sense for a driver's DIR input (low = dir same)",
+        false,
+        Mode::Output,
+        Pull::None,
+    ),
     pin("X_STEP", "PB4", "push-pull output, one tick-long pulse (X axis cam)", true, Mode::Output, Pull::None),
     pin("X_DIR", "PB5", "push-pull output (X axis cam)", true, Mode::Output, Pull::None),
     pin("USB_DM", "PA11", "USB OTG FS", true, AF10, Pull::None),
@@ -170,7 +186,7 @@ pub const TIMERS: &[(&str, &str)] = &[
         "embassy time driver (1 MHz, CC1 and CC2); CC3 timestamps the lathe's A rises: TRC from TIM3's TRGO via ITR1 (edgetime)",
     ),
     ("TIM9", "the bench self-test's quadrature generator (CH1 PA2, CH2 PA3)"),
-    ("TIM10", "ESC PWM (BLDC mode)"),
+    ("TIM10", "the BLDC drive's command on CH1: PWM mode 1, frame and pulse range by bldc-out (bldcout)"),
     ("TIM11", "control tick, 25 kHz update interrupt below only the E-stop"),
 ];
 

@@ -4,11 +4,11 @@
 //! the `app` module touch registers (and only on the MCU).
 #![cfg_attr(not(test), no_std)]
 
+pub mod bldcout;
 pub mod board;
 pub mod clocks;
 pub mod dfu;
 pub mod edgetime;
-pub mod esc;
 pub mod flashprog;
 pub mod iwdg;
 pub mod keys;

@@ -108,6 +108,8 @@ pub struct SimResult {
     pub steps_emitted: u64,
     pub encoder_counts: i64,
     pub synced_ticks: u64,
+    /// when the core first said synced (s from the run's start)
+    pub first_synced_s: Option<f64>,
     /// (time s, min error, max error) in steps, decimated, for the plot
     pub error_trace: Vec<(f64, f64, f64)>,
     pub stalled: bool,

@@ -26,6 +26,8 @@ const UNITS: &[(&str, &str)] = &[
     ("cutter-cpr", "counts/rev"),
     ("lost-steps", "steps"),
     ("start-rate", "steps/s"),
+    ("pwm-hz", "Hz"),
+    ("bldc-tau", "ms"),
 ];
 
 /// What the page needs to draw each setting's field, asked of the console
@@ -122,6 +124,7 @@ mod tests {
         assert_eq!(by("dir")["choices"], json!(["same", "opposite"]));
         assert_eq!(by("drive")["choices"], json!(["stepper", "bldc", "none"]));
         assert_eq!(by("enable")["choices"], json!(["high", "low"]));
+        assert_eq!(by("bldc-out")["choices"], json!(["esc50", "esc400", "oneshot125", "pwm"]));
         assert_eq!((by("cpr")["min"].clone(), by("cpr")["max"].clone()), (json!(4), json!(1_000_000)));
         assert_eq!((by("phase")["min"].clone(), by("phase")["unit"].clone()), (json!(-360), json!("° of the cutter")));
         assert_eq!(by("ratio")["choices"], json!([]), "free text: 5/2, 11:3, 2.5");

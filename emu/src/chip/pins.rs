@@ -24,16 +24,28 @@ impl Chip {
             if self.gpio[0].field(MODER, 8) == ALTERNATE { Some(self.mcu.pa8()) } else { self.gpio[0].pin_out(8) };
         let t10 = &self.gp[3];
         let rate = self.rcc.apb2().1 / (t10.get(off::PSC) as u64 + 1);
+        let frame_us = (t10.get(off::ARR) as u64 + 1) * 1_000_000 / rate.max(1);
         Outputs {
             tim1_cen: self.mcu.read(TIM1_CR1) & 1 == 1,
             oc1m: self.mcu.read(TIM1_CCMR1) >> 4 & 7,
             step,
             esc_ccr1: t10.get(off::CCR1),
-            esc_stop: (polyturn_firmware::esc::STOP_US as u64 * rate / 1_000_000) as u32,
+            esc_stop: (stop_us(frame_us) * rate / 1_000_000) as u32,
             enable: self.gpio[1].pin_out(13),
             enable_inactive: !polyturn_sync::Config::default().enable_active_high,
             x_step: self.gpio[1].pin_out(4),
         }
+    }
+}
+
+/// The BLDC drive's stop for TIM10's frame (`bldc-out`): the RC ESCs'
+/// 1 000 µs stop pulse in a 20 or 2.5 ms frame, OneShot125's 125 µs in a
+/// 500 µs frame; a PWM's stop is no pulse at all.
+fn stop_us(frame_us: u64) -> u64 {
+    match frame_us {
+        20_000 | 2_500 => 1_000,
+        500 => 125,
+        _ => 0,
     }
 }
 

@@ -5,7 +5,7 @@
 
 use embassy_stm32::gpio::{Level, Output, OutputType, Speed};
 use embassy_stm32::pac;
-use embassy_stm32::pac::timer::vals::{FilterValue, Ocm};
+use embassy_stm32::pac::timer::vals::FilterValue;
 use embassy_stm32::peripherals as P;
 use embassy_stm32::timer::qei::{Qei, QeiMode};
 use embassy_stm32::timer::simple_pwm::PwmPin;
@@ -61,11 +61,11 @@ pub struct OutputPins {
 /// The ENABLE polarity, for the panic handler (which has no other state).
 static ENABLE_ACTIVE_HIGH: core::sync::atomic::AtomicBool = core::sync::atomic::AtomicBool::new(false);
 
-/// Everything off, from any context: no more steps, the ESC's stop pulse,
+/// Everything off, from any context: no more steps, the BLDC drive's stop,
 /// ENABLE inactive.
 pub fn all_outputs_off() {
     halt_steps();
-    set_esc_pulse_us(polyturn_firmware::esc::STOP_US);
+    super::bldc::stop();
     pac::GPIOB.bsrr().write(|w| w.set_br(X_STEP_PIN, true));
     let pins = OutputPins { enable_active_high: ENABLE_ACTIVE_HIGH.load(core::sync::atomic::Ordering::Relaxed) };
     pins.set_enable(false);
@@ -220,32 +220,4 @@ pub fn step_output(
 /// TIM2's count of STEP pulses, for the core's check.
 pub fn steps_counted() -> u16 {
     pac::TIM2.cnt().read() as u16
-}
-
-/// TIM10 CH1 (PB8): ESC servo pulses at 50 Hz, 1 µs resolution.
-pub fn esc_pwm(tim: Peri<'static, P::TIM10>, pin: Peri<'static, P::PB8>) {
-    core::mem::forget(embassy_stm32::timer::low_level::Timer::new(tim));
-    // PB8 also maps to TIM4 (the cutter encoder), so select AF3 (TIM10) by hand.
-    let _ = pin;
-    pac::GPIOB.moder().modify(|w| w.set_moder(8, pac::gpio::vals::Moder::ALTERNATE));
-    pac::GPIOB.afr(1).modify(|w| w.set_afr(0, 3));
-    let t = pac::TIM10;
-    t.psc().write_value((TIMER_HZ / 1_000_000 - 1) as u16);
-    t.arr().write(|w| w.set_arr(19_999));
-    t.ccr(0).write(|w| w.set_ccr(1_000));
-    // no CCR preload: a new pulse width (the stop pulse above all) takes
-    // effect in the pulse under way, not at the next 20 ms period
-    t.ccmr_output(0).modify(|w| {
-        w.set_ocm(0, Ocm::PWM_MODE1);
-        w.set_ocpe(0, false);
-    });
-    t.ccer().modify(|w| w.set_cce(0, true));
-    t.cr1().modify(|w| {
-        w.set_arpe(true);
-        w.set_cen(true);
-    });
-}
-
-pub fn set_esc_pulse_us(us: u16) {
-    pac::TIM10.ccr(0).write(|w| w.set_ccr(us));
 }

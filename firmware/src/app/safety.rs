@@ -90,8 +90,8 @@ fn EXTI15_10() {
 }
 
 /// The E-stop's stop: no STEP rises after it (a high pulse ends at full
-/// width), the ESC at its stop pulse. ENABLE drops at the tick's latch.
+/// width), the BLDC drive at its stop. ENABLE drops at the tick's latch.
 pub fn stop_outputs() {
     super::drivers::halt_steps();
-    super::drivers::set_esc_pulse_us(polyturn_firmware::esc::STOP_US);
+    super::bldc::stop();
 }

@@ -5,7 +5,7 @@
 //! critical section (`cs.rs`, one level lower, which the tick outranks).
 
 use super::drivers::{self, Mmio, OutputPins, TIMER_HZ};
-use super::safety;
+use super::{bldc, safety};
 use core::cell::RefCell;
 use core::sync::atomic::{compiler_fence, AtomicU32, Ordering};
 use cortex_m::interrupt::{CriticalSection, Mutex};
@@ -13,10 +13,11 @@ use defmt::{info, warn};
 use embassy_stm32::interrupt;
 use embassy_stm32::interrupt::InterruptExt;
 use embassy_stm32::pac;
+use polyturn_firmware::bldcout::Out;
+use polyturn_firmware::board;
 use polyturn_firmware::edgetime::{self, read::Gate, watch::Watch};
 use polyturn_firmware::stepgen::Generator;
 use polyturn_firmware::xsteps::XSteps;
-use polyturn_firmware::{board, esc};
 use polyturn_sync::{Config, Controller, DriveKind, TickInput, Timing};
 
 struct Io {
@@ -31,6 +32,8 @@ struct Io {
     /// the edge clock's instants against the ticks run (`check_ticks`);
     /// none while the edge times are off, and through a save's stall
     watch: Option<Watch>,
+    /// the BLDC drive's interface, as TIM10 is set up
+    bldc: Out,
 }
 
 /// cortex-m's Mutex: its token comes only from `locked` here, so a
@@ -108,7 +111,20 @@ pub fn start(config: Config, mut pins: OutputPins) {
     cp.DCB.enable_trace();
     cp.DWT.enable_cycle_counter();
     tick_timer();
-    let io = Io { core, steps, pins, x: XSteps::default(), halts_seen: safety::halts(), gate: Gate::Off, watch: None };
+    // the saved BLDC interface, at its stop, before the first tick
+    let drive = bldc::out_for(&core);
+    bldc::set_up(&drive);
+    bldc::set_sense(core.config());
+    let io = Io {
+        core,
+        steps,
+        pins,
+        x: XSteps::default(),
+        halts_seen: safety::halts(),
+        gate: Gate::Off,
+        watch: None,
+        bldc: drive,
+    };
     // Under the lock nothing but the E-stop runs: not the tick (its
     // interrupt is enabled in here, and waits for the lock's end), nor
     // anything that could come between TIM5's step and TIM11's start.
@@ -207,11 +223,10 @@ fn run(cs: &CriticalSection) {
         STEPS_LATE.fetch_add(1, Ordering::Relaxed);
     }
     NDTR_LEAD.store(io.steps.ndtr_lead(), Ordering::Relaxed);
-    // every tick, whatever the drive: a fault or halt stops the ESC too
-    let bldc = io.core.config().drive == DriveKind::Bldc;
-    let max = io.core.derived().limits.max_velocity;
+    // every tick, whatever the drive: a fault or halt stops the BLDC too
+    let run = io.core.config().drive == DriveKind::Bldc && out.enable && !out.halt;
     let forward = io.core.config().sense == polyturn_sync::Sense::Same;
-    drivers::set_esc_pulse_us(esc::command(bldc, out.enable, out.halt, out.speed_q16, max, forward));
+    bldc::set_ccr(io.bldc.command(run, out.speed_q16, forward));
     io.pins.set_enable(out.enable);
     drivers::set_x_pins(io.x.tick(&out.x_plan, out.halt));
     // the E-stop pre-empts the tick: if it ran during this one, a write
@@ -345,12 +360,19 @@ pub fn fit_cam(h: &polyturn_sync::cam_upload::CamHeader, table: &'static [i32]) 
 }
 
 /// Applies the settings the drivers hold themselves (ENABLE polarity, the
-/// pulse width a halt waits out) after a console change, at low priority.
+/// pulse width a halt waits out, the BLDC drive's interface and sense)
+/// after a console change, at low priority.
 pub fn apply_driver_settings() {
     locked(|cs| {
         if let Some(io) = IO.borrow(cs).borrow_mut().as_mut() {
             io.pins.set_polarity(io.core.config().enable_active_high);
             drivers::set_halt_pulse(io.core.derived().steps.pulse);
+            let out = bldc::out_for(&io.core);
+            if out != io.bldc {
+                io.bldc = out;
+                bldc::set_up(&out);
+            }
+            bldc::set_sense(io.core.config());
         }
     });
 }

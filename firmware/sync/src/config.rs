@@ -5,6 +5,9 @@
 use crate::console::number::unsigned;
 use crate::ratio::{Ratio, RatioError};
 
+pub mod bldc;
+pub use bldc::BldcOut;
+
 /// Relative sense of rotation (see the geometry model for the convention:
 /// "same" = both spindles turn the same way seen from the same end).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -60,6 +63,13 @@ pub struct Config {
     /// rate with the cutter's inertia), steps/s; 0: every change at
     /// `max-accel` (a stop ramps at `max-accel` whatever it is)
     pub start_rate_hz: u32,
+    /// what the BLDC drive is fed (`drive bldc`)
+    pub bldc_out: BldcOut,
+    /// the PWM's frequency with `bldc-out pwm`
+    pub pwm_hz: u32,
+    /// the BLDC drive's time constant: its speed loop's, or an RC ESC's
+    /// motor's (time to 63 % of a step in command, unloaded)
+    pub bldc_tau_ms: u32,
 }
 
 /// A refused value: the field and the allowed range, for one error line.
@@ -96,6 +106,12 @@ impl Default for Config {
             // (the bench procedure): a start faster than the motor can pull
             // in loses steps
             start_rate_hz: 0,
+            // what the firmware sent before there was a choice
+            bldc_out: BldcOut::Esc50,
+            pwm_hz: 1_000,
+            // a slow guess: a loop tuned for a slower drive than the real
+            // one is stable, only slower to correct
+            bldc_tau_ms: 20,
         }
     }
 }
@@ -147,7 +163,9 @@ impl Config {
             within(self.cutter_encoder_cpr, 4, 1_000_000, range("cutter-cpr", CUTTER_CPR))?;
         }
         within(self.lost_step_limit_steps, 1, 1_000_000, range("lost-steps", LOST_STEPS))?;
-        within(self.start_rate_hz, 0, 250_000, range("start-rate", START_RATE))
+        within(self.start_rate_hz, 0, 250_000, range("start-rate", START_RATE))?;
+        bldc::check_pwm_hz(self.pwm_hz)?;
+        bldc::check_tau(self.bldc_tau_ms)
     }
 
     /// The limits that join several settings. The error names one of them
@@ -164,6 +182,14 @@ impl Config {
         }
         if self.start_rate_hz > self.max_step_rate_hz {
             return Err(range("start-rate", "does not fit with the others: start-rate must not exceed max-rate"));
+        }
+        // A BLDC drive corrected less than once per cutter revolution
+        // cannot hold its phase (issue 30): at 3 000 rpm a 50 Hz ESC gets
+        // one command per cutter turn.
+        let frame_hz = self.bldc_out.frame_hz(self.pwm_hz) as u64;
+        let cutter_rev_per_min = self.max_lathe_rpm as u64 * self.ratio.num() as u64;
+        if self.drive == DriveKind::Bldc && cutter_rev_per_min > 60 * self.ratio.den() as u64 * frame_hz {
+            return Err(range("bldc-out", bldc::RATE));
         }
         Ok(())
     }
@@ -196,7 +222,10 @@ impl Config {
             "cutter-cpr" => c.cutter_encoder_cpr = parse_cutter_cpr(value)?,
             "lost-steps" => c.lost_step_limit_steps = num("lost-steps", LOST_STEPS)?,
             "start-rate" => c.start_rate_hz = num("start-rate", START_RATE)?,
-            _ => return Err(range("name", "one of: cpr steps ratio dir edges max-rate max-accel ferror phase drive dir-setup pulse enable max-rpm cutter-cpr lost-steps start-rate")),
+            "bldc-out" => c.bldc_out = BldcOut::parse(value)?,
+            "pwm-hz" => c.pwm_hz = num("pwm-hz", bldc::PWM_HZ)?,
+            "bldc-tau" => c.bldc_tau_ms = num("bldc-tau", bldc::TAU)?,
+            _ => return Err(range("name", "one of: cpr steps ratio dir edges max-rate max-accel ferror phase drive dir-setup pulse enable max-rpm cutter-cpr lost-steps start-rate bldc-out pwm-hz bldc-tau")),
         }
         c.validate_fields()?;
         // Valid alone but not with the others: name the setting being set,
@@ -211,7 +240,7 @@ impl Config {
 }
 
 /// The settable names, in `get` order.
-pub const NAMES: [&str; 17] = [
+pub const NAMES: [&str; 20] = [
     "cpr",
     "steps",
     "ratio",
@@ -229,6 +258,9 @@ pub const NAMES: [&str; 17] = [
     "cutter-cpr",
     "lost-steps",
     "start-rate",
+    "bldc-out",
+    "pwm-hz",
+    "bldc-tau",
 ];
 
 fn ratio_error(e: RatioError) -> ConfigError {

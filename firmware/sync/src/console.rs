@@ -35,7 +35,7 @@ pub enum Action {
 
 pub use status::{write_status as status_line, Snapshot};
 
-pub const HELP: &str = "ok commands: get [name] | set <name> <value> | engage | stop | status | watch | save | defaults | clear | cam begin|data|end|off | check-encoder [start|stop] | jog <deg> | selftest [start [rpm]|stop] | dfu | help; names: cpr steps ratio dir edges max-rate max-accel ferror phase drive dir-setup pulse enable max-rpm cutter-cpr lost-steps start-rate";
+pub const HELP: &str = "ok commands: get [name] | set <name> <value> | engage | stop | status | watch | save | defaults | clear | cam begin|data|end|off | check-encoder [start|stop] | jog <deg> | selftest [start [rpm]|stop] | dfu | help; names: cpr steps ratio dir edges max-rate max-accel ferror phase drive dir-setup pulse enable max-rpm cutter-cpr lost-steps start-rate bldc-out pwm-hz bldc-tau";
 
 /// A parsed command line (no controller needed: parse outside any lock).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -324,6 +324,9 @@ fn value_of(c: &Config, name: &str, out: &mut Reply) -> bool {
         "cutter-cpr" => write!(out, "cutter-cpr={}", c.cutter_encoder_cpr),
         "lost-steps" => write!(out, "lost-steps={}", c.lost_step_limit_steps),
         "start-rate" => write!(out, "start-rate={}", c.start_rate_hz),
+        "bldc-out" => write!(out, "bldc-out={}", c.bldc_out.name()),
+        "pwm-hz" => write!(out, "pwm-hz={}", c.pwm_hz),
+        "bldc-tau" => write!(out, "bldc-tau={}", c.bldc_tau_ms),
         _ => return false,
     };
     true

@@ -36,6 +36,8 @@ pub struct Derived {
     pub still_ticks: u32,
     pub stall_ticks: u32,
     pub tick_hz: u32,
+    /// the BLDC phase loop's gains (`drive::gains`)
+    pub bldc: crate::drive::BldcGains,
 }
 
 /// Shortest STEP pulse the board emits: a `pulse` setting below it is
@@ -86,6 +88,7 @@ impl Derived {
             still_ticks: (hz / 10) as u32,
             stall_ticks: (hz / 5) as u32,
             tick_hz: t.tick_hz,
+            bldc: crate::drive::BldcGains::new(c, t.tick_hz),
         }
     }
 

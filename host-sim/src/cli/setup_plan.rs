@@ -4,6 +4,8 @@
 //! `polyturn device setup` asks and sends, and the web page's form sends
 //! the same settings.
 
+pub mod bldc;
+
 use super::errors::{CliError, CliResult};
 use super::figures::{self, COMMON_RATIOS};
 use super::values::{ratio, whole32, within};
@@ -180,9 +182,6 @@ fn start_rate_line(c: &polyturn_sync::Config) -> String {
     )
 }
 
-/// What a machinist choosing `drive bldc` must know (`tests/bldc_drives.rs`).
-pub const BLDC_WARNING: &str = "warning: drive bldc: through an RC ESC's 50 Hz pulse the cutter does not hold phase yet (in simulation the hexagon loses it 0.45 s after engaging): use a stepper or a step/dir servo for cutting";
-
 /// What the settings mean, for the machinist.
 pub fn summary(c: &polyturn_sync::Config, sent: &[(String, String)]) -> String {
     let set: Vec<String> = sent.iter().map(|(n, v)| format!("{n}={v}")).collect();
@@ -206,7 +205,7 @@ pub fn summary(c: &polyturn_sync::Config, sent: &[(String, String)]) -> String {
         out.push(start_rate_line(c));
     }
     if c.drive == polyturn_sync::DriveKind::Bldc {
-        out.push(BLDC_WARNING.to_string());
+        out.extend(bldc::lines(c));
     }
     out.join("\n")
 }

@@ -10,6 +10,7 @@ use super::output::Outputs;
 use super::values::{drive, out_file, rpm, whole, whole32, within};
 use crate::geometry::{Direction, Setup};
 use crate::sim::{report, run, Scenario, Start};
+use polyturn_sync::config::BldcOut;
 use polyturn_sync::{DriveKind, Ratio};
 use std::path::PathBuf;
 
@@ -43,6 +44,15 @@ pub struct SimulateArgs {
     /// The cutter's drive: stepper or bldc
     #[arg(long, value_name = "stepper|bldc", default_value = "stepper", value_parser = drive)]
     pub drive: DriveKind,
+    /// What the BLDC drive is fed (--drive bldc): esc50, esc400, oneshot125 (an RC ESC) or pwm (a spindle driver's speed input)
+    #[arg(long, value_name = "esc50|esc400|oneshot125|pwm", default_value = "esc50", value_parser = bldc_out)]
+    pub bldc_out: BldcOut,
+    /// The PWM's frequency with --bldc-out pwm, Hz (1000..=20000, a divisor of 96000000)
+    #[arg(long, value_name = "HZ", default_value = "1000", allow_hyphen_values = true, value_parser = whole32(1_000, 20_000))]
+    pub pwm_hz: u32,
+    /// The BLDC drive's time constant as set (`bldc-tau`), ms (1..=1000; by default the simulated drive's own)
+    #[arg(long, value_name = "MS", allow_hyphen_values = true, value_parser = whole32(1, 1_000))]
+    pub bldc_tau: Option<u32>,
     /// Seed of the simulated encoder noise and speed ripple (0..=2^64-1)
     #[arg(long, value_name = "S", default_value = "1", allow_hyphen_values = true, value_parser = whole(0, u64::MAX))]
     pub seed: u64,
@@ -70,6 +80,10 @@ pub struct SimulateArgs {
     /// Also draw the simulated section against the ideal to this SVG file (- for stdout)
     #[arg(long, value_name = "FILE", value_parser = out_file)]
     pub svg: Option<PathBuf>,
+}
+
+fn bldc_out(s: &str) -> Result<BldcOut, String> {
+    BldcOut::parse(s).map_err(|e| format!("must be {}", e.allowed))
 }
 
 fn on_off(s: &str) -> Result<bool, String> {
@@ -102,6 +116,10 @@ pub fn scenario_from(a: &SimulateArgs) -> CliResult<Scenario> {
     sc.edge_timing = a.edge_timing;
     sc.core.max_accel_steps_per_s2 = a.max_accel;
     sc.core.start_rate_hz = a.start_rate;
+    if a.drive == DriveKind::Bldc {
+        crate::sim::bldc::fit_drive(&mut sc, a.bldc_out, a.pwm_hz, a.bldc_tau)
+            .map_err(|e| CliError::flag(e.field, e.allowed))?;
+    }
     sc.disc = crate::sim::encoder::Disc {
         eccentricity_counts: a.encoder_eccentricity,
         quadrature_counts: a.encoder_quadrature_error,

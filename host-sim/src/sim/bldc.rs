@@ -2,33 +2,38 @@
 //! between the firmware and the motor (`BldcDrive`), and a load torque
 //! while an edge is cutting.
 //!
-//! What the firmware sends is an RC servo pulse (`polyturn_firmware::esc`:
-//! 1 000 µs stop to 2 000 µs full speed, in whole µs) on TIM10, one every
-//! 20 ms (50 Hz): the drive sees the pulse of the frame under way and holds
-//! it until the next. A hobby ESC has no speed loop: the pulse sets the
-//! motor's voltage, so its speed is the throttle's no-load speed less what
-//! the load takes (the motor's speed-torque line), and it turns only the
-//! way it is wired.
+//! What the firmware sends is TIM10's CCR1 in the frame `bldc-out` sets
+//! up (`polyturn_firmware::bldcout::Out`: an RC pulse at 50 or 400 Hz,
+//! OneShot125 at 2 kHz, or a PWM's duty), in whole timer counts: the drive
+//! sees the command of the frame under way and holds it until the next.
+//! A hobby ESC has no speed loop: the pulse sets the motor's voltage, so
+//! its speed is the throttle's no-load speed less what the load takes (the
+//! motor's speed-torque line), and it turns only the way it is wired. A
+//! spindle driver's speed input feeds its own speed loop.
 
+use polyturn_firmware::bldcout::Out;
+use polyturn_sync::config::bldc::TIMER_HZ;
+use polyturn_sync::config::BldcOut;
+use polyturn_sync::ConfigError;
 use std::f64::consts::TAU;
 
 /// The drive between the firmware's command and the motor.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum BldcDrive {
-    /// an RC ESC: throttle = the pulse's width, no speed loop; one pulse
-    /// every `1 / frame_hz` (the firmware sends 50 Hz)
-    RcEsc { frame_hz: f64 },
-    /// a drive with its own speed loop (first order, `tau`), taking the
-    /// pulse's speed every `1 / frame_hz`
-    SpeedLoop { frame_hz: f64, tau: f64 },
+    /// an RC ESC (`bldc-out esc50`, `esc400`, `oneshot125`): throttle =
+    /// the pulse's place between stop and full, no speed loop
+    RcEsc,
+    /// a spindle driver's speed input (`bldc-out pwm`): its speed loop,
+    /// first order `tau`, within the motor's torque
+    SpeedLoop { tau: f64 },
     /// idealised (the simulator before issue 30): a speed loop taking every
     /// tick's command at full resolution; no real drive is fed so
     Ideal,
 }
 
 impl BldcDrive {
-    /// What the firmware drives today: an RC ESC at 50 Hz.
-    pub const FIRMWARE: BldcDrive = BldcDrive::RcEsc { frame_hz: 50.0 };
+    /// What the default settings drive (`bldc-out esc50`): an RC ESC.
+    pub const FIRMWARE: BldcDrive = BldcDrive::RcEsc;
 }
 
 #[derive(Clone, Debug)]
@@ -72,19 +77,16 @@ impl Bldc {
     }
 
     /// At `t`: the drive takes the firmware's command if a frame begins.
-    /// `pulse_us` is the ESC pulse the firmware makes of it, `command` the
-    /// speed it asked for (rad/s, signed), `wired` the way the motor turns
-    /// (+1 or −1: a unidirectional ESC cannot reverse it).
-    pub fn take(&mut self, t: f64, pulse_us: u16, command: f64, wired: f64) {
-        let throttle = (pulse_us.saturating_sub(1000) as f64 / 1000.0).min(1.0);
-        match self.drive {
-            BldcDrive::Ideal => self.held = command,
-            BldcDrive::RcEsc { frame_hz } | BldcDrive::SpeedLoop { frame_hz, .. } => {
-                if t + 1e-12 >= self.next_frame {
-                    self.held = throttle * self.full_speed * wired;
-                    self.next_frame += 1.0 / frame_hz;
-                }
-            }
+    /// `ccr` is TIM10's CCR1 the firmware makes of it in `out`'s frame,
+    /// `command` the speed it asked for (rad/s, signed), `wired` the way
+    /// the motor turns (+1 or −1: the firmware drives it no other way).
+    pub fn take(&mut self, t: f64, ccr: u32, out: &Out, command: f64, wired: f64) {
+        if self.drive == BldcDrive::Ideal {
+            self.held = command;
+        } else if t + 1e-12 >= self.next_frame {
+            let throttle = (ccr.saturating_sub(out.stop) as f64 / out.span.max(1) as f64).min(1.0);
+            self.held = throttle * self.full_speed * wired;
+            self.next_frame += (out.psc + 1) as f64 * (out.arr + 1) as f64 / TIMER_HZ as f64;
         }
     }
 
@@ -94,7 +96,7 @@ impl Bldc {
             // throttle sets the voltage: torque falls linearly from stall
             // (max_torque) at standstill to 0 at the throttle's no-load
             // speed; the stop pulse freewheels
-            BldcDrive::RcEsc { .. } if enabled && self.held != 0.0 => {
+            BldcDrive::RcEsc if enabled && self.held != 0.0 => {
                 let t = self.max_torque * (self.held - self.speed) / self.full_speed;
                 // it drives only the way it is wired: no braking torque
                 if t * self.held.signum() < 0.0 {
@@ -103,8 +105,8 @@ impl Bldc {
                     t
                 }
             }
-            BldcDrive::RcEsc { .. } => 0.0,
-            BldcDrive::SpeedLoop { tau, .. } if enabled => {
+            BldcDrive::RcEsc => 0.0,
+            BldcDrive::SpeedLoop { tau } if enabled => {
                 (self.inertia * (self.held - self.speed) / tau).clamp(-self.max_torque, self.max_torque)
             }
             BldcDrive::Ideal if enabled => {
@@ -136,4 +138,30 @@ impl Bldc {
         }
         self.angle += 0.5 * (before + self.speed) * dt;
     }
+}
+
+/// A spindle driver's speed loop, as the simulator models the drives fed
+/// by `bldc-out pwm` (a modest one: ER11 spindle drivers' loops are
+/// slower, not faster).
+pub const SPINDLE_TAU_S: f64 = 2e-3;
+
+/// `sc` fed through `out`: the drive the simulator puts behind it (an RC
+/// ESC, or a spindle driver's speed loop for `pwm`) and the firmware's
+/// settings for it. `bldc-tau` is the drive's own time constant unless
+/// given, as the bench procedure measures it: the speed loop's, or an
+/// ESC's motor's (inertia × full speed / stall torque).
+pub fn fit_drive(sc: &mut super::Scenario, out: BldcOut, pwm_hz: u32, tau_ms: Option<u32>) -> Result<(), ConfigError> {
+    let drive = if out == BldcOut::Pwm { BldcDrive::SpeedLoop { tau: SPINDLE_TAU_S } } else { BldcDrive::RcEsc };
+    let own_s = match drive {
+        BldcDrive::SpeedLoop { tau } => tau,
+        _ => {
+            let full = sc.core.max_step_rate_hz as f64 / sc.core.motor_steps_per_rev.max(1) as f64 * TAU;
+            Bldc::new(1).inertia * full / sc.bldc_max_torque
+        }
+    };
+    let tau = tau_ms.unwrap_or((own_s * 1e3).round().max(1.0) as u32);
+    let c = sc.core.with("pwm-hz", &pwm_hz.to_string())?.with("bldc-tau", &tau.to_string())?;
+    sc.core = c.with("bldc-out", out.name())?;
+    sc.bldc_drive = drive;
+    Ok(())
 }

@@ -228,10 +228,9 @@ impl Plants {
     fn drive_bldc(&mut self, sc: &Scenario, ctl: &Controller, o: &TickOutput, (t, dt): (f64, f64), cutting: bool) {
         let Gearing { m, sense, .. } = Gearing::of(sc);
         let cmd = o.speed_q16 as f64 / 65536.0 * sc.tick_hz as f64 * TAU / m;
-        let max = ctl.derived().limits.max_velocity;
-        let forward = sense > 0.0;
-        let pulse = polyturn_firmware::esc::command(true, o.enable, o.halt, o.speed_q16, max, forward);
-        self.bldc.take(t, pulse, cmd, sense);
+        let out = polyturn_firmware::bldcout::Out::new(ctl.config(), ctl.derived().limits.max_velocity);
+        let ccr = out.command(o.enable && !o.halt, o.speed_q16, sense > 0.0);
+        self.bldc.take(t, ccr, &out, cmd, sense);
         let load = cutting && tip_in_stock(&sc.setup, self.bldc.angle);
         self.bldc.advance(load, o.enable, dt);
     }
@@ -352,6 +351,7 @@ fn result(sc: &Scenario, ctl: &Controller, p: &mut Plants, bins: usize, ran: Ran
         steps_emitted: p.stepper.pulses,
         encoder_counts: count,
         synced_ticks: out.synced,
+        first_synced_s: out.first_synced_s,
         error_trace: out.trace,
         stalled: p.stepper.stalled,
         max_shaft_error_steps: out.max_shaft,
@@ -370,6 +370,7 @@ struct Tally {
     max_abs: f64,
     max_cutting: f64,
     synced: u64,
+    first_synced_s: Option<f64>,
     faults: Vec<(u64, Fault)>,
     trace: Vec<(f64, f64, f64)>,
     bucket: Option<(f64, f64, f64)>,
@@ -378,6 +379,7 @@ struct Tally {
 impl Tally {
     fn error(&mut self, t: f64, err: f64, cutting: bool) {
         self.synced += 1;
+        self.first_synced_s.get_or_insert(t);
         self.max_abs = self.max_abs.max(err.abs());
         if cutting {
             self.max_cutting = self.max_cutting.max(err.abs());

@@ -65,14 +65,17 @@ fn get_shows_every_setting_as_set() {
         ("max-accel", "300000", "300000"),
         ("ferror", "32", "32"),
         ("phase", "-12.5", "-12.500"),
+        ("max-rpm", "900", "900"),
         ("drive", "bldc", "bldc"),
         ("dir-setup", "2500", "2500"),
         ("pulse", "1500", "1500"),
         ("enable", "high", "high"),
-        ("max-rpm", "900", "900"),
         ("cutter-cpr", "4000", "4000"),
         ("lost-steps", "48", "48"),
         ("start-rate", "1600", "1600"),
+        ("bldc-out", "pwm", "pwm"),
+        ("pwm-hz", "5000", "5000"),
+        ("bldc-tau", "4", "4"),
     ] {
         let want = std::format!("ok {name}={shown}");
         assert_eq!(say(&mut c, &std::format!("set {name} {value}")).0, want);
@@ -81,7 +84,7 @@ fn get_shows_every_setting_as_set() {
     assert_eq!(
         say(&mut c, "get").0,
         "ok cpr=4000 steps=1600 ratio=5/2 dir=opposite edges=5 max-rate=150000 max-accel=300000 ferror=32 \
-         phase=-12.500 drive=bldc dir-setup=2500 pulse=1500 enable=high max-rpm=900 cutter-cpr=4000 lost-steps=48 start-rate=1600"
+         phase=-12.500 drive=bldc dir-setup=2500 pulse=1500 enable=high max-rpm=900 cutter-cpr=4000 lost-steps=48 start-rate=1600 bldc-out=pwm pwm-hz=5000 bldc-tau=4"
     );
     assert_eq!(say(&mut c, "set cutter-cpr off").0, "ok cutter-cpr=off");
     assert_eq!(

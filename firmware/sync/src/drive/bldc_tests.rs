@@ -20,30 +20,102 @@ fn moving(position: i64, velocity: i64) -> Follower {
     Follower { position, velocity }
 }
 
-/// The integral term as it stands: a command at one Q16 count a tick with
-/// no phase error is 1 + integral (and integrates nothing).
+/// The integral term as it stands: a command at one Q16 count a tick (the
+/// wired way) with
+/// no phase error and no change of speed is 1 + integral (and integrates
+/// nothing).
 fn integral(b: &mut Bldc, d: &Derived) -> i64 {
-    b.command(&moving(0, 1), 0, d).0 as i64 - 1
+    // (turning the wired way: the command has that sign)
+    let v = if d.sense_positive { 1 } else { -1 };
+    b.command(&moving(0, v), 0, d);
+    b.command(&moving(0, v), 0, d).0 as i64 - v
+}
+
+/// A drive that takes 4096 / 65 536 of the error a tick and 2^-10 of it
+/// into the integral (the gains before issue 30), with no lag.
+fn stiff() -> Derived {
+    let mut d = derived();
+    d.bldc = BldcGains { kp_q16: 4_096, ki_q32: 1 << 22, tau_ticks: 0, kv_q8: 0, rate_shift: 0 };
+    d
 }
 
 #[test]
-fn the_command_is_feed_forward_plus_a_sixteenth_of_the_error_plus_its_integral() {
-    let d = derived();
+fn the_command_is_feed_forward_plus_the_errors_share_plus_its_integral() {
+    let d = stiff();
     let mut b = Bldc::default();
+    b.command(&moving(0, 3_000), 0, &d);
     // 100 counts behind (Q16 6 553 600): 409 600 + 6 400 integrated, on
     // 3000 of feed-forward
     assert_eq!(b.command(&moving(100 << 16, 3_000), 0, &d), (3_000 + 409_600 + 6_400, false));
     assert_eq!(b.command(&moving(100 << 16, 3_000), 0, &d), (3_000 + 409_600 + 12_800, false));
     assert_eq!(integral(&mut b, &d), 12_800);
-    // and ahead of the command the other way
+    // and ahead of the command the other way, on a cutter wired to turn
+    // the other way (`dir opposite`)
+    let d = wired(stiff(), -1);
     let mut b = Bldc::default();
+    b.command(&moving(0, -3_000), 0, &d);
     assert_eq!(b.command(&moving(0, -3_000), 16 << 16, &d), (-3_000 - 65_536 - 1_024, false));
+}
+
+/// `d` for a cutter wired to turn the core's positive way (`dir same`,
+/// `sign` 1) or the other.
+fn wired(mut d: Derived, sign: i64) -> Derived {
+    d.sense_positive = sign > 0;
+    d
+}
+
+#[test]
+fn a_command_against_the_wired_sense_is_0_winds_nothing_up_and_never_stalls() {
+    let d = stiff();
+    let mut b = Bldc::default();
+    // at rest, 10 counts ahead: the loop would reverse the cutter, which no
+    // interface can; the command is 0 (saturated), nothing integrates
+    for k in 0..10_000 {
+        assert_eq!(b.command(&moving(0, 0), 10 << 16, &d), (0, false), "tick {k}");
+    }
+    assert_eq!(integral(&mut b, &d), 0);
+    let d = wired(stiff(), -1);
+    let mut b = Bldc::default();
+    assert_eq!(b.command(&moving(10 << 16, 0), 0, &d), (0, false), "dir opposite: behind is the other way");
+}
+
+#[test]
+fn the_gains_are_the_drives() {
+    // esc50, τ 20 ms (`gains`): Kp 48, Ki 576, Kv 168 / 256, filter 2^-7
+    let d = derived();
+    assert_eq!(d.bldc, BldcGains { kp_q16: 48, ki_q32: 576, tau_ticks: 500, kv_q8: 168, rate_shift: 7 });
+    let mut b = Bldc::default();
+    b.command(&moving(0, 0), 0, &d);
+    // a step of 100 counts: its rate is 1/128 of it at once
+    let e = 100i64 << 16;
+    let rate = e >> 7;
+    let want = ((e * 48) >> 16) + ((rate * 168) >> 8) + ((e * 576) >> 32);
+    assert_eq!(b.command(&moving(e, 0), 0, &d).0 as i64, want);
+    // held: the rate decays by 1/128 a tick, the integral grows
+    let rate = rate - (rate >> 7);
+    let want = ((e * 48) >> 16) + ((rate * 168) >> 8) + ((2 * e * 576) >> 32);
+    assert_eq!(b.command(&moving(e, 0), 0, &d).0 as i64, want);
+}
+
+#[test]
+fn a_change_of_speed_is_fed_forward_times_the_drives_lag_within_max_accel() {
+    let d = derived();
+    let a = d.limits.max_accel;
+    let mut b = Bldc::default();
+    assert_eq!(b.command(&moving(0, 0), 0, &d).0, 0);
+    // speeding up by half the limit: 500 ticks of it ahead
+    assert_eq!(b.command(&moving(0, a / 2), 0, &d).0 as i64, a / 2 + 500 * (a / 2));
+    // steady: only the speed
+    assert_eq!(b.command(&moving(0, a / 2), 0, &d).0 as i64, a / 2);
+    // a jump (a start rate) counts as the limit, not as one tick's spike
+    assert_eq!(b.command(&moving(0, 100 * a), 0, &d).0 as i64, 100 * a + 500 * a);
+    assert_eq!(b.command(&moving(0, 0), 0, &d).0 as i64, 0, "slowing to rest");
 }
 
 #[test]
 fn the_command_is_limited_to_one_and_a_half_times_max_rate() {
-    let d = derived();
     for sign in [1, -1] {
+        let d = wired(derived(), sign);
         let mut b = Bldc::default();
         let (u, _) = b.command(&moving(sign * (10_000 << 16), sign * 524_288), 0, &d);
         assert_eq!(u as i64, sign * UMAX);
@@ -52,8 +124,8 @@ fn the_command_is_limited_to_one_and_a_half_times_max_rate() {
 
 #[test]
 fn an_error_pushing_a_saturated_command_further_is_not_integrated() {
-    let d = derived();
     for sign in [1, -1] {
+        let d = wired(stiff(), sign);
         let mut b = Bldc::default();
         for _ in 0..100 {
             let (u, _) = b.command(&moving(sign * (100 << 16), sign * 524_288), 0, &d);
@@ -65,7 +137,7 @@ fn an_error_pushing_a_saturated_command_further_is_not_integrated() {
 
 #[test]
 fn an_error_pulling_a_saturated_command_back_is_integrated() {
-    let d = derived();
+    let d = stiff();
     let mut b = Bldc::default();
     // wind the integral up within the limit: 391 ticks of 16 counts behind
     for _ in 0..391 {
@@ -75,6 +147,7 @@ fn an_error_pulling_a_saturated_command_back_is_integrated() {
     assert_eq!(integral(&mut b, &d), 391 * 1_024);
     // at full speed and a count ahead, the sum is over the limit, but the
     // error says slow down: the integral unwinds (by 65 536 >> 10 = 64)
+    b.command(&moving(0, 524_288), 0, &d);
     let (u, _) = b.command(&moving(0, 524_288), 1 << 16, &d);
     assert_eq!(u as i64, UMAX);
     assert_eq!(integral(&mut b, &d), 391 * 1_024 - 64);
@@ -82,7 +155,7 @@ fn an_error_pulling_a_saturated_command_back_is_integrated() {
 
 #[test]
 fn standing_on_the_commanded_count_the_command_is_zero_and_nothing_integrates() {
-    let d = derived();
+    let d = stiff();
     let mut b = Bldc::default();
     b.command(&moving(16 << 16, 0), 0, &d); // integral 1024
                                             // at rest 0.3 count past count 10, the encoder on 10: hold, no hunting
@@ -95,12 +168,13 @@ fn standing_on_the_commanded_count_the_command_is_zero_and_nothing_integrates() 
     assert_ne!(b.command(&moving(11 << 16, 0), 10 << 16, &d).0, 0);
     // on the count but commanded to move: feed-forward
     let mut b = Bldc::default();
+    b.command(&moving(10 << 16, 5_000), 10 << 16, &d);
     assert_eq!(b.command(&moving(10 << 16, 5_000), 10 << 16, &d), (5_000, false));
 }
 
 #[test]
 fn a_cutter_still_for_more_than_stall_ticks_while_commanded_to_move_stalls() {
-    let d = derived();
+    let d = stiff();
     // a sixteenth of max-rate (32 768) is enough to expect the encoder to move
     let mut b = Bldc::default();
     for k in 1..=5_000 {
@@ -116,7 +190,7 @@ fn a_cutter_still_for_more_than_stall_ticks_while_commanded_to_move_stalls() {
 
 #[test]
 fn any_encoder_count_restarts_the_stall_check() {
-    let d = derived();
+    let d = stiff();
     let mut b = Bldc::default();
     for k in 1..=12_000i64 {
         let cutter = (k / 4_000) << 16; // a count every 4000 ticks
@@ -126,7 +200,7 @@ fn any_encoder_count_restarts_the_stall_check() {
 
 #[test]
 fn reset_clears_the_integral_and_the_stall_count() {
-    let d = derived();
+    let d = stiff();
     let mut b = Bldc::default();
     for _ in 0..4_000 {
         b.command(&moving(16 << 16, 100_000), 0, &d);

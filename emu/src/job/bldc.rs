@@ -1,0 +1,100 @@
+//! Scenario (h): each BLDC interface (`bldc-out`) on the real image. The
+//! image boots on the hexagon's settings with `drive bldc` and the
+//! interface saved; the lathe turns and the cutter is engaged. TIM10 must
+//! make the interface's frame (from its PSC and ARR, RM0383 §14.3.1: a
+//! frame is (PSC + 1)(ARR + 1) timer clocks) and a running command; BLDC_DIR
+//! (PB1) the wired sense. The emulator turns no cutter, so its encoder
+//! stands still: the core's stall check must stop the drive (a fault),
+//! ENABLE inactive. Then the E-stop opens:
+//! within a ms CCR1 must be the stop. The stop is a 1 000 µs pulse for an
+//! RC ESC, 125 µs for OneShot125, no pulse for a PWM. The expected frames
+//! and stops are the interfaces' published figures, written here, not
+//! taken from the firmware. (The E-stop interrupt's own write of the stop,
+//! before any tick, is the probe scenario's: `probe::fire`.)
+
+use super::{lathe, press, scenario, settings, ENGAGE, ESTOP, GPIOB, MS, SYSCLK};
+use crate::checks::Report;
+use crate::image::Image;
+use crate::machine::Machine;
+use polyturn_stm32_model::addr::off;
+use polyturn_stm32_model::Params;
+use std::rc::Rc;
+
+/// (setting, frame µs, stop pulse µs)
+const INTERFACES: [(&str, u64, u64); 4] =
+    [("esc50", 20_000, 1_000), ("esc400", 2_500, 1_000), ("oneshot125", 500, 125), ("pwm", 1_000, 0)];
+
+struct Seen {
+    frame_us: f64,
+    running_us: f64,
+    stop_us: f64,
+    dir: Option<bool>,
+    /// CCR1 after the stall (µs), ENABLE then, and its inactive level
+    stalled_us: f64,
+    stall_disabled: bool,
+    safe: bool,
+}
+
+/// TIM10's frame and CCR1, in µs of its kernel clock.
+fn tim10_us(m: &mut Machine) -> (f64, f64) {
+    let c = m.chip();
+    let clk = c.rcc.apb2().1 as f64;
+    let t = &c.gp[3];
+    let tick_us = (t.get(off::PSC) as f64 + 1.0) / clk * 1e6;
+    ((t.get(off::ARR) as f64 + 1.0) * tick_us, t.get(off::CCR1) as f64 * tick_us)
+}
+
+fn one(image: &Rc<Image>, name: &str) -> Result<(Seen, u64), String> {
+    let spec = &super::super::jobs::SPECS[0]; // the hexagon's
+    let sc = scenario(spec);
+    let cfg = sc.core.with("drive", "bldc").and_then(|c| c.with("bldc-out", name));
+    let cfg = cfg.map_err(|e| format!("{}: {}", e.field, e.allowed))?;
+    let mut m = Machine::new(image.clone(), Params::default(), &settings::saved(&cfg)?)?;
+    m.cpr = cfg.encoder_counts_per_rev;
+    m.drive(GPIOB, ESTOP, Some(false));
+    m.run(100 * MS);
+    let now = m.chip().now;
+    m.lathe = Some(lathe::LatheDrive::motor(sc.lathe.clone(), spec.seed, cfg.encoder_counts_per_rev, now, SYSCLK));
+    m.run(600 * MS); // at speed
+    press(&mut m, ENGAGE);
+    // the command while following: the widest pulse over 100 ms
+    let mut running_us = 0.0f64;
+    for _ in 0..100 {
+        m.run(MS);
+        running_us = running_us.max(tim10_us(&mut m).1);
+    }
+    let (frame_us, _) = tim10_us(&mut m);
+    let dir = m.chip().gpio[1].pin_out(1);
+    // 0.2 s commanded with the encoder still: `Fault::Stall`, ramped down
+    m.run(600 * MS);
+    let stalled_us = tim10_us(&mut m).1;
+    let o = m.chip().outputs();
+    let stall_disabled = o.enable == Some(o.enable_inactive);
+    m.drive(GPIOB, ESTOP, None);
+    m.run(MS);
+    let stop_us = tim10_us(&mut m).1;
+    let safe = m.chip().outputs().safe_now();
+    Ok((Seen { frame_us, running_us, stop_us, dir, stalled_us, stall_disabled, safe }, m.chip().now))
+}
+
+pub fn run(image: &Rc<Image>, r: &mut Report) -> Result<u64, String> {
+    let mut total = 0;
+    for (name, frame_us, stop_us) in INTERFACES {
+        let (s, cycles) = one(image, name)?;
+        total += cycles;
+        let close = |a: f64, b: f64| (a - b).abs() < 0.01;
+        let ok = close(s.frame_us, frame_us as f64)
+            && s.running_us > stop_us as f64
+            && close(s.stop_us, stop_us as f64)
+            && s.dir == Some(false)
+            && close(s.stalled_us, stop_us as f64)
+            && s.stall_disabled
+            && s.safe;
+        let text = format!(
+            "TIM10 frame {:.1} µs (want {frame_us}), widest command pulse {:.1} µs while following, BLDC_DIR {:?} (dir same: low); after the stall {:.1} µs, ENABLE inactive {}; 1 ms after the E-stop opened {:.1} µs (the stop: {stop_us}), outputs safe: {}",
+            s.frame_us, s.running_us, s.dir, s.stalled_us, s.stall_disabled, s.stop_us, s.safe
+        );
+        r.line(ok, &format!("bldc {name}"), &text);
+    }
+    Ok(total)
+}

@@ -1,0 +1,132 @@
+//! The BLDC drive's command (issue 30): TIM10_CH1 (PB8) in PWM mode 1, and
+//! the cutter's sense on BLDC_DIR (PB1). One timer makes every interface
+//! `bldc-out` offers; only its frame and pulse range differ:
+//!
+//! | `bldc-out` | frame | stop | full speed |
+//! |---|---|---|---|
+//! | `esc50` | 20 ms | 1 000 µs | 2 000 µs |
+//! | `esc400` | 2.5 ms | 1 000 µs | 2 000 µs |
+//! | `oneshot125` | 500 µs | 125 µs | 250 µs |
+//! | `pwm` | 1 / `pwm-hz` | duty 0 (no pulse) | duty 100 % |
+//!
+//! PWM mode 1 (OC1M = 110, RM0383 §14.4.7): OC1REF is high while CNT <
+//! CCR1, so the pulse is CCR1 counts of CK_CNT = 96 MHz / (PSC + 1)
+//! (§14.3.1) every ARR + 1 counts; CCR1 = 0 never goes high, and CCR1 >
+//! ARR is high throughout ("OCxREF is held at 1", §14.3.10 PWM mode). No
+//! CCR1 preload (OC1PE = 0, §14.4.7): a new width, the stop above all,
+//! takes effect in the frame under way, not the next. `program` holds the
+//! register writes as data; the model runs them (`tests/bldcout.rs` in the
+//! model crate).
+//!
+//! The sense: every interface drives the cutter only its wired way (the
+//! `dir` setting: `same` counts up). A speed the other way, the phase loop
+//! asking to slow past zero, is the stop: an ESC cannot reverse, and a
+//! spindle driver's stop brakes. BLDC_DIR gives drivers that have a DIR
+//! input the wired sense, so `dir` can change without rewiring.
+
+use crate::regs::fields::{ccer, ccmr1, cr1, egr};
+use crate::regs::Op;
+use polyturn_sync::config::bldc::{pwm_prescaler, TIMER_HZ};
+use polyturn_sync::config::{BldcOut, Config};
+
+pub const TIM10: u32 = 0x4001_4400;
+/// TIM10's registers (§14.5.12): TIM11's layout.
+pub mod off {
+    pub const CR1: u32 = 0x00;
+    pub const EGR: u32 = 0x14;
+    pub const CCMR1: u32 = 0x18;
+    pub const CCER: u32 = 0x20;
+    pub const PSC: u32 = 0x28;
+    pub const ARR: u32 = 0x2C;
+    pub const CCR1: u32 = 0x34;
+}
+
+/// The timer's setting for one interface, and its command's scale.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Out {
+    pub psc: u32,
+    pub arr: u32,
+    /// CCR1 of the stop
+    pub stop: u32,
+    /// CCR1 at full speed less `stop`
+    pub span: u32,
+    /// full scale, Q16 counts per tick
+    max: u32,
+    /// ⌈span × 2^32 / max⌉: the tick multiplies, never divides
+    scale: u64,
+}
+
+/// CK_CNT at 1 MHz: the RC pulses in whole µs.
+const US_PSC: u32 = TIMER_HZ / 1_000_000 - 1;
+
+impl Out {
+    /// `max_q16`: the core's full scale (`max-rate`, Q16 counts per tick).
+    pub fn new(c: &Config, max_q16: i64) -> Out {
+        let (psc, arr, stop, full) = match c.bldc_out {
+            BldcOut::Esc50 => (US_PSC, 19_999, 1_000, 2_000),
+            BldcOut::Esc400 => (US_PSC, 2_499, 1_000, 2_000),
+            // 96 counts a µs: 125 µs = 12 000, 250 µs = 24 000
+            BldcOut::OneShot125 => (0, TIMER_HZ / 2_000 - 1, 12_000, 24_000),
+            BldcOut::Pwm => {
+                let psc = pwm_prescaler(c.pwm_hz);
+                let arr = TIMER_HZ / (psc + 1) / c.pwm_hz.max(1) - 1;
+                (psc, arr, 0, arr + 1)
+            }
+        };
+        let max = max_q16.clamp(1, 4_000_000) as u32;
+        let span = full - stop;
+        Out { psc, arr, stop, span, max, scale: ((span as u64) << 32).div_ceil(max as u64) }
+    }
+
+    /// CCR1 for a speed of `speed_q16` the wired way, up to full scale.
+    /// (At most max × scale < (span + 1) × 2^32 ≤ 2^48: one 64-bit
+    /// multiply, no division.)
+    #[inline]
+    pub fn ccr(&self, speed_q16: u32) -> u32 {
+        let v = ((speed_q16.min(self.max) as u64 * self.scale) >> 32).min(self.span as u64);
+        self.stop + v as u32
+    }
+
+    /// This tick's CCR1: a speed while the drive runs and nothing halts
+    /// it, only the wired way (`forward`: `dir same`); else the stop.
+    #[inline]
+    pub fn command(&self, run: bool, speed_q16: i32, forward: bool) -> u32 {
+        let wired = if forward { speed_q16 > 0 } else { speed_q16 < 0 };
+        if run && wired {
+            self.ccr(speed_q16.unsigned_abs())
+        } else {
+            self.stop
+        }
+    }
+
+    /// TIM10's set-up, stopped: counter off, the frame, the stop, PWM mode
+    /// 1 without preload, the output on, an update event (UG, §14.4.4) so
+    /// PSC and ARR take effect now (PSC is otherwise loaded only at an
+    /// update, §14.3.1), then counting with ARR preloaded (ARPE, §14.4.1).
+    pub fn program(&self) -> [Op; 8] {
+        let t = |o: u32, v: u32| Op::Write(TIM10 + o, v);
+        [
+            t(off::CR1, 0),
+            t(off::PSC, self.psc),
+            t(off::ARR, self.arr),
+            t(off::CCR1, self.stop),
+            t(off::CCMR1, ccmr1::OC1M.val(ccmr1::PWM1)),
+            t(off::CCER, ccer::CC1E.mask()),
+            t(off::EGR, egr::UG.mask()),
+            t(off::CR1, cr1::ARPE.mask() | cr1::CEN.mask()),
+        ]
+    }
+}
+
+/// The stop's CCR1 for the frame TIM10 holds (PSC, ARR): what the
+/// emulator expects after a fault, whichever interface the image set up.
+pub fn stop_for(psc: u32, arr: u32) -> u32 {
+    BldcOut::ALL
+        .into_iter()
+        .map(|o| Out::new(&Config { bldc_out: o, ..Config::default() }, 1))
+        .find(|o| o.psc == psc && o.arr == arr && o.stop != 0)
+        .map_or(0, |o| o.stop)
+}
+
+#[cfg(test)]
+mod tests;

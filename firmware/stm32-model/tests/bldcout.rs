@@ -1,0 +1,108 @@
+//! The BLDC drive's command (`polyturn_firmware::bldcout`): its TIM10 set-up
+//! applied verbatim to the model of a general-purpose timer (RM0383 §14:
+//! TIM10, one channel), and the pin's waveform measured: the frame, the
+//! pulse each command makes, the stop taking effect in the frame under way.
+
+use polyturn_firmware::bldcout::{off, Out, TIM10};
+use polyturn_firmware::regs::{apply, Bus};
+use polyturn_stm32_model::chip::gptimer::GpTimer;
+use polyturn_sync::Config;
+
+const HZ: u64 = 96_000_000;
+const MAX: i64 = 524_288;
+
+struct Tim10 {
+    t: GpTimer,
+    now: u64,
+}
+
+impl Bus for Tim10 {
+    fn write(&mut self, addr: u32, value: u32) {
+        self.t.write(addr - TIM10, value, u32::MAX);
+    }
+    fn read(&mut self, addr: u32) -> u32 {
+        self.t.read(addr - TIM10)
+    }
+    fn delay(&mut self, _: u32) {}
+}
+
+impl Tim10 {
+    fn set_up(o: &Out) -> Tim10 {
+        let mut b = Tim10 { t: GpTimer::new(16, 1), now: 0 };
+        apply(&o.program(), &mut b).unwrap();
+        b
+    }
+
+    /// The pin's level, `cycles` CPU cycles on.
+    fn after(&mut self, cycles: u64) -> bool {
+        self.now += cycles;
+        self.t.advance(self.now, HZ, HZ);
+        self.t.oc_out(0).expect("CC1E on: the pin is driven")
+    }
+
+    /// From a frame's start: (high cycles, frame cycles), sampled every
+    /// `step` cycles over two frames.
+    fn measure(&mut self, step: u64, frame: u64) -> (u64, u64) {
+        let samples: Vec<bool> = (0..2 * frame / step).map(|_| self.after(step)).collect();
+        let first = &samples[..(frame / step) as usize];
+        let high = first.iter().filter(|&&h| h).count() as u64 * step;
+        // the next frame's pulse begins where the first ends (sample k is
+        // at (k + 1) × step)
+        let rise = samples.windows(2).position(|w| !w[0] && w[1]).map(|i| (i as u64 + 2) * step);
+        (high, rise.unwrap_or(0))
+    }
+}
+
+fn out(name: &str, hz: &str) -> Out {
+    let c = Config::default().with("bldc-out", name).unwrap().with("pwm-hz", hz).unwrap();
+    Out::new(&c, MAX)
+}
+
+#[test]
+fn each_interface_makes_its_frame_and_its_stop_pulse() {
+    // (name, pwm-hz, frame in cycles, stop's high time in cycles)
+    for (name, hz, frame, stop) in [
+        ("esc50", "1000", 1_920_000, 96_000),
+        ("esc400", "1000", 240_000, 96_000),
+        ("oneshot125", "1000", 48_000, 12_000),
+        ("pwm", "1000", 96_000, 0),
+        ("pwm", "20000", 4_800, 0),
+    ] {
+        let o = out(name, hz);
+        let mut b = Tim10::set_up(&o);
+        let step = if o.psc < 2 { 2 } else { 96 }; // a CK_CNT count or finer
+        let (high, _) = b.measure(step, frame);
+        assert_eq!(high, stop, "{name} {hz}: the stop");
+        // half speed: the pulse half way between stop and full
+        let mut b2 = Tim10::set_up(&o);
+        b2.t.write(off::CCR1, o.ccr(MAX as u32 / 2), u32::MAX);
+        let (high, rise) = b2.measure(step, frame);
+        let full = if stop == 0 { frame } else { 2 * stop };
+        assert_eq!(high, (stop + full) / 2, "{name} {hz}: half speed");
+        assert_eq!(rise, frame, "{name} {hz}: a pulse each frame");
+    }
+}
+
+#[test]
+fn full_speed_on_a_pwm_is_high_throughout() {
+    let o = out("pwm", "5000");
+    let mut b = Tim10::set_up(&o);
+    b.t.write(off::CCR1, o.ccr(MAX as u32), u32::MAX);
+    assert!((0..1_000).all(|_| b.after(97)), "CCR1 = ARR + 1: OC1REF held high (§14.3.10)");
+}
+
+#[test]
+fn the_stop_cuts_the_pulse_under_way() {
+    // esc50 at full speed (2 000 µs); 1 500 µs into the pulse the stop is
+    // written: the pin falls at once (no CCR preload), not 18.5 ms later
+    let o = out("esc50", "1000");
+    let mut b = Tim10::set_up(&o);
+    b.t.write(off::CCR1, o.ccr(MAX as u32), u32::MAX);
+    assert!(b.after(1_500 * 96));
+    b.t.write(off::CCR1, o.stop, u32::MAX);
+    assert!(!b.after(96), "low within a µs of the stop");
+    // and the next frame is the stop pulse, 1 000 µs
+    b.after(18_500 * 96 - 96);
+    let (high, _) = b.measure(96, 1_920_000);
+    assert_eq!(high, 96_000);
+}
