@@ -85,7 +85,7 @@ fn row(j: Job, drive: &str, r: &SimResult) -> String {
 
 #[test]
 fn a_spindle_driver_at_1_khz_holds_phase_through_the_cut() {
-    for (j, counts, section_um) in [(HEXAGON, 8.0, 40.0), (ELEVEN, 8.0, 12.0)] {
+    for (j, counts, section_um) in [(HEXAGON, 7.0, 35.0), (ELEVEN, 7.0, 10.0)] {
         let r = on(j, BldcOut::Pwm);
         eprintln!("{}", row(j, "spindle driver, PWM 1 kHz", &r));
         assert!(r.faults.is_empty(), "{}: {:?}", j.name, r.faults);

@@ -9,12 +9,17 @@
 //! | `oneshot125` | 500 µs | 125 µs | 250 µs |
 //! | `pwm` | 1 / `pwm-hz` | duty 0 (no pulse) | duty 100 % |
 //!
-//! PWM mode 1 (OC1M = 110, RM0383 §14.4.7): OC1REF is high while CNT <
-//! CCR1, so the pulse is CCR1 counts of CK_CNT = 96 MHz / (PSC + 1)
-//! (§14.3.1) every ARR + 1 counts; CCR1 = 0 never goes high, and CCR1 >
-//! ARR is high throughout ("OCxREF is held at 1", §14.3.10 PWM mode). No
-//! CCR1 preload (OC1PE = 0, §14.4.7): a new width, the stop above all,
-//! takes effect in the frame under way, not the next. `program` holds the
+//! PWM mode 1 (OC1M = 110, TIM10_CCMR1, RM0383 §14.5.5): OC1REF is high
+//! while CNT < CCR1, so the pulse is CCR1 counts of CK_CNT = 96 MHz /
+//! (PSC + 1) (§14.3.1) every ARR + 1 counts; CCR1 = 0 never goes high, and
+//! CCR1 > ARR is high throughout ("OCxREF is held at 1", §14.3.9 PWM
+//! mode). "TIMx_CNT and TIMx_CCRx are always compared" (§14.3.9): a CCR1
+//! raised after the pulse fell would start a second, short one in the same
+//! frame, so the running command is preloaded (OC1PE = 1: taken at the next
+//! update, one whole pulse a frame); the stop is written with the preload
+//! off (`CCMR1_STOPPED`, then CCR1: "the new value is taken into account
+//! immediately"), so it ends the pulse under way at once, and lowering
+//! CCR1 can only end a pulse early, never add one. `program` holds the
 //! register writes as data; the model runs them (`tests/bldcout.rs` in the
 //! model crate).
 //!
@@ -99,34 +104,42 @@ impl Out {
         }
     }
 
-    /// TIM10's set-up, stopped: counter off, the frame, the stop, PWM mode
-    /// 1 without preload, the output on, an update event (UG, §14.4.4) so
-    /// PSC and ARR take effect now (PSC is otherwise loaded only at an
-    /// update, §14.3.1), then counting with ARR preloaded (ARPE, §14.4.1).
-    pub fn program(&self) -> [Op; 8] {
+    /// Whether `other` needs TIM10 set up again (its frame or its stop
+    /// differs: a new scale alone does not).
+    pub fn same_frame(&self, other: &Out) -> bool {
+        (self.psc, self.arr, self.stop) == (other.psc, other.arr, other.stop)
+    }
+
+    /// TIM10's set-up, stopped. CCR1 = 0 first, with the preload off: the
+    /// pin falls at once whatever the old frame was doing (a pulse under
+    /// way must not be stretched by the stop that follows into a
+    /// throttle). Then the counter off, the frame, PWM mode 1, the output
+    /// on, an update event (UG, TIM10_EGR §14.5.4) so PSC and ARR take
+    /// effect now (PSC is otherwise loaded only at an update, §14.3.1),
+    /// counting with ARR preloaded (ARPE, TIM10_CR1 §14.5.1), and the stop
+    /// last: its first pulse is no longer than the stop.
+    pub fn program(&self) -> [Op; 9] {
         let t = |o: u32, v: u32| Op::Write(TIM10 + o, v);
         [
+            t(off::CCMR1, CCMR1_STOPPED),
+            t(off::CCR1, 0),
             t(off::CR1, 0),
             t(off::PSC, self.psc),
             t(off::ARR, self.arr),
-            t(off::CCR1, self.stop),
-            t(off::CCMR1, ccmr1::OC1M.val(ccmr1::PWM1)),
             t(off::CCER, ccer::CC1E.mask()),
             t(off::EGR, egr::UG.mask()),
             t(off::CR1, cr1::ARPE.mask() | cr1::CEN.mask()),
+            t(off::CCR1, self.stop),
         ]
     }
 }
 
-/// The stop's CCR1 for the frame TIM10 holds (PSC, ARR): what the
-/// emulator expects after a fault, whichever interface the image set up.
-pub fn stop_for(psc: u32, arr: u32) -> u32 {
-    BldcOut::ALL
-        .into_iter()
-        .map(|o| Out::new(&Config { bldc_out: o, ..Config::default() }, 1))
-        .find(|o| o.psc == psc && o.arr == arr && o.stop != 0)
-        .map_or(0, |o| o.stop)
-}
+/// TIM10_CCMR1 (§14.5.5) while stopped: PWM mode 1, CCR1 not preloaded (a
+/// write takes effect at once).
+pub const CCMR1_STOPPED: u32 = ccmr1::OC1M.val(ccmr1::PWM1);
+/// While the drive runs: PWM mode 1, CCR1 preloaded (OC1PE, taken at each
+/// update: one whole pulse a frame).
+pub const CCMR1_LIVE: u32 = CCMR1_STOPPED | ccmr1::OC1PE.mask();
 
 #[cfg(test)]
 mod tests;

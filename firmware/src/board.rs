@@ -126,7 +126,7 @@ pub const PINS: &[Pin] = &[
     pin(
         "BLDC_DIR",
         "PB1",
-        "push-pull output, low at reset: the cutter's sense for a driver's DIR input (low = dir same)",
+        "push-pull output (a floating input from reset until boot drives it low): the cutter's sense for a driver's DIR input (low = dir same)",
         false,
         Mode::Output,
         Pull::None,

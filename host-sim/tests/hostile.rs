@@ -60,6 +60,12 @@ fn cases() -> Vec<(String, Option<&'static str>)> {
         c(format!("simulate {HEX} --rpm 5000 --revolutions 3"), Some("--rpm")),
         c(format!("simulate {HEX} --rpm 600 --revolutions 1 --start spinning --drive servo"), Some("--drive")),
         c(format!("simulate {HEX} --rpm 600 --revolutions 1 --encoder-cpr 3"), Some("--encoder-cpr")),
+        // the BLDC drive's settings: a frequency the timer cannot make, a
+        // drive corrected less than once per cutter turn at max-rpm
+        c(format!("simulate {HEX} --rpm 600 --revolutions 1 --drive bldc --bldc-out pwm --pwm-hz 7000"), Some("--pwm-hz")),
+        c(format!("simulate {HEX} --rpm 600 --revolutions 1 --drive bldc --bldc-out esc"), Some("--bldc-out")),
+        c(format!("simulate {HEX} --rpm 600 --revolutions 1 --drive bldc --bldc-tau 0"), Some("--bldc-tau")),
+        c(format!("simulate {HEX} --rpm 1400 --revolutions 1 --drive bldc"), Some("--bldc-out")),
         c(format!("simulate {HEX} --rpm -inf --revolutions 1"), Some("--rpm")),
         c(format!("simulate {HEX} --rpm 600 --revolutions 1 --ripple -inf"), Some("--ripple")),
         // setups

@@ -3,30 +3,33 @@
 //! data, applied verbatim; the stop's CCR1 is kept where the E-stop
 //! interrupt and the panic handler can write it without the settings.
 
-use core::sync::atomic::{AtomicU32, Ordering};
+use core::sync::atomic::{AtomicBool, AtomicU32, Ordering};
 use embassy_stm32::gpio::{Level, Output, Speed};
 use embassy_stm32::pac;
 use embassy_stm32::peripherals as P;
 use embassy_stm32::Peri;
-use polyturn_firmware::bldcout::Out;
-use polyturn_firmware::regs::apply;
+use polyturn_firmware::bldcout::{off, Out, CCMR1_LIVE, CCMR1_STOPPED, TIM10};
+use polyturn_firmware::regs::{apply, Bus};
 use polyturn_sync::{Config, Controller, Sense};
 
-/// CCR1 of the interface's stop (the ESC's 1 000 µs until set up: its
-/// value at 1 MHz counts, the first interface's).
-static STOP: AtomicU32 = AtomicU32::new(1_000);
+/// CCR1 of the interface's stop, kept by `set_up` (until then TIM10 is not
+/// clocked and a write does nothing).
+static STOP: AtomicU32 = AtomicU32::new(0);
+/// CCR1 is preloaded (`CCMR1_LIVE`): the drive runs. Any stop clears it.
+static LIVE: AtomicBool = AtomicBool::new(false);
 const DIR_PIN: usize = 1;
 
 /// TIM10 clocked, PB8 on it (AF3: PB8 also maps to TIM4, the cutter's
-/// encoder, so the AF is set by hand), PB1 an output, low: the ESC's
-/// stop at 50 Hz until the tick's start sets up the saved interface.
-pub fn init(tim: Peri<'static, P::TIM10>, pin: Peri<'static, P::PB8>, dir: Peri<'static, P::PB1>) {
+/// encoder, so the AF is set by hand), PB1 an output, low: the saved
+/// interface's stop from its first frame (a PWM driver must never see an
+/// RC pulse's 5 % duty), its scale set by the tick's start.
+pub fn init(tim: Peri<'static, P::TIM10>, pin: Peri<'static, P::PB8>, dir: Peri<'static, P::PB1>, config: &Config) {
     core::mem::forget(embassy_stm32::timer::low_level::Timer::new(tim));
     let _ = pin;
     pac::GPIOB.moder().modify(|w| w.set_moder(8, pac::gpio::vals::Moder::ALTERNATE));
     pac::GPIOB.afr(1).modify(|w| w.set_afr(0, 3));
     core::mem::forget(Output::new(dir, Level::Low, Speed::Low));
-    set_up(&Out::new(&Config::default(), 1));
+    set_up(&Out::new(config, 1));
 }
 
 /// The interface the core's settings ask for, scaled to its full speed.
@@ -34,11 +37,13 @@ pub fn out_for(core: &Controller) -> Out {
     Out::new(core.config(), core.derived().limits.max_velocity)
 }
 
-/// (Re)programs TIM10 for `out`: the stop first, so no frame between runs
-/// the old interface's pulse on the new frame.
+/// (Re)programs TIM10 for `out`. Its stop is 0 (no pulse) while the words
+/// go in, so an E-stop among them cannot put the new stop in the old frame.
 pub fn set_up(out: &Out) {
-    STOP.store(out.stop, Ordering::Relaxed);
+    STOP.store(0, Ordering::Relaxed);
+    LIVE.store(false, Ordering::Relaxed);
     let _ = apply(&out.program(), &mut super::drivers::Mmio);
+    STOP.store(out.stop, Ordering::Relaxed);
 }
 
 /// BLDC_DIR: low when the cutter turns the way the core counts up (`dir
@@ -48,12 +53,29 @@ pub fn set_sense(c: &Config) {
     pac::GPIOB.bsrr().write(|w| if high { w.set_bs(DIR_PIN, true) } else { w.set_br(DIR_PIN, true) });
 }
 
-#[inline]
-pub fn set_ccr(v: u32) {
-    pac::TIM10.ccr(0).write(|w| w.set_ccr(v as u16));
+fn write(o: u32, v: u32) {
+    super::drivers::Mmio.write(TIM10 + o, v);
 }
 
-/// The stop, from any context (E-stop, alarm, panic).
+/// The tick's command: `ccr`, or the stop if it is the stop. A running
+/// command is preloaded, taken at the frame's next update.
+#[inline]
+pub fn command(ccr: u32) {
+    if ccr == STOP.load(Ordering::Relaxed) {
+        stop();
+        return;
+    }
+    if !LIVE.load(Ordering::Relaxed) {
+        write(off::CCMR1, CCMR1_LIVE);
+        LIVE.store(true, Ordering::Relaxed);
+    }
+    write(off::CCR1, ccr);
+}
+
+/// The stop at once, from any context (E-stop, alarm, fault, panic): the
+/// preload off, then CCR1, which ends the pulse under way.
 pub fn stop() {
-    set_ccr(STOP.load(Ordering::Relaxed));
+    LIVE.store(false, Ordering::Relaxed);
+    write(off::CCMR1, CCMR1_STOPPED);
+    write(off::CCR1, STOP.load(Ordering::Relaxed));
 }

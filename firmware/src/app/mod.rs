@@ -167,7 +167,7 @@ async fn main(spawner: Spawner) {
     drivers::lathe_encoder(p.TIM3, p.PA6, p.PA7, p.PB0);
     drivers::cutter_encoder(p.TIM4, p.PB6, p.PB7);
     drivers::step_output(p.TIM1, p.PA8, p.PA9, p.TIM2);
-    bldc::init(p.TIM10, p.PB8, p.PB1);
+    bldc::init(p.TIM10, p.PB8, p.PB1, &config);
     safety::inputs(p.PB14, p.PB15);
     if !priorities::check() {
         defmt::error!("an interrupt sits at the tick's level (above): fix board::PRIORITIES");

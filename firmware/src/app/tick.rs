@@ -111,9 +111,9 @@ pub fn start(config: Config, mut pins: OutputPins) {
     cp.DCB.enable_trace();
     cp.DWT.enable_cycle_counter();
     tick_timer();
-    // the saved BLDC interface, at its stop, before the first tick
+    // the saved BLDC interface (its frame set up at boot), scaled to the
+    // core's full speed, and its sense, before the first tick
     let drive = bldc::out_for(&core);
-    bldc::set_up(&drive);
     bldc::set_sense(core.config());
     let io = Io {
         core,
@@ -226,7 +226,7 @@ fn run(cs: &CriticalSection) {
     // every tick, whatever the drive: a fault or halt stops the BLDC too
     let run = io.core.config().drive == DriveKind::Bldc && out.enable && !out.halt;
     let forward = io.core.config().sense == polyturn_sync::Sense::Same;
-    bldc::set_ccr(io.bldc.command(run, out.speed_q16, forward));
+    bldc::command(io.bldc.command(run, out.speed_q16, forward));
     io.pins.set_enable(out.enable);
     drivers::set_x_pins(io.x.tick(&out.x_plan, out.halt));
     // the E-stop pre-empts the tick: if it ran during this one, a write
@@ -367,11 +367,13 @@ pub fn apply_driver_settings() {
         if let Some(io) = IO.borrow(cs).borrow_mut().as_mut() {
             io.pins.set_polarity(io.core.config().enable_active_high);
             drivers::set_halt_pulse(io.core.derived().steps.pulse);
+            // (a new scale alone keeps the frame: no reprogram, whose
+            // restart would cut a frame short)
             let out = bldc::out_for(&io.core);
-            if out != io.bldc {
-                io.bldc = out;
+            if !out.same_frame(&io.bldc) {
                 bldc::set_up(&out);
             }
+            io.bldc = out;
             bldc::set_sense(io.core.config());
         }
     });

@@ -66,10 +66,12 @@ fn anything_but_a_running_drive_the_wired_way_gets_the_stop() {
 }
 
 #[test]
-fn the_emulator_finds_each_interfaces_stop_from_the_timer() {
-    for o in BldcOut::ALL {
-        let t = out(o.name());
-        assert_eq!(stop_for(t.psc, t.arr), t.stop, "{o:?}");
-    }
-    assert_eq!(stop_for(95, 1_234), 0);
+fn a_new_scale_alone_keeps_the_frame() {
+    let c = Config::default();
+    assert!(Out::new(&c, MAX).same_frame(&Out::new(&c, MAX / 2)));
+    assert_ne!(Out::new(&c, MAX), Out::new(&c, MAX / 2));
+    assert!(!out("esc50").same_frame(&out("esc400")));
+    let pwm2k = Config::default().with("bldc-out", "pwm").unwrap().with("pwm-hz", "2000").unwrap();
+    // the same PSC and ARR as OneShot125's, but another stop
+    assert!(!Out::new(&pwm2k, MAX).same_frame(&out("oneshot125")));
 }

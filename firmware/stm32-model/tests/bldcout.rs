@@ -3,7 +3,7 @@
 //! TIM10, one channel), and the pin's waveform measured: the frame, the
 //! pulse each command makes, the stop taking effect in the frame under way.
 
-use polyturn_firmware::bldcout::{off, Out, TIM10};
+use polyturn_firmware::bldcout::{off, Out, CCMR1_LIVE, CCMR1_STOPPED, TIM10};
 use polyturn_firmware::regs::{apply, Bus};
 use polyturn_stm32_model::chip::gptimer::GpTimer;
 use polyturn_sync::Config;
@@ -88,21 +88,73 @@ fn full_speed_on_a_pwm_is_high_throughout() {
     let o = out("pwm", "5000");
     let mut b = Tim10::set_up(&o);
     b.t.write(off::CCR1, o.ccr(MAX as u32), u32::MAX);
-    assert!((0..1_000).all(|_| b.after(97)), "CCR1 = ARR + 1: OC1REF held high (§14.3.10)");
+    assert!((0..1_000).all(|_| b.after(97)), "CCR1 = ARR + 1: OC1REF held high (§14.3.9)");
+}
+
+/// The tick's command, as `app::bldc::command` writes it: preloaded.
+fn run(b: &mut Tim10, ccr: u32) {
+    b.t.write(off::CCMR1, CCMR1_LIVE, u32::MAX);
+    b.t.write(off::CCR1, ccr, u32::MAX);
+}
+
+/// The stop, as `app::bldc::stop` writes it: the preload off, then CCR1.
+fn stop(b: &mut Tim10, o: &Out) {
+    b.t.write(off::CCMR1, CCMR1_STOPPED, u32::MAX);
+    b.t.write(off::CCR1, o.stop, u32::MAX);
 }
 
 #[test]
 fn the_stop_cuts_the_pulse_under_way() {
     // esc50 at full speed (2 000 µs); 1 500 µs into the pulse the stop is
-    // written: the pin falls at once (no CCR preload), not 18.5 ms later
+    // written: the pin falls at once, not 18.5 ms later
     let o = out("esc50", "1000");
     let mut b = Tim10::set_up(&o);
-    b.t.write(off::CCR1, o.ccr(MAX as u32), u32::MAX);
+    run(&mut b, o.ccr(MAX as u32));
+    b.after(20_000 * 96); // the preloaded command takes effect at the update
     assert!(b.after(1_500 * 96));
-    b.t.write(off::CCR1, o.stop, u32::MAX);
+    stop(&mut b, &o);
     assert!(!b.after(96), "low within a µs of the stop");
     // and the next frame is the stop pulse, 1 000 µs
     b.after(18_500 * 96 - 96);
     let (high, _) = b.measure(96, 1_920_000);
     assert_eq!(high, 96_000);
+}
+
+#[test]
+fn a_command_raised_after_the_pulse_fell_waits_for_the_next_frame() {
+    // OneShot125 at half speed (187.5 µs); 200 µs into the frame, after
+    // the fall, the tick raises it to full: preloaded, no second pulse in
+    // this frame, 250 µs in the next (without the preload CNT < CCR1 would
+    // hold again from 200 µs: a 50 µs runt after the real pulse)
+    let o = out("oneshot125", "1000");
+    let mut b = Tim10::set_up(&o);
+    run(&mut b, o.ccr(MAX as u32 / 2));
+    b.after(48_000); // to the update: the half-speed command is in
+    assert!(b.after(96 * 100), "100 µs in: high");
+    assert!(!b.after(96 * 100), "200 µs in: fallen at 187.5 µs");
+    run(&mut b, o.ccr(MAX as u32));
+    assert!((0..290).all(|_| !b.after(96)), "no runt before the frame ends");
+    let (high, _) = b.measure(2, 48_000);
+    assert_eq!(high, 24_000, "250 µs from the next frame");
+}
+
+#[test]
+fn setting_up_again_in_a_pulse_never_stretches_it() {
+    // esc400 in its stop pulse, 900 µs in; set up again (a new interface):
+    // CCR1 = 0 first drops the pin at once, and the first pulse after is no
+    // longer than the stop, never 900 + 1 000 µs read as throttle
+    let o = out("esc400", "1000");
+    let mut b = Tim10::set_up(&o);
+    assert!(b.after(900 * 96));
+    let program = out("esc50", "1000").program();
+    for (i, op) in program.iter().enumerate() {
+        if let polyturn_firmware::regs::Op::Write(a, v) = *op {
+            b.write(a, v);
+            // low from the second word (CCR1 = 0) to the last (the stop)
+            let between = (1..program.len() - 1).contains(&i);
+            assert!(!between || !b.t.oc_out(0).unwrap(), "the pin high after word {i}");
+        }
+    }
+    let first = (0..25_000).take_while(|_| b.after(96)).count() as u64 * 96;
+    assert!(first <= 96_000, "first pulse {first} cycles");
 }

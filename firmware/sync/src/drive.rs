@@ -26,9 +26,9 @@ pub struct Bldc {
     rate: i64,
 }
 
-/// The phase error taken into the products: 2^20 counts, far past any
-/// following-error limit, so `gains`' products fit 64 bits.
-const ERROR_BOUND: i64 = 1 << 36;
+/// The phase error taken into the products: 65 536 counts (past it every
+/// gain saturates the command anyway), so `gains`' products fit 64 bits.
+pub const ERROR_BOUND: i64 = 1 << 32;
 
 impl Bldc {
     pub fn start(&mut self, raw: u16) {
@@ -41,9 +41,15 @@ impl Bldc {
         self.encoder.position()
     }
 
+    /// Disabled: the next run starts afresh. It starts from the cutter's
+    /// own place at rest (the follower's error and speed 0), so no rate or
+    /// acceleration is taken against the run before.
     pub fn reset(&mut self) {
         self.integral = 0;
         self.still = 0;
+        self.rate = 0;
+        self.last_error = 0;
+        self.last_velocity = 0;
     }
 
     /// Returns the speed command (Q16 counts per tick) and whether the

@@ -302,7 +302,7 @@ impl GpTimer {
         Some(self.t + (cycles.min(u64::MAX as u128 / 2) as u64).max(1))
     }
 
-    /// OCxREF of channel `ch` in the forced and PWM modes (§13.3.10, §13.4.7 OCxM):
+    /// OCxREF of channel `ch` in the forced and PWM modes (§13.3.9, §13.4.7 OCxM):
     /// 100 forced low, 101 forced high, 110 PWM 1, 111 PWM 2; other modes read low.
     pub fn oc_ref(&self, ch: usize) -> bool {
         let c = self.ccr[ch];

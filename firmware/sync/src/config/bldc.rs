@@ -69,7 +69,7 @@ impl BldcOut {
 }
 
 /// TIM10's prescaler for a PWM at `hz`: the smallest that fits the period
-/// in the 16-bit ARR (§14.5.11), so the duty has the most steps.
+/// in the 16-bit ARR (TIM10_ARR, §14.5.9), so the duty has the most steps.
 pub fn pwm_prescaler(hz: u32) -> u32 {
     (TIMER_HZ / hz.max(1)).div_ceil(1 << 16).max(1) - 1
 }

@@ -152,3 +152,43 @@ fn the_start_rate_is_off_by_default_and_within_max_rate() {
     assert_eq!(started.with("start-rate", "200001").unwrap_err().field, "start-rate");
     assert_eq!(started.with("start-rate", "200000").map(|c| c.start_rate_hz), Ok(200000));
 }
+
+/// A BLDC drive must take a command at least once per cutter turn at
+/// `max-rpm`: max-rpm × num / den / 60 ≤ the frame rate. At 5/2 through
+/// `esc50` that is 1 200 rpm; whichever setting crosses it is named.
+#[test]
+fn a_bldc_drive_slower_than_a_command_per_cutter_turn_is_refused() {
+    // (a 100-count cutter encoder: the motor's own limit, max-rate, is
+    // far away)
+    let base = Config::default().with("steps", "100").unwrap().with("max-rpm", "1200").unwrap();
+    let bldc = base.with("ratio", "5/2").unwrap().with("drive", "bldc").unwrap();
+    assert_eq!(bldc.with("max-rpm", "1200").map(|c| c.max_lathe_rpm), Ok(1200));
+    let e = bldc.with("max-rpm", "1201").unwrap_err();
+    assert_eq!(e.field, "max-rpm");
+    assert!(e.allowed.contains("once per cutter revolution"), "{}", e.allowed);
+    // 400 Hz: 9 600 rpm at 5/2
+    let fast = bldc.with("bldc-out", "esc400").unwrap();
+    assert_eq!(fast.with("max-rpm", "9600").map(|c| c.max_lathe_rpm), Ok(9600));
+    assert_eq!(fast.with("max-rpm", "9601").unwrap_err().field, "max-rpm");
+    let fast = fast.with("max-rpm", "2000").unwrap();
+    assert_eq!(fast.with("bldc-out", "esc50").unwrap_err().field, "bldc-out");
+    // a stepper is not judged so
+    let stepper = base.with("max-rpm", "1201").unwrap().with("ratio", "5/2").unwrap();
+    assert_eq!(stepper.with("drive", "bldc").unwrap_err().field, "drive");
+}
+
+/// `bldc-tau` and `pwm-hz` out of range are refused naming themselves,
+/// and change nothing.
+#[test]
+fn the_bldc_drives_time_constant_and_pwm_frequency_have_their_ranges() {
+    let d = Config::default();
+    assert_eq!(set("bldc-tau", "1").map(|c| c.bldc_tau_ms), Ok(1));
+    assert_eq!(set("bldc-tau", "1000").map(|c| c.bldc_tau_ms), Ok(1000));
+    for bad in ["0", "1001"] {
+        let e = set("bldc-tau", bad).unwrap_err();
+        assert_eq!((e.field, e.allowed), ("bldc-tau", crate::config::bldc::TAU), "{bad}");
+    }
+    assert_eq!(set("pwm-hz", "7000").unwrap_err().field, "pwm-hz", "no whole number of 96 MHz counts");
+    assert_eq!(set("pwm-hz", "8000").map(|c| c.pwm_hz), Ok(8000));
+    assert_eq!(Config { bldc_tau_ms: 0, ..d }.validate().unwrap_err().field, "bldc-tau");
+}

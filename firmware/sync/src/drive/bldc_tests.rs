@@ -221,3 +221,20 @@ fn the_cutter_encoder_counts_from_where_it_started() {
     assert_eq!(b.read(40_010), 10);
     assert_eq!(b.read(39_990), -10);
 }
+
+#[test]
+fn after_a_reset_the_next_run_takes_no_rate_or_acceleration_from_the_last() {
+    let d = derived();
+    let a = d.limits.max_accel;
+    let mut b = Bldc::default();
+    // a run at speed, 100 counts behind, then a fault's reset
+    for _ in 0..100 {
+        b.command(&moving(100 << 16, 300_000), 0, &d);
+    }
+    b.reset();
+    // from rest again: the speed's change counts from 0, not from 300 000
+    // (which would be a full deceleration, the command clamped to 0), and
+    // no rate is left from the old error
+    let v = a / 2;
+    assert_eq!(b.command(&moving(0, v), 0, &d).0 as i64, v + 500 * v);
+}

@@ -7,22 +7,32 @@
 //! with the drive's time constant τ (`bldc-tau`: a spindle driver's speed
 //! loop, or an RC ESC's motor, which has none). Two loops close around it:
 //!
-//! * **Speed feedback** Kv on the error's rate (the speed error, filtered
-//!   over about the delay, 2^shift ticks, so a count's step is spread):
-//!   Kv / (1 + sτ) crosses over at Kv/τ, where the delay and the filter
-//!   cost Kv·T/τ ≤ ½ rad, so Kv = τ / 2T, at most 32 (a count's step
-//!   times Kv must not swamp the command). It makes the drive τ/(1 + Kv)
-//!   slow; an ESC's sag under load shrinks by as much.
-//! * **Phase PI** around that, crossing over at ω_c = 1 / (2 (τ' + T)):
-//!   the lag costs at most atan(½) ≈ 27°, the delay ½ rad, the integral's
-//!   corner at ω_c / 4 another 14°. A drive slower than its setting gets
-//!   less margin, so the default (20 ms) errs slow.
+//! * **Speed feedback** Kv on the error's rate (the speed error), filtered
+//!   over 2^shift ticks, about the hold. Around the lag, Kv / (1 + sτ)
+//!   crosses over near Kv/τ (for Kv well over 1), where the hold and the
+//!   filter, T, cost Kv·T/τ rad: Kv = τ / 2T keeps that to ½ rad. Kv is
+//!   at most 32, and one count's step through the filter (2^16 >> shift)
+//!   times Kv at most an eighth of full speed: where it would be more the
+//!   filter lengthens, which lowers Kv and the noise with it. The drive
+//!   then answers in τ' = τ / (1 + Kv), and an ESC's sag under load
+//!   shrinks as much.
+//! * **Phase PI** around that. What passes the speed feedback is divided
+//!   by 1 + Kv; for a drive that brakes (a spindle driver's speed loop,
+//!   `pwm`) Kp and Ki carry that back, so the phase loop crosses over at
+//!   ω_c = 1 / (2 (τ' + T)): there the lag and the delay cost at most
+//!   ω_c (τ' + T) = ½ rad (atan x ≤ x), the integral's corner at ω_c / 4
+//!   another 14°, a margin over 45°. An RC ESC cannot brake: an overshoot
+//!   as the cutter synchronises cannot be taken back, and at that
+//!   crossover `esc400` loses phase there (`tests/bldc_drives.rs`); its
+//!   PI keeps the lower crossover ω_c / (1 + Kv).
 //!
 //! In tick units: Kp = ω_c / f_tick, the integral gain Kp·ω_c/4/f_tick =
 //! Kp²/4, and the acceleration feed-forward τ·f_tick ticks (a drive lagging
-//! τ behind its command is ahead of it by τ·a if asked τ·a more).
+//! τ behind its command is ahead of it by τ·a if asked τ·a more). A drive
+//! slower than its setting gets less margin, so the default (20 ms) errs
+//! slow.
 
-use crate::config::Config;
+use crate::config::{BldcOut, Config};
 
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct BldcGains {
@@ -50,11 +60,16 @@ impl BldcGains {
         // T: half a frame (the hold) and the tick, in ticks, rounded up,
         // and the rate's filter (a power of two, about as long)
         let hold = tick_hz.div_ceil(2 * frame_hz) + 1;
-        let rate_shift = (u64::BITS - 1 - hold.leading_zeros()).min(10);
+        let max_q16 = ((c.max_step_rate_hz as u64) << 16).div_ceil(tick_hz);
+        let (rate_shift, kv_q8) = speed_feedback(tau_ticks, hold, max_q16);
         let delay = hold + (1 << rate_shift);
-        let kv_q8 = ((tau_ticks << 8) / (2 * delay)).min(KV_MAX_Q8);
         let tau_eff = (tau_ticks << 8) / (256 + kv_q8);
-        let kp_q16 = (1u64 << 15) / (tau_eff + delay).max(1);
+        // the speed feedback divides what passes it by 1 + Kv: a drive
+        // that brakes (a spindle driver's speed loop) has the PI's gains
+        // carry that back, crossing over at ω_c; an RC ESC, which cannot,
+        // keeps the lower crossover ω_c / (1 + Kv)
+        let brakes = c.bldc_out == BldcOut::Pwm;
+        let kp_q16 = ((1u64 << 15) / (tau_eff + delay).max(1)) * if brakes { 256 + kv_q8 } else { 256 } / 256;
         BldcGains {
             kp_q16: kp_q16 as i64,
             ki_q32: (kp_q16 * kp_q16 / 4) as i64,
@@ -62,6 +77,23 @@ impl BldcGains {
             kv_q8: kv_q8 as i64,
             rate_shift,
         }
+    }
+}
+
+/// The rate's filter (2^shift ticks: about the hold, or longer) and Kv.
+/// Kv = τ / 2T, T the hold and the filter; one count's step through the
+/// filter, 2^16 >> shift, times Kv must stay within an eighth of full
+/// speed (`max_q16`), so where it would not the filter lengthens, which
+/// lowers Kv and the noise with it.
+fn speed_feedback(tau_ticks: u64, hold: u64, max_q16: u64) -> (u32, u64) {
+    let mut shift = (u64::BITS - 1 - hold.leading_zeros()).min(10);
+    loop {
+        let kv_q8 = ((tau_ticks << 8) / (2 * (hold + (1 << shift)))).min(KV_MAX_Q8);
+        let cap = (max_q16 << shift) >> 11;
+        if kv_q8 <= cap || shift == 10 {
+            return (shift, kv_q8.min(cap));
+        }
+        shift += 1;
     }
 }
 
@@ -77,15 +109,16 @@ mod tests {
     #[test]
     fn a_spindle_driver_at_1_khz_with_2_ms() {
         // τ 50 ticks; the hold 13 + 1, the filter 8: T = 22; Kv = 50 / 44
-        // (290 / 256); τ' = 12 800 / 546 = 23; Kp = 32 768 / 45 = 728:
-        // ω_c = 278 rad/s
+        // (290 / 256); τ' = 12 800 / 546 = 23; Kp = 32 768 / 45 = 728 (ω_c
+        // = 278 rad/s), × 546 / 256 for the speed feedback = 1 552
         let g = gains("pwm", "2");
-        assert_eq!(g, BldcGains { kp_q16: 728, ki_q32: 132_496, tau_ticks: 50, kv_q8: 290, rate_shift: 3 });
+        assert_eq!(g, BldcGains { kp_q16: 1_552, ki_q32: 602_176, tau_ticks: 50, kv_q8: 290, rate_shift: 3 });
     }
 
     #[test]
     fn an_esc_at_400_hz_on_a_79_ms_motor_gets_strong_speed_feedback() {
-        // τ 1 975; T = 33 + 32; Kv = 1 975 / 130 = 15.2; τ' = 121
+        // τ 1 975; T = 33 + 32; Kv = 1 975 / 130 = 15.2; τ' = 121; an ESC
+        // cannot brake: Kp stays ω_c / (1 + Kv)
         let g = gains("esc400", "79");
         assert_eq!((g.kv_q8, g.rate_shift, g.kp_q16), (3_889, 5, 32_768 / (121 + 65)));
     }
@@ -96,20 +129,30 @@ mod tests {
         let esc400 = gains("esc400", "20");
         let pwm = gains("pwm", "20");
         assert!(esc50.kp_q16 < esc400.kp_q16 && esc400.kp_q16 < pwm.kp_q16);
-        assert!(gains("pwm", "100").kp_q16 < pwm.kp_q16);
+        // a slower spindle driver: more speed feedback (which then makes it
+        // about as quick: the PI carries the 1 + Kv back)
+        assert!(gains("pwm", "100").kv_q8 > pwm.kv_q8);
         assert_eq!(gains("oneshot125", "1000").tau_ticks, 25_000);
-        assert_eq!(gains("oneshot125", "1000").kv_q8, 32 << 8, "Kv at its ceiling");
+        // τ 25 000: Kv would be far past its ceiling of 32, and a count's
+        // step through an 8-tick filter times 32 a quarter of full speed:
+        // the filter lengthens to 32 ticks (an eighth)
+        let slow = gains("oneshot125", "1000");
+        assert_eq!((slow.kv_q8, slow.rate_shift), (32 << 8, 5));
+        assert!((((65_536 >> slow.rate_shift) * slow.kv_q8) >> 8) <= 524_288 / 8);
     }
 
     #[test]
     fn the_products_in_the_tick_fit_64_bits() {
-        // the stiffest the settings allow: τ 1 ms, PWM at 20 kHz
-        let c = Config::default().with("bldc-out", "pwm").unwrap().with("pwm-hz", "20000").unwrap();
-        let g = BldcGains::new(&c.with("bldc-tau", "1").unwrap(), 25_000);
-        // the error is bounded to 2^36 (`drive::ERROR_BOUND`), its rate to
-        // 2^37
-        assert!((g.kp_q16 as i128) << 36 < i64::MAX as i128 >> 2);
-        assert!((g.ki_q32 as i128) << 36 < i64::MAX as i128 >> 2);
-        assert!((KV_MAX_Q8 as i128) << 37 < i64::MAX as i128 >> 2);
+        // the stiffest the settings allow: τ 1 ms, PWM at 20 kHz, max-rate
+        // 250 kHz (the widest noise cap)
+        let c = Config::default().with("max-rate", "250000").unwrap().with("bldc-out", "pwm").unwrap();
+        let c = c.with("pwm-hz", "20000").unwrap().with("bldc-tau", "1").unwrap();
+        let g = BldcGains::new(&c, 25_000);
+        // the error is bounded to 2^32 (`drive::ERROR_BOUND`), its rate to
+        // 2^33; the integral to 1.5 × max-rate × 2^32 < 2^53
+        let bound = super::super::ERROR_BOUND as i128;
+        assert!(g.kp_q16 as i128 * bound < i64::MAX as i128 >> 2);
+        assert!(g.ki_q32 as i128 * bound < i64::MAX as i128 >> 4);
+        assert!(KV_MAX_Q8 as i128 * 2 * bound < i64::MAX as i128 >> 2);
     }
 }

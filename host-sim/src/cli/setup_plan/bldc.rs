@@ -15,11 +15,11 @@ pub const TAU_UNMEASURED: &str = "bldc-tau is still the default 20 ms: measure t
 pub fn lines(c: &Config) -> Vec<String> {
     let mut out = vec![match c.bldc_out {
         BldcOut::Pwm => format!(
-            "bldc-out pwm at {} Hz (PB8, its sense on PB1): a spindle driver with a 2 ms speed loop holds the cutter within about 6 counts of its encoder while cutting (in simulation the hexagon's section is within 32 µm)",
+            "bldc-out pwm at {} Hz (PB8, its sense on PB1): a spindle driver with a 2 ms speed loop holds the cutter within about 6 counts of its encoder while cutting (in simulation the hexagon's section is within 29 µm)",
             c.pwm_hz
         ),
         BldcOut::Esc400 | BldcOut::OneShot125 => format!(
-            "bldc-out {}: an RC ESC has no speed loop and cannot brake: in simulation it holds the cutter within 20 to 60 counts while cutting (0.2 mm on the hexagon's section), needs max-accel within what the spindle coasts down by, and stops with a following error when the lathe stops faster than the cutter coasts",
+            "bldc-out {}: an RC ESC has no speed loop and cannot brake: in simulation it holds the cutter within 28 to 58 counts while cutting (0.14 to 0.2 mm on the hexagon's section), needs max-accel within what the spindle coasts down by, and stops with a following error when the lathe stops faster than the cutter coasts",
             c.bldc_out.name()
         ),
         BldcOut::Esc50 => ESC50_WARNING.to_string(),
