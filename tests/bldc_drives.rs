@@ -94,6 +94,26 @@ fn a_spindle_driver_at_1_khz_holds_phase_through_the_cut() {
     }
 }
 
+/// A slower spindle driver (its loop 20 or 100 ms, `bldc-tau` set to it)
+/// must still hold while cutting: the gains follow the drive (with the
+/// integral's corner at a quarter of the crossover; at (1 + Kv) times it,
+/// as a first version had, the linear model is unstable from τ ≈ 70 ms).
+#[test]
+fn a_slower_spindle_driver_holds_phase_too() {
+    for tau_ms in [20, 100] {
+        let mut sc = job(HEXAGON);
+        fit_drive(&mut sc, BldcOut::Pwm, 1_000, Some(tau_ms)).unwrap();
+        sc.bldc_drive = BldcDrive::SpeedLoop { tau: tau_ms as f64 * 1e-3 };
+        let r = simulate(&sc);
+        eprintln!("{}", row(HEXAGON, &format!("spindle driver, PWM 1 kHz, τ {tau_ms} ms"), &r));
+        // (τ 100 ms: a following error in the run-down, the cut over)
+        if let Some((t, f)) = first_fault_s(&r) {
+            assert!(t >= cut_end_s(HEXAGON, &r), "τ {tau_ms} ms: {f:?} at {t:.2} s, in the cut");
+        }
+        assert!(r.max_error_steps_cutting <= 10.0, "τ {tau_ms} ms: {:.1} counts", r.max_error_steps_cutting);
+    }
+}
+
 #[test]
 fn an_rc_esc_at_400_hz_or_oneshot125_holds_phase_while_cutting_but_not_the_run_down() {
     for out in [BldcOut::Esc400, BldcOut::OneShot125] {

@@ -70,8 +70,10 @@ impl Out {
         let (psc, arr, stop, full) = match c.bldc_out {
             BldcOut::Esc50 => (US_PSC, 19_999, 1_000, 2_000),
             BldcOut::Esc400 => (US_PSC, 2_499, 1_000, 2_000),
-            // 96 counts a µs: 125 µs = 12 000, 250 µs = 24 000
-            BldcOut::OneShot125 => (0, TIMER_HZ / 2_000 - 1, 12_000, 24_000),
+            // 48 counts a µs: 125 µs = 6 000, 250 µs = 12 000 (PSC 1, not
+            // 0: a PWM at 2 kHz has PSC 0 and the same frame, and the
+            // emulator tells the two apart by PSC)
+            BldcOut::OneShot125 => (1, TIMER_HZ / 2 / 2_000 - 1, 6_000, 12_000),
             BldcOut::Pwm => {
                 let psc = pwm_prescaler(c.pwm_hz);
                 let arr = TIMER_HZ / (psc + 1) / c.pwm_hz.max(1) - 1;
@@ -132,6 +134,21 @@ impl Out {
             t(off::CCR1, self.stop),
         ]
     }
+}
+
+/// The tick's running command: CCR1 preloaded (taken at the frame's next
+/// update, one whole pulse a frame).
+pub fn run_ops(ccr: u32) -> [Op; 2] {
+    [Op::Write(TIM10 + off::CCMR1, CCMR1_LIVE), Op::Write(TIM10 + off::CCR1, ccr)]
+}
+
+/// The stop at once: the preload off, then CCR1, which takes effect
+/// immediately and ends the pulse under way (lowering CCR1 ends a pulse
+/// early, never adds one). RM0383 guarantees PWM mode without the preload
+/// only in one-pulse mode: the bench procedure checks this write on the
+/// scope.
+pub fn stop_ops(stop: u32) -> [Op; 2] {
+    [Op::Write(TIM10 + off::CCMR1, CCMR1_STOPPED), Op::Write(TIM10 + off::CCR1, stop)]
 }
 
 /// TIM10_CCMR1 (§14.5.5) while stopped: PWM mode 1, CCR1 not preloaded (a

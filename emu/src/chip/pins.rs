@@ -25,12 +25,14 @@ impl Chip {
         let t10 = &self.gp[3];
         let rate = self.rcc.apb2().1 / (t10.get(off::PSC) as u64 + 1);
         let frame_us = (t10.get(off::ARR) as u64 + 1) * 1_000_000 / rate.max(1);
+        let psc = t10.get(off::PSC);
         Outputs {
             tim1_cen: self.mcu.read(TIM1_CR1) & 1 == 1,
             oc1m: self.mcu.read(TIM1_CCMR1) >> 4 & 7,
             step,
-            esc_ccr1: t10.get(off::CCR1),
-            esc_stop: (stop_us(frame_us) * rate / 1_000_000) as u32,
+            // what the pin follows: the compare in force, not a preloaded one
+            esc_ccr1: t10.active_ccr(0),
+            esc_stop: (stop_us(psc, frame_us) * rate / 1_000_000) as u32,
             enable: self.gpio[1].pin_out(13),
             enable_inactive: !polyturn_sync::Config::default().enable_active_high,
             x_step: self.gpio[1].pin_out(4),
@@ -38,13 +40,15 @@ impl Chip {
     }
 }
 
-/// The BLDC drive's stop for TIM10's frame (`bldc-out`): the RC ESCs'
-/// 1 000 µs stop pulse in a 20 or 2.5 ms frame, OneShot125's 125 µs in a
-/// 500 µs frame; a PWM's stop is no pulse at all.
-fn stop_us(frame_us: u64) -> u64 {
-    match frame_us {
-        20_000 | 2_500 => 1_000,
-        500 => 125,
+/// The BLDC drive's stop for TIM10's prescaler and frame (`bldc-out`):
+/// the RC ESCs' 1 000 µs stop pulse in a 20 or 2.5 ms frame at 1 µs counts
+/// (PSC 95), OneShot125's 125 µs in a 500 µs frame at PSC 1 (a PWM's PSC
+/// is 0 from 1 465 Hz up, so a 2 kHz PWM's frame is told apart); a PWM's
+/// stop is no pulse at all.
+fn stop_us(psc: u32, frame_us: u64) -> u64 {
+    match (psc, frame_us) {
+        (95, 20_000 | 2_500) => 1_000,
+        (1, 500) => 125,
         _ => 0,
     }
 }

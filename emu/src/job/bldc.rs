@@ -3,10 +3,11 @@
 //! interface saved; the lathe turns and the cutter is engaged. TIM10 must
 //! make the interface's frame (from its PSC and ARR, RM0383 §14.3.1: a
 //! frame is (PSC + 1)(ARR + 1) timer clocks) and a running command; BLDC_DIR
-//! (PB1) the wired sense. The emulator turns no cutter, so its encoder
-//! stands still: the core's stall check must stop the drive (a fault),
-//! ENABLE inactive. Then the E-stop opens:
-//! within a ms CCR1 must be the stop. The stop is a 1 000 µs pulse for an
+//! (PB1) the wired sense. Then the E-stop opens while the drive runs: within
+//! 50 µs, with no frame's update between, the compare in force (what the
+//! pin follows, not a preloaded value) must be the stop. On a second boot the drive runs on: the emulator
+//! turns no cutter, so its encoder stands still and the core's stall check
+//! must stop the drive (a fault), ENABLE inactive. The stop is a 1 000 µs pulse for an
 //! RC ESC, 125 µs for OneShot125, no pulse for a PWM. The expected frames
 //! and stops are the interfaces' published figures, written here, not
 //! taken from the firmware. (The E-stop interrupt's own write of the stop,
@@ -35,16 +36,20 @@ struct Seen {
     safe: bool,
 }
 
-/// TIM10's frame and CCR1, in µs of its kernel clock.
+/// TIM10's frame and the compare in force (what the pin follows), in µs
+/// of its kernel clock.
 fn tim10_us(m: &mut Machine) -> (f64, f64) {
     let c = m.chip();
     let clk = c.rcc.apb2().1 as f64;
     let t = &c.gp[3];
     let tick_us = (t.get(off::PSC) as f64 + 1.0) / clk * 1e6;
-    ((t.get(off::ARR) as f64 + 1.0) * tick_us, t.get(off::CCR1) as f64 * tick_us)
+    ((t.get(off::ARR) as f64 + 1.0) * tick_us, t.active_ccr(0) as f64 * tick_us)
 }
 
-fn one(image: &Rc<Image>, name: &str) -> Result<(Seen, u64), String> {
+/// The image booted on the hexagon's settings with `drive bldc` and
+/// `name`, the lathe at speed, the cutter engaged and followed 100 ms: the
+/// widest command pulse in force over that time.
+fn engaged(image: &Rc<Image>, name: &str) -> Result<(Machine, f64), String> {
     let spec = &super::super::jobs::SPECS[0]; // the hexagon's
     let sc = scenario(spec);
     let cfg = sc.core.with("drive", "bldc").and_then(|c| c.with("bldc-out", name));
@@ -57,24 +62,43 @@ fn one(image: &Rc<Image>, name: &str) -> Result<(Seen, u64), String> {
     m.lathe = Some(lathe::LatheDrive::motor(sc.lathe.clone(), spec.seed, cfg.encoder_counts_per_rev, now, SYSCLK));
     m.run(600 * MS); // at speed
     press(&mut m, ENGAGE);
-    // the command while following: the widest pulse over 100 ms
     let mut running_us = 0.0f64;
     for _ in 0..100 {
         m.run(MS);
         running_us = running_us.max(tim10_us(&mut m).1);
     }
+    Ok((m, running_us))
+}
+
+fn one(image: &Rc<Image>, name: &str) -> Result<(Seen, u64), String> {
+    // the E-stop while the drive runs
+    let (mut m, running_us) = engaged(image, name)?;
     let (frame_us, _) = tim10_us(&mut m);
     let dir = m.chip().gpio[1].pin_out(1);
-    // 0.2 s commanded with the encoder still: `Fault::Stall`, ramped down
+    // just after a frame's update, and judged 50 µs later: the next update
+    // is a frame away, so a stop left in the preload would still show the
+    // running command
+    let updates = |m: &mut Machine| {
+        m.chip().sync();
+        m.chip().gp[3].updates
+    };
+    let before = updates(&mut m);
+    while updates(&mut m) == before {
+        m.run(MS / 100);
+    }
+    m.drive(GPIOB, ESTOP, None);
+    m.run(MS / 20);
+    let stop_us = tim10_us(&mut m).1;
+    let safe = m.chip().outputs().safe_now();
+    let mut cycles = m.chip().now;
+    // a fault: 0.2 s commanded with the encoder still, `Fault::Stall`
+    let (mut m, _) = engaged(image, name)?;
     m.run(600 * MS);
     let stalled_us = tim10_us(&mut m).1;
     let o = m.chip().outputs();
     let stall_disabled = o.enable == Some(o.enable_inactive);
-    m.drive(GPIOB, ESTOP, None);
-    m.run(MS);
-    let stop_us = tim10_us(&mut m).1;
-    let safe = m.chip().outputs().safe_now();
-    Ok((Seen { frame_us, running_us, stop_us, dir, stalled_us, stall_disabled, safe }, m.chip().now))
+    cycles += m.chip().now;
+    Ok((Seen { frame_us, running_us, stop_us, dir, stalled_us, stall_disabled, safe }, cycles))
 }
 
 pub fn run(image: &Rc<Image>, r: &mut Report) -> Result<u64, String> {
@@ -91,7 +115,7 @@ pub fn run(image: &Rc<Image>, r: &mut Report) -> Result<u64, String> {
             && s.stall_disabled
             && s.safe;
         let text = format!(
-            "TIM10 frame {:.1} µs (want {frame_us}), widest command pulse {:.1} µs while following, BLDC_DIR {:?} (dir same: low); after the stall {:.1} µs, ENABLE inactive {}; 1 ms after the E-stop opened {:.1} µs (the stop: {stop_us}), outputs safe: {}",
+            "TIM10 frame {:.1} µs (want {frame_us}), widest command pulse {:.1} µs while following, BLDC_DIR {:?} (dir same: low); after the stall {:.1} µs, ENABLE inactive {}; 50 µs after the E-stop opened (no frame's update between) {:.1} µs (the stop: {stop_us}), outputs safe: {}",
             s.frame_us, s.running_us, s.dir, s.stalled_us, s.stall_disabled, s.stop_us, s.safe
         );
         r.line(ok, &format!("bldc {name}"), &text);

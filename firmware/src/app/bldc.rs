@@ -8,14 +8,15 @@ use embassy_stm32::gpio::{Level, Output, Speed};
 use embassy_stm32::pac;
 use embassy_stm32::peripherals as P;
 use embassy_stm32::Peri;
-use polyturn_firmware::bldcout::{off, Out, CCMR1_LIVE, CCMR1_STOPPED, TIM10};
-use polyturn_firmware::regs::{apply, Bus};
+use polyturn_firmware::bldcout::{run_ops, stop_ops, Out};
+use polyturn_firmware::regs::apply;
 use polyturn_sync::{Config, Controller, Sense};
 
 /// CCR1 of the interface's stop, kept by `set_up` (until then TIM10 is not
 /// clocked and a write does nothing).
 static STOP: AtomicU32 = AtomicU32::new(0);
-/// CCR1 is preloaded (`CCMR1_LIVE`): the drive runs. Any stop clears it.
+/// Cleared by every stop: the tick's command sees whether one came
+/// between its words.
 static LIVE: AtomicBool = AtomicBool::new(false);
 const DIR_PIN: usize = 1;
 
@@ -53,29 +54,26 @@ pub fn set_sense(c: &Config) {
     pac::GPIOB.bsrr().write(|w| if high { w.set_bs(DIR_PIN, true) } else { w.set_br(DIR_PIN, true) });
 }
 
-fn write(o: u32, v: u32) {
-    super::drivers::Mmio.write(TIM10 + o, v);
-}
-
 /// The tick's command: `ccr`, or the stop if it is the stop. A running
-/// command is preloaded, taken at the frame's next update.
+/// command is preloaded (`bldcout::run_ops`). The E-stop may come between
+/// its two words: then the second went in with the preload off, so the
+/// stop is written again at once (and again at the tick's end).
 #[inline]
 pub fn command(ccr: u32) {
     if ccr == STOP.load(Ordering::Relaxed) {
         stop();
         return;
     }
+    LIVE.store(true, Ordering::Relaxed);
+    let _ = apply(&run_ops(ccr), &mut super::drivers::Mmio);
     if !LIVE.load(Ordering::Relaxed) {
-        write(off::CCMR1, CCMR1_LIVE);
-        LIVE.store(true, Ordering::Relaxed);
+        stop();
     }
-    write(off::CCR1, ccr);
 }
 
-/// The stop at once, from any context (E-stop, alarm, fault, panic): the
-/// preload off, then CCR1, which ends the pulse under way.
+/// The stop at once, from any context (E-stop, alarm, fault, panic):
+/// `bldcout::stop_ops`.
 pub fn stop() {
     LIVE.store(false, Ordering::Relaxed);
-    write(off::CCMR1, CCMR1_STOPPED);
-    write(off::CCR1, STOP.load(Ordering::Relaxed));
+    let _ = apply(&stop_ops(STOP.load(Ordering::Relaxed)), &mut super::drivers::Mmio);
 }

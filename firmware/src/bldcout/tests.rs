@@ -23,8 +23,8 @@ fn an_rc_esc_gets_1000_to_2000_us_and_never_beyond() {
 #[test]
 fn oneshot125_is_125_to_250_us_every_500_us() {
     let o = out("oneshot125");
-    assert_eq!((o.psc, o.arr), (0, 47_999), "96 MHz counts, 500 µs");
-    assert_eq!((o.ccr(0), o.ccr(MAX as u32 / 2), o.ccr(MAX as u32)), (12_000, 18_000, 24_000));
+    assert_eq!((o.psc, o.arr), (1, 23_999), "48 MHz counts, 500 µs");
+    assert_eq!((o.ccr(0), o.ccr(MAX as u32 / 2), o.ccr(MAX as u32)), (6_000, 9_000, 12_000));
 }
 
 #[test]
@@ -72,6 +72,7 @@ fn a_new_scale_alone_keeps_the_frame() {
     assert_ne!(Out::new(&c, MAX), Out::new(&c, MAX / 2));
     assert!(!out("esc50").same_frame(&out("esc400")));
     let pwm2k = Config::default().with("bldc-out", "pwm").unwrap().with("pwm-hz", "2000").unwrap();
-    // the same PSC and ARR as OneShot125's, but another stop
+    // the same frame as OneShot125's, counted at another PSC
     assert!(!Out::new(&pwm2k, MAX).same_frame(&out("oneshot125")));
+    assert_ne!(Out::new(&pwm2k, MAX).psc, out("oneshot125").psc);
 }

@@ -3,7 +3,7 @@
 //! TIM10, one channel), and the pin's waveform measured: the frame, the
 //! pulse each command makes, the stop taking effect in the frame under way.
 
-use polyturn_firmware::bldcout::{off, Out, CCMR1_LIVE, CCMR1_STOPPED, TIM10};
+use polyturn_firmware::bldcout::{off, run_ops, stop_ops, Out, TIM10};
 use polyturn_firmware::regs::{apply, Bus};
 use polyturn_stm32_model::chip::gptimer::GpTimer;
 use polyturn_sync::Config;
@@ -91,16 +91,14 @@ fn full_speed_on_a_pwm_is_high_throughout() {
     assert!((0..1_000).all(|_| b.after(97)), "CCR1 = ARR + 1: OC1REF held high (§14.3.9)");
 }
 
-/// The tick's command, as `app::bldc::command` writes it: preloaded.
+/// The tick's command: the words `app::bldc::command` applies, preloaded.
 fn run(b: &mut Tim10, ccr: u32) {
-    b.t.write(off::CCMR1, CCMR1_LIVE, u32::MAX);
-    b.t.write(off::CCR1, ccr, u32::MAX);
+    apply(&run_ops(ccr), b).unwrap();
 }
 
-/// The stop, as `app::bldc::stop` writes it: the preload off, then CCR1.
+/// The stop: the words `app::bldc::stop` applies, the preload off first.
 fn stop(b: &mut Tim10, o: &Out) {
-    b.t.write(off::CCMR1, CCMR1_STOPPED, u32::MAX);
-    b.t.write(off::CCR1, o.stop, u32::MAX);
+    apply(&stop_ops(o.stop), b).unwrap();
 }
 
 #[test]
@@ -155,6 +153,38 @@ fn setting_up_again_in_a_pulse_never_stretches_it() {
             assert!(!between || !b.t.oc_out(0).unwrap(), "the pin high after word {i}");
         }
     }
+    let first = (0..25_000).take_while(|_| b.after(96)).count() as u64 * 96;
+    assert!(first <= 96_000, "first pulse {first} cycles");
+}
+
+#[test]
+fn the_stop_wins_over_a_command_waiting_in_the_preload() {
+    // esc400 at full speed, a new (half) command preloaded for the next
+    // frame; the stop comes 1 500 µs in: the pin falls at once, and the
+    // next frame is the stop, not the waiting command
+    let o = out("esc400", "1000");
+    let mut b = Tim10::set_up(&o);
+    run(&mut b, o.ccr(MAX as u32));
+    b.after(2_500 * 96);
+    run(&mut b, o.ccr(MAX as u32 / 2));
+    assert!(b.after(1_500 * 96));
+    stop(&mut b, &o);
+    assert!(!b.after(96));
+    b.after(1_000 * 96 - 96);
+    let (high, _) = b.measure(96, 240_000);
+    assert_eq!(high, 96_000, "the stop's 1 000 µs");
+}
+
+#[test]
+fn setting_up_again_while_running_never_stretches_a_pulse() {
+    // pwm at 1 kHz, 90 % duty, preloaded; 500 µs in, set up as esc50: the
+    // pin falls at once and the first pulse after is the stop's 1 000 µs
+    let o = out("pwm", "1000");
+    let mut b = Tim10::set_up(&o);
+    run(&mut b, o.ccr(MAX as u32 / 10 * 9));
+    b.after(96_000);
+    assert!(b.after(500 * 96));
+    apply(&out("esc50", "1000").program(), &mut b).unwrap();
     let first = (0..25_000).take_while(|_| b.after(96)).count() as u64 * 96;
     assert!(first <= 96_000, "first pulse {first} cycles");
 }

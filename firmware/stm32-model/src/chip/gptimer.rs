@@ -314,6 +314,13 @@ impl GpTimer {
         }
     }
 
+    /// The compare value in force for channel `ch` (the shadow: what the
+    /// pin follows), where `get(CCRx)` reads what was written (the preload
+    /// while OCxPE is set, §13.3.9).
+    pub fn active_ccr(&self, ch: usize) -> u32 {
+        self.ccr[ch]
+    }
+
     pub fn oc_mode(&self, ch: usize) -> u32 {
         let off = if ch < 2 { CCMR1 } else { CCMR2 };
         self.regs.get(off) >> (4 + 8 * (ch % 2)) & 7

@@ -81,7 +81,8 @@ fn a_command_against_the_wired_sense_is_0_winds_nothing_up_and_never_stalls() {
 
 #[test]
 fn the_gains_are_the_drives() {
-    // esc50, τ 20 ms (`gains`): Kp 48, Ki 576, Kv 168 / 256, filter 2^-7
+    // esc50, τ 20 ms (`gains`): Kp 48, Kv 168 / 256, filter 2^-7; Ki
+    // 48² / 4 = 576
     let d = derived();
     assert_eq!(d.bldc, BldcGains { kp_q16: 48, ki_q32: 576, tau_ticks: 500, kv_q8: 168, rate_shift: 7 });
     let mut b = Bldc::default();

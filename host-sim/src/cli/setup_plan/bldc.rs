@@ -15,7 +15,7 @@ pub const TAU_UNMEASURED: &str = "bldc-tau is still the default 20 ms: measure t
 pub fn lines(c: &Config) -> Vec<String> {
     let mut out = vec![match c.bldc_out {
         BldcOut::Pwm => format!(
-            "bldc-out pwm at {} Hz (PB8, its sense on PB1): a spindle driver with a 2 ms speed loop holds the cutter within about 6 counts of its encoder while cutting (in simulation the hexagon's section is within 29 µm)",
+            "bldc-out pwm at {} Hz (PB8, its sense on PB1): a spindle driver with a 2 ms speed loop holds the cutter within about 6 counts of its encoder while cutting (in simulation the hexagon's section is within 27 µm)",
             c.pwm_hz
         ),
         BldcOut::Esc400 | BldcOut::OneShot125 => format!(
