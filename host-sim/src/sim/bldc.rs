@@ -14,7 +14,7 @@
 use polyturn_firmware::bldcout::Out;
 use polyturn_sync::config::bldc::TIMER_HZ;
 use polyturn_sync::config::BldcOut;
-use polyturn_sync::ConfigError;
+use polyturn_sync::{Config, ConfigError};
 use std::f64::consts::TAU;
 
 /// The drive between the firmware's command and the motor.
@@ -160,8 +160,11 @@ pub fn fit_drive(sc: &mut super::Scenario, out: BldcOut, pwm_hz: u32, tau_ms: Op
         }
     };
     let tau = tau_ms.unwrap_or((own_s * 1e3).round().max(1.0) as u32);
-    let c = sc.core.with("pwm-hz", &pwm_hz.to_string())?.with("bldc-tau", &tau.to_string())?;
-    sc.core = c.with("bldc-out", out.name())?;
+    // set together and checked once: a drive too slow for the job is then
+    // named as `bldc-out`, the rule's own name, whichever field moved
+    let c = Config { bldc_out: out, pwm_hz, bldc_tau_ms: tau, ..sc.core };
+    c.validate()?;
+    sc.core = c;
     sc.bldc_drive = drive;
     Ok(())
 }
