@@ -54,14 +54,18 @@ pub fn set_sense(c: &Config) {
     pac::GPIOB.bsrr().write(|w| if high { w.set_bs(DIR_PIN, true) } else { w.set_br(DIR_PIN, true) });
 }
 
-/// The tick's command: `ccr`, or the stop if it is the stop. A running
+/// The tick's command: `ccr`, or the stop if it is the stop (written when
+/// the drive was running: once stopped, every writer of TIM10 leaves the
+/// stop in force, so an idle or stepper tick writes nothing). A running
 /// command is preloaded (`bldcout::run_ops`). The E-stop may come between
 /// its two words: then the second went in with the preload off, so the
 /// stop is written again at once (and again at the tick's end).
 #[inline]
 pub fn command(ccr: u32) {
     if ccr == STOP.load(Ordering::Relaxed) {
-        stop();
+        if LIVE.load(Ordering::Relaxed) {
+            stop();
+        }
         return;
     }
     LIVE.store(true, Ordering::Relaxed);
