@@ -35,15 +35,10 @@ use polyturn_sync::config::bldc::{pwm_prescaler, TIMER_HZ};
 use polyturn_sync::config::{BldcOut, Config};
 
 pub const TIM10: u32 = 0x4001_4400;
-/// TIM10's registers (§14.5.12): TIM11's layout.
+/// TIM10's registers (§14.5.12): at the offsets TIM1's have (the step
+/// output's, `stepgen::program`).
 pub mod off {
-    pub const CR1: u32 = 0x00;
-    pub const EGR: u32 = 0x14;
-    pub const CCMR1: u32 = 0x18;
-    pub const CCER: u32 = 0x20;
-    pub const PSC: u32 = 0x28;
-    pub const ARR: u32 = 0x2C;
-    pub const CCR1: u32 = 0x34;
+    pub use crate::stepgen::program::{ARR, CCER, CCMR1, CCR1, CR1, EGR, PSC};
 }
 
 /// The timer's setting for one interface, and its command's scale.

@@ -93,15 +93,11 @@ impl BldcGains {
 /// speed (`max_q16`), so where it would not the filter lengthens, which
 /// lowers Kv and the noise with it.
 fn speed_feedback(tau_ticks: u64, hold: u64, max_q16: u64) -> (u32, u64) {
-    let mut shift = (u64::BITS - 1 - hold.leading_zeros()).min(10);
-    loop {
-        let kv_q8 = ((tau_ticks << 8) / (2 * (hold + (1 << shift)))).min(KV_MAX_Q8);
-        let cap = (max_q16 << shift) >> 11;
-        if kv_q8 <= cap || shift == 10 {
-            return (shift, kv_q8.min(cap));
-        }
-        shift += 1;
-    }
+    let kv = |shift: u32| ((tau_ticks << 8) / (2 * (hold + (1 << shift)))).min(KV_MAX_Q8);
+    let cap = |shift: u32| (max_q16 << shift) >> 11;
+    let first = (u64::BITS - 1 - hold.leading_zeros()).min(10);
+    let shift = (first..10).find(|&s| kv(s) <= cap(s)).unwrap_or(10);
+    (shift, kv(shift).min(cap(shift)))
 }
 
 #[cfg(test)]
