@@ -27,8 +27,9 @@ const DIR_PIN: usize = 1;
 pub fn init(tim: Peri<'static, P::TIM10>, pin: Peri<'static, P::PB8>, dir: Peri<'static, P::PB1>, config: &Config) {
     core::mem::forget(embassy_stm32::timer::low_level::Timer::new(tim));
     let _ = pin;
-    pac::GPIOB.moder().modify(|w| w.set_moder(8, pac::gpio::vals::Moder::ALTERNATE));
+    // the AF before the mode: PB8 never passes through another AF's output
     pac::GPIOB.afr(1).modify(|w| w.set_afr(0, 3));
+    pac::GPIOB.moder().modify(|w| w.set_moder(8, pac::gpio::vals::Moder::ALTERNATE));
     core::mem::forget(Output::new(dir, Level::Low, Speed::Low));
     set_up(&Out::new(config, 1));
 }
