@@ -40,6 +40,12 @@ impl Tim10 {
         self.t.oc_out(0).expect("CC1E on: the pin is driven")
     }
 
+    /// How long the pin stays high from now, cycles (µs steps, at most a
+    /// 25 ms look).
+    fn high_for(&mut self) -> u64 {
+        (0..25_000).take_while(|_| self.after(96)).count() as u64 * 96
+    }
+
     /// From a frame's start: (high cycles, frame cycles), sampled every
     /// `step` cycles over two frames.
     fn measure(&mut self, step: u64, frame: u64) -> (u64, u64) {
@@ -153,7 +159,7 @@ fn setting_up_again_in_a_pulse_never_stretches_it() {
             assert!(!between || !b.t.oc_out(0).unwrap(), "the pin high after word {i}");
         }
     }
-    let first = (0..25_000).take_while(|_| b.after(96)).count() as u64 * 96;
+    let first = b.high_for();
     assert!(first <= 96_000, "first pulse {first} cycles");
 }
 
@@ -185,6 +191,6 @@ fn setting_up_again_while_running_never_stretches_a_pulse() {
     b.after(96_000);
     assert!(b.after(500 * 96));
     apply(&out("esc50", "1000").program(), &mut b).unwrap();
-    let first = (0..25_000).take_while(|_| b.after(96)).count() as u64 * 96;
+    let first = b.high_for();
     assert!(first <= 96_000, "first pulse {first} cycles");
 }

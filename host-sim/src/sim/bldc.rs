@@ -36,6 +36,9 @@ impl BldcDrive {
     pub const FIRMWARE: BldcDrive = BldcDrive::RcEsc;
 }
 
+/// The simulated spindle's inertia, motor and cutter.
+pub const INERTIA_KG_M2: f64 = 2e-4;
+
 #[derive(Clone, Debug)]
 pub struct Bldc {
     /// kg·m²
@@ -62,7 +65,7 @@ pub struct Bldc {
 impl Bldc {
     pub fn new(counts_per_rev: u32) -> Bldc {
         Bldc {
-            inertia: 2e-4,
+            inertia: INERTIA_KG_M2,
             max_torque: 1.0,
             tau: 2e-3,
             cut_torque: 0.2,
@@ -156,7 +159,7 @@ pub fn fit_drive(sc: &mut super::Scenario, out: BldcOut, pwm_hz: u32, tau_ms: Op
         BldcDrive::SpeedLoop { tau } => tau,
         _ => {
             let full = sc.core.max_step_rate_hz as f64 / sc.core.motor_steps_per_rev.max(1) as f64 * TAU;
-            Bldc::new(1).inertia * full / sc.bldc_max_torque
+            INERTIA_KG_M2 * full / sc.bldc_max_torque
         }
     };
     let tau = tau_ms.unwrap_or((own_s * 1e3).round().max(1.0) as u32);

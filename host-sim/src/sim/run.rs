@@ -7,6 +7,7 @@ use super::shaft::ShaftEncoder;
 use super::stepper::Stepper;
 use super::{CutRecorder, Event, Scenario, SimResult};
 use crate::geometry::Section;
+use polyturn_firmware::bldcout::Out;
 use polyturn_sync::edges::EdgeClock;
 use polyturn_sync::gear::Scale;
 use polyturn_sync::{Controller, DriveKind, Fault, State, TickInput, TickOutput, Timing};
@@ -20,6 +21,9 @@ struct Plants {
     encoder: Encoder,
     stepper: Stepper,
     bldc: Bldc,
+    /// what TIM10 sends the BLDC drive: the core's settings fix it for
+    /// the run
+    bldc_out: Out,
     x: Stepper,
     /// an encoder on the stepper's shaft, if the core has one set
     shaft: ShaftEncoder,
@@ -40,7 +44,7 @@ pub fn run(sc: &Scenario) -> Result<SimResult, String> {
     ctl.start(0, 0, 0);
     start_edges(&mut ctl, sc);
     fit_x(&mut ctl, sc)?;
-    let mut p = Plants::new(sc);
+    let mut p = Plants::new(sc, &ctl);
     let bins = Section::default_bins(sc.setup.sides()).min(2048);
     let ran = event_loop(sc, &mut ctl, &mut p, bins);
     result(sc, &ctl, &mut p, bins, ran)
@@ -70,7 +74,7 @@ fn core_config(sc: &Scenario) -> Result<polyturn_sync::Config, String> {
 }
 
 impl Plants {
-    fn new(sc: &Scenario) -> Plants {
+    fn new(sc: &Scenario, ctl: &Controller) -> Plants {
         let mut p = Plants {
             lathe: Lathe::new(sc.lathe.clone(), sc.seed),
             encoder: Encoder::with_disc(sc.core.encoder_counts_per_rev, sc.disc),
@@ -81,6 +85,7 @@ impl Plants {
                 polyturn_sync::steps::pipe::LEAD_TICKS as usize,
             ),
             bldc: Bldc::new(sc.core.motor_steps_per_rev),
+            bldc_out: Out::new(ctl.config(), ctl.derived().limits.max_velocity),
             x: Stepper::new(1e9, 1e12, 2e-6, 0),
             shaft: ShaftEncoder::new(sc.core.cutter_encoder_cpr, sc.core.motor_steps_per_rev, sc.step_error, sc.seed),
         };
@@ -199,7 +204,7 @@ fn event_loop(sc: &Scenario, ctl: &mut Controller, p: &mut Plants, bins: usize) 
         }
         machinist.cut(sc, cutting, &mut p.lathe, passes.last_mut(), (a, theta, dx));
         if sc.core.drive == DriveKind::Bldc {
-            p.drive_bldc(sc, ctl, &o, (t, dt), cutting);
+            p.drive_bldc(sc, &o, (t, dt), cutting);
         }
         p.lathe.advance(dt);
         tick += 1;
@@ -225,12 +230,11 @@ impl Plants {
     /// The BLDC for a tick: the drive takes the pulse the firmware makes of
     /// the core's command (`app/tick.rs`), and the motor turns the way it is
     /// wired (the gear's), under the cut's load while an edge is in it.
-    fn drive_bldc(&mut self, sc: &Scenario, ctl: &Controller, o: &TickOutput, (t, dt): (f64, f64), cutting: bool) {
+    fn drive_bldc(&mut self, sc: &Scenario, o: &TickOutput, (t, dt): (f64, f64), cutting: bool) {
         let Gearing { m, sense, .. } = Gearing::of(sc);
         let cmd = o.speed_q16 as f64 / 65536.0 * sc.tick_hz as f64 * TAU / m;
-        let out = polyturn_firmware::bldcout::Out::new(ctl.config(), ctl.derived().limits.max_velocity);
-        let ccr = out.command(o.enable && !o.halt, o.speed_q16, sense > 0.0);
-        self.bldc.take(t, ccr, &out, cmd, sense);
+        let ccr = self.bldc_out.command(o.enable && !o.halt, o.speed_q16, sense > 0.0);
+        self.bldc.take(t, ccr, &self.bldc_out, cmd, sense);
         let load = cutting && tip_in_stock(&sc.setup, self.bldc.angle);
         self.bldc.advance(load, o.enable, dt);
     }
