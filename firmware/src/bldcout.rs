@@ -107,17 +107,18 @@ impl Out {
         (self.psc, self.arr, self.stop) == (other.psc, other.arr, other.stop)
     }
 
-    /// TIM10's set-up, stopped. CCR1 = 0 first, with the preload off: the
-    /// pin falls at once whatever the old frame was doing (a pulse under
-    /// way must not be stretched by the stop that follows into a
-    /// throttle). Then the counter off, the frame, PWM mode 1, the output
-    /// on, an update event (UG, TIM10_EGR §14.5.4) so PSC and ARR take
+    /// TIM10's set-up, stopped. CCR1 = 0 first, around the preload's
+    /// turning off (as `stop_ops`): the pin falls at once whatever the old
+    /// frame was doing (a pulse under way must not be stretched by the
+    /// stop that follows into a throttle). Then the counter off, the
+    /// frame, PWM mode 1, the output on, an update event (UG, TIM10_EGR §14.5.4) so PSC and ARR take
     /// effect now (PSC is otherwise loaded only at an update, §14.3.1),
     /// counting with ARR preloaded (ARPE, TIM10_CR1 §14.5.1), and the stop
     /// last: its first pulse is no longer than the stop.
-    pub fn program(&self) -> [Op; 9] {
+    pub fn program(&self) -> [Op; 10] {
         let t = |o: u32, v: u32| Op::Write(TIM10 + o, v);
         [
+            t(off::CCR1, 0),
             t(off::CCMR1, CCMR1_STOPPED),
             t(off::CCR1, 0),
             t(off::CR1, 0),
@@ -137,13 +138,17 @@ pub fn run_ops(ccr: u32) -> [Op; 2] {
     [Op::Write(TIM10 + off::CCMR1, CCMR1_LIVE), Op::Write(TIM10 + off::CCR1, ccr)]
 }
 
-/// The stop at once: the preload off, then CCR1, which takes effect
-/// immediately and ends the pulse under way (lowering CCR1 ends a pulse
-/// early, never adds one). RM0383 guarantees PWM mode without the preload
-/// only in one-pulse mode: the bench procedure checks this write on the
-/// scope.
-pub fn stop_ops(stop: u32) -> [Op; 2] {
-    [Op::Write(TIM10 + off::CCMR1, CCMR1_STOPPED), Op::Write(TIM10 + off::CCR1, stop)]
+/// The stop at once: CCR1 = stop (into the preload, replacing a command
+/// waiting there), the preload off, then CCR1 = stop again, which takes
+/// effect immediately and ends the pulse under way (lowering CCR1 ends a
+/// pulse early, never adds one). The first write matters: the manual does
+/// not say whether clearing OC1PE puts a waiting value in force, and if it
+/// does, what it puts there is the stop, not the command. RM0383
+/// guarantees PWM mode without the preload only in one-pulse mode: the
+/// bench procedure checks this write on the scope.
+pub fn stop_ops(stop: u32) -> [Op; 3] {
+    let ccr1 = Op::Write(TIM10 + off::CCR1, stop);
+    [ccr1, Op::Write(TIM10 + off::CCMR1, CCMR1_STOPPED), ccr1]
 }
 
 /// TIM10_CCMR1 (§14.5.5) while stopped: PWM mode 1, CCR1 not preloaded (a

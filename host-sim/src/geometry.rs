@@ -147,10 +147,13 @@ impl Setup {
     /// Tip 0's position in the work frame for a work angle `a` and a
     /// physical cutter angle `theta` (counter-clockwise, like the work).
     pub fn tip_at(&self, a: f64, theta: f64) -> (f64, f64) {
+        self.tip_of(a.sin_cos(), (a - theta).sin_cos())
+    }
+
+    /// `tip_at` from the phasors' (sin, cos) of `a` and of `a − θ`:
+    /// e^{−ia}·(X0 − R1·e^{iθ}) = X0·e^{−ia} − R1·e^{i(θ − a)}.
+    pub fn tip_of(&self, (sa, ca): (f64, f64), (sn, cs): (f64, f64)) -> (f64, f64) {
         let (x0, r1) = (self.centre_distance(), self.cutter_radius_mm);
-        let (sn, cs) = (a - theta).sin_cos();
-        // e^{−ia}·(X0 − R1·e^{iθ}) = X0·e^{−ia} − R1·e^{i(θ − a)}
-        let (sa, ca) = a.sin_cos();
         (x0 * ca - r1 * cs, -x0 * sa + r1 * sn)
     }
 

@@ -255,6 +255,26 @@ await test('Simulate offers the encoder and the motor with the CLI\'s defaults a
   await page.fill('#sim-form [name=motor-steps]', '3200');
 });
 
+await test('Simulate runs a BLDC cutter through the drive chosen, as polyturn simulate --drive bldc --bldc-out does', async () => {
+  assert.equal(await page.isVisible('#sim-form [name=bldc-out]'), false, 'asked only for a BLDC');
+  await page.selectOption('#sim-form select[name=drive]', 'bldc');
+  assert.equal(await page.inputValue('#sim-form select[name=bldc-out]'), 'pwm', 'the drive that holds phase first');
+  await page.fill('#sim-form [name=revolutions]', '4');
+  await page.click('#sim-form button[type=submit]');
+  await page.waitForSelector('body[data-sim=done]', { timeout: 120000 });
+  const got = await page.$eval('#sim-figures', (el) => JSON.parse(el.dataset.json));
+  const flags = ['--cutter-radius', chosen.cutter_radius, '--stock-radius', 20, '--depth', 5, '--ratio', chosen.ratio, '--edges', chosen.edges,
+    '--direction', chosen.direction, '--rpm', 600, '--revolutions', 4, '--ripple', 0.02, '--start', 'rest', '--drive', 'bldc', '--seed', 7];
+  const want = cli('simulate', ...flags, '--bldc-out', 'pwm');
+  const esc50 = cli('simulate', ...flags);
+  assert.notEqual(JSON.stringify([want.faults, want.max_error_steps]), JSON.stringify([esc50.faults, esc50.max_error_steps]), 'the drive changes the run');
+  for (const k of ['ticks', 'encoder_counts', 'synced_ticks', 'final_error_steps']) assert.equal(got[k], want[k], k);
+  close(got.max_error_steps, want.max_error_steps, 'max_error_steps');
+  assert.deepEqual(got.faults, want.faults);
+  await page.selectOption('#sim-form select[name=drive]', 'stepper');
+  assert.equal(await page.isVisible('#sim-form [name=bldc-out]'), false);
+});
+
 await test('every field of Plan, Preview and Simulate shows its unit, and no view shows developer text', async () => {
   for (const scope of ['#plan-form', '#preview-form', '#sim-form']) assert.deepEqual(await unitless(scope), [], `${scope}: fields without a unit`);
   for (const name of ['plan', 'preview', 'simulate', 'flash']) await noDeveloperText(name);
@@ -366,6 +386,31 @@ await test('the guided setup sends the settings polyturn device setup derives', 
   assert.match(await page.textContent('#guided-result'), /set: .*cpr=2000/);
   await page.waitForFunction(() => document.querySelector('#settings input[name=cpr]')?.value === '2000');
   assert.equal(await page.inputValue('#settings input[name=steps]'), '1600');
+});
+
+await test('the guided setup sets a BLDC cutter from its drive, its encoder and its full speed', async () => {
+  assert.equal(await page.isVisible('#guided [name=cutter-cpr]'), false, 'a stepper\'s form first');
+  await page.selectOption('#guided select[name=cutter]', 'pwm');
+  assert.equal(await page.isVisible('#guided [name=microsteps]'), false, 'no microsteps for a BLDC');
+  await page.fill('#guided [name=cutter-cpr]', '4000');
+  await page.fill('#guided [name=cutter-max-rpm]', '3000');
+  await page.fill('#guided [name=pwm-hz]', '7000');
+  await page.click('#guided button[type=submit]');
+  await page.waitForFunction(() => document.querySelector('#guided-result').textContent.startsWith('error'), null, { timeout: 10000 });
+  assert.match(await page.textContent('#guided-result'), /pwm-hz/, 'a PWM the timer cannot make: refused, naming it');
+  await page.fill('#guided [name=pwm-hz]', '2000');
+  await page.click('#guided button[type=submit]');
+  await page.waitForFunction(() => document.querySelector('#guided-result').textContent.includes('not saved yet'), null, { timeout: 10000 });
+  const result = await page.textContent('#guided-result');
+  assert.match(result, /set: .*drive=bldc/);
+  assert.match(result, /bldc-out pwm at 2000 Hz/);
+  await page.waitForFunction(() => document.querySelector('#settings [name=drive]')?.value === 'bldc');
+  assert.equal(await page.inputValue('#settings input[name=steps]'), '4000');
+  assert.equal(await page.inputValue('#settings input[name=max-rate]'), '200000');
+  // back to the stepper the other checks expect
+  await page.selectOption('#guided select[name=cutter]', 'stepper');
+  await page.click('#guided button[type=submit]');
+  await page.waitForFunction(() => document.querySelector('#settings [name=drive]')?.value === 'stepper');
 });
 
 await test('a cam table from polyturn cam uploads through the console', async () => {

@@ -2,6 +2,12 @@
 //! applied verbatim to the model of a general-purpose timer (RM0383 §14:
 //! TIM10, one channel), and the pin's waveform measured: the frame, the
 //! pulse each command makes, the stop taking effect in the frame under way.
+//! The model compares CNT with the CCR1 in force at every count, as the
+//! manual's PWM mode says ("CNT and CCRx are always compared"); its note
+//! that PWM without the preload is guaranteed only in one-pulse mode
+//! (§14.5.5 OC1PE) leaves the stop's "at once" to the bench procedure
+//! (docs/src/bench.md, "The BLDC drive", step 6): these tests show the
+//! words are right on that reading, not that silicon follows it.
 
 use polyturn_firmware::bldcout::{off, run_ops, stop_ops, Out, TIM10};
 use polyturn_firmware::regs::{apply, Bus};
@@ -102,7 +108,7 @@ fn run(b: &mut Tim10, ccr: u32) {
     apply(&run_ops(ccr), b).unwrap();
 }
 
-/// The stop: the words `app::bldc::stop` applies, the preload off first.
+/// The stop: the words `app::bldc::stop` applies.
 fn stop(b: &mut Tim10, o: &Out) {
     apply(&stop_ops(o.stop), b).unwrap();
 }
@@ -193,4 +199,26 @@ fn setting_up_again_while_running_never_stretches_a_pulse() {
     apply(&out("esc50", "1000").program(), &mut b).unwrap();
     let first = b.high_for();
     assert!(first <= 96_000, "first pulse {first} cycles");
+}
+
+#[test]
+fn the_stop_never_lets_a_waiting_command_through_between_its_words() {
+    // esc400 at half speed (1 500 µs), full speed waiting in the preload;
+    // the stop comes 1 600 µs in, the pin already low. Word by word, the
+    // waiting 2 000 µs is never in force (the model puts a waiting value
+    // in force as OC1PE is cleared: with the preload cleared first, as a
+    // first version did, the pin rose again for 400 µs)
+    let o = out("esc400", "1000");
+    let mut b = Tim10::set_up(&o);
+    run(&mut b, o.ccr(MAX as u32 / 2));
+    b.after(2_500 * 96);
+    run(&mut b, o.ccr(MAX as u32));
+    assert!(!b.after(1_600 * 96), "the half-speed pulse is over");
+    for (i, op) in stop_ops(o.stop).iter().enumerate() {
+        if let polyturn_firmware::regs::Op::Write(a, v) = *op {
+            b.write(a, v);
+            assert_ne!(b.t.active_ccr(0), o.ccr(MAX as u32), "the waiting command in force after word {i}");
+            assert!(!b.after(96), "the pin high after word {i}");
+        }
+    }
 }

@@ -12,7 +12,7 @@ use crate::follower::Follower;
 use crate::follower::Limits;
 use crate::gear::Gear;
 use crate::state::{Fault, State};
-use crate::steps::pipe::{StepPipe, LEAD_TICKS};
+use crate::steps::pipe::StepPipe;
 use crate::steps::StepBook;
 use crate::steps::StepPlan;
 
@@ -336,9 +336,11 @@ impl Controller {
     }
 
     /// Ticks from the encoder reading to the end of the window that this
-    /// tick's plan fills: one, plus the step output's pipeline.
+    /// tick's output fills (`Derived::ahead_ticks`: worked out once, a load
+    /// in the tick).
+    #[inline(always)]
     pub(crate) fn ahead(&self) -> i64 {
-        1 + if self.config.drive == DriveKind::Stepper { LEAD_TICKS } else { 0 }
+        self.d.ahead_ticks
     }
 
     /// Exact rounded gear target + rounding remainder + sub-count

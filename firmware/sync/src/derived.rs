@@ -38,6 +38,9 @@ pub struct Derived {
     pub tick_hz: u32,
     /// the BLDC phase loop's gains (`drive::gains`)
     pub bldc: crate::drive::BldcGains,
+    /// ticks from the encoder reading to the end of the window the tick's
+    /// output fills (`Controller::ahead`)
+    pub ahead_ticks: i64,
 }
 
 /// Shortest STEP pulse the board emits: a `pulse` setting below it is
@@ -53,6 +56,21 @@ const REM_FRAC: u32 = 24;
 
 fn ceil_div(a: u64, b: u64) -> u64 {
     a.div_ceil(b.max(1))
+}
+
+/// Ticks from the encoder reading to the end of the window that a tick's
+/// output fills: one, plus the step output's pipeline. A BLDC's loop
+/// compares the target with its encoder, read at the tick's instant as the
+/// lathe's is: the target there, not a tick ahead (a tick ahead, its
+/// integral held the cutter a tick early: 2.6 counts at 1 200 rpm of a
+/// 3 200-count encoder, issue 30).
+fn ahead_ticks(drive: crate::config::DriveKind) -> i64 {
+    use crate::config::DriveKind;
+    match drive {
+        DriveKind::Stepper => 1 + crate::steps::pipe::LEAD_TICKS,
+        DriveKind::Bldc => 0,
+        DriveKind::None => 1,
+    }
 }
 
 impl Derived {
@@ -89,6 +107,7 @@ impl Derived {
             stall_ticks: (hz / 5) as u32,
             tick_hz: t.tick_hz,
             bldc: crate::drive::BldcGains::new(c, t.tick_hz),
+            ahead_ticks: ahead_ticks(c.drive),
         }
     }
 

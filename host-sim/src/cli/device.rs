@@ -9,6 +9,7 @@ pub mod prompt;
 mod selftest_tests;
 pub mod session;
 pub mod setup;
+mod setup_bldc;
 #[cfg(test)]
 mod tests;
 

@@ -10,13 +10,16 @@ use super::errors::{CliError, CliResult};
 use super::figures::{self, COMMON_RATIOS};
 use super::values::{ratio, whole32, within};
 use crate::geometry::Direction;
-use polyturn_sync::{Ratio, Sense};
+use polyturn_sync::{DriveKind, Ratio, Sense};
 
 #[derive(clap::Args, Debug, Clone)]
 pub struct SetupArgs {
     /// Ask nothing: every fact from the flags, no checks run (for scripts)
     #[arg(long)]
     pub non_interactive: bool,
+    /// What turns the cutter: stepper (also a servo taking step/dir) or bldc (a BLDC with its own encoder, through a spindle driver or an RC ESC; the console's `drive`)
+    #[arg(long, value_name = "stepper|bldc", default_value = "stepper", value_parser = crate::cli::values::drive)]
+    pub drive: DriveKind,
     /// Encoder lines per turn, as on its label (counts = 4 x lines)
     #[arg(long, value_name = "N", value_parser = whole32(1, 250_000), conflicts_with = "encoder_cpr")]
     pub encoder_lines: Option<u32>,
@@ -56,12 +59,14 @@ pub struct SetupArgs {
     /// With dir=same, a jog turned the cutter against the chuck's forward turn
     #[arg(long)]
     pub motor_reversed: bool,
-    /// Counts per cutter turn of an encoder on the motor's shaft or the cutter spindle (4 x lines x belt), for the lost-step alarm (the console's `cutter-cpr`; 0: none)
+    /// Counts per cutter turn of an encoder on the motor's shaft or the cutter spindle (4 x lines x belt), on PB6/PB7: a stepper's lost-step alarm (the console's `cutter-cpr`; 0: none), or the BLDC's phase loop (the console's `steps`)
     #[arg(long, value_name = "N", value_parser = cutter_cpr)]
     pub cutter_encoder_cpr: Option<u32>,
     /// The motor's start rate with the cutter fitted, steps/s: while following, a change of speed within it is made at once, so engaged at rest the cutter starts at the lathe's speed (0..=250000, at most the board's max-rate; 0: off, every change at max-accel; the console's `start-rate`, found on the bench)
     #[arg(long, value_name = "STEPS_PER_S", value_parser = whole32(0, 250_000))]
     pub start_rate: Option<u32>,
+    #[command(flatten)]
+    pub bldc: bldc::BldcArgs,
     /// Send the settings but do not save them
     #[arg(long)]
     pub no_save: bool,
@@ -84,6 +89,9 @@ pub struct Facts {
     /// the motor's start rate, steps/s (0 off); None not asked (the
     /// board's setting stays)
     pub start_rate: Option<u32>,
+    /// a BLDC cutter's drive (`steps` is then its encoder's counts); None:
+    /// a stepper
+    pub bldc: Option<bldc::BldcFacts>,
 }
 
 /// `--cutter-encoder-cpr`: 0 (none) or the console's 4..=1000000.
@@ -101,7 +109,7 @@ pub fn from_flags(a: &SetupArgs) -> CliResult<Facts> {
         (None, Some(l)) => l * 4,
         (None, None) => return Err(need("encoder-lines (or --encoder-cpr)")),
     };
-    Ok(Facts {
+    let stepper = Facts {
         cpr,
         steps: motor_steps(a)?,
         max_rpm: a.max_lathe_rpm.ok_or_else(|| need("max-lathe-rpm"))?,
@@ -112,7 +120,42 @@ pub fn from_flags(a: &SetupArgs) -> CliResult<Facts> {
         motor_reversed: a.motor_reversed,
         cutter_cpr: a.cutter_encoder_cpr,
         start_rate: a.start_rate,
-    })
+        bldc: None,
+    };
+    match a.drive {
+        DriveKind::Bldc => bldc_facts(a, stepper),
+        _ => only_for_bldc(a).map(|()| stepper),
+    }
+}
+
+/// A BLDC's facts in place of the stepper's: a flag that is only a
+/// stepper's is refused, not ignored.
+fn bldc_facts(a: &SetupArgs, f: Facts) -> CliResult<Facts> {
+    let stepper_only = [
+        ("pulse-ns", f.pulse_ns.is_some()),
+        ("dir-setup-ns", f.dir_setup_ns.is_some()),
+        ("start-rate", f.start_rate.is_some()),
+    ];
+    if let Some((flag, _)) = stepper_only.iter().find(|(_, given)| *given) {
+        return Err(CliError::flag(flag, "is for a stepper's driver (--drive stepper)"));
+    }
+    let b = bldc::from_flags(&a.bldc, a.cutter_encoder_cpr)?;
+    Ok(Facts { steps: b.counts, cutter_cpr: None, bldc: Some(b), ..f })
+}
+
+/// A stepper's setup with a BLDC's flag: refused, naming it.
+fn only_for_bldc(a: &SetupArgs) -> CliResult<()> {
+    let b = &a.bldc;
+    let given = [
+        ("bldc-out", b.bldc_out.is_some()),
+        ("pwm-hz", b.pwm_hz.is_some()),
+        ("bldc-tau", b.bldc_tau.is_some()),
+        ("cutter-max-rpm", b.cutter_max_rpm.is_some()),
+    ];
+    match given.iter().find(|(_, g)| *g) {
+        Some((flag, _)) => Err(CliError::flag(flag, "is for a BLDC cutter (--drive bldc)")),
+        None => Ok(()),
+    }
 }
 
 /// Microseconds (the old `--pulse-us`, `--dir-setup-us`) as the
@@ -145,6 +188,10 @@ pub fn changes(f: &Facts) -> Vec<(String, String)> {
         ("max-rpm".to_string(), f.max_rpm.to_string()),
         ("dir".to_string(), dir.to_string()),
     ];
+    match &f.bldc {
+        Some(b) => c.extend(bldc::changes(b)),
+        None => c.push(("drive".into(), "stepper".into())),
+    }
     if let Some(p) = f.pulse_ns {
         c.push(("pulse".into(), p.to_string()));
     }

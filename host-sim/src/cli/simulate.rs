@@ -7,7 +7,7 @@ mod alive;
 use super::errors::{escaped, CliError, CliResult};
 use super::geometry::SetupArgs;
 use super::output::Outputs;
-use super::values::{drive, out_file, rpm, whole, whole32, within};
+use super::values::{bldc_out, drive, out_file, rpm, whole, whole32, within};
 use crate::geometry::{Direction, Setup};
 use crate::sim::{report, run, Scenario, Start};
 use polyturn_sync::config::BldcOut;
@@ -80,10 +80,6 @@ pub struct SimulateArgs {
     /// Also draw the simulated section against the ideal to this SVG file (- for stdout)
     #[arg(long, value_name = "FILE", value_parser = out_file)]
     pub svg: Option<PathBuf>,
-}
-
-fn bldc_out(s: &str) -> Result<BldcOut, String> {
-    BldcOut::parse(s).map_err(|e| format!("must be {}", e.allowed))
 }
 
 fn on_off(s: &str) -> Result<bool, String> {

@@ -4,6 +4,7 @@
 //! every kind of value alike (numbers, ratios and choices).
 
 use crate::geometry::Direction;
+use polyturn_sync::config::BldcOut;
 use polyturn_sync::{DriveKind, Ratio};
 
 /// A value parser as clap takes it: text in, value or what is allowed.
@@ -81,6 +82,18 @@ pub fn drive(s: &str) -> Result<DriveKind, String> {
         "bldc" => Ok(DriveKind::Bldc),
         _ => Err("must be 'stepper' or 'bldc'".into()),
     }
+}
+
+/// What a BLDC drive is fed: the console's `bldc-out` names.
+pub fn bldc_out(s: &str) -> Result<BldcOut, String> {
+    BldcOut::parse(s).map_err(|e| format!("must be {}", e.allowed))
+}
+
+/// A PWM frequency TIM10 makes exactly (the console's own rule, `pwm-hz`).
+pub fn pwm_hz(s: &str) -> Result<u32, String> {
+    let hz = whole32(1, u32::MAX)(s)?;
+    polyturn_sync::config::bldc::check_pwm_hz(hz).map_err(|e| format!("must be {}", e.allowed))?;
+    Ok(hz)
 }
 
 /// A file to write: not empty.

@@ -2,6 +2,8 @@
 //! host's commands, the lathe turns at a set speed with an index every
 //! `cpr` counts, and the step output emits what each tick planned two
 //! ticks later (`steps::pipe`), so jogs and the encoder check really run.
+//! With `drive bldc` the cutter is idealised: its encoder turns each tick
+//! by the speed the tick commanded (`sim::bldc` models a real drive).
 
 use polyturn_firmware::quadgen::bench::playback::{Event, Playback};
 use polyturn_firmware::quadgen::{bench, TIMER_HZ};
@@ -56,6 +58,8 @@ pub struct Machine {
     spindle: Option<Spindle>,
     emitted: u16,
     pipe: [u16; 2],
+    /// the BLDC cutter's encoder, Q16 counts
+    bldc_q16: i64,
     t: usize,
 }
 
@@ -73,6 +77,7 @@ impl Machine {
             spindle: None,
             emitted: 0,
             pipe: [0; 2],
+            bldc_q16: 0,
             t: 0,
         }
     }
@@ -136,7 +141,9 @@ impl Machine {
             self.play();
             let lathe = (now + self.played) as u16;
             let index = index.or(self.played_index.take());
-            let out = ctl.tick(&TickInput { lathe, index, emitted: self.emitted, ..TickInput::default() });
+            let cutter = (self.bldc_q16 >> 16) as u16;
+            let out = ctl.tick(&TickInput { lathe, index, emitted: self.emitted, cutter, ..TickInput::default() });
+            self.bldc_q16 += out.speed_q16 as i64;
             self.emitted = self.emitted.wrapping_add(self.pipe[self.t % 2]);
             self.pipe[self.t % 2] = out.plan.count;
             self.t += 1;

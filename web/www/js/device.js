@@ -30,6 +30,7 @@ export function init() {
   $('check-start').addEventListener('click', () => command('check-encoder start', undefined, 'check-result'));
   $('check-stop').addEventListener('click', () => command('check-encoder stop', 5000, 'check-result'));
   $('guided').addEventListener('submit', (e) => { e.preventDefault(); guided(); });
+  $('guided').elements.cutter.addEventListener('change', showCutterFields);
   $('cam-upload').addEventListener('click', uploadCam);
 }
 
@@ -188,10 +189,32 @@ async function setOne(input) {
   await command(`set ${input.name} ${input.value.trim()}`, undefined, 'settings-error');
 }
 
+// The guided setup's fields for what turns the cutter: a stepper's motor
+// and driver, or a BLDC's encoder, full speed and drive (`--drive bldc`).
+function showCutterFields() {
+  const cutter = $('guided').elements.cutter.value;
+  for (const label of document.querySelectorAll('#guided label[data-for]')) {
+    const kind = label.dataset.for;
+    label.hidden = !(kind === cutter || (kind === 'bldc' && cutter !== 'stepper'));
+  }
+}
+
+// The flags `polyturn device setup` takes for the form's facts.
+function guidedArgs(f) {
+  const args = ['--encoder-lines', f.lines.value, '--max-lathe-rpm', f['max-rpm'].value];
+  const cutter = f.cutter.value;
+  if (cutter === 'stepper') {
+    return args.concat(['--motor-steps', f['motor-steps'].value, '--microsteps', f.microsteps.value, '--reduction', f.reduction.value]);
+  }
+  args.push('--drive', 'bldc', '--bldc-out', cutter, '--cutter-encoder-cpr', f['cutter-cpr'].value, '--cutter-max-rpm', f['cutter-max-rpm'].value);
+  if (cutter === 'pwm') args.push('--pwm-hz', f['pwm-hz'].value);
+  if (Number(f['bldc-tau'].value) !== 0) args.push('--bldc-tau', f['bldc-tau'].value);
+  return args;
+}
+
 async function guided() {
   const f = $('guided').elements;
-  const args = ['--encoder-lines', f.lines.value, '--motor-steps', f['motor-steps'].value, '--microsteps', f.microsteps.value,
-    '--reduction', f.reduction.value, '--max-lathe-rpm', f['max-rpm'].value];
+  const args = guidedArgs(f);
   const out = $('guided-result');
   try {
     const plan = JSON.parse((await load()).guided_setup(args, settings));

@@ -11,6 +11,9 @@ export function init() {
     e.preventDefault();
     start(form);
   });
+  form.elements.drive.addEventListener('change', () => {
+    document.getElementById('sim-bldc-out').hidden = form.elements.drive.value !== 'bldc';
+  });
   const label = () => {
     const s = shared.setup;
     document.getElementById('sim-setup').textContent =
@@ -23,9 +26,12 @@ export function init() {
 
 export function args(form) {
   const f = fields(form);
+  // a BLDC's drive (`--bldc-out`), asked only for a BLDC: the page offers
+  // the one that holds phase first, a spindle driver's speed input
+  const bldc = f.drive === 'bldc' ? ['--bldc-out', f['bldc-out']] : [];
   return ['simulate', ...setupFlags(shared.setup), '--rpm', f.rpm, '--revolutions', f.revolutions,
     '--ripple', f.ripple, '--start', f.start, '--encoder-cpr', f['encoder-cpr'], '--motor-steps', f['motor-steps'],
-    '--drive', f.drive, '--seed', f.seed, '--json', '--svg', 'sim.svg'];
+    '--drive', f.drive, ...bldc, '--seed', f.seed, '--json', '--svg', 'sim.svg'];
 }
 
 function start(form) {

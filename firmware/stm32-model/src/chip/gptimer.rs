@@ -219,6 +219,21 @@ impl GpTimer {
         self.regs.get(off) >> (3 + 8 * (i % 2)) & 1 == 1
     }
 
+    /// OCxPE written 0 on an output channel of the CCMRx starting at
+    /// channel `first`: what was written to CCRx is in force at once. The
+    /// manual says a CCRx written without the preload "is loaded
+    /// permanently" (TIMx_CCR1, §13.4.13 / §14.5.10); it does not say when a value
+    /// waiting in the preload moves as OCxPE is cleared, so the model takes
+    /// the reading a firmware must survive: at once, as the project's TIM9
+    /// model (`tim9::oc`, as for ARPE, §14.3.1).
+    fn preload_cleared(&mut self, first: usize) {
+        for ch in first..(first + 2).min(self.channels) {
+            if self.is_output(ch) && !self.preload(ch) {
+                self.ccr[ch] = self.regs.get(CCR1 + 4 * ch as u32) & self.max;
+            }
+        }
+    }
+
     /// A read; reading CCRx of an input channel clears CCxIF (§13.4.5: "cleared by
     /// software reading the TIMx_CCRx register").
     pub fn read(&mut self, off: u32) -> u32 {
@@ -244,6 +259,8 @@ impl GpTimer {
                 let ch = off.wrapping_sub(CCR1) / 4;
                 if off == ARR && self.regs.get(CR1) & ARPE == 0 {
                     self.arr = self.regs.get(ARR) & self.max;
+                } else if off == CCMR1 || off == CCMR2 {
+                    self.preload_cleared(if off == CCMR1 { 0 } else { 2 });
                 } else if (CCR1..CCR1 + 16).contains(&off)
                     && (ch as usize) < self.channels
                     && !self.preload(ch as usize)

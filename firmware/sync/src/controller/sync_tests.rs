@@ -69,6 +69,45 @@ fn a_bldc_cutter_that_follows_its_command_is_no_following_error_anywhere() {
     assert_eq!((ctl.state(), cutter), (State::Synced, -800));
 }
 
+/// The mean of (gear − cutter), in counts, over a second at a steady 0.8
+/// lathe counts a tick, with an idealised BLDC (the fastest the settings
+/// take: a 20 kHz PWM, τ 1 ms): its encoder, read at each tick's instant
+/// as the lathe's is, turns by each command during the tick after it.
+fn bldc_steady_mean_error() -> f64 {
+    let c = Config {
+        drive: DriveKind::Bldc,
+        bldc_out: crate::config::BldcOut::Pwm,
+        pwm_hz: 20_000,
+        bldc_tau_ms: 1,
+        ..Config::default()
+    };
+    let mut ctl = Controller::new(c, Timing::FIRMWARE);
+    ctl.start(0, 0, 0);
+    ctl.engage().unwrap();
+    let (mut lathe_milli, mut cutter_q16, mut sum) = (0i64, 0i64, 0i64);
+    for k in 0..75_000i64 {
+        // 1 s from rest to 0.8 counts a tick, then 2 s steady
+        lathe_milli += (k * 800 / 25_000).min(800);
+        let (lathe, cutter) = (lathe_milli / 1_000, cutter_q16 >> 16);
+        let input = TickInput { lathe: lathe as u16, cutter: cutter as u16, ..TickInput::default() };
+        cutter_q16 += ctl.tick(&input).speed_q16 as i64;
+        if k >= 50_000 {
+            // 8/3 counts of the cutter a lathe count: in thirds of a count
+            sum += 8 * lathe - 3 * cutter;
+        }
+        assert_eq!(ctl.fault(), None, "tick {k}");
+    }
+    sum as f64 / 3.0 / 25_000.0
+}
+
+#[test]
+fn a_bldc_cutter_is_held_on_the_gear_at_the_ticks_instant_not_a_tick_ahead() {
+    // a tick ahead is 0.8 × 8/3 = 2.1 counts; the encoder's whole counts
+    // cost half a count on average (it reads the count it has reached)
+    let mean = bldc_steady_mean_error();
+    assert!(mean.abs() < 1.0, "{mean:.2} counts");
+}
+
 #[test]
 fn between_counts_the_target_moves_with_the_interpolated_lathe_angle() {
     // idle, no step made: the phase error is the target. At half and a

@@ -81,20 +81,21 @@ fn a_command_against_the_wired_sense_is_0_winds_nothing_up_and_never_stalls() {
 
 #[test]
 fn the_gains_are_the_drives() {
-    // esc50, τ 20 ms (`gains`): Kp 48, Kv 168 / 256, filter 2^-7; Ki
-    // 48² / 4 = 576
+    // esc50, τ 20 ms (`gains`): the hold 251 ticks, the filter 256 (a
+    // frame is 500); Kv = 500 / 1 014 (126 / 256), τ' 335, ω_c = 32 768 /
+    // 842 = 38, Kp = 38 × 382 / 256 = 56; Ki 56 × 38 / 4 = 532
     let d = derived();
-    assert_eq!(d.bldc, BldcGains { kp_q16: 48, ki_q32: 576, tau_ticks: 500, kv_q8: 168, rate_shift: 7 });
+    assert_eq!(d.bldc, BldcGains { kp_q16: 56, ki_q32: 532, tau_ticks: 500, kv_q8: 126, rate_shift: 8 });
     let mut b = Bldc::default();
     b.command(&moving(0, 0), 0, &d);
-    // a step of 100 counts: its rate is 1/128 of it at once
+    // a step of 100 counts: its rate is 1/256 of it at once
     let e = 100i64 << 16;
-    let rate = e >> 7;
-    let want = ((e * 48) >> 16) + ((rate * 168) >> 8) + ((e * 576) >> 32);
+    let rate = e >> 8;
+    let want = ((e * 56) >> 16) + ((rate * 126) >> 8) + ((e * 532) >> 32);
     assert_eq!(b.command(&moving(e, 0), 0, &d).0 as i64, want);
-    // held: the rate decays by 1/128 a tick, the integral grows
-    let rate = rate - (rate >> 7);
-    let want = ((e * 48) >> 16) + ((rate * 168) >> 8) + ((2 * e * 576) >> 32);
+    // held: the rate decays by 1/256 a tick, the integral grows
+    let rate = rate - (rate >> 8);
+    let want = ((e * 56) >> 16) + ((rate * 126) >> 8) + ((2 * e * 532) >> 32);
     assert_eq!(b.command(&moving(e, 0), 0, &d).0 as i64, want);
 }
 

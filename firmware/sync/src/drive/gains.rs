@@ -8,7 +8,13 @@
 //! loop, or an RC ESC's motor, which has none). Two loops close around it:
 //!
 //! * **Speed feedback** Kv on the error's rate (the speed error), filtered
-//!   over 2^shift ticks, about the hold. Around the lag, Kv / (1 + sτ)
+//!   over 2^shift ticks: at least the largest power of two within a
+//!   frame. The drive takes one command a frame, so the rate's noise
+//!   (whole counts) faster than that would only alias into the command:
+//!   averaged over half a frame, as a first version had, the spindle
+//!   driver's error wandered ±2 counts at 30–50 Hz (`tests/bldc_drives.rs`:
+//!   the hexagon 3.4 counts while cutting, 1.9 with the frame's filter).
+//!   Around the lag, Kv / (1 + sτ)
 //!   crosses over near Kv/τ (for Kv well over 1), where the hold and the
 //!   filter, T, cost Kv·T/τ rad: Kv = τ / 2T keeps that to ½ rad. Kv is
 //!   at most 32, and one count's step through the filter (2^16 >> shift)
@@ -17,27 +23,24 @@
 //!   then answers in τ' = τ / (1 + Kv), and an ESC's sag under load
 //!   shrinks as much.
 //! * **Phase PI** around that. What passes the speed feedback is divided
-//!   by 1 + Kv; for a drive that brakes (a spindle driver's speed loop,
-//!   `pwm`) Kp and Ki carry that back, so the phase loop crosses over at
-//!   ω_c = 1 / (2 (τ' + T)): there the lag and the delay cost at most
+//!   by 1 + Kv; Kp and Ki carry that back, so the phase loop crosses over
+//!   at ω_c = 1 / (2 (τ' + T)): there the lag and the delay cost at most
 //!   ω_c (τ' + T) = ½ rad (atan x ≤ x), the integral's corner at ω_c / 4
-//!   another 14°, a margin over 45°. An RC ESC cannot brake: an overshoot
-//!   as the cutter synchronises cannot be taken back, and at that
-//!   crossover `esc400` loses phase there (`tests/bldc_drives.rs`); its
-//!   PI keeps the lower crossover ω_c / (1 + Kv), and the integral's corner
-//!   at ω_c / 4, above it: a linear model gives it about 26° of margin at
-//!   `esc400`, τ 79 ms, but the integral must take up the ESC's sag under
-//!   load, and with the corner a quarter of the crossover `esc400` loses
-//!   phase as it synchronises (measured).
+//!   another 14°, a margin over 45°. An RC ESC cannot brake, so an
+//!   overshoot as the cutter synchronises cannot be taken back: a first
+//!   version, whose target was a tick ahead of the encoder's reading, lost
+//!   phase there at this crossover and kept ESCs at ω_c / (1 + Kv); with
+//!   the target at the reading's instant the full crossover holds `esc400`
+//!   to 9–14 counts while cutting, against 46–59 at the lower one
+//!   (`tests/bldc_drives.rs`).
 //!
-//! In tick units: Kp = ω_c / f_tick (× (1 + Kv) for a drive that brakes),
-//! the integral gain Kp × ω_c / 4 / f_tick, and the
-//! acceleration feed-forward τ·f_tick ticks (a drive lagging
-//! τ behind its command is ahead of it by τ·a if asked τ·a more). A drive
-//! slower than its setting gets less margin, so the default (20 ms) errs
-//! slow.
+//! In tick units: Kp = ω_c (1 + Kv) / f_tick, the integral gain
+//! Kp × ω_c / 4 / f_tick, and the acceleration feed-forward τ·f_tick
+//! ticks (a drive lagging τ behind its command is ahead of it by τ·a if
+//! asked τ·a more). A drive slower than its setting gets less margin, so
+//! the default (20 ms) errs slow.
 
-use crate::config::{BldcOut, Config};
+use crate::config::Config;
 
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct BldcGains {
@@ -63,19 +66,16 @@ impl BldcGains {
         let frame_hz = c.bldc_out.frame_hz(c.pwm_hz).max(1) as u64;
         let tau_ticks = c.bldc_tau_ms as u64 * tick_hz / 1_000;
         // T: half a frame (the hold) and the tick, in ticks, rounded up,
-        // and the rate's filter (a power of two, about as long)
+        // and the rate's filter (a power of two, about a frame)
         let hold = tick_hz.div_ceil(2 * frame_hz) + 1;
         let max_q16 = ((c.max_step_rate_hz as u64) << 16).div_ceil(tick_hz);
-        let (rate_shift, kv_q8) = speed_feedback(tau_ticks, hold, max_q16);
+        let (rate_shift, kv_q8) = speed_feedback(tau_ticks, hold, tick_hz / frame_hz, max_q16);
         let delay = hold + (1 << rate_shift);
         let tau_eff = (tau_ticks << 8) / (256 + kv_q8);
-        // the speed feedback divides what passes it by 1 + Kv: a drive
-        // that brakes (a spindle driver's speed loop) has Kp carry that
-        // back, crossing over at ω_c, the integral's corner at ω_c / 4; an
-        // RC ESC, which cannot, keeps the lower crossover ω_c / (1 + Kv)
-        // and the corner at ω_c / 4 (see the header)
+        // the speed feedback divides what passes it by 1 + Kv: Kp carries
+        // that back, crossing over at ω_c, the integral's corner at ω_c / 4
         let base = (1u64 << 15) / (tau_eff + delay).max(1);
-        let kp_q16 = if c.bldc_out == BldcOut::Pwm { base * (256 + kv_q8) / 256 } else { base };
+        let kp_q16 = base * (256 + kv_q8) / 256;
         let ki_q32 = kp_q16 * base / 4;
         BldcGains {
             kp_q16: kp_q16 as i64,
@@ -87,15 +87,16 @@ impl BldcGains {
     }
 }
 
-/// The rate's filter (2^shift ticks: about the hold, or longer) and Kv.
+/// The rate's filter (2^shift ticks: the largest power of two within a
+/// `frame` of ticks, or longer) and Kv.
 /// Kv = τ / 2T, T the hold and the filter; one count's step through the
 /// filter, 2^16 >> shift, times Kv must stay within an eighth of full
 /// speed (`max_q16`), so where it would not the filter lengthens, which
 /// lowers Kv and the noise with it.
-fn speed_feedback(tau_ticks: u64, hold: u64, max_q16: u64) -> (u32, u64) {
+fn speed_feedback(tau_ticks: u64, hold: u64, frame: u64, max_q16: u64) -> (u32, u64) {
     let kv = |shift: u32| ((tau_ticks << 8) / (2 * (hold + (1 << shift)))).min(KV_MAX_Q8);
     let cap = |shift: u32| (max_q16 << shift) >> 11;
-    let first = (u64::BITS - 1 - hold.leading_zeros()).min(10);
+    let first = (u64::BITS - 1 - frame.max(1).leading_zeros()).min(10);
     let shift = (first..10).find(|&s| kv(s) <= cap(s)).unwrap_or(10);
     (shift, kv(shift).min(cap(shift)))
 }
@@ -103,6 +104,7 @@ fn speed_feedback(tau_ticks: u64, hold: u64, max_q16: u64) -> (u32, u64) {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::config::BldcOut;
 
     fn gains(out: &str, tau_ms: &str) -> BldcGains {
         let c = Config::default().with("bldc-out", out).unwrap().with("bldc-tau", tau_ms).unwrap();
@@ -111,20 +113,21 @@ mod tests {
 
     #[test]
     fn a_spindle_driver_at_1_khz_with_2_ms() {
-        // τ 50 ticks; the hold 13 + 1, the filter 8: T = 22; Kv = 50 / 44
-        // (290 / 256); τ' = 12 800 / 546 = 23; Kp = 32 768 / 45 = 728 (ω_c
-        // = 278 rad/s), × 546 / 256 for the speed feedback = 1 552; Ki =
-        // 1 552 × 728 / 4 = 282 464 (the corner at ω_c / 4)
+        // τ 50 ticks; the hold 13 + 1, the filter 16 (a frame is 25
+        // ticks): T = 30; Kv = 50 / 60 (213 / 256); τ' = 12 800 / 469 =
+        // 27; Kp = 32 768 / 57 = 574 (ω_c = 219 rad/s), × 469 / 256 for
+        // the speed feedback = 1 051; Ki = 1 051 × 574 / 4 = 150 818 (the
+        // corner at ω_c / 4)
         let g = gains("pwm", "2");
-        assert_eq!(g, BldcGains { kp_q16: 1_552, ki_q32: 282_464, tau_ticks: 50, kv_q8: 290, rate_shift: 3 });
+        assert_eq!(g, BldcGains { kp_q16: 1_051, ki_q32: 150_818, tau_ticks: 50, kv_q8: 213, rate_shift: 4 });
     }
 
     #[test]
     fn an_esc_at_400_hz_on_a_79_ms_motor_gets_strong_speed_feedback() {
-        // τ 1 975; T = 33 + 32; Kv = 1 975 / 130 = 15.2; τ' = 121; an ESC
-        // cannot brake: Kp stays ω_c / (1 + Kv)
+        // τ 1 975; T = 33 + 32; Kv = 1 975 / 130 = 15.2; τ' = 121; ω_c =
+        // 32 768 / 186 = 176 a 65 536th, × 4 145 / 256 = 2 849
         let g = gains("esc400", "79");
-        assert_eq!((g.kv_q8, g.rate_shift, g.kp_q16), (3_889, 5, 32_768 / (121 + 65)));
+        assert_eq!((g.kv_q8, g.rate_shift, g.kp_q16), (3_889, 5, 176 * 4_145 / 256));
     }
 
     #[test]

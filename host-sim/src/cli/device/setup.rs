@@ -50,9 +50,52 @@ fn save_at_rest<P: Read + Write>(s: &mut Session<P>) -> CliResult<String> {
     }
 }
 
+/// What can turn the cutter, in the order offered.
+const CUTTERS: [&str; 3] = [
+    "a stepper, or a servo taking step/dir",
+    "a BLDC through a spindle driver's speed input (PWM, or 0-10 V through a filter)",
+    "a BLDC through an RC ESC",
+];
+
 /// The questions, with the encoder check on the board.
 fn interview<P: Read + Write>(s: &mut Session<P>, a: &SetupArgs, ask: &mut dyn Ask) -> CliResult<Facts> {
     ask.say("polyturn setup: physical facts only; the board measures what it can.");
+    let (cpr, moved) = lathe_encoder(s, a, ask)?;
+    let bldc = match ask.choose("What turns the cutter?", &CUTTERS)? {
+        0 => None,
+        k => Some(super::setup_bldc::drive(ask, a, k == 2)?),
+    };
+    let steps = match &bldc {
+        Some(b) => b.counts,
+        None => motor_steps(ask, a)?,
+    };
+    let sense = match ask.choose("The cutter turns, against the chuck", &["same", "opposite"])? {
+        0 => Sense::Same,
+        _ => Sense::Opposite,
+    };
+    let max_rpm = ask.number("The lathe's fastest speed, rpm", a.max_lathe_rpm.or(Some(1500)), 1, 10_000)?;
+    let f = Facts {
+        cpr,
+        steps,
+        max_rpm,
+        pulse_ns: None,
+        dir_setup_ns: None,
+        sense,
+        encoder_reversed: moved < 0,
+        motor_reversed: false,
+        cutter_cpr: None,
+        start_rate: None,
+        bldc,
+    };
+    match f.bldc {
+        Some(_) => Ok(f),
+        None => stepper_driver(s, ask, a, f),
+    }
+}
+
+/// The lathe's encoder: the check on the board, and its counts per turn
+/// (measured, or from the label) and the way it counted.
+fn lathe_encoder<P: Read + Write>(s: &mut Session<P>, a: &SetupArgs, ask: &mut dyn Ask) -> CliResult<(u32, i64)> {
     let index = ask.yes("Does the lathe encoder have an index (Z) pulse wired to PB0?", true)?;
     let turns = if index { None } else { Some(ask.number("How many chuck turns will you make?", Some(3), 1, 20)?) };
     let (f, proposal) = checks::check_encoder(s, ask, Turning::UntilEnter, turns)?;
@@ -61,6 +104,11 @@ fn interview<P: Read + Write>(s: &mut Session<P>, a: &SetupArgs, ask: &mut dyn A
         Ok(c) if ask.yes(&format!("Use cpr {c}?"), true)? => c,
         _ => 4 * ask.number("Encoder lines per turn, from its label", a.encoder_lines, 1, 250_000)?,
     };
+    Ok((cpr, f.moved))
+}
+
+/// A stepper's steps per cutter turn: the motor, the driver, the belt.
+fn motor_steps(ask: &mut dyn Ask, a: &SetupArgs) -> CliResult<u32> {
     let full = ask.number("Motor full steps per turn", Some(a.motor_steps), 1, 100_000)?;
     let micro = ask.number("Driver microsteps", Some(a.microsteps), 1, 512)?;
     let belt = ask.choose("Between motor and cutter", &["direct", "belt or gears"])?;
@@ -72,28 +120,17 @@ fn interview<P: Read + Write>(s: &mut Session<P>, a: &SetupArgs, ask: &mut dyn A
             ask.number("Motor pulley teeth", None, 1, 1000)? as u64,
         )
     };
-    let steps = figures::steps_per_cutter_turn(full, micro, reduction).map_err(CliError)?;
-    let sense = match ask.choose("The cutter turns, against the chuck", &["same", "opposite"])? {
-        0 => Sense::Same,
-        _ => Sense::Opposite,
-    };
-    Ok(Facts {
-        cpr,
-        steps,
-        max_rpm: ask.number("The lathe's fastest speed, rpm", a.max_lathe_rpm.or(Some(1500)), 1, 10_000)?,
-        pulse_ns: Some(ask.number(
-            "The driver's shortest STEP pulse, ns (its datasheet; 2500 if unsure)",
-            Some(2500),
-            1000,
-            1_000_000,
-        )?),
-        dir_setup_ns: Some(ask.number("The driver's DIR setup time, ns (5000 if unsure)", Some(5000), 0, 1_000_000)?),
-        cutter_cpr: Some(shaft_encoder(ask, a)?),
-        start_rate: Some(start_rate(s, ask, a)?),
-        sense,
-        encoder_reversed: f.moved < 0,
-        motor_reversed: false,
-    })
+    figures::steps_per_cutter_turn(full, micro, reduction).map_err(CliError)
+}
+
+/// A stepper's driver timing, its shaft encoder and its start rate.
+fn stepper_driver<P: Read + Write>(s: &mut Session<P>, ask: &mut dyn Ask, a: &SetupArgs, f: Facts) -> CliResult<Facts> {
+    let q = "The driver's shortest STEP pulse, ns (its datasheet; 2500 if unsure)";
+    let pulse_ns = Some(ask.number(q, Some(2500), 1000, 1_000_000)?);
+    let q = "The driver's DIR setup time, ns (5000 if unsure)";
+    let dir_setup_ns = Some(ask.number(q, Some(5000), 0, 1_000_000)?);
+    let cutter_cpr = Some(shaft_encoder(ask, a)?);
+    Ok(Facts { pulse_ns, dir_setup_ns, cutter_cpr, start_rate: Some(start_rate(s, ask, a)?), ..f })
 }
 
 /// The lost-step alarm's encoder, if there is one: its counts per cutter

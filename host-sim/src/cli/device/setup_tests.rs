@@ -112,20 +112,38 @@ fn missing_or_impossible_facts_change_nothing_on_the_board() {
     assert_eq!(*s.io.ctl.config(), Config::default());
 }
 
-#[test]
-fn the_interview_measures_the_encoder_jogs_the_cutter_and_saves() {
+/// A board whose 2 000-count lathe the machinist turns for the encoder
+/// check (and only then).
+fn hand_turned() -> Session<FakeDevice> {
     let mut dev = FakeDevice::new();
     let mut m = Machine::new(110_000);
     (m.counts_per_tick_x1000, m.cpr, m.turn_for_check) = (100, 2_000, true);
     dev.machine = Some(m);
     let mut s = session(dev);
     s.timeout = std::time::Duration::from_secs(30);
+    s
+}
+
+#[test]
+fn the_interview_measures_the_encoder_jogs_the_cutter_and_saves() {
+    let mut s = hand_turned();
     let mut ask = Scripted::new(&[
-        "y", "", "y", // index; turn the chuck; use the measured cpr
-        "200", "16", "direct", "same", "1000", "2500", "5000", // motor, sense, lathe, driver
+        "y",
+        "",
+        "y", // index; turn the chuck; use the measured cpr
+        "a stepper",
+        "200",
+        "16",
+        "direct",
+        "same",
+        "1000",
+        "2500",
+        "5000", // motor, sense, lathe, driver
         "n",    // no shaft encoder (the fake board has none: a jog would trip lost-steps)
         "1600", // the start rate found on the bench
-        "", "one turn", "n", // the jog: one turn, but the wrong way
+        "",
+        "one turn",
+        "n", // the jog: one turn, but the wrong way
     ]);
     let out = run(&mut s, &args(""), &mut ask).unwrap_or_else(|e| panic!("{e:?} after {:?}", sent(&s)));
     let c = *s.io.ctl.config();
@@ -139,4 +157,96 @@ fn the_interview_measures_the_encoder_jogs_the_cutter_and_saves() {
     assert!(cmds.contains(&"jog 360".to_string()) && cmds.last().unwrap() == "save", "{cmds:?}");
     assert!(ask.said.iter().any(|l| l.contains("proposed: set cpr 2000")), "{:?}", ask.said);
     assert!(out.contains("ok saving") || out.contains("saving"), "{out}");
+}
+
+const BLDC: &str = "--non-interactive --drive bldc --encoder-lines 600 --max-lathe-rpm 600 --cutter-encoder-cpr 4000 --cutter-max-rpm 3000 --no-save";
+
+#[test]
+fn a_bldc_cutter_is_set_from_its_drive_its_encoder_and_its_full_speed() {
+    let mut s = session(FakeDevice::new());
+    let out = run(&mut s, &args(&format!("{BLDC} --bldc-out pwm --pwm-hz 2000 --bldc-tau 5")), &mut Scripted::new(&[]))
+        .unwrap();
+    let c = *s.io.ctl.config();
+    assert_eq!(
+        (c.drive, c.bldc_out, c.pwm_hz, c.bldc_tau_ms),
+        (polyturn_sync::DriveKind::Bldc, polyturn_sync::config::BldcOut::Pwm, 2_000, 5)
+    );
+    assert_eq!((c.motor_steps_per_rev, c.max_step_rate_hz), (4_000, 200_000), "its encoder; 3 000 rpm of it");
+    assert!(out.contains("bldc-out pwm at 2000 Hz") && out.contains("expect the cutter within about 0.7°"), "{out}");
+    assert!(!out.contains("bldc-tau is still the default"), "{out}");
+    // an RC ESC on a fine encoder: ferror is twice what it is expected to
+    // reach, 2 x 2° of 40 000 counts (on 4 000, 45: the default 64 stays)
+    let mut s = session(FakeDevice::new());
+    let fine = "--non-interactive --drive bldc --encoder-lines 600 --max-lathe-rpm 100 --cutter-encoder-cpr 40000 --cutter-max-rpm 300 --no-save";
+    run(&mut s, &args(&format!("{fine} --bldc-out esc400")), &mut Scripted::new(&[])).unwrap();
+    assert_eq!(s.io.ctl.config().following_error_limit_steps, 445);
+    run(&mut s, &args(&format!("{BLDC} --bldc-out esc400")), &mut Scripted::new(&[])).unwrap();
+    assert_eq!(s.io.ctl.config().following_error_limit_steps, 64);
+    // and back to a stepper, by the same setup
+    run(&mut s, &args("--non-interactive --encoder-lines 600 --max-lathe-rpm 600 --no-save"), &mut Scripted::new(&[]))
+        .unwrap();
+    assert_eq!(
+        (s.io.ctl.config().drive, s.io.ctl.config().motor_steps_per_rev),
+        (polyturn_sync::DriveKind::Stepper, 3_200)
+    );
+}
+
+#[test]
+fn a_bldc_setup_the_drive_cannot_hold_or_a_flag_of_the_other_drive_changes_nothing() {
+    for (flags, error) in [
+        (BLDC.to_string(), "--bldc-out is needed"),
+        (format!("{BLDC} --bldc-out pwm --start-rate 100"), "--start-rate is for a stepper"),
+        (format!("{BLDC} --bldc-out esc400 --pwm-hz 2000"), "--pwm-hz is for --bldc-out pwm"),
+        ("--non-interactive --encoder-lines 600 --max-lathe-rpm 600 --bldc-out pwm".into(), "--bldc-out is for a BLDC"),
+        // 50 frames a second at 1 600 lathe rpm x 2: 53 cutter turns a second
+        (
+            BLDC.replace("600 --cutter", "1600 --cutter").replace("3000 --no", "3600 --no") + " --bldc-out esc50",
+            "the drive must take a command at least once per cutter revolution",
+        ),
+        // 600 rpm x 2 x 4 000 / 60 = 80 000 counts/s; at full command it makes 1 000 rpm: 66 666
+        (BLDC.replace("3000 --no", "1000 --no") + " --bldc-out pwm", "the motor must keep up"),
+    ] {
+        let mut s = session(FakeDevice::new());
+        let e = run(&mut s, &args(&flags), &mut Scripted::new(&[])).unwrap_err();
+        assert!(e.0.contains(error), "{flags}: {}", e.0);
+        assert!(sent(&s).iter().all(|l| !l.starts_with("set ")), "{flags}: {:?}", sent(&s));
+        assert_eq!(*s.io.ctl.config(), Config::default());
+    }
+    assert!(
+        try_args("--drive servo").is_err() && try_args("--pwm-hz 7000").is_err() && try_args("--bldc-out esc").is_err()
+    );
+}
+
+#[test]
+fn the_interview_asks_a_bldcs_drive_and_jogs_it_on_its_encoder() {
+    let mut s = hand_turned();
+    let mut ask = Scripted::new(&[
+        "y",
+        "",
+        "y", // index; turn the chuck; use the measured cpr
+        "a BLDC through a spindle",
+        "7000",
+        "8000", // a PWM the timer cannot make, then one it can
+        "4000",
+        "100000",
+        "3000",
+        "12", // encoder; a full speed past max-rate, then one within; tau
+        "same",
+        "1000", // sense, lathe
+        "",
+        "one turn",
+        "y", // the jog, on the idealised drive's encoder
+    ]);
+    let out = run(&mut s, &args(""), &mut ask).unwrap_or_else(|e| panic!("{e:?} after {:?}", sent(&s)));
+    let c = *s.io.ctl.config();
+    assert_eq!(
+        (c.drive, c.pwm_hz, c.bldc_tau_ms, c.motor_steps_per_rev),
+        (polyturn_sync::DriveKind::Bldc, 8_000, 12, 4_000)
+    );
+    assert_eq!((c.max_step_rate_hz, c.max_lathe_rpm), (200_000, 1_000));
+    let refused: Vec<&String> = ask.said.iter().filter(|l| l.starts_with("refused: ")).collect();
+    assert_eq!(refused.len(), 2, "{:?}", ask.said);
+    assert!(refused[0].contains("pwm-hz 7000") && refused[1].contains("--cutter-max-rpm"), "{refused:?}");
+    assert!(!ask.said.iter().any(|l| l.contains("STEP pulse")), "no stepper's question: {:?}", ask.said);
+    assert!(out.contains("bldc-out pwm at 8000 Hz"), "{out}");
 }
