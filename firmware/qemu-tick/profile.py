@@ -110,7 +110,9 @@ def main():
                            "--target", "thumbv7em-none-eabihf", "--profile", "fw"], cwd=ROOT)
     dis = subprocess.check_output([tool("llvm-objdump"), "-d", "--no-show-raw-insn", ELF], text=True)
     spans, calls = functions(dis)
-    tick = next(n for n in spans if "Controller4tick" in n)
+    tick = next((n for n in spans if "Controller4tick" in n), None)
+    if tick is None:
+        sys.exit("error: Controller::tick is not out of line in the image: nothing to count its entries by")
     # the tick's entry first: it counts the ticks
     names = [tick] + sorted(reachable(calls, ROOT_FN) - {tick, ROOT_FN})
     seen, n = trace([tuple(spans[f]) for f in names if f in spans])
