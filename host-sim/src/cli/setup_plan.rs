@@ -136,9 +136,7 @@ fn bldc_facts(a: &SetupArgs, f: Facts) -> CliResult<Facts> {
         ("dir-setup-ns", f.dir_setup_ns.is_some()),
         ("start-rate", f.start_rate.is_some()),
     ];
-    if let Some((flag, _)) = stepper_only.iter().find(|(_, given)| *given) {
-        return Err(CliError::flag(flag, "is for a stepper's driver (--drive stepper)"));
-    }
+    refuse_given(&stepper_only, "is for a stepper's driver (--drive stepper)")?;
     let b = bldc::from_flags(&a.bldc, a.cutter_encoder_cpr)?;
     Ok(Facts { steps: b.counts, cutter_cpr: None, bldc: Some(b), ..f })
 }
@@ -152,8 +150,13 @@ fn only_for_bldc(a: &SetupArgs) -> CliResult<()> {
         ("bldc-tau", b.bldc_tau.is_some()),
         ("cutter-max-rpm", b.cutter_max_rpm.is_some()),
     ];
-    match given.iter().find(|(_, g)| *g) {
-        Some((flag, _)) => Err(CliError::flag(flag, "is for a BLDC cutter (--drive bldc)")),
+    refuse_given(&given, "is for a BLDC cutter (--drive bldc)")
+}
+
+/// The first of `flags` given (flag, given), refused with `why`.
+fn refuse_given(flags: &[(&str, bool)], why: &str) -> CliResult<()> {
+    match flags.iter().find(|(_, given)| *given) {
+        Some((flag, _)) => Err(CliError::flag(flag, why)),
         None => Ok(()),
     }
 }
