@@ -102,12 +102,19 @@ pub fn on_write(c: &mut Chip, word: u32, value: u32) {
     }
 }
 
+/// TIMx_CCMR1 OC1PE (§14.5.5)
+const OC1PE: u32 = 1 << 3;
+
 /// Fires the input change having set the ESC to a running pulse (1.5 × the stop
-/// pulse, as a running BLDC would have it), so the E-stop interrupt's own work is
-/// visible before the next tick would redo it.
+/// pulse, as a running BLDC would have it, in force and waiting: CCR1 written
+/// with OC1PE cleared, then set again, RM0383 §14.5.5), so the E-stop
+/// interrupt's own work is visible before the next tick would redo it.
 fn fire(c: &mut Chip, (port, pin, level): Trip) {
     let stop = c.outputs().esc_stop;
+    let ccmr1 = c.gp[3].get(off::CCMR1);
+    c.gp[3].write(off::CCMR1, ccmr1 & !OC1PE, 0xFFFF);
     c.gp[3].write(off::CCR1, stop * 3 / 2, 0xFFFF);
+    c.gp[3].write(off::CCMR1, ccmr1, 0xFFFF);
     c.probe.before = Some(c.outputs());
     c.probe.edge_at = Some(c.now);
     c.probe.step_timer_stopped = None;

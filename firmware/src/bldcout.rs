@@ -10,18 +10,23 @@
 //! | `pwm` | 1 / `pwm-hz` | duty 0 (no pulse) | duty 100 % |
 //!
 //! PWM mode 1 (OC1M = 110, TIM10_CCMR1, RM0383 §14.5.5): OC1REF is high
-//! while CNT < CCR1, so the pulse is CCR1 counts of CK_CNT = 96 MHz /
-//! (PSC + 1) (§14.3.1) every ARR + 1 counts; CCR1 = 0 never goes high, and
-//! CCR1 > ARR is high throughout ("OCxREF is held at 1", §14.3.9 PWM
-//! mode). "TIMx_CNT and TIMx_CCRx are always compared" (§14.3.9): a CCR1
-//! raised after the pulse fell would start a second, short one in the same
-//! frame, so the running command is preloaded (OC1PE = 1: taken at the next
-//! update, one whole pulse a frame); the stop is written with the preload
-//! off (`CCMR1_STOPPED`, then CCR1: "the new value is taken into account
-//! immediately"), so it ends the pulse under way at once, and lowering
-//! CCR1 can only end a pulse early, never add one. `program` holds the
-//! register writes as data; the model runs them (`tests/bldcout.rs` in the
-//! model crate).
+//! while CNT < CCR1, so the pulse is CCR1 counts of f_CK_CNT = 96 MHz /
+//! (PSC + 1) (TIMx_PSC, §14.5.8) every ARR + 1 counts; CCR1 = 0 never goes
+//! high, and CCR1 > ARR is high throughout ("OCxREF is held at 1", §14.3.9
+//! PWM mode). "TIMx_CNT and TIMx_CCRx are always compared" (§14.3.9): a
+//! CCR1 raised after the pulse fell would start a second, short one in the
+//! same frame, so CCR1 is preloaded (OC1PE = 1: taken at the next update,
+//! one whole pulse a frame), as §14.3.9 asks of PWM mode ("You must enable
+//! the corresponding preload register by setting the OCxPE bit"), at all
+//! times but one write: the stop turns the preload off to write CCR1 = 0
+//! in force at once ("the new value is taken in account immediately",
+//! TIMx_CCMR1 OC1PE, §14.5.5), ending the pulse under way, and turns it on
+//! again. Keeping that window to one write matters: the OC1PE note
+//! guarantees PWM mode without the preload only in one-pulse mode, which
+//! TIM10 does not have (TIM10_CR1 has no OPM, §14.5.1). `program` and the
+//! stop are register writes as data; the model runs them
+//! (`tests/bldcout.rs` in the model crate), and [`Gate`] orders the tick's
+//! command against a stop that pre-empts it.
 //!
 //! The sense: every interface drives the cutter only its wired way (the
 //! `dir` setting: `same` counts up). A speed the other way, the phase loop
@@ -111,11 +116,14 @@ impl Out {
     /// turning off (as `stop_ops`): the pin falls at once whatever the old
     /// frame was doing (a pulse under way must not be stretched by the
     /// stop that follows into a throttle). Then the counter off, the
-    /// frame, PWM mode 1, the output on, an update event (UG, TIM10_EGR §14.5.4) so PSC and ARR take
-    /// effect now (PSC is otherwise loaded only at an update, §14.3.1),
-    /// counting with ARR preloaded (ARPE, TIM10_CR1 §14.5.1), and the stop
-    /// last: its first pulse is no longer than the stop.
-    pub fn program(&self) -> [Op; 10] {
+    /// frame, PWM mode 1, the output on, an update event (UG, TIMx_EGR
+    /// §14.5.4) so PSC and ARR take effect now (PSC is otherwise loaded
+    /// only at an update, §14.3.1), counting with ARR preloaded (ARPE,
+    /// TIMx_CR1 §14.5.1), the preload on, and the stop last, into the
+    /// preload: CCR1 = 0 stays in force for the whole first frame, so the
+    /// pin is low a full frame between the cut pulse and the first stop
+    /// pulse, which an ESC cannot read as one pulse.
+    pub fn program(&self) -> [Op; 11] {
         let t = |o: u32, v: u32| Op::Write(TIM10 + o, v);
         [
             t(off::CCR1, 0),
@@ -127,36 +135,43 @@ impl Out {
             t(off::CCER, ccer::CC1E.mask()),
             t(off::EGR, egr::UG.mask()),
             t(off::CR1, cr1::ARPE.mask() | cr1::CEN.mask()),
+            t(off::CCMR1, CCMR1_LIVE),
             t(off::CCR1, self.stop),
         ]
     }
 }
 
-/// The tick's running command: CCR1 preloaded (taken at the frame's next
-/// update, one whole pulse a frame).
-pub fn run_ops(ccr: u32) -> [Op; 2] {
-    [Op::Write(TIM10 + off::CCMR1, CCMR1_LIVE), Op::Write(TIM10 + off::CCR1, ccr)]
+/// The tick's running command: one word, CCR1 into the preload (taken at
+/// the frame's next update, one whole pulse a frame). One word, so a stop
+/// cannot land inside it.
+pub fn run_ops(ccr: u32) -> [Op; 1] {
+    [Op::Write(TIM10 + off::CCR1, ccr)]
 }
 
-/// The stop at once: CCR1 = stop (into the preload, replacing a command
-/// waiting there), the preload off, then CCR1 = stop again, which takes
-/// effect immediately and ends the pulse under way (lowering CCR1 ends a
-/// pulse early, never adds one). The first write matters: the manual does
-/// not say whether clearing OC1PE puts a waiting value in force, and if it
-/// does, what it puts there is the stop, not the command. RM0383
-/// guarantees PWM mode without the preload only in one-pulse mode: the
-/// bench procedure checks this write on the scope.
-pub fn stop_ops(stop: u32) -> [Op; 3] {
-    let ccr1 = Op::Write(TIM10 + off::CCR1, stop);
-    [ccr1, Op::Write(TIM10 + off::CCMR1, CCMR1_STOPPED), ccr1]
+/// The stop at once: CCR1 = 0 into the preload (replacing a command
+/// waiting there), the preload off, CCR1 = 0 again (in force at once: the
+/// pulse under way ends, and none can start), the preload on again, and
+/// the stop into the preload, in force from the next frame. The pin falls
+/// and never rises before that frame, whatever the frame was doing (in
+/// the first frame after `program` too, where 0 is in force). An ESC reads
+/// the cut pulse as no more than its command, or below its stop. The first
+/// word matters if clearing OC1PE puts a waiting value in force, the third
+/// if it does not: the manual does not say which at that instant
+/// (`PreloadClear` in the model crate; the tests run both).
+pub fn stop_ops(stop: u32) -> [Op; 5] {
+    let t = |o: u32, v: u32| Op::Write(TIM10 + o, v);
+    [t(off::CCR1, 0), t(off::CCMR1, CCMR1_STOPPED), t(off::CCR1, 0), t(off::CCMR1, CCMR1_LIVE), t(off::CCR1, stop)]
 }
 
-/// TIM10_CCMR1 (§14.5.5) while stopped: PWM mode 1, CCR1 not preloaded (a
-/// write takes effect at once).
+/// TIM10_CCMR1 (§14.5.5) for one write of the stop and the set-up's head:
+/// PWM mode 1, CCR1 not preloaded (a write takes effect at once).
 pub const CCMR1_STOPPED: u32 = ccmr1::OC1M.val(ccmr1::PWM1);
-/// While the drive runs: PWM mode 1, CCR1 preloaded (OC1PE, taken at each
+/// At all other times: PWM mode 1, CCR1 preloaded (OC1PE, taken at each
 /// update: one whole pulse a frame).
 pub const CCMR1_LIVE: u32 = CCMR1_STOPPED | ccmr1::OC1PE.mask();
+
+mod gate;
+pub use gate::Gate;
 
 #[cfg(test)]
 mod tests;

@@ -11,7 +11,10 @@ pub struct Outputs {
     /// PA8: TIM1's OC1 in AF mode (low when the timer does not drive it: the
     /// board's pull-down), else ODR
     pub step: Option<bool>,
+    /// TIM10's compare in force (what PB8 follows) and the one waiting in
+    /// its preload (from the next frame)
     pub esc_ccr1: u32,
+    pub esc_waiting: u32,
     pub esc_stop: u32,
     pub enable: Option<bool>,
     pub enable_inactive: bool,
@@ -32,6 +35,7 @@ impl Chip {
             step,
             // what the pin follows: the compare in force, not a preloaded one
             esc_ccr1: t10.active_ccr(0),
+            esc_waiting: t10.get(off::CCR1),
             esc_stop: (stop_us(psc, frame_us) * rate / 1_000_000) as u32,
             enable: self.gpio[1].pin_out(13),
             enable_inactive: !polyturn_sync::Config::default().enable_active_high,
@@ -55,8 +59,12 @@ fn stop_us(psc: u32, frame_us: u64) -> u64 {
 
 impl Outputs {
     /// The E-stop interrupt's own work: step output halted, ESC at its stop pulse.
+    /// The step output stopped with STEP low, and the BLDC drive stopped:
+    /// no pulse in force or the stop's (`bldcout::stop_ops` cuts the pulse
+    /// under way: 0 in force to the frame's end), and the stop waiting.
     pub fn safe_now(&self) -> bool {
-        !self.tim1_cen && self.step == Some(false) && self.esc_ccr1 == self.esc_stop
+        let bldc = (self.esc_ccr1 == 0 || self.esc_ccr1 == self.esc_stop) && self.esc_waiting == self.esc_stop;
+        !self.tim1_cen && self.step == Some(false) && bldc
     }
 
     pub fn safe_all(&self) -> bool {
@@ -69,11 +77,12 @@ impl std::fmt::Display for Outputs {
         let b = |v: Option<bool>| v.map_or("-".to_string(), |v| (v as u8).to_string());
         write!(
             f,
-            "TIM1 CEN={} OC1M={} STEP={}, TIM10 CCR1={} (stop {}), ENABLE={} (inactive {}), X_STEP={}",
+            "TIM1 CEN={} OC1M={} STEP={}, TIM10 CCR1={} waiting {} (stop {}), ENABLE={} (inactive {}), X_STEP={}",
             self.tim1_cen as u8,
             self.oc1m,
             b(self.step),
             self.esc_ccr1,
+            self.esc_waiting,
             self.esc_stop,
             b(self.enable),
             self.enable_inactive as u8,

@@ -3,9 +3,11 @@
 //! interface saved; the lathe turns and the cutter is engaged. TIM10 must
 //! make the interface's frame (from its PSC and ARR, RM0383 §14.3.1: a
 //! frame is (PSC + 1)(ARR + 1) timer clocks) and a running command; BLDC_DIR
-//! (PB1) the wired sense. Then the E-stop opens while the drive runs: within
-//! 50 µs, with no frame's update between, the compare in force (what the
-//! pin follows, not a preloaded value) must be the stop. On a second boot the drive runs on: the emulator
+//! (PB1) the wired sense. Then the E-stop opens while the drive runs, just
+//! after a frame's update: within 50 µs, with no update between, PB8 must
+//! be low (the pulse under way cut, not left to its preloaded end), and
+//! from the next frame the compare in force (what the pin follows) must be
+//! the stop. On a second boot the drive runs on: the emulator
 //! turns no cutter, so its encoder stands still and the core's stall check
 //! must stop the drive (a fault), ENABLE inactive. The stop is a 1 000 µs pulse for an
 //! RC ESC, 125 µs for OneShot125, no pulse for a PWM. The expected frames
@@ -28,6 +30,9 @@ const INTERFACES: [(&str, u64, u64); 4] =
 struct Seen {
     frame_us: f64,
     running_us: f64,
+    /// PB8 50 µs after the E-stop, in the frame it opened in
+    cut: Option<bool>,
+    /// the compare in force a frame later
     stop_us: f64,
     dir: Option<bool>,
     /// CCR1 after the stall (µs), ENABLE then, and its inactive level
@@ -88,8 +93,11 @@ fn one(image: &Rc<Image>, name: &str) -> Result<(Seen, u64), String> {
     }
     m.drive(GPIOB, ESTOP, None);
     m.run(MS / 20);
-    let stop_us = tim10_us(&mut m).1;
+    m.chip().sync();
+    let cut = m.chip().gp[3].oc_out(0).map(|high| !high);
     let safe = m.chip().outputs().safe_now();
+    m.run((frame_us * (SYSCLK / 1_000_000) as f64) as u64); // to 50 µs into the next frame
+    let stop_us = tim10_us(&mut m).1;
     let mut cycles = m.chip().now;
     // a fault: 0.2 s commanded with the encoder still, `Fault::Stall`
     let (mut m, _) = engaged(image, name)?;
@@ -98,7 +106,7 @@ fn one(image: &Rc<Image>, name: &str) -> Result<(Seen, u64), String> {
     let o = m.chip().outputs();
     let stall_disabled = o.enable == Some(o.enable_inactive);
     cycles += m.chip().now;
-    Ok((Seen { frame_us, running_us, stop_us, dir, stalled_us, stall_disabled, safe }, cycles))
+    Ok((Seen { frame_us, running_us, cut, stop_us, dir, stalled_us, stall_disabled, safe }, cycles))
 }
 
 pub fn run(image: &Rc<Image>, r: &mut Report) -> Result<u64, String> {
@@ -109,14 +117,15 @@ pub fn run(image: &Rc<Image>, r: &mut Report) -> Result<u64, String> {
         let close = |a: f64, b: f64| (a - b).abs() < 0.01;
         let ok = close(s.frame_us, frame_us as f64)
             && s.running_us > stop_us as f64
+            && s.cut == Some(true)
             && close(s.stop_us, stop_us as f64)
             && s.dir == Some(false)
             && close(s.stalled_us, stop_us as f64)
             && s.stall_disabled
             && s.safe;
         let text = format!(
-            "TIM10 frame {:.1} µs (want {frame_us}), widest command pulse {:.1} µs while following, BLDC_DIR {:?} (dir same: low); after the stall {:.1} µs, ENABLE inactive {}; 50 µs after the E-stop opened (no frame's update between) {:.1} µs (the stop: {stop_us}), outputs safe: {}",
-            s.frame_us, s.running_us, s.dir, s.stalled_us, s.stall_disabled, s.stop_us, s.safe
+            "TIM10 frame {:.1} µs (want {frame_us}), widest command pulse {:.1} µs while following, BLDC_DIR {:?} (dir same: low); after the stall {:.1} µs, ENABLE inactive {}; 50 µs after the E-stop opened (no frame's update between) PB8 low {:?}, a frame later {:.1} µs (the stop: {stop_us}), outputs safe: {}",
+            s.frame_us, s.running_us, s.dir, s.stalled_us, s.stall_disabled, s.cut, s.stop_us, s.safe
         );
         r.line(ok, &format!("bldc {name}"), &text);
     }

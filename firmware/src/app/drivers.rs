@@ -64,8 +64,10 @@ static ENABLE_ACTIVE_HIGH: core::sync::atomic::AtomicBool = core::sync::atomic::
 /// Everything off, from any context: no more steps, the BLDC drive's stop,
 /// ENABLE inactive.
 pub fn all_outputs_off() {
-    halt_steps();
+    // TIM1 first, the BLDC before the halt's wait for a STEP pulse
+    stop_step_timer();
     super::bldc::stop();
+    halt_steps();
     pac::GPIOB.bsrr().write(|w| w.set_br(X_STEP_PIN, true));
     let pins = OutputPins { enable_active_high: ENABLE_ACTIVE_HIGH.load(core::sync::atomic::Ordering::Relaxed) };
     pins.set_enable(false);

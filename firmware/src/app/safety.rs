@@ -91,7 +91,10 @@ fn EXTI15_10() {
 
 /// The E-stop's stop: no STEP rises after it (a high pulse ends at full
 /// width), the BLDC drive at its stop. ENABLE drops at the tick's latch.
+/// The BLDC stop before the step halt, which waits out a STEP pulse (up to
+/// `pulse`, 100 µs): TIM1 stops first, with `halt`'s first word.
 pub fn stop_outputs() {
-    super::drivers::halt_steps();
+    super::drivers::stop_step_timer();
     super::bldc::stop();
+    super::drivers::halt_steps();
 }

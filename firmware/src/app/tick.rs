@@ -189,6 +189,7 @@ fn TIM1_TRG_COM_TIM11() {
 /// output applied.
 fn run(cs: &CriticalSection) {
     let halts_at_entry = safety::halts();
+    let bldc_stops = bldc::stops();
     // (try_: nothing else can hold it while the tick runs, and the tick
     // keeps no panic path)
     let Ok(mut io) = IO.borrow(cs).try_borrow_mut() else { return };
@@ -226,7 +227,7 @@ fn run(cs: &CriticalSection) {
     // every tick, whatever the drive: a fault or halt stops the BLDC too
     let run = io.core.config().drive == DriveKind::Bldc && out.enable && !out.halt;
     let forward = io.core.config().sense == polyturn_sync::Sense::Same;
-    bldc::command(io.bldc.command(run, out.speed_q16, forward));
+    bldc::command(io.bldc.command(run, out.speed_q16, forward), bldc_stops);
     io.pins.set_enable(out.enable);
     drivers::set_x_pins(io.x.tick(&out.x_plan, out.halt));
     // the E-stop pre-empts the tick: if it ran during this one, a write

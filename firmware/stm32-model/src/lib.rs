@@ -1,5 +1,6 @@
-//! A cycle-level software model of five STM32F411 peripherals — TIM1, TIM2, TIM9, TIM11
-//! and DMA2 stream 5 — of the flash interface's sector erase ([`flash`], in
+//! A cycle-level software model of STM32F411 peripherals — TIM1, TIM2, TIM9, TIM11
+//! and DMA2 stream 5 in [`Mcu`]; TIM3–5, TIM10, GPIO, EXTI, RCC, NVIC, the IWDG and
+//! USB OTG FS for the emulator in [`chip`] — of the flash interface's sector erase ([`flash`], in
 //! nanoseconds, on its own bus) and of TIM3's encoder interface ([`encoder`], fed with
 //! pin levels), written from the reference manual RM0383 (cross-checked with
 //! RM0090/RM0401, whose TIM1/TIM2/DMA chapters describe the same IP), to serve as a
@@ -80,6 +81,21 @@ pub enum EncoderCapture {
     #[default]
     CountBefore,
     CountAfter,
+}
+
+/// What clearing OCxPE does to a value waiting in TIMx_CCRx's preload. The manual says
+/// a CCRx written with OCxPE = 0 "is loaded permanently" and that with OCxPE = 1 the
+/// preload "is loaded in the active register at each update event" (TIMx_CCMR1 OC1PE,
+/// §13.4.7 / §14.5.5); it says nothing of the moment OCxPE is cleared. The firmware's
+/// words must be right under both readings (`polyturn_firmware::bldcout::stop_ops`):
+/// [`AtOnce`](Self::AtOnce), the default, puts the waiting value in force as OCxPE is
+/// cleared (as the TIM9 model and ARPE, §14.3.1); [`Stays`](Self::Stays) keeps the value
+/// in force until the next CCRx write or update event.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub enum PreloadClear {
+    #[default]
+    AtOnce,
+    Stays,
 }
 
 /// Panic for a register, field or configuration the model does not implement.

@@ -7,68 +7,16 @@
 //! that PWM without the preload is guaranteed only in one-pulse mode
 //! (§14.5.5 OC1PE) leaves the stop's "at once" to the bench procedure
 //! (docs/src/bench.md, "The BLDC drive", step 6): these tests show the
-//! words are right on that reading, not that silicon follows it.
+//! words are right on that reading, not that silicon follows it. Where the
+//! manual is silent (what clearing OC1PE does to a waiting value) the
+//! tests run under both readings (`PreloadClear`).
 
-use polyturn_firmware::bldcout::{off, run_ops, stop_ops, Out, TIM10};
-use polyturn_firmware::regs::{apply, Bus};
-use polyturn_stm32_model::chip::gptimer::GpTimer;
-use polyturn_sync::Config;
+mod tim10;
 
-const HZ: u64 = 96_000_000;
-const MAX: i64 = 524_288;
-
-struct Tim10 {
-    t: GpTimer,
-    now: u64,
-}
-
-impl Bus for Tim10 {
-    fn write(&mut self, addr: u32, value: u32) {
-        self.t.write(addr - TIM10, value, u32::MAX);
-    }
-    fn read(&mut self, addr: u32) -> u32 {
-        self.t.read(addr - TIM10)
-    }
-    fn delay(&mut self, _: u32) {}
-}
-
-impl Tim10 {
-    fn set_up(o: &Out) -> Tim10 {
-        let mut b = Tim10 { t: GpTimer::new(16, 1), now: 0 };
-        apply(&o.program(), &mut b).unwrap();
-        b
-    }
-
-    /// The pin's level, `cycles` CPU cycles on.
-    fn after(&mut self, cycles: u64) -> bool {
-        self.now += cycles;
-        self.t.advance(self.now, HZ, HZ);
-        self.t.oc_out(0).expect("CC1E on: the pin is driven")
-    }
-
-    /// How long the pin stays high from now, cycles (µs steps, at most a
-    /// 25 ms look).
-    fn high_for(&mut self) -> u64 {
-        (0..25_000).take_while(|_| self.after(96)).count() as u64 * 96
-    }
-
-    /// From a frame's start: (high cycles, frame cycles), sampled every
-    /// `step` cycles over two frames.
-    fn measure(&mut self, step: u64, frame: u64) -> (u64, u64) {
-        let samples: Vec<bool> = (0..2 * frame / step).map(|_| self.after(step)).collect();
-        let first = &samples[..(frame / step) as usize];
-        let high = first.iter().filter(|&&h| h).count() as u64 * step;
-        // the next frame's pulse begins where the first ends (sample k is
-        // at (k + 1) × step)
-        let rise = samples.windows(2).position(|w| !w[0] && w[1]).map(|i| (i as u64 + 2) * step);
-        (high, rise.unwrap_or(0))
-    }
-}
-
-fn out(name: &str, hz: &str) -> Out {
-    let c = Config::default().with("bldc-out", name).unwrap().with("pwm-hz", hz).unwrap();
-    Out::new(&c, MAX)
-}
+use polyturn_firmware::bldcout::{off, run_ops, stop_ops, Out};
+use polyturn_firmware::regs::apply;
+use polyturn_stm32_model::PreloadClear;
+use tim10::{out, Tim10, MAX, READINGS};
 
 #[test]
 fn each_interface_makes_its_frame_and_its_stop_pulse() {
@@ -81,13 +29,16 @@ fn each_interface_makes_its_frame_and_its_stop_pulse() {
         ("pwm", "20000", 4_800, 0),
     ] {
         let o = out(name, hz);
-        let mut b = Tim10::set_up(&o);
+        let mut b = Tim10::set_up(&o, PreloadClear::AtOnce);
         let step = if o.psc < 2 { 2 } else { 96 }; // a CK_CNT count or finer
+        assert!((1..frame / step).all(|_| !b.after(step)), "{name} {hz}: low through the first frame");
+        b.after(step); // its end, the first update
         let (high, _) = b.measure(step, frame);
         assert_eq!(high, stop, "{name} {hz}: the stop");
         // half speed: the pulse half way between stop and full
-        let mut b2 = Tim10::set_up(&o);
+        let mut b2 = Tim10::set_up(&o, PreloadClear::AtOnce);
         b2.t.write(off::CCR1, o.ccr(MAX as u32 / 2), u32::MAX);
+        b2.after(frame); // preloaded: in force from the first update
         let (high, rise) = b2.measure(step, frame);
         let full = if stop == 0 { frame } else { 2 * stop };
         assert_eq!(high, (stop + full) / 2, "{name} {hz}: half speed");
@@ -98,8 +49,9 @@ fn each_interface_makes_its_frame_and_its_stop_pulse() {
 #[test]
 fn full_speed_on_a_pwm_is_high_throughout() {
     let o = out("pwm", "5000");
-    let mut b = Tim10::set_up(&o);
+    let mut b = Tim10::set_up(&o, PreloadClear::AtOnce);
     b.t.write(off::CCR1, o.ccr(MAX as u32), u32::MAX);
+    b.after(96_000_000 / 5_000); // preloaded: in force from the first update
     assert!((0..1_000).all(|_| b.after(97)), "CCR1 = ARR + 1: OC1REF held high (§14.3.9)");
 }
 
@@ -116,18 +68,22 @@ fn stop(b: &mut Tim10, o: &Out) {
 #[test]
 fn the_stop_cuts_the_pulse_under_way() {
     // esc50 at full speed (2 000 µs); 1 500 µs into the pulse the stop is
-    // written: the pin falls at once, not 18.5 ms later
-    let o = out("esc50", "1000");
-    let mut b = Tim10::set_up(&o);
-    run(&mut b, o.ccr(MAX as u32));
-    b.after(20_000 * 96); // the preloaded command takes effect at the update
-    assert!(b.after(1_500 * 96));
-    stop(&mut b, &o);
-    assert!(!b.after(96), "low within a µs of the stop");
-    // and the next frame is the stop pulse, 1 000 µs
-    b.after(18_500 * 96 - 96);
-    let (high, _) = b.measure(96, 1_920_000);
-    assert_eq!(high, 96_000);
+    // written: the pin falls at once, not 18.5 ms later (under either
+    // reading: without the stop's third word, the one written with the
+    // preload off, `Stays` keeps the full pulse)
+    for r in READINGS {
+        let o = out("esc50", "1000");
+        let mut b = Tim10::set_up(&o, r);
+        run(&mut b, o.ccr(MAX as u32));
+        b.after(20_000 * 96); // the preloaded command takes effect at the update
+        assert!(b.after(1_500 * 96));
+        stop(&mut b, &o);
+        assert!(!b.after(96), "{r:?}: low within a µs of the stop");
+        // and the next frame is the stop pulse, 1 000 µs
+        b.after(18_500 * 96 - 96);
+        let (high, _) = b.measure(96, 1_920_000);
+        assert_eq!(high, 96_000, "{r:?}");
+    }
 }
 
 #[test]
@@ -137,7 +93,7 @@ fn a_command_raised_after_the_pulse_fell_waits_for_the_next_frame() {
     // this frame, 250 µs in the next (without the preload CNT < CCR1 would
     // hold again from 200 µs: a 50 µs runt after the real pulse)
     let o = out("oneshot125", "1000");
-    let mut b = Tim10::set_up(&o);
+    let mut b = Tim10::set_up(&o, PreloadClear::AtOnce);
     run(&mut b, o.ccr(MAX as u32 / 2));
     b.after(48_000); // to the update: the half-speed command is in
     assert!(b.after(96 * 100), "100 µs in: high");
@@ -150,23 +106,27 @@ fn a_command_raised_after_the_pulse_fell_waits_for_the_next_frame() {
 
 #[test]
 fn setting_up_again_in_a_pulse_never_stretches_it() {
-    // esc400 in its stop pulse, 900 µs in; set up again (a new interface):
-    // CCR1 = 0 first drops the pin at once, and the first pulse after is no
-    // longer than the stop, never 900 + 1 000 µs read as throttle
-    let o = out("esc400", "1000");
-    let mut b = Tim10::set_up(&o);
-    assert!(b.after(900 * 96));
-    let program = out("esc50", "1000").program();
-    for (i, op) in program.iter().enumerate() {
-        if let polyturn_firmware::regs::Op::Write(a, v) = *op {
-            b.write(a, v);
-            // low from the second word (CCR1 = 0) to the last (the stop)
-            let between = (1..program.len() - 1).contains(&i);
-            assert!(!between || !b.t.oc_out(0).unwrap(), "the pin high after word {i}");
+    // esc400 in its stop pulse, 900 µs in; set up again (a new interface),
+    // a µs between words: the pin falls by the third word (CCR1 = 0 with
+    // the preload off) and stays low for the whole of the new interface's
+    // first frame, so an ESC sees the cut pulse and the first stop pulse
+    // apart, never 900 + 1 000 µs read as throttle. (A first version wrote
+    // the stop with the preload off after the counter started: the pin
+    // rose again a few µs after it fell.)
+    for (next, frame) in [("esc50", 1_920_000), ("pwm", 96_000), ("oneshot125", 48_000)] {
+        for r in READINGS {
+            let o = out("esc400", "1000");
+            let mut b = Tim10::set_up(&o, r);
+            b.after(2_500 * 96); // the set-up's first frame, low
+            assert!(b.after(900 * 96));
+            let new = out(next, "1000");
+            let fell = b.now + 3 * 96;
+            b.word_by_word(&new.program(), 96, |i, b| assert!(i < 2 || !b.pin(), "{next} {r:?}: high after word {i}"));
+            let low = b.now + b.low_for() - fell;
+            assert!(low >= frame, "{next} {r:?}: low for {low} cycles, a frame is {frame}");
+            assert!(b.high_for() <= new.stop as u64 * (new.psc as u64 + 1), "{next} {r:?}: the first pulse");
         }
     }
-    let first = b.high_for();
-    assert!(first <= 96_000, "first pulse {first} cycles");
 }
 
 #[test]
@@ -175,7 +135,7 @@ fn the_stop_wins_over_a_command_waiting_in_the_preload() {
     // frame; the stop comes 1 500 µs in: the pin falls at once, and the
     // next frame is the stop, not the waiting command
     let o = out("esc400", "1000");
-    let mut b = Tim10::set_up(&o);
+    let mut b = Tim10::set_up(&o, PreloadClear::AtOnce);
     run(&mut b, o.ccr(MAX as u32));
     b.after(2_500 * 96);
     run(&mut b, o.ccr(MAX as u32 / 2));
@@ -189,36 +149,70 @@ fn the_stop_wins_over_a_command_waiting_in_the_preload() {
 
 #[test]
 fn setting_up_again_while_running_never_stretches_a_pulse() {
-    // pwm at 1 kHz, 90 % duty, preloaded; 500 µs in, set up as esc50: the
-    // pin falls at once and the first pulse after is the stop's 1 000 µs
-    let o = out("pwm", "1000");
-    let mut b = Tim10::set_up(&o);
-    run(&mut b, o.ccr(MAX as u32 / 10 * 9));
-    b.after(96_000);
-    assert!(b.after(500 * 96));
-    apply(&out("esc50", "1000").program(), &mut b).unwrap();
-    let first = b.high_for();
-    assert!(first <= 96_000, "first pulse {first} cycles");
+    // pwm at 1 kHz, 90 % duty, preloaded; 500 µs in, set up as esc50 a µs
+    // a word: the pin falls, stays low for esc50's first 20 ms frame, and
+    // the first pulse after is the stop's 1 000 µs
+    for r in READINGS {
+        let o = out("pwm", "1000");
+        let mut b = Tim10::set_up(&o, r);
+        run(&mut b, o.ccr(MAX as u32 / 10 * 9));
+        b.after(96_000);
+        assert!(b.after(500 * 96));
+        let fell = b.now + 3 * 96;
+        b.word_by_word(&out("esc50", "1000").program(), 96, |i, b| assert!(i < 2 || !b.pin(), "{r:?}: word {i}"));
+        assert!(b.now + b.low_for() - fell >= 1_920_000, "{r:?}: low for a frame");
+        let first = b.high_for();
+        assert!(first <= 96_000, "{r:?}: first pulse {first} cycles");
+    }
 }
 
 #[test]
 fn the_stop_never_lets_a_waiting_command_through_between_its_words() {
     // esc400 at half speed (1 500 µs), full speed waiting in the preload;
-    // the stop comes 1 600 µs in, the pin already low. Word by word, the
-    // waiting 2 000 µs is never in force (the model puts a waiting value
-    // in force as OC1PE is cleared: with the preload cleared first, as a
-    // first version did, the pin rose again for 400 µs)
-    let o = out("esc400", "1000");
-    let mut b = Tim10::set_up(&o);
-    run(&mut b, o.ccr(MAX as u32 / 2));
-    b.after(2_500 * 96);
-    run(&mut b, o.ccr(MAX as u32));
-    assert!(!b.after(1_600 * 96), "the half-speed pulse is over");
-    for (i, op) in stop_ops(o.stop).iter().enumerate() {
-        if let polyturn_firmware::regs::Op::Write(a, v) = *op {
-            b.write(a, v);
-            assert_ne!(b.t.active_ccr(0), o.ccr(MAX as u32), "the waiting command in force after word {i}");
-            assert!(!b.after(96), "the pin high after word {i}");
+    // the stop comes 1 600 µs in, the pin already low. Word by word, under
+    // either reading, the waiting 2 000 µs is never in force (where
+    // clearing OC1PE puts a waiting value in force, a first version that
+    // cleared the preload first let the pin rise again for 400 µs), and
+    // the stop ends waiting, the preload on again
+    for r in READINGS {
+        let o = out("esc400", "1000");
+        let mut b = Tim10::set_up(&o, r);
+        run(&mut b, o.ccr(MAX as u32 / 2));
+        b.after(2_500 * 96);
+        run(&mut b, o.ccr(MAX as u32));
+        assert!(!b.after(1_600 * 96), "the half-speed pulse is over");
+        b.word_by_word(&stop_ops(o.stop), 10, |i, b| {
+            assert_ne!(b.t.active_ccr(0), o.ccr(MAX as u32), "{r:?}: the waiting command in force after word {i}");
+            assert!(!b.pin(), "{r:?}: the pin high after word {i}");
+        });
+        assert_eq!((b.t.active_ccr(0), b.t.get(off::CCR1)), (0, o.stop), "{r:?}: 0 in force, the stop waiting");
+        assert_eq!(b.t.get(off::CCMR1), polyturn_firmware::bldcout::CCMR1_LIVE, "{r:?}: the preload on again");
+    }
+}
+
+#[test]
+fn a_stop_never_raises_the_pin() {
+    // a stop at any point of a frame leaves the pin low to the frame's end
+    // (then the stop pulse): in the first frame after a set-up, where 0 is
+    // in force (a stop written in force there would start a pulse mid-frame
+    // just after the set-up's cut), and in a running frame before CNT
+    // reaches the stop's width
+    for r in READINGS {
+        let o = out("esc400", "1000");
+        for at_us in [1, 100, 900, 1_200, 2_400] {
+            let mut b = Tim10::set_up(&o, r);
+            b.after(at_us * 96);
+            stop(&mut b, &o);
+            let low = b.low_for();
+            assert!(at_us * 96 + low >= 240_000 - 96, "{r:?}: first frame, stop at {at_us} µs: low {low}");
+            assert_eq!(b.high_for(), 1_000 * 96 - 96, "{r:?}: then the stop pulse (to a µs)");
+            // a running frame, the command at full speed
+            run(&mut b, o.ccr(MAX as u32));
+            b.after(2 * 240_000 - b.now % 240_000 + at_us * 96);
+            let was = b.pin();
+            stop(&mut b, &o);
+            assert!(!b.after(1), "{r:?}: running, stop at {at_us} µs (pin was {was})");
+            assert!(at_us * 96 + b.low_for() >= 240_000 - 96, "{r:?}: running, stop at {at_us} µs");
         }
     }
 }

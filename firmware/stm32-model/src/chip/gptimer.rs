@@ -2,9 +2,10 @@
 //! TIM5 (RM0383 §13) and TIM10 (§14). The counter counts up at CK_CNT = CK_INT /
 //! (PSC + 1) (§13.3.1) with CEN set and no slave mode; in encoder mode
 //! (SMS = 001..011, §13.3.12) it counts what [`GpTimer::count_by`] is given. At each
-//! overflow an update event loads the shadow registers (PSC always, ARR if ARPE,
-//! CCRx if OCxPE: §13.3.1, §13.3.9) and sets UIF unless UDIS (§13.4.1). A compare
-//! match (CNT reaching CCRx) sets CCxIF (§13.3.8). SR flags are rc_w0 (§13.4.5). The
+//! overflow an update event loads the shadow registers (PSC, ARR and CCRx from what
+//! was written: with ARPE or OCxPE off a write is in force at once anyway, §13.3.1,
+//! §13.3.9) and sets UIF unless UDIS (§13.4.1). A compare match (CNT reaching CCRx) sets CCxIF
+//! (§13.3.8). SR flags are rc_w0 (§13.4.5). The
 //! interrupt line is SR & DIER. Encoder mode counts the transitions
 //! [`GpTimer::inputs`] is given as §13.3.12 table 53 says (with
 //! [`crate::encoder::table_53`]); input channels capture CNT on their input's rising
@@ -20,7 +21,7 @@ pub mod trigger;
 
 use super::RegFile;
 use crate::addr::off::{ARR, CCER, CCMR1, CCMR2, CCR1, CNT, CR1, DIER, EGR, PSC, SMCR, SR};
-use crate::EncoderCapture;
+use crate::{EncoderCapture, PreloadClear};
 
 const CEN: u32 = 1;
 const UDIS: u32 = 2;
@@ -50,6 +51,8 @@ pub struct GpTimer {
     encoder_capture: EncoderCapture,
     /// TRGO pulses made and not yet taken by `take_trgo`
     trgo: u32,
+    /// what clearing OCxPE does to a waiting CCRx
+    preload_clear: PreloadClear,
 }
 
 impl GpTimer {
@@ -71,7 +74,13 @@ impl GpTimer {
             updates: 0,
             encoder_capture: EncoderCapture::default(),
             trgo: 0,
+            preload_clear: PreloadClear::default(),
         }
+    }
+
+    /// The reading of clearing OCxPE this timer follows ([`PreloadClear`]).
+    pub fn set_preload_clear(&mut self, r: PreloadClear) {
+        self.preload_clear = r;
     }
 
     /// The reading of a capture on a counted edge this timer follows (the emulator's
@@ -220,13 +229,17 @@ impl GpTimer {
     }
 
     /// OCxPE written 0 on an output channel of the CCMRx starting at
-    /// channel `first`: what was written to CCRx is in force at once. The
-    /// manual says a CCRx written without the preload "is loaded
-    /// permanently" (TIMx_CCR1, §13.4.13 / §14.5.10); it does not say when a value
-    /// waiting in the preload moves as OCxPE is cleared, so the model takes
-    /// the reading a firmware must survive: at once, as the project's TIM9
-    /// model (`tim9::oc`, as for ARPE, §14.3.1).
+    /// channel `first`. The manual says a CCRx written without the preload
+    /// "is loaded permanently" (TIMx_CCR1, §13.4.13 / §14.5.10); it does not
+    /// say when a value waiting in the preload moves as OCxPE is cleared, so
+    /// the model offers both readings ([`PreloadClear`]): at once (the
+    /// default, as the project's TIM9 model, `tim9::oc`), or not until the
+    /// next CCRx write or update. ("Loaded permanently" most likely means
+    /// at once; the manual does not say so of the instant OCxPE clears.)
     fn preload_cleared(&mut self, first: usize) {
+        if self.preload_clear == PreloadClear::Stays {
+            return;
+        }
         for ch in first..(first + 2).min(self.channels) {
             if self.is_output(ch) && !self.preload(ch) {
                 self.ccr[ch] = self.regs.get(CCR1 + 4 * ch as u32) & self.max;
@@ -250,6 +263,9 @@ impl GpTimer {
 
     pub fn write(&mut self, off: u32, value: u32, mask: u32) {
         let v = value & mask;
+        if self.channels == 1 {
+            one_channel_bits(off, v);
+        }
         match off {
             SR => self.regs.set(SR, self.regs.get(SR) & (value | !mask)), // rc_w0
             CNT => self.cnt = (self.cnt & !mask | v) & self.max,
@@ -348,6 +364,30 @@ impl GpTimer {
     pub fn oc_out(&self, ch: usize) -> Option<bool> {
         let ccer = self.regs.get(CCER);
         (ccer >> (4 * ch) & 1 == 1).then(|| self.oc_ref(ch) ^ (ccer >> (4 * ch + 1) & 1 == 1))
+    }
+}
+
+/// TIM10/11's registers (§14.5) have fewer bits than TIM2–5's: a write to
+/// any other (reserved, or a TIM2–5 feature this timer lacks: OPM, DIR,
+/// CMS, a slave mode, channels 2–4) is not modelled. CR1 §14.5.1 (CEN,
+/// UDIS, URS, ARPE, CKD), DIER §14.5.2 (UIE, CC1IE), EGR §14.5.4 (UG,
+/// CC1G), CCMR1 §14.5.5 (channel 1's byte), CCER §14.5.7 (CC1E, CC1P,
+/// CC1NP). (SR is rc_w0: writing 1 to a bit leaves it, so any is allowed.)
+fn one_channel_bits(off: u32, v: u32) {
+    let allowed = match off {
+        CR1 => 0x387,
+        DIER => 0x3,
+        EGR => 0x3,
+        CCMR1 => 0xFF,
+        CCER => 0xB,
+        SMCR | CCMR2 => 0,
+        _ => u32::MAX,
+    };
+    if v & !allowed != 0 {
+        crate::unmodelled(&format!(
+            "write {v:#x} to a one-channel timer's register at {off:#x}: bits {:#x}",
+            v & !allowed
+        ));
     }
 }
 

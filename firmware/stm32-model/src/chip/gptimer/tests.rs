@@ -153,3 +153,19 @@ fn ug_counting_down_loads_arr() {
     t.write(EGR, 1, u32::MAX);
     assert_eq!(t.read(CNT), 99, "§13.4.6: takes the auto-reload value if DIR = 1");
 }
+
+#[test]
+#[should_panic(expected = "not modelled")]
+fn tim10_has_no_one_pulse_mode() {
+    // TIM10_CR1 (§14.5.1) has no OPM: bit 3 is reserved there
+    GpTimer::new(16, 1).write(CR1, 1 << 3, u32::MAX);
+}
+
+#[test]
+fn tim10_takes_its_own_bits() {
+    let mut t = GpTimer::new(16, 1);
+    t.write(CR1, 0x81, u32::MAX); // ARPE | CEN
+    t.write(CCMR1, 0x68, u32::MAX); // PWM mode 1, OC1PE
+    t.write(CCER, 1, u32::MAX);
+    assert_eq!((t.get(CR1), t.get(CCMR1), t.get(CCER)), (0x81, 0x68, 1));
+}

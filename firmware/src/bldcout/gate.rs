@@ -1,0 +1,98 @@
+//! The order of the tick's command and the stops that may pre-empt it.
+//! The tick writes the running command; the E-stop interrupt (above the
+//! tick, `board::PRIORITIES`) and the panic handler write the stop at any
+//! moment, the tick's own words included. A stop must win: whatever
+//! instant it lands at, the stop is in force and waiting in the preload
+//! once the tick's command returns.
+
+use super::{off, run_ops, stop_ops, Out, TIM10};
+use crate::regs::Op;
+use crate::regs::{apply, Bus};
+use core::sync::atomic::{compiler_fence, AtomicBool, AtomicU32, Ordering::Relaxed, Ordering::SeqCst};
+
+/// Shared by the tick and every stop (plain loads and stores, and one
+/// `fetch_add` in the stop: no critical section, nothing that waits).
+pub struct Gate {
+    /// CCR1 of the interface's stop (0, no pulse, until `set_up` ends)
+    stop: AtomicU32,
+    /// a running command written since the last stop
+    live: AtomicBool,
+    /// stops so far: the tick's command compares it with its entry's
+    stops: AtomicU32,
+}
+
+impl Gate {
+    pub const fn new() -> Gate {
+        Gate { stop: AtomicU32::new(0), live: AtomicBool::new(false), stops: AtomicU32::new(0) }
+    }
+
+    /// Stops so far: read at the tick's entry, given to `command`.
+    pub fn stops(&self) -> u32 {
+        self.stops.load(Relaxed)
+    }
+
+    /// TIM10 (re)programmed for `out` (`Out::program`). The stop is 0 (no
+    /// pulse) while the words go in, so a stop among them cannot put the
+    /// new interface's stop in the old frame; a stop that came after
+    /// `program`'s last word and before the new stop was kept left 0
+    /// waiting, so the stop is written into the preload again. (The fences
+    /// keep the stores and loads on their side of the register writes:
+    /// volatile writes are ordered only among themselves.)
+    pub fn set_up(&self, out: &Out, bus: &mut impl Bus) {
+        let since = self.stops();
+        self.stop.store(0, Relaxed);
+        self.live.store(false, Relaxed);
+        compiler_fence(SeqCst);
+        let _ = apply(&out.program(), bus);
+        compiler_fence(SeqCst);
+        self.stop.store(out.stop, Relaxed);
+        compiler_fence(SeqCst);
+        if self.stops() != since {
+            let _ = apply(&[Op::Write(TIM10 + off::CCR1, out.stop)], bus);
+        }
+    }
+
+    /// The stop at once, from any context (`stop_ops`).
+    pub fn stop(&self, bus: &mut impl Bus) {
+        self.live.store(false, Relaxed);
+        let _ = apply(&stop_ops(self.stop.load(Relaxed)), bus);
+        compiler_fence(SeqCst);
+        self.stops.fetch_add(1, Relaxed);
+    }
+
+    /// The tick's command, `ccr`; `since`: `stops()` at the tick's entry.
+    /// The stop is written only when the drive was running (once stopped,
+    /// every writer leaves the stop waiting). A running command goes in
+    /// only if no stop came since the tick began (one that did halted what
+    /// this tick computed, and its stop stands: writing it again would cut
+    /// a stop pulse just begun), and a stop that lands after that check,
+    /// before or after the word, is written again after it:
+    /// the command can be in the preload for the cycles between the word
+    /// and that stop's first word, and in force only if an update event
+    /// falls in them, until its third (a runt of those cycles; the fences
+    /// keep the loads on their side of the word).
+    pub fn command(&self, ccr: u32, since: u32, bus: &mut impl Bus) {
+        if ccr == self.stop.load(Relaxed) {
+            if self.live.load(Relaxed) {
+                self.stop(bus);
+            }
+            return;
+        }
+        if self.stops() != since {
+            return;
+        }
+        self.live.store(true, Relaxed);
+        compiler_fence(SeqCst);
+        let _ = apply(&run_ops(ccr), bus);
+        compiler_fence(SeqCst);
+        if self.stops() != since {
+            self.stop(bus);
+        }
+    }
+}
+
+impl Default for Gate {
+    fn default() -> Gate {
+        Gate::new()
+    }
+}

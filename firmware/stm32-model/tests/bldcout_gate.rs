@@ -1,0 +1,187 @@
+//! The tick's BLDC command against a stop that pre-empts it
+//! (`polyturn_firmware::bldcout::Gate`): the E-stop interrupt runs above
+//! the tick and may land anywhere in the tick's command. Each write here
+//! takes time on the model of TIM10 (RM0383 §14), and the frame's update
+//! event is put at every point of the words in turn, under both readings
+//! of clearing OC1PE: the stop must end in force and waiting, and the pin
+//! must never carry the command after the stop for longer than the few
+//! cycles between the command's word and the stop written again.
+
+mod tim10;
+
+use polyturn_firmware::bldcout::{off, Gate, Out};
+use polyturn_firmware::regs::Bus;
+use tim10::{out, Tim10, MAX, READINGS};
+
+/// Cycles a TIM10 write takes here (an APB2 write and the code around it).
+const GAP: u64 = 16;
+/// Cycles from the E-stop's edge to its first TIM10 write: the exception
+/// entry (12) and TIM1's stop before it.
+const ENTRY: u64 = 20;
+
+/// Where the stop lands relative to the tick's command.
+#[derive(Clone, Copy, Debug)]
+enum Lands {
+    /// after the tick began, before its command
+    Before,
+    /// just before the command's word
+    AtTheWord,
+    /// just after the word, before the command looks again
+    AfterTheWord,
+}
+
+/// A bus whose writer is pre-empted once by the E-stop's stop: before
+/// write `at` (counting from 0), or after it with `after`.
+struct Preempted<'a> {
+    b: Tim10,
+    gate: &'a Gate,
+    at: usize,
+    after: bool,
+    writes: usize,
+}
+
+impl Preempted<'_> {
+    fn new(b: Tim10, gate: &Gate, at: usize, after: bool) -> Preempted<'_> {
+        Preempted { b, gate, at, after, writes: 0 }
+    }
+
+    fn fire(&mut self) {
+        self.b.after(ENTRY);
+        self.gate.stop(&mut self.b);
+    }
+}
+
+impl Bus for Preempted<'_> {
+    fn write(&mut self, addr: u32, value: u32) {
+        let here = self.writes == self.at;
+        self.writes += 1;
+        if here && !self.after {
+            self.fire();
+        }
+        self.b.write(addr, value);
+        if here && self.after {
+            self.fire();
+        }
+    }
+    fn read(&mut self, addr: u32) -> u32 {
+        self.b.read(addr)
+    }
+    fn delay(&mut self, _: u32) {}
+}
+
+/// Cycles from one frame's start to the next.
+fn frame(o: &Out) -> u64 {
+    (o.arr as u64 + 1) * (o.psc as u64 + 1)
+}
+
+/// `o` running at half speed, then at `offset` cycles before a frame's
+/// update the tick's command to full speed with a stop landing as
+/// `lands`: the pin's high cycles from there to the end of the frame that
+/// update begins (the words' own time included), and (CCR1 in force, CCR1
+/// waiting) then.
+fn race(o: &Out, r: polyturn_stm32_model::PreloadClear, lands: Lands, offset: u64) -> (u64, (u32, u32)) {
+    let gate = Gate::new();
+    let mut b = Tim10::set_up(o, r);
+    gate.set_up(o, &mut b);
+    let f = frame(o);
+    gate.command(o.ccr(MAX as u32 / 2), gate.stops(), &mut b);
+    b.after(2 * f - offset - b.now % f);
+    b.gap = GAP;
+    assert!(!b.pin(), "the half-speed pulse is over ({offset} before the update)");
+    let update = b.now + offset;
+    let since = gate.stops();
+    if let Lands::Before = lands {
+        gate.stop(&mut b);
+    }
+    let mut p = Preempted::new(
+        b,
+        &gate,
+        if let Lands::Before = lands { usize::MAX } else { 0 },
+        matches!(lands, Lands::AfterTheWord),
+    );
+    gate.command(o.ccr(MAX as u32), since, &mut p);
+    let mut b = p.b;
+    // to the end of the frame the update began
+    let end = update + f;
+    let high = b.high_in_gaps + (b.now..end).step_by(2).filter(|_| b.after(2)).count() as u64 * 2;
+    (high, (b.t.active_ccr(0), b.t.get(off::CCR1)))
+}
+
+#[test]
+fn a_stop_anywhere_in_the_ticks_command_is_the_last_word() {
+    for (name, hz) in [("pwm", "20000"), ("oneshot125", "1000"), ("esc400", "1000")] {
+        let o = out(name, hz);
+        let stop_cycles = o.stop as u64 * (o.psc as u64 + 1);
+        for r in READINGS {
+            for lands in [Lands::Before, Lands::AtTheWord, Lands::AfterTheWord] {
+                // the update at every point from before the first word to
+                // after the last (a stop, the word, the stop again: 11
+                // writes and the interrupt's entry)
+                for offset in (1..12 * GAP + ENTRY).step_by(2) {
+                    let (high, ccr) = race(&o, r, lands, offset);
+                    let what = format!("{name} {r:?} {lands:?}, the update {offset} cycles on");
+                    assert_eq!(ccr, (o.stop, o.stop), "{what}: the stop in force and waiting");
+                    // that frame's stop pulse at most, and no more of the
+                    // command than the words from it to the stop's third
+                    // (the interrupt's entry, three writes); none if the
+                    // stop came first (to the 2-cycle sampling after)
+                    let runt = if let Lands::Before = lands { 0 } else { ENTRY + 3 * GAP };
+                    assert!(high <= stop_cycles + runt + 2, "{what}: high {high} cycles");
+                }
+            }
+        }
+    }
+}
+
+#[test]
+fn without_a_stop_the_command_is_the_next_frames_pulse() {
+    let o = out("esc400", "1000");
+    let gate = Gate::new();
+    let mut b = Tim10::set_up(&o, READINGS[0]);
+    gate.set_up(&o, &mut b);
+    gate.command(o.ccr(MAX as u32), gate.stops(), &mut b);
+    b.after(frame(&o));
+    let high = b.high_for();
+    assert!(high.abs_diff(2 * 96_000) <= 96, "2 000 µs (full speed), to a µs: {high}");
+    // and the tick's stop (its command is the stop) ends the next frame's
+    // pulse 1 500 µs in at once
+    assert!(b.after(2_000 * 96));
+    gate.command(o.stop, gate.stops(), &mut b);
+    assert!(!b.after(96));
+    assert_eq!((b.t.active_ccr(0), b.t.get(off::CCR1)), (0, o.stop), "cut, the stop waiting");
+}
+
+#[test]
+fn a_stop_anywhere_in_a_set_up_leaves_the_new_stop_waiting_and_no_long_pulse() {
+    // esc400 at full speed, 600 µs into its pulse; set up as esc50 (20 ms
+    // frame, 1 000 µs stop) with the E-stop landing before or after each
+    // of the set-up's words: the pin falls by the set-up's third word and
+    // stays low a whole new frame, then gives the new stop's pulse, and the
+    // new stop is what waits (a stop after the last word, before the gate
+    // kept the new stop, left 0: no pulse at all, an ESC's signal lost)
+    let (old, new) = (out("esc400", "1000"), out("esc50", "1000"));
+    let words = new.program().len();
+    for r in READINGS {
+        for at in 0..words {
+            for after in [false, true] {
+                let gate = Gate::new();
+                let mut b = Tim10::set_up(&old, r);
+                gate.set_up(&old, &mut b);
+                gate.command(old.ccr(MAX as u32), gate.stops(), &mut b);
+                b.after(2 * 240_000 + 600 * 96);
+                b.gap = GAP;
+                let mut p = Preempted::new(b, &gate, at, after);
+                gate.set_up(&new, &mut p);
+                let mut b = p.b;
+                let what = format!("{r:?}, the stop {} word {at}", if after { "after" } else { "before" });
+                let fell = b.last_high_at;
+                let low = b.now + b.low_for() - fell;
+                assert!(low >= 1_920_000 - 96, "{what}: low {low} cycles, a frame is 1 920 000");
+                let pulse = b.high_for();
+                assert!(pulse.abs_diff(96_000) <= 96, "{what}: the stop's 1 000 µs, got {pulse} cycles");
+                assert_eq!(b.t.get(off::CCR1), new.stop, "{what}: the stop waiting");
+                assert!(fell < 600 * 96 + 2 * 240_000 + 3 * GAP + ENTRY + 5 * GAP, "{what}: fell at {fell}");
+            }
+        }
+    }
+}
