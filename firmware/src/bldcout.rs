@@ -18,10 +18,11 @@
 //! same frame, so CCR1 is preloaded (OC1PE = 1: taken at the next update,
 //! one whole pulse a frame), as §14.3.9 asks of PWM mode ("You must enable
 //! the corresponding preload register by setting the OCxPE bit"), at all
-//! times but one write: the stop turns the preload off to write CCR1 = 0
-//! in force at once ("the new value is taken in account immediately",
+//! times but the stop's one write and the set-up's head (with the counter
+//! stopped from its fourth word): the stop turns the preload off to write
+//! CCR1 = 0 in force at once ("the new value is taken in account immediately",
 //! TIMx_CCMR1 OC1PE, §14.5.5), ending the pulse under way, and turns it on
-//! again. Keeping that window to one write matters: the OC1PE note
+//! again. Keeping that window short matters: the OC1PE note
 //! guarantees PWM mode without the preload only in one-pulse mode, which
 //! TIM10 does not have (TIM10_CR1 has no OPM, §14.5.1). `program` and the
 //! stop are register writes as data; the model runs them
@@ -116,13 +117,14 @@ impl Out {
     /// turning off (as `stop_ops`): the pin falls at once whatever the old
     /// frame was doing (a pulse under way must not be stretched by the
     /// stop that follows into a throttle). Then the counter off, the
-    /// frame, PWM mode 1, the output on, an update event (UG, TIMx_EGR
-    /// §14.5.4) so PSC and ARR take effect now (PSC is otherwise loaded
-    /// only at an update, §14.3.1), counting with ARR preloaded (ARPE,
-    /// TIMx_CR1 §14.5.1), the preload on, and the stop last, into the
-    /// preload: CCR1 = 0 stays in force for the whole first frame, so the
-    /// pin is low a full frame between the cut pulse and the first stop
-    /// pulse, which an ESC cannot read as one pulse.
+    /// frame, the output on, the preload on again (§14.3.9 asks for it
+    /// before the update that starts PWM), an update event (UG, TIMx_EGR
+    /// §14.5.4) so PSC, ARR and CCR1 = 0 take effect now (PSC is otherwise
+    /// loaded only at an update, §14.3.1), counting with ARR preloaded
+    /// (ARPE, TIMx_CR1 §14.5.1), and the stop last, into the preload:
+    /// CCR1 = 0 stays in force for the whole first frame, so the pin is low
+    /// a full frame between the cut pulse and the first stop pulse, which
+    /// an ESC cannot read as one pulse.
     pub fn program(&self) -> [Op; 11] {
         let t = |o: u32, v: u32| Op::Write(TIM10 + o, v);
         [
@@ -133,9 +135,9 @@ impl Out {
             t(off::PSC, self.psc),
             t(off::ARR, self.arr),
             t(off::CCER, ccer::CC1E.mask()),
+            t(off::CCMR1, CCMR1_LIVE),
             t(off::EGR, egr::UG.mask()),
             t(off::CR1, cr1::ARPE.mask() | cr1::CEN.mask()),
-            t(off::CCMR1, CCMR1_LIVE),
             t(off::CCR1, self.stop),
         ]
     }

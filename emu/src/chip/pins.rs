@@ -58,7 +58,6 @@ fn stop_us(psc: u32, frame_us: u64) -> u64 {
 }
 
 impl Outputs {
-    /// The E-stop interrupt's own work: step output halted, ESC at its stop pulse.
     /// The step output stopped with STEP low, and the BLDC drive stopped:
     /// no pulse in force or the stop's (`bldcout::stop_ops` cuts the pulse
     /// under way: 0 in force to the frame's end), and the stop waiting.

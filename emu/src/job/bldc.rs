@@ -30,7 +30,8 @@ const INTERFACES: [(&str, u64, u64); 4] =
 struct Seen {
     frame_us: f64,
     running_us: f64,
-    /// PB8 50 µs after the E-stop, in the frame it opened in
+    /// PB8 high as the E-stop opened, just after an update, and low 50 µs
+    /// later in the same frame
     cut: Option<bool>,
     /// the compare in force a frame later
     stop_us: f64,
@@ -91,10 +92,13 @@ fn one(image: &Rc<Image>, name: &str) -> Result<(Seen, u64), String> {
     while updates(&mut m) == before {
         m.run(MS / 100);
     }
+    m.chip().sync();
+    let high_before = m.chip().gp[3].oc_out(0) == Some(true);
     m.drive(GPIOB, ESTOP, None);
     m.run(MS / 20);
     m.chip().sync();
-    let cut = m.chip().gp[3].oc_out(0).map(|high| !high);
+    // high at the E-stop, low 50 µs on
+    let cut = m.chip().gp[3].oc_out(0).map(|high| high_before && !high);
     let safe = m.chip().outputs().safe_now();
     m.run((frame_us * (SYSCLK / 1_000_000) as f64) as u64); // to 50 µs into the next frame
     let stop_us = tim10_us(&mut m).1;
@@ -124,7 +128,7 @@ pub fn run(image: &Rc<Image>, r: &mut Report) -> Result<u64, String> {
             && s.stall_disabled
             && s.safe;
         let text = format!(
-            "TIM10 frame {:.1} µs (want {frame_us}), widest command pulse {:.1} µs while following, BLDC_DIR {:?} (dir same: low); after the stall {:.1} µs, ENABLE inactive {}; 50 µs after the E-stop opened (no frame's update between) PB8 low {:?}, a frame later {:.1} µs (the stop: {stop_us}), outputs safe: {}",
+            "TIM10 frame {:.1} µs (want {frame_us}), widest command pulse {:.1} µs while following, BLDC_DIR {:?} (dir same: low); after the stall {:.1} µs, ENABLE inactive {}; PB8 high as the E-stop opened and low 50 µs after (no frame's update between) {:?}, a frame later {:.1} µs (the stop: {stop_us}), outputs safe: {}",
             s.frame_us, s.running_us, s.dir, s.stalled_us, s.stall_disabled, s.cut, s.stop_us, s.safe
         );
         r.line(ok, &format!("bldc {name}"), &text);

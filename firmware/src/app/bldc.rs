@@ -53,12 +53,18 @@ pub fn stops() -> u32 {
     GATE.stops()
 }
 
-/// The tick's command, `ccr` (`Gate::command`: not written if a stop came
-/// since the tick began, the stop written again if one lands among its
-/// words).
+/// The tick's command, `ccr`, into the preload (`Gate::command`: not
+/// written if a stop came since the tick began, the stop written again if
+/// one lands around its word).
 #[inline]
 pub fn command(ccr: u32, since: u32) {
     GATE.command(ccr, since, &mut super::drivers::Mmio);
+}
+
+/// The tick's halt (an immediate fault): `Gate::halt`.
+#[inline]
+pub fn halt() {
+    GATE.halt(&mut super::drivers::Mmio);
 }
 
 /// The stop at once, from any context (E-stop, alarm, fault, panic):

@@ -190,6 +190,8 @@ fn TIM1_TRG_COM_TIM11() {
 fn run(cs: &CriticalSection) {
     let halts_at_entry = safety::halts();
     let bldc_stops = bldc::stops();
+    // (both read before anything the E-stop's interrupt also writes)
+    compiler_fence(Ordering::SeqCst);
     // (try_: nothing else can hold it while the tick runs, and the tick
     // keeps no panic path)
     let Ok(mut io) = IO.borrow(cs).try_borrow_mut() else { return };
@@ -224,18 +226,26 @@ fn run(cs: &CriticalSection) {
         STEPS_LATE.fetch_add(1, Ordering::Relaxed);
     }
     NDTR_LEAD.store(io.steps.ndtr_lead(), Ordering::Relaxed);
-    // every tick, whatever the drive: a fault or halt stops the BLDC too
-    let run = io.core.config().drive == DriveKind::Bldc && out.enable && !out.halt;
+    // every tick, whatever the drive: a halt stops the BLDC at once,
+    // anything else not running it gets the stop from the next frame
+    let run = io.core.config().drive == DriveKind::Bldc && out.enable;
     let forward = io.core.config().sense == polyturn_sync::Sense::Same;
-    bldc::command(io.bldc.command(run, out.speed_q16, forward), bldc_stops);
+    if out.halt {
+        bldc::halt();
+    } else {
+        bldc::command(io.bldc.command(run, out.speed_q16, forward), bldc_stops);
+    }
     io.pins.set_enable(out.enable);
     drivers::set_x_pins(io.x.tick(&out.x_plan, out.halt));
     // the E-stop pre-empts the tick: if it ran during this one, a write
-    // above (an arm, the ESC's pulse) may have undone its stop. (The fence
-    // keeps this load after those writes.)
+    // above (an arm) may have undone its stop of the step output. (The
+    // BLDC's command is ordered against it by its gate: writing its stop
+    // again would only cut a stop pulse. The fence keeps this load after
+    // those writes.)
     compiler_fence(Ordering::SeqCst);
     if safety::halts() != halts_at_entry {
-        safety::stop_outputs();
+        drivers::stop_step_timer();
+        drivers::halt_steps();
         heard_of_halts(io);
     }
 }

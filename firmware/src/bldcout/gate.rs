@@ -15,7 +15,7 @@ use core::sync::atomic::{compiler_fence, AtomicBool, AtomicU32, Ordering::Relaxe
 pub struct Gate {
     /// CCR1 of the interface's stop (0, no pulse, until `set_up` ends)
     stop: AtomicU32,
-    /// a running command written since the last stop
+    /// a command written since the last stop (a speed may be in force)
     live: AtomicBool,
     /// stops so far: the tick's command compares it with its entry's
     stops: AtomicU32,
@@ -60,22 +60,22 @@ impl Gate {
         self.stops.fetch_add(1, Relaxed);
     }
 
-    /// The tick's command, `ccr`; `since`: `stops()` at the tick's entry.
-    /// The stop is written only when the drive was running (once stopped,
-    /// every writer leaves the stop waiting). A running command goes in
-    /// only if no stop came since the tick began (one that did halted what
-    /// this tick computed, and its stop stands: writing it again would cut
-    /// a stop pulse just begun), and a stop that lands after that check,
-    /// before or after the word, is written again after it:
-    /// the command can be in the preload for the cycles between the word
-    /// and that stop's first word, and in force only if an update event
-    /// falls in them, until its third (a runt of those cycles; the fences
-    /// keep the loads on their side of the word).
+    /// The tick's command, `ccr` (the stop, or a speed), one word into the
+    /// preload: a pulse under way keeps its width, the command is the next
+    /// frame's (a speed falling to the stop while the drive runs is no
+    /// fault: cutting the pulse would send an ESC a pulse below its range,
+    /// frame after frame while the speed hovers at zero). `since`:
+    /// `stops()` at the tick's entry. Nothing is written while the stop
+    /// waits since the last stop (`live` clear) and the command is the
+    /// stop, nor if a stop came since the tick began (that stop halted what
+    /// this tick computed). A stop that lands after that check, before or
+    /// after the word, is written again after it: the command can be in
+    /// the preload for the cycles from the word to that stop's first word,
+    /// and in force only if an update event falls in them, until its third
+    /// (a runt of those cycles; the fences keep the loads on their side of
+    /// the word).
     pub fn command(&self, ccr: u32, since: u32, bus: &mut impl Bus) {
-        if ccr == self.stop.load(Relaxed) {
-            if self.live.load(Relaxed) {
-                self.stop(bus);
-            }
+        if ccr == self.stop.load(Relaxed) && !self.live.load(Relaxed) {
             return;
         }
         if self.stops() != since {
@@ -86,6 +86,15 @@ impl Gate {
         let _ = apply(&run_ops(ccr), bus);
         compiler_fence(SeqCst);
         if self.stops() != since {
+            self.stop(bus);
+        }
+    }
+
+    /// The tick's halt (an immediate fault): the stop at once, unless the
+    /// stop already waits since the last one (cutting a stop pulse would
+    /// only make it short).
+    pub fn halt(&self, bus: &mut impl Bus) {
+        if self.live.load(Relaxed) {
             self.stop(bus);
         }
     }

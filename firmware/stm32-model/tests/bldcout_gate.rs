@@ -46,7 +46,7 @@ impl Preempted<'_> {
     }
 
     fn fire(&mut self) {
-        self.b.after(ENTRY);
+        self.b.pass(ENTRY);
         self.gate.stop(&mut self.b);
     }
 }
@@ -77,9 +77,9 @@ fn frame(o: &Out) -> u64 {
 /// `o` running at half speed, then at `offset` cycles before a frame's
 /// update the tick's command to full speed with a stop landing as
 /// `lands`: the pin's high cycles from there to the end of the frame that
-/// update begins (the words' own time included), and (CCR1 in force, CCR1
-/// waiting) then.
-fn race(o: &Out, r: polyturn_stm32_model::PreloadClear, lands: Lands, offset: u64) -> (u64, (u32, u32)) {
+/// update begins (the words' own time included), the cycles of them with
+/// the command in force, and (CCR1 in force, CCR1 waiting) then.
+fn race(o: &Out, r: polyturn_stm32_model::PreloadClear, lands: Lands, offset: u64) -> (u64, u64, (u32, u32)) {
     let gate = Gate::new();
     let mut b = Tim10::set_up(o, r);
     gate.set_up(o, &mut b);
@@ -89,6 +89,7 @@ fn race(o: &Out, r: polyturn_stm32_model::PreloadClear, lands: Lands, offset: u6
     b.gap = GAP;
     assert!(!b.pin(), "the half-speed pulse is over ({offset} before the update)");
     let update = b.now + offset;
+    b.watch = Some(o.ccr(MAX as u32));
     let since = gate.stops();
     if let Lands::Before = lands {
         gate.stop(&mut b);
@@ -103,8 +104,9 @@ fn race(o: &Out, r: polyturn_stm32_model::PreloadClear, lands: Lands, offset: u6
     let mut b = p.b;
     // to the end of the frame the update began
     let end = update + f;
-    let high = b.high_in_gaps + (b.now..end).step_by(2).filter(|_| b.after(2)).count() as u64 * 2;
-    (high, (b.t.active_ccr(0), b.t.get(off::CCR1)))
+    // (after the words only 0 or the stop can be in force: sampled)
+    let after = (b.now..end).step_by(2).filter(|_| b.after(2)).count() as u64 * 2;
+    (b.high_in_gaps + after, b.watched_high, (b.t.active_ccr(0), b.t.get(off::CCR1)))
 }
 
 #[test]
@@ -118,14 +120,15 @@ fn a_stop_anywhere_in_the_ticks_command_is_the_last_word() {
                 // after the last (a stop, the word, the stop again: 11
                 // writes and the interrupt's entry)
                 for offset in (1..12 * GAP + ENTRY).step_by(2) {
-                    let (high, ccr) = race(&o, r, lands, offset);
+                    let (high, command, ccr) = race(&o, r, lands, offset);
                     let what = format!("{name} {r:?} {lands:?}, the update {offset} cycles on");
                     assert_eq!(ccr, (o.stop, o.stop), "{what}: the stop in force and waiting");
-                    // that frame's stop pulse at most, and no more of the
-                    // command than the words from it to the stop's third
-                    // (the interrupt's entry, three writes); none if the
-                    // stop came first (to the 2-cycle sampling after)
+                    // no more of the command than the cycles from the word
+                    // to the stop's third (the interrupt's entry, three
+                    // writes); none if the stop came first; and no more
+                    // high than that and that frame's stop pulse
                     let runt = if let Lands::Before = lands { 0 } else { ENTRY + 3 * GAP };
+                    assert!(command <= runt, "{what}: the command in force {command} cycles");
                     assert!(high <= stop_cycles + runt + 2, "{what}: high {high} cycles");
                 }
             }
@@ -133,22 +136,63 @@ fn a_stop_anywhere_in_the_ticks_command_is_the_last_word() {
     }
 }
 
-#[test]
-fn without_a_stop_the_command_is_the_next_frames_pulse() {
-    let o = out("esc400", "1000");
+/// esc400 set up, its gate and the pin, a frame run at full speed: at the
+/// next update, the full-speed pulse starting.
+fn running_full(o: &Out) -> (Gate, Tim10) {
     let gate = Gate::new();
-    let mut b = Tim10::set_up(&o, READINGS[0]);
-    gate.set_up(&o, &mut b);
+    let mut b = Tim10::set_up(o, READINGS[0]);
+    gate.set_up(o, &mut b);
     gate.command(o.ccr(MAX as u32), gate.stops(), &mut b);
-    b.after(frame(&o));
-    let high = b.high_for();
-    assert!(high.abs_diff(2 * 96_000) <= 96, "2 000 µs (full speed), to a µs: {high}");
-    // and the tick's stop (its command is the stop) ends the next frame's
-    // pulse 1 500 µs in at once
-    assert!(b.after(2_000 * 96));
+    b.after(frame(o));
+    (gate, b)
+}
+
+#[test]
+fn a_speed_falling_to_the_stop_keeps_the_pulse_under_way() {
+    // full speed (2 000 µs) under way, 500 µs in; the tick's command falls
+    // to the stop (the phase loop asking to slow past zero, or disengaged):
+    // no fault, so the pulse runs to its end (cut, an ESC would read a
+    // pulse below its range), and the next frame is the stop's
+    let o = out("esc400", "1000");
+    let (gate, mut b) = running_full(&o);
+    assert!(b.after(500 * 96));
     gate.command(o.stop, gate.stops(), &mut b);
-    assert!(!b.after(96));
+    let high = 500 * 96 + b.high_for();
+    assert!(high.abs_diff(2 * 96_000) <= 96, "2 000 µs (to a µs): {high}");
+    b.after(frame(&o) - high - 96);
+    let stop = b.high_for();
+    assert!(stop.abs_diff(96_000) <= 96, "then the stop's 1 000 µs: {stop}");
+}
+
+#[test]
+fn a_halt_cuts_the_pulse_at_once() {
+    let o = out("esc400", "1000");
+    let (gate, mut b) = running_full(&o);
+    assert!(b.after(1_500 * 96));
+    gate.halt(&mut b);
+    assert!(!b.after(1), "low at once");
     assert_eq!((b.t.active_ccr(0), b.t.get(off::CCR1)), (0, o.stop), "cut, the stop waiting");
+}
+
+#[test]
+fn idle_ticks_leave_the_stop_pulses_whole() {
+    // after a halt, ticks every 40 µs commanding the stop, and halting
+    // again, write nothing: every frame's stop pulse is a whole 1 000 µs
+    // (writing the stop each tick would cut each one short)
+    let o = out("esc400", "1000");
+    let (gate, mut b) = running_full(&o);
+    gate.halt(&mut b);
+    b.after(frame(&o) - b.now % frame(&o)); // the next frame
+    let mut highs = 0;
+    for tick in 0..(3 * frame(&o) / 3_840) {
+        if tick % 2 == 0 {
+            gate.command(o.stop, gate.stops(), &mut b);
+        } else {
+            gate.halt(&mut b);
+        }
+        highs += (0..40).filter(|_| b.after(96)).count();
+    }
+    assert!((2_997..=3_000).contains(&highs), "three whole stop pulses (to a µs each): {highs} µs");
 }
 
 #[test]

@@ -371,16 +371,25 @@ impl GpTimer {
 /// any other (reserved, or a TIM2–5 feature this timer lacks: OPM, DIR,
 /// CMS, a slave mode, channels 2–4) is not modelled. CR1 §14.5.1 (CEN,
 /// UDIS, URS, ARPE, CKD), DIER §14.5.2 (UIE, CC1IE), EGR §14.5.4 (UG,
-/// CC1G), CCMR1 §14.5.5 (channel 1's byte), CCER §14.5.7 (CC1E, CC1P,
-/// CC1NP). (SR is rc_w0: writing 1 to a bit leaves it, so any is allowed.)
+/// CC1G), CCMR1 §14.5.5 (channel 1's byte; bit 7 reserved in output mode),
+/// CCER §14.5.6 (CC1E, CC1P, CC1NP), no CCR2–4. (SR is rc_w0: writing 1
+/// to a bit leaves it, so any is allowed.)
 fn one_channel_bits(off: u32, v: u32) {
     let allowed = match off {
         CR1 => 0x387,
         DIER => 0x3,
         EGR => 0x3,
-        CCMR1 => 0xFF,
+        // output mode: bit 7 reserved; input mode: IC1F is bits 7:4
+        CCMR1 => {
+            if v & 3 == 0 {
+                0x7F
+            } else {
+                0xFF
+            }
+        }
         CCER => 0xB,
         SMCR | CCMR2 => 0,
+        o if (CCR1 + 4..CCR1 + 16).contains(&o) => 0,
         _ => u32::MAX,
     };
     if v & !allowed != 0 {

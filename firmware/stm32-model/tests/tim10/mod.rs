@@ -24,17 +24,16 @@ pub struct Tim10 {
     pub high_in_gaps: u64,
     /// the last cycle of a gap the pin was high at
     pub last_high_at: u64,
+    /// a compare value to watch: cycles of the gaps the pin was high with
+    /// it in force go to `watched_high`
+    pub watch: Option<u32>,
+    pub watched_high: u64,
 }
 
 impl Bus for Tim10 {
     fn write(&mut self, addr: u32, value: u32) {
         self.t.write(addr - TIM10, value, u32::MAX);
-        for _ in 0..self.gap {
-            if self.after(1) {
-                self.high_in_gaps += 1;
-                self.last_high_at = self.now;
-            }
-        }
+        self.pass(self.gap);
     }
     fn read(&mut self, addr: u32) -> u32 {
         self.t.read(addr - TIM10)
@@ -47,7 +46,7 @@ impl Tim10 {
     pub fn set_up(o: &Out, reading: PreloadClear) -> Tim10 {
         let mut t = GpTimer::new(16, 1);
         t.set_preload_clear(reading);
-        let mut b = Tim10 { t, now: 0, gap: 0, high_in_gaps: 0, last_high_at: 0 };
+        let mut b = Tim10 { t, now: 0, gap: 0, high_in_gaps: 0, last_high_at: 0, watch: None, watched_high: 0 };
         apply(&o.program(), &mut b).unwrap();
         b
     }
@@ -57,6 +56,17 @@ impl Tim10 {
         self.now += cycles;
         self.t.advance(self.now, HZ, HZ);
         self.pin()
+    }
+
+    /// `cycles` on, a cycle at a time, counting the high ones (the gaps').
+    pub fn pass(&mut self, cycles: u64) {
+        for _ in 0..cycles {
+            if self.after(1) {
+                self.high_in_gaps += 1;
+                self.last_high_at = self.now;
+                self.watched_high += (Some(self.t.active_ccr(0)) == self.watch) as u64;
+            }
+        }
     }
 
     pub fn pin(&self) -> bool {
