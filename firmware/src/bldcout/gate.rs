@@ -2,8 +2,8 @@
 //! The tick writes the running command; the E-stop interrupt (above the
 //! tick, `board::PRIORITIES`) and the panic handler write the stop at any
 //! moment, the tick's own words included. A stop must win: whatever
-//! instant it lands at, the stop is in force and waiting in the preload
-//! once the tick's command returns.
+//! instant it lands at, once the tick's command returns the stop waits in
+//! the preload and nothing but 0 or the stop can come into force.
 
 use super::{off, run_ops, stop_ops, Out, TIM10};
 use crate::regs::Op;
