@@ -15,28 +15,29 @@ mod tim10;
 
 use polyturn_firmware::bldcout::{off, run_ops, stop_ops, Out};
 use polyturn_firmware::regs::apply;
-use polyturn_stm32_model::PreloadClear;
 use tim10::{out, Tim10, MAX, READINGS};
 
 #[test]
 fn each_interface_makes_its_frame_and_its_stop_pulse() {
     // (name, pwm-hz, frame in cycles, stop's high time in cycles)
-    for (name, hz, frame, stop) in [
+    let cases = [
         ("esc50", "1000", 1_920_000, 96_000),
         ("esc400", "1000", 240_000, 96_000),
         ("oneshot125", "1000", 48_000, 12_000),
         ("pwm", "1000", 96_000, 0),
         ("pwm", "20000", 4_800, 0),
-    ] {
+    ];
+    // (each under both readings of clearing OC1PE: the set-up clears it)
+    for ((name, hz, frame, stop), r) in cases.into_iter().flat_map(|c| READINGS.map(|r| (c, r))) {
         let o = out(name, hz);
-        let mut b = Tim10::set_up(&o, PreloadClear::AtOnce);
+        let mut b = Tim10::set_up(&o, r);
         let step = if o.psc < 2 { 2 } else { 96 }; // a CK_CNT count or finer
         assert!((1..frame / step).all(|_| !b.after(step)), "{name} {hz}: low through the first frame");
         b.after(step); // its end, the first update
         let (high, _) = b.measure(step, frame);
         assert_eq!(high, stop, "{name} {hz}: the stop");
         // half speed: the pulse half way between stop and full
-        let mut b2 = Tim10::set_up(&o, PreloadClear::AtOnce);
+        let mut b2 = Tim10::set_up(&o, r);
         b2.t.write(off::CCR1, o.ccr(MAX as u32 / 2), u32::MAX);
         b2.after(frame); // preloaded: in force from the first update
         let (high, rise) = b2.measure(step, frame);
@@ -48,11 +49,13 @@ fn each_interface_makes_its_frame_and_its_stop_pulse() {
 
 #[test]
 fn full_speed_on_a_pwm_is_high_throughout() {
-    let o = out("pwm", "5000");
-    let mut b = Tim10::set_up(&o, PreloadClear::AtOnce);
-    b.t.write(off::CCR1, o.ccr(MAX as u32), u32::MAX);
-    b.after(96_000_000 / 5_000); // preloaded: in force from the first update
-    assert!((0..1_000).all(|_| b.after(97)), "CCR1 = ARR + 1: OC1REF held high (§14.3.9)");
+    for r in READINGS {
+        let o = out("pwm", "5000");
+        let mut b = Tim10::set_up(&o, r);
+        b.t.write(off::CCR1, o.ccr(MAX as u32), u32::MAX);
+        b.after(96_000_000 / 5_000); // preloaded: in force from the first update
+        assert!((0..1_000).all(|_| b.after(97)), "{r:?}: CCR1 = ARR + 1: OC1REF held high (§14.3.9)");
+    }
 }
 
 /// The tick's command: the words `app::bldc::command` applies, preloaded.
@@ -92,16 +95,18 @@ fn a_command_raised_after_the_pulse_fell_waits_for_the_next_frame() {
     // the fall, the tick raises it to full: preloaded, no second pulse in
     // this frame, 250 µs in the next (without the preload CNT < CCR1 would
     // hold again from 200 µs: a 50 µs runt after the real pulse)
-    let o = out("oneshot125", "1000");
-    let mut b = Tim10::set_up(&o, PreloadClear::AtOnce);
-    run(&mut b, o.ccr(MAX as u32 / 2));
-    b.after(48_000); // to the update: the half-speed command is in
-    assert!(b.after(96 * 100), "100 µs in: high");
-    assert!(!b.after(96 * 100), "200 µs in: fallen at 187.5 µs");
-    run(&mut b, o.ccr(MAX as u32));
-    assert!((0..290).all(|_| !b.after(96)), "no runt before the frame ends");
-    let (high, _) = b.measure(2, 48_000);
-    assert_eq!(high, 24_000, "250 µs from the next frame");
+    for r in READINGS {
+        let o = out("oneshot125", "1000");
+        let mut b = Tim10::set_up(&o, r);
+        run(&mut b, o.ccr(MAX as u32 / 2));
+        b.after(48_000); // to the update: the half-speed command is in
+        assert!(b.after(96 * 100), "{r:?}: 100 µs in: high");
+        assert!(!b.after(96 * 100), "{r:?}: 200 µs in: fallen at 187.5 µs");
+        run(&mut b, o.ccr(MAX as u32));
+        assert!((0..290).all(|_| !b.after(96)), "{r:?}: no runt before the frame ends");
+        let (high, _) = b.measure(2, 48_000);
+        assert_eq!(high, 24_000, "{r:?}: 250 µs from the next frame");
+    }
 }
 
 #[test]

@@ -11,6 +11,7 @@ mod tim10;
 
 use polyturn_firmware::bldcout::{off, Gate, Out};
 use polyturn_firmware::regs::Bus;
+use polyturn_stm32_model::PreloadClear;
 use tim10::{out, Tim10, MAX, READINGS};
 
 /// Cycles a TIM10 write takes here (an APB2 write and the code around it).
@@ -138,9 +139,9 @@ fn a_stop_anywhere_in_the_ticks_command_is_the_last_word() {
 
 /// esc400 set up, its gate and the pin, a frame run at full speed: at the
 /// next update, the full-speed pulse starting.
-fn running_full(o: &Out) -> (Gate, Tim10) {
+fn running_full(o: &Out, r: PreloadClear) -> (Gate, Tim10) {
     let gate = Gate::new();
-    let mut b = Tim10::set_up(o, READINGS[0]);
+    let mut b = Tim10::set_up(o, r);
     gate.set_up(o, &mut b);
     gate.command(o.ccr(MAX as u32), gate.stops(), &mut b);
     b.after(frame(o));
@@ -153,25 +154,29 @@ fn a_speed_falling_to_the_stop_keeps_the_pulse_under_way() {
     // to the stop (the phase loop asking to slow past zero, or disengaged):
     // no fault, so the pulse runs to its end (cut, an ESC would read a
     // pulse below its range), and the next frame is the stop's
-    let o = out("esc400", "1000");
-    let (gate, mut b) = running_full(&o);
-    assert!(b.after(500 * 96));
-    gate.command(o.stop, gate.stops(), &mut b);
-    let high = 500 * 96 + b.high_for();
-    assert!(high.abs_diff(2 * 96_000) <= 96, "2 000 µs (to a µs): {high}");
-    b.after(frame(&o) - high - 96);
-    let stop = b.high_for();
-    assert!(stop.abs_diff(96_000) <= 96, "then the stop's 1 000 µs: {stop}");
+    for r in READINGS {
+        let o = out("esc400", "1000");
+        let (gate, mut b) = running_full(&o, r);
+        assert!(b.after(500 * 96));
+        gate.command(o.stop, gate.stops(), &mut b);
+        let high = 500 * 96 + b.high_for();
+        assert!(high.abs_diff(2 * 96_000) <= 96, "{r:?}: 2 000 µs (to a µs): {high}");
+        b.after(frame(&o) - high - 96);
+        let stop = b.high_for();
+        assert!(stop.abs_diff(96_000) <= 96, "{r:?}: then the stop's 1 000 µs: {stop}");
+    }
 }
 
 #[test]
 fn a_halt_cuts_the_pulse_at_once() {
-    let o = out("esc400", "1000");
-    let (gate, mut b) = running_full(&o);
-    assert!(b.after(1_500 * 96));
-    gate.halt(&mut b);
-    assert!(!b.after(1), "low at once");
-    assert_eq!((b.t.active_ccr(0), b.t.get(off::CCR1)), (0, o.stop), "cut, the stop waiting");
+    for r in READINGS {
+        let o = out("esc400", "1000");
+        let (gate, mut b) = running_full(&o, r);
+        assert!(b.after(1_500 * 96));
+        gate.halt(&mut b);
+        assert!(!b.after(1), "{r:?}: low at once");
+        assert_eq!((b.t.active_ccr(0), b.t.get(off::CCR1)), (0, o.stop), "{r:?}: cut, the stop waiting");
+    }
 }
 
 #[test]
@@ -179,20 +184,22 @@ fn idle_ticks_leave_the_stop_pulses_whole() {
     // after a halt, ticks every 40 µs commanding the stop, and halting
     // again, write nothing: every frame's stop pulse is a whole 1 000 µs
     // (writing the stop each tick would cut each one short)
-    let o = out("esc400", "1000");
-    let (gate, mut b) = running_full(&o);
-    gate.halt(&mut b);
-    b.after(frame(&o) - b.now % frame(&o)); // the next frame
-    let mut highs = 0;
-    for tick in 0..(3 * frame(&o) / 3_840) {
-        if tick % 2 == 0 {
-            gate.command(o.stop, gate.stops(), &mut b);
-        } else {
-            gate.halt(&mut b);
+    for r in READINGS {
+        let o = out("esc400", "1000");
+        let (gate, mut b) = running_full(&o, r);
+        gate.halt(&mut b);
+        b.after(frame(&o) - b.now % frame(&o)); // the next frame
+        let mut highs = 0;
+        for tick in 0..(3 * frame(&o) / 3_840) {
+            if tick % 2 == 0 {
+                gate.command(o.stop, gate.stops(), &mut b);
+            } else {
+                gate.halt(&mut b);
+            }
+            highs += (0..40).filter(|_| b.after(96)).count();
         }
-        highs += (0..40).filter(|_| b.after(96)).count();
+        assert!((2_997..=3_000).contains(&highs), "{r:?}: three whole stop pulses (to a µs each): {highs} µs");
     }
-    assert!((2_997..=3_000).contains(&highs), "three whole stop pulses (to a µs each): {highs} µs");
 }
 
 #[test]
@@ -225,6 +232,34 @@ fn a_stop_anywhere_in_a_set_up_leaves_the_new_stop_waiting_and_no_long_pulse() {
                 assert!(pulse.abs_diff(96_000) <= 96, "{what}: the stop's 1 000 µs, got {pulse} cycles");
                 assert_eq!(b.t.get(off::CCR1), new.stop, "{what}: the stop waiting");
                 assert!(fell < 600 * 96 + 2 * 240_000 + 3 * GAP + ENTRY + 5 * GAP, "{what}: fell at {fell}");
+            }
+        }
+    }
+}
+
+#[test]
+fn an_estop_inside_the_ticks_own_stop_leaves_the_stop_waiting() {
+    // the tick halts a drive running at full speed (an immediate fault),
+    // and the E-stop lands before or after each of that stop's words:
+    // the pin is low once both are done, stays low to the frame's end,
+    // and the stop waits, whichever reading of clearing OC1PE
+    let o = out("esc400", "1000");
+    for r in READINGS {
+        for at in 0..5 {
+            for after in [false, true] {
+                let gate = Gate::new();
+                let mut b = Tim10::set_up(&o, r);
+                gate.set_up(&o, &mut b);
+                gate.command(o.ccr(MAX as u32), gate.stops(), &mut b);
+                b.after(frame(&o) + 1_500 * 96);
+                b.gap = GAP;
+                let mut p = Preempted::new(b, &gate, at, after);
+                gate.halt(&mut p);
+                let mut b = p.b;
+                let what = format!("{r:?}, the E-stop {} word {at}", if after { "after" } else { "before" });
+                assert_eq!((b.t.active_ccr(0), b.t.get(off::CCR1)), (0, o.stop), "{what}: cut, the stop waiting");
+                let to_end = frame(&o) - b.now % frame(&o);
+                assert!(b.low_for() + 96 >= to_end, "{what}: low to the frame's end");
             }
         }
     }
