@@ -6,6 +6,7 @@ use crate::chip::pins::Outputs;
 use crate::chip::Chip;
 use crate::svd;
 use polyturn_stm32_model::addr::{off, TIM11, TIM1_CR1};
+use polyturn_stm32_model::bits::ccmr;
 
 /// A pin change to fire after the next tick returns: (port, pin, level).
 pub type Trip = (usize, u8, Option<bool>);
@@ -102,9 +103,6 @@ pub fn on_write(c: &mut Chip, word: u32, value: u32) {
     }
 }
 
-/// TIMx_CCMR1 OC1PE (§14.5.5)
-const OC1PE: u32 = 1 << 3;
-
 /// Fires the input change having set the ESC to a running pulse (1.5 × the stop
 /// pulse, as a running BLDC would have it, in force and waiting: CCR1 written
 /// with OC1PE cleared, then set again, RM0383 §14.5.5), so the E-stop
@@ -112,7 +110,7 @@ const OC1PE: u32 = 1 << 3;
 fn fire(c: &mut Chip, (port, pin, level): Trip) {
     let stop = c.outputs().esc_stop;
     let ccmr1 = c.gp[3].get(off::CCMR1);
-    c.gp[3].write(off::CCMR1, ccmr1 & !OC1PE, 0xFFFF);
+    c.gp[3].write(off::CCMR1, ccmr1 & !ccmr::ocpe(0).mask(), 0xFFFF);
     c.gp[3].write(off::CCR1, stop * 3 / 2, 0xFFFF);
     c.gp[3].write(off::CCMR1, ccmr1, 0xFFFF);
     c.probe.before = Some(c.outputs());

@@ -61,13 +61,20 @@ pub struct OutputPins {
 /// The ENABLE polarity, for the panic handler (which has no other state).
 static ENABLE_ACTIVE_HIGH: core::sync::atomic::AtomicBool = core::sync::atomic::AtomicBool::new(false);
 
-/// Everything off, from any context: no more steps, the BLDC drive's stop,
-/// ENABLE inactive.
-pub fn all_outputs_off() {
-    // TIM1 first, the BLDC before the halt's wait for a STEP pulse
+/// The step output and the BLDC drive stopped at once, from any context
+/// (the E-stop's interrupt, the panic handler): TIM1's counter first, so
+/// no STEP rises after it; the BLDC's stop before the halt's wait for a
+/// STEP pulse (up to `pulse`, 100 µs); then the rest of the halt.
+pub fn stop_actuators() {
     stop_step_timer();
     super::bldc::stop();
     halt_steps();
+}
+
+/// Everything off, from any context: no more steps, the BLDC drive's stop,
+/// ENABLE inactive.
+pub fn all_outputs_off() {
+    stop_actuators();
     pac::GPIOB.bsrr().write(|w| w.set_br(X_STEP_PIN, true));
     let pins = OutputPins { enable_active_high: ENABLE_ACTIVE_HIGH.load(core::sync::atomic::Ordering::Relaxed) };
     pins.set_enable(false);

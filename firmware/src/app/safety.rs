@@ -84,17 +84,8 @@ fn EXTI15_10() {
         w.set_line(ESTOP, estop);
         w.set_line(ALARM, alarm);
     });
-    stop_outputs();
+    // (TIM1's counter again, with the rest: one write)
+    super::drivers::stop_actuators();
     HALTS.fetch_add(1, Ordering::Relaxed);
     FIRED.fetch_or((estop as u8 * FIRED_ESTOP) | (alarm as u8 * FIRED_ALARM), Ordering::Relaxed);
-}
-
-/// The E-stop's stop: no STEP rises after it (a high pulse ends at full
-/// width), the BLDC drive at its stop. ENABLE drops at the tick's latch.
-/// The BLDC stop before the step halt, which waits out a STEP pulse (up to
-/// `pulse`, 100 µs): TIM1 stops first, with `halt`'s first word.
-pub fn stop_outputs() {
-    super::drivers::stop_step_timer();
-    super::bldc::stop();
-    super::drivers::halt_steps();
 }

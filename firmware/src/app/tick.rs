@@ -244,7 +244,6 @@ fn run(cs: &CriticalSection) {
     // those writes.)
     compiler_fence(Ordering::SeqCst);
     if safety::halts() != halts_at_entry {
-        drivers::stop_step_timer();
         drivers::halt_steps();
         heard_of_halts(io);
     }

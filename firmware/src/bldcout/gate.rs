@@ -5,8 +5,7 @@
 //! instant it lands at, once the tick's command returns the stop waits in
 //! the preload and nothing but 0 or the stop can come into force.
 
-use super::{off, run_ops, stop_ops, Out, TIM10};
-use crate::regs::Op;
+use super::{run_ops, stop_ops, Out};
 use crate::regs::{apply, Bus};
 use core::sync::atomic::{compiler_fence, AtomicBool, AtomicU32, Ordering::Relaxed, Ordering::SeqCst};
 
@@ -48,7 +47,7 @@ impl Gate {
         self.stop.store(out.stop, Relaxed);
         compiler_fence(SeqCst);
         if self.stops() != since {
-            let _ = apply(&[Op::Write(TIM10 + off::CCR1, out.stop)], bus);
+            let _ = apply(&run_ops(out.stop), bus);
         }
     }
 

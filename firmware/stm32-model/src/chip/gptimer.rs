@@ -4,9 +4,8 @@
 //! (SMS = 001..011, §13.3.12) it counts what [`GpTimer::count_by`] is given. At each
 //! overflow an update event loads the shadow registers (PSC, ARR and CCRx from what
 //! was written: with ARPE or OCxPE off a write is in force at once anyway, §13.3.1,
-//! §13.3.9) and sets UIF unless UDIS (§13.4.1). A compare match (CNT reaching CCRx) sets CCxIF
-//! (§13.3.8). SR flags are rc_w0 (§13.4.5). The
-//! interrupt line is SR & DIER. Encoder mode counts the transitions
+//! §13.3.9) and sets UIF unless UDIS (§13.4.1). A compare match (CNT reaching CCRx)
+//! sets CCxIF (§13.3.8). SR flags are rc_w0 (§13.4.5). The interrupt line is SR & DIER. Encoder mode counts the transitions
 //! [`GpTimer::inputs`] is given as §13.3.12 table 53 says (with
 //! [`crate::encoder::table_53`]); input channels capture CNT on their input's rising
 //! edge, TI1..TI3 or TRC from an internal trigger, and MMS = 011 makes TRGO pulse at
