@@ -11,7 +11,9 @@ from the debug line tables: llvm-symbolizer), or to the out-of-line
 function it lies in. The figures are instructions a tick, averaged; the
 total is the tick's own average less `polyturn_tick`'s call and the meter.
 
-    python3 firmware/qemu-tick/profile.py
+    python3 firmware/qemu-tick/profile.py [--lines]
+
+`--lines` gives each instruction to its innermost line of the project's\nown code instead (core's `min`, `max` and loops to the line calling them).
 
 Needs qemu-system-arm (as .ci/qemu), rustup's llvm-tools (llvm-objdump)
 and llvm-symbolizer (apt: llvm). A development tool: CI does not run it.
@@ -105,6 +107,18 @@ def stages(seen):
     return by
 
 
+def lines(seen):
+    """Instructions by the innermost source line (`--lines`)."""
+    sym = subprocess.run([tool("llvm-symbolizer"), f"--obj={ELF}", "--inlining", "--demangle"],
+                         input="".join(f"0x{a:x}\n" for a in seen), capture_output=True, text=True)
+    by = collections.Counter()
+    for addr, block in zip(seen, sym.stdout.strip().split("\n\n")):
+        # the innermost frame in the project's own code (not core's min/max)
+        at = [a for a in block.split("\n")[1::2] if "/firmware/" in a] or block.split("\n")[1:2]
+        by[re.sub(r"^.*?/(firmware|host-sim)/", r"\1/", at[0])] += seen[addr]
+    return by
+
+
 def main():
     subprocess.check_call(["cargo", "build", "-q", "-p", "polyturn-qemu-tick",
                            "--target", "thumbv7em-none-eabihf", "--profile", "fw"], cwd=ROOT)
@@ -117,7 +131,7 @@ def main():
     names = [tick] + sorted(reachable(calls, ROOT_FN) - {tick, ROOT_FN})
     seen, n = trace([tuple(spans[f]) for f in names if f in spans])
     total = 0
-    for stage, k in stages(seen).most_common():
+    for stage, k in (lines if "--lines" in sys.argv else stages)(seen).most_common():
         total += k
         print(f"{k / n:7.1f}  {stage}")
     print(f"{total / n:7.1f}  instructions a tick in all, over {n} ticks synchronised at 600 rpm")

@@ -7,7 +7,7 @@
 //!
 //! so `steps` is always the exact rounding (half up) of the rational target.
 //! The per-count step is precomputed with one division when the scale is set
-//! (at low priority); the tick only adds and compares.
+//! (at low priority); the tick adds, compares and multiplies.
 
 /// Motor steps per lathe count as an exact fraction num/den.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -83,31 +83,41 @@ impl Gear {
         self.rem2 = exact2.wrapping_sub(self.steps.wrapping_mul(2).wrapping_mul(self.scale.den as i64));
     }
 
-    /// Moves by `delta` counts, one count at a time: adds and compares only.
-    /// A tick sees a handful of counts (bounded by the plausibility check).
+    /// Moves by `delta` counts: the whole steps and the remainder of
+    /// `delta` counts at once (a multiply each), then a carry each time
+    /// the remainder reaches den or falls below −den (at most |`delta`|
+    /// of them, as 0 ≤ r2 < den2): no division. Taking the counts one at
+    /// a time cost the tick about 30 instructions more on average
+    /// (`.ci/qemu`).
+    ///
+    /// For |`delta`| · 2·den and |`delta`| · steps per count under 2^62:
+    /// a tick's counts (at most 16 000, the plausibility check's bound)
+    /// with any scale a valid setting makes (den under 2^30).
+    /// `advance_many` takes any stride.
     #[inline]
     pub fn advance(&mut self, delta: i32) {
         let half = self.den2 >> 1; // a shift: no 64-bit division on the tick
-        if delta >= 0 {
-            for _ in 0..delta {
-                self.steps += self.q;
-                self.rem2 += self.r2;
-                if self.rem2 >= half {
-                    self.rem2 -= self.den2;
-                    self.steps += 1;
-                }
-            }
-        } else {
-            for _ in 0..delta.unsigned_abs() {
-                self.steps -= self.q;
-                self.rem2 -= self.r2;
-                if self.rem2 < -half {
-                    self.rem2 += self.den2;
-                    self.steps -= 1;
-                }
+        let n = delta as i64;
+        debug_assert!(
+            (delta.unsigned_abs() as u128) * (self.den2.max(self.q) as u128) < 1 << 62,
+            "a stride past advance's range: advance_many takes it"
+        );
+        self.steps += n * self.q;
+        self.rem2 += n * self.r2;
+        // The carries: forward counts only raise the remainder and backward
+        // ones only lower it, so one branch runs, at most |delta| times.
+        for _ in 0..delta.unsigned_abs() {
+            if self.rem2 >= half {
+                self.rem2 -= self.den2;
+                self.steps += 1;
+            } else if self.rem2 < -half {
+                self.rem2 += self.den2;
+                self.steps -= 1;
+            } else {
+                break;
             }
         }
-        self.count += delta as i64;
+        self.count += n;
     }
 
     /// Moves by many counts at once with the same invariant (128-bit

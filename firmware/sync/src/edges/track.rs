@@ -52,7 +52,8 @@ fn accel_q22(dv_q16: i64, per_tick: i32, stamps: i32) -> i64 {
 pub(super) struct Clock {
     pub instant_q8: u32,
     pub per_tick: i32,
-    pub ticks_per_stamp_q16: i64,
+    /// (at most 2^16: 32 bits, so each product with it is one SMULL)
+    pub ticks_per_stamp_q16: i32,
     pub accel_min: i32,
     /// crossings closer than this many stamps give no speed: their times'
     /// error is too large a share of the interval
@@ -70,7 +71,10 @@ impl Track {
     /// speed needs the one before; from slow crossings (`accel_min`
     /// stamps or more apart) it takes the acceleration too, and needs it:
     /// the last interval's mean speed lags a starting lathe by a·T/2.
-    #[inline(never)]
+    /// (Inlined where the compiler will: kept out of line, a tick with a
+    /// new rise cost 18 instructions more, though the average tick 3
+    /// fewer; `#[inline(always)]` cost both more: `.ci/qemu`.)
+    #[inline]
     pub fn observe(&mut self, half: i64, stamp_q8: u32, clock: Clock) {
         let since = clock.instant_q8.wrapping_sub(stamp_q8) & super::timer::WRAP_Q8;
         let age_q8 = ((since << 8) as i32) >> 8;
@@ -79,7 +83,7 @@ impl Track {
         let old_speed = self.last_speed.take();
         let old_interval = self.interval;
         (self.velocity_q16, self.accel_q22) = (None, 0);
-        let fresh = prev_age_q16 < MAX_INTERVAL_STAMPS as i64 * clock.ticks_per_stamp_q16;
+        let fresh = prev_age_q16 < MAX_INTERVAL_STAMPS as i64 * clock.ticks_per_stamp_q16 as i64;
         if let Some(prev) = self.half.filter(|_| fresh) {
             let interval = ((stamp_q8.wrapping_sub(self.stamp_q8) & super::timer::WRAP_Q8) >> 8) as i32;
             let span = half - prev;
@@ -92,7 +96,7 @@ impl Track {
             if let Some(Some(v)) = speed {
                 let v = v as i64;
                 self.interval = interval;
-                self.half_interval_q16 = (interval as i64 * clock.ticks_per_stamp_q16) >> 1;
+                self.half_interval_q16 = (interval as i64 * clock.ticks_per_stamp_q16 as i64) >> 1;
                 self.last_speed = Some(v);
                 let slow = interval >= clock.accel_min;
                 match old_speed {
@@ -111,7 +115,7 @@ impl Track {
                 }
             }
         }
-        let age_q16 = ((age_q8 as i64 * clock.ticks_per_stamp_q16) >> 8) as i32;
+        let age_q16 = ((age_q8 as i64 * clock.ticks_per_stamp_q16 as i64) >> 8) as i32;
         (self.half, self.stamp_q8, self.age_q16, self.peak_q16) = (Some(half), stamp_q8, age_q16, None);
     }
 

@@ -123,9 +123,11 @@ impl StepPipe {
             self.prev = Prev::idle(Dir::Forward);
             return true;
         }
-        let (in_progress, queued) = (self.kept[1].count as i64, self.kept[2].count as i64);
-        let floor = self.planned - in_progress - queued;
-        floor <= self.counted && self.counted <= self.planned - queued
+        // planned − queued − in_progress ≤ counted ≤ planned − queued, as
+        // one unsigned compare: 0 ≤ x ≤ in_progress (below 0 x wraps high)
+        let (in_progress, queued) = (self.kept[1].count as u64, self.kept[2].count as i64);
+        let x = self.planned - queued - self.counted;
+        x as u64 <= in_progress
     }
 
     /// The output is halted (or about to be, at the end of this tick): the
