@@ -13,7 +13,8 @@ total is the tick's own average less `polyturn_tick`'s call and the meter.
 
     python3 firmware/qemu-tick/profile.py [--lines]
 
-`--lines` gives each instruction to its innermost line of the project's\nown code instead (core's `min`, `max` and loops to the line calling them).
+`--lines` gives each instruction to its innermost line of the project's
+own code instead (core's `min`, `max` and loops to the line calling them).
 
 Needs qemu-system-arm (as .ci/qemu), rustup's llvm-tools (llvm-objdump)
 and llvm-symbolizer (apt: llvm). A development tool: CI does not run it.
