@@ -79,18 +79,24 @@ pub fn registers(r: &mut Report, m: &mut Machine) {
         }
     }
     // nothing else enabled at or above the tick's level: it would delay the tick,
-    // or race the state app/cs.rs's BASEPRI section protects; the E-stop above it
+    // or race the state app/cs.rs's BASEPRI section protects; the E-stop above it;
     let tick = svd::irq(board::TICK_IRQ);
     let estop = svd::irq(board::ESTOP_IRQ);
     if c.nvic.prio[16 + estop] >= c.nvic.prio[16 + tick] {
         bad.push("the E-stop does not pre-empt the tick".to_string());
     }
-    let allowed = [tick, estop];
+    // and the step plan next below the tick, alone at its level: it takes no
+    // lock, and app/cs.rs masks only the levels below it
+    let plan = svd::irq(board::PLAN_IRQ);
+    if c.nvic.prio[16 + plan] <= c.nvic.prio[16 + tick] {
+        bad.push("the tick does not pre-empt its step plan".to_string());
+    }
+    let allowed = [tick, estop, plan];
     let crowd: Vec<usize> = (0..c.nvic.enabled.len())
-        .filter(|&n| c.nvic.enabled[n] && c.nvic.prio[16 + n] <= c.nvic.prio[16 + tick] && !allowed.contains(&n))
+        .filter(|&n| c.nvic.enabled[n] && c.nvic.prio[16 + n] <= c.nvic.prio[16 + plan] && !allowed.contains(&n))
         .collect();
     if !crowd.is_empty() {
-        bad.push(format!("enabled at the tick's level: IRQs {crowd:?}"));
+        bad.push(format!("enabled at the tick's or its plan's level: IRQs {crowd:?}"));
     }
     let sysclk = c.sysclk();
     if sysclk != board::SYSCLK_HZ as u64 {

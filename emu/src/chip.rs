@@ -98,6 +98,8 @@ pub struct Chip {
     /// until this cycle the tick is held off as a thread-mode section at its
     /// level would hold it (`lines::deliverable`): a job's lost tick
     pub tick_held_until: u64,
+    /// a job's hold on the step plan's level alone (`job::planlate`)
+    pub plan_held_until: u64,
     /// the image mapped system memory at 0 (SYSCFG_MEMRMP.MEM_MODE = 01, §7.2.1)
     /// to jump to the ROM bootloader, which this emulator does not have
     pub rom_jump: bool,
@@ -159,6 +161,7 @@ impl Chip {
             now: 0,
             blk: 0,
             tick_held_until: 0,
+            plan_held_until: 0,
             faults: Vec::new(),
             active: Vec::new(),
             pc: 0,
@@ -256,7 +259,8 @@ impl Chip {
         let mcu = (quiet < u64::MAX / 2).then(|| self.mcu.cycle() + quiet.max(1));
         // (the end of a hold: the held tick is taken then, not at the next event)
         let held = (self.now < self.tick_held_until).then_some(self.tick_held_until);
-        gp.chain(mcu).chain(self.usb_next()).chain(held).min()
+        let plan_held = (self.now < self.plan_held_until).then_some(self.plan_held_until);
+        gp.chain(mcu).chain(self.usb_next()).chain(held).chain(plan_held).min()
     }
 
     pub fn fault(&mut self, text: String) {

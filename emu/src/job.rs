@@ -9,6 +9,7 @@ pub mod estop;
 pub mod host;
 pub mod lathe;
 pub mod lost;
+pub mod planlate;
 pub mod replay;
 pub mod save;
 pub mod selftest;
@@ -44,6 +45,9 @@ pub enum Kind {
     /// `at_s` after engaging the tick is held off for `hold_us`, as a
     /// thread-mode section at its level would: updates merge, ticks are lost
     LostTick { at_s: f64, hold_us: u64 },
+    /// `at_s` after engaging, the step plan a tick leaves is not made by the
+    /// next tick (`planlate`)
+    LatePlan { at_s: f64, how: planlate::How },
 }
 
 pub struct Spec {
@@ -98,6 +102,12 @@ pub struct Outcome {
     pub ticks_lost: lost::Counted,
     /// a lost-tick job's hold (`Kind::LostTick`)
     pub held: Option<lost::Held>,
+    /// the step plan's handler: average and worst instructions, entry to
+    /// return, and the plans the image found late (`app::tick::plan::LATES`)
+    pub plan: (f64, u64),
+    pub plans_late: Option<u32>,
+    /// a late-plan job's cause (`Kind::LatePlan`)
+    pub late: Option<planlate::Late>,
 }
 
 fn setup(s: &Spec) -> Setup {
@@ -137,7 +147,7 @@ pub fn run(image: &Rc<Image>, spec: &Spec) -> Result<Outcome, String> {
     m.cpr = sc.core.encoder_counts_per_rev;
     // (no tape where the job stops the tick's flow: the replay follows one
     // edge clock from the start, and a lost tick has it measured again)
-    if !matches!(spec.kind, Kind::EStop { .. } | Kind::LostTick { .. }) {
+    if !matches!(spec.kind, Kind::EStop { .. } | Kind::LostTick { .. } | Kind::LatePlan { .. }) {
         m.chip().tape = Some(crate::tape::Tape::default());
     }
     m.drive(GPIOB, ESTOP, Some(false));
@@ -178,6 +188,10 @@ pub fn run(image: &Rc<Image>, spec: &Spec) -> Result<Outcome, String> {
         Kind::LostTick { at_s, hold_us } => Some(lost::hold(&mut m, at_s, hold_us)),
         _ => None,
     };
+    let late = match spec.kind {
+        Kind::LatePlan { at_s, how } => Some(planlate::cause(&mut m, at_s, how)),
+        _ => None,
+    };
     while !m.lathe.as_ref().is_some_and(|l| l.finished()) && m.chip().faults.is_empty() {
         m.run(10 * MS);
     }
@@ -196,7 +210,9 @@ pub fn run(image: &Rc<Image>, spec: &Spec) -> Result<Outcome, String> {
     o.engage_count = engage_count;
     o.estop = estop;
     o.ticks_lost = lost::counted(&mut m);
+    o.plans_late = planlate::lates(&m);
     o.held = held.map(|h| h.judged(&mut m));
+    o.late = late.map(|l| l.judged(&mut m));
     Ok(o)
 }
 
@@ -244,5 +260,8 @@ fn outcome(m: &mut Machine, spec: &Spec, cfg: &Config, wall: Instant) -> Outcome
         edges: None,
         ticks_lost: lost::Counted::default(),
         held: None,
+        plan: (c.probe.plan_average(), c.probe.plan_worst),
+        plans_late: None,
+        late: None,
     }
 }

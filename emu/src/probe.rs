@@ -1,6 +1,7 @@
 //! What the checks watch at exception entry and return: the tick's handler clearing
-//! UIF, the EXTI15_10 handler's entry time and the outputs when it returns, and a
-//! pin change fired right after a tick returns.
+//! UIF, the EXTI15_10 handler's entry time and the outputs when it returns, a pin
+//! change fired right after a tick returns, and the step plan's handler (its time,
+//! and a stall inside it).
 
 use crate::chip::pins::Outputs;
 use crate::chip::Chip;
@@ -32,6 +33,15 @@ pub struct Probe {
     pub tick_worst: u64,
     /// when the worst tick began
     pub tick_worst_at: u64,
+    /// the step plan's handler (`board::PLAN_IRQ`): entry time of the one
+    /// running, and (count, total, worst) instructions from entry to return
+    plan_entered: Option<u64>,
+    pub plan_runs: u64,
+    pub plan_total: u64,
+    pub plan_worst: u64,
+    /// CPU cycles to stall at the plan handler's first read of DMA2 stream
+    /// 5's NDTR (`job::planlate`): the plan still running at the next tick
+    pub stall_in_plan: Option<u64>,
 }
 
 impl Probe {
@@ -43,10 +53,18 @@ impl Probe {
     pub fn tick_average(&self) -> f64 {
         self.tick_total as f64 / self.tick_runs.max(1) as f64
     }
+
+    pub fn plan_average(&self) -> f64 {
+        self.plan_total as f64 / self.plan_runs.max(1) as f64
+    }
 }
 
 pub fn tick_exc() -> usize {
     16 + svd::irq("TIM1_TRG_COM_TIM11")
+}
+
+pub fn plan_exc() -> usize {
+    16 + svd::irq(polyturn_firmware::board::PLAN_IRQ)
 }
 
 fn exti_exc() -> usize {
@@ -59,6 +77,9 @@ pub fn on_enter(c: &mut Chip, exc: usize) {
     }
     if exc == exti_exc() && c.probe.exti_entered.is_none() {
         c.probe.exti_entered = Some(c.now);
+    }
+    if exc == plan_exc() {
+        c.probe.plan_entered = Some(c.now);
     }
 }
 
@@ -87,6 +108,25 @@ pub fn on_return(c: &mut Chip, exc: usize) {
         }
     } else if exc == exti_exc() && c.probe.exti_return.is_none() {
         c.probe.exti_return = Some(c.outputs());
+    } else if exc == plan_exc() {
+        if let Some(t) = c.probe.plan_entered.take() {
+            let p = &mut c.probe;
+            (p.plan_runs, p.plan_total, p.plan_worst) =
+                (p.plan_runs + 1, p.plan_total + (c.now - t), p.plan_worst.max(c.now - t));
+        }
+    }
+}
+
+/// Before a bus read: the stall a job asked for inside the plan handler
+/// (`stall_in_plan`), as a flash operation stalls the CPU, timers running;
+/// the tick it lets pend is taken at the end of the block.
+pub fn on_read(c: &mut Chip, word: u32) {
+    if word == polyturn_firmware::stepgen::program::S5NDTR && c.active.last() == Some(&plan_exc()) {
+        if let Some(cycles) = c.probe.stall_in_plan.take() {
+            c.stall(cycles);
+            c.update_lines();
+            c.deadline = 0;
+        }
     }
 }
 

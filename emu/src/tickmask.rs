@@ -12,6 +12,8 @@ use unicorn_engine::{RegisterARM as R, Unicorn};
 
 /// The tick's priority byte as the NVIC holds it (`board::TICK_LEVEL`).
 pub const TICK_PRIO: u32 = (polyturn_firmware::board::TICK_LEVEL as u32) << 4;
+/// The step plan's (`board::PLAN_LEVEL`).
+pub const PLAN_PRIO: u32 = (polyturn_firmware::board::PLAN_LEVEL as u32) << 4;
 
 /// BASEPRI after an `msr` to BASEPRI (`max` false) or BASEPRI_MAX of `value`.
 pub fn next_basepri(current: u32, value: u32, max: bool) -> u32 {
@@ -64,7 +66,8 @@ mod tests {
     #[test]
     fn the_ticks_lock_masks_it_and_the_global_section_does_not() {
         assert!(masks_tick(false, TICK_PRIO));
-        assert!(!masks_tick(false, TICK_PRIO + 0x10), "cs.rs's mask, one level lower");
+        assert!(!masks_tick(false, PLAN_PRIO), "the step plan's level, one lower");
+        assert!(!masks_tick(false, PLAN_PRIO + 0x10), "cs.rs's mask, below the plan's");
         assert!(!masks_tick(false, 0), "0 masks nothing");
         assert!(masks_tick(true, 0));
     }

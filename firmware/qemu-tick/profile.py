@@ -6,7 +6,7 @@ instruction per translation block and logs every instruction executed in
 the functions reachable from `polyturn_tick`. It keeps the main loop's
 ticks 6 001 to 20 000, all synchronised at 600 rpm (the lathe reaches
 speed at tick 5 000 and holds it to 20 000), and gives each executed
-instruction to the stage `Controller::tick` called (its inlined callee,
+instruction to the stage `Controller::control` called (its inlined callee,
 from the debug line tables: llvm-symbolizer), or to the out-of-line
 function it lies in. The figures are instructions a tick, averaged; the
 total is the tick's own average less `polyturn_tick`'s call and the meter.
@@ -92,15 +92,15 @@ def trace(ranges):
 
 
 def stages(seen):
-    """Instructions by the stage `Controller::tick` called, or out of line."""
+    """Instructions by the stage `Controller::control` called, or out of line."""
     sym = subprocess.run([tool("llvm-symbolizer"), f"--obj={ELF}", "--inlining", "--demangle"],
                          input="".join(f"0x{a:x}\n" for a in seen), capture_output=True, text=True)
     by = collections.Counter()
     for addr, block in zip(seen, sym.stdout.strip().split("\n\n")):
         lines = block.split("\n")
         names = [re.sub(r"::h[0-9a-f]{16}$", "", n) for n in lines[0::2]]
-        # innermost first: the frame inside `Controller::tick` is the stage
-        at = next((i for i, n in enumerate(names) if n.endswith("Controller::tick")), None)
+        # innermost first: the frame inside `Controller::control` is the stage
+        at = next((i for i, n in enumerate(names) if n.endswith("Controller::control")), None)
         stage = names[-1] + " (out of line)" if at is None else names[max(at - 1, 0)]
         # (an impl block's and a closure's mangled names, shortened)
         stage = re.sub(r"_\$LT\$impl\$u20\$.*?\$GT\$::", "", stage.replace("polyturn_sync::", ""))
@@ -125,9 +125,9 @@ def main():
                            "--target", "thumbv7em-none-eabihf", "--profile", "fw"], cwd=ROOT)
     dis = subprocess.check_output([tool("llvm-objdump"), "-d", "--no-show-raw-insn", ELF], text=True)
     spans, calls = functions(dis)
-    tick = next((n for n in spans if "Controller4tick" in n), None)
+    tick = next((n for n in spans if "Controller7control" in n), None)
     if tick is None:
-        sys.exit("error: Controller::tick is not out of line in the image: nothing to count its entries by")
+        sys.exit("error: Controller::control is not out of line in the image: nothing to count its entries by")
     # the tick's entry first: it counts the ticks
     names = [tick] + sorted(reachable(calls, ROOT_FN) - {tick, ROOT_FN})
     seen, n = trace([tuple(spans[f]) for f in names if f in spans])

@@ -193,7 +193,10 @@ pub const TIMERS: &[(&str, &str)] = &[
 /// Interrupt priorities, in one place (0 is the most urgent; the NVIC of
 /// the STM32F411 has 16 levels). The E-stop/alarm interrupt is above
 /// everything, so STEP stops at the EXTI's latency even mid-tick; the
-/// control tick is next, strictly above every other interrupt. Neither
+/// control tick is next, strictly above every other interrupt; then the
+/// step plan the tick leaves (`PLAN_IRQ`), above everything that takes the
+/// global critical section (`app/cs.rs`), so that nothing but the E-stop
+/// and the next tick comes between the tick and its plan. Neither
 /// takes a lock the other holds: the E-stop only writes the outputs, and
 /// the tick re-applies the stop if the E-stop ran inside it
 /// (`app/tick.rs`). `app` applies this map at boot and checks every
@@ -201,9 +204,10 @@ pub const TIMERS: &[(&str, &str)] = &[
 pub const PRIORITIES: &[(&str, u8)] = &[
     (ESTOP_IRQ, ESTOP_LEVEL), // E-stop, drive alarm
     (TICK_IRQ, TICK_LEVEL),   // control tick
-    ("TIM5", 2),              // embassy's time driver
-    ("TIM1_BRK_TIM9", 2),     // the self-test's generator (quadgen)
-    ("OTG_FS", 3),            // USB console
+    (PLAN_IRQ, PLAN_LEVEL),   // the tick's step plan
+    ("TIM5", 3),              // embassy's time driver
+    ("TIM1_BRK_TIM9", 3),     // the self-test's generator (quadgen)
+    ("OTG_FS", 4),            // USB console
     ("USART6", 6),            // planning executor (InterruptExecutor)
 ];
 
@@ -214,12 +218,21 @@ pub const ESTOP_LEVEL: u8 = 0;
 /// The control tick's interrupt (TIM11's update shares TIM1's vector).
 pub const TICK_IRQ: &str = "TIM1_TRG_COM_TIM11";
 /// The tick's level: next to the E-stop. The tick's lock masks this level
-/// and below (`app/tick.rs`); `app/cs.rs` masks every level below it.
+/// and below (`app/tick.rs`); `app/cs.rs` masks the levels below the
+/// tick's step plan's (`PLAN_LEVEL`).
 pub const TICK_LEVEL: u8 = 1;
 // The tick's lock writes BASEPRI = TICK_LEVEL << 4, which masks that level
 // and below (PM0214 §2.1.3; 0 would mask nothing): the E-stop must be more
 // urgent to stay deliverable under it.
 const _: () = assert!(ESTOP_LEVEL < TICK_LEVEL && TICK_LEVEL > 0);
+/// The step plan's interrupt, pended by the tick (`app/tick/plan.rs`): a
+/// vector no peripheral of the board asserts (USART2 is not clocked), as
+/// embassy's `InterruptExecutor` takes USART6's.
+pub const PLAN_IRQ: &str = "USART2";
+/// The plan's level: next below the tick, which pre-empts it, and above
+/// the global critical section (`app/cs.rs` masks the levels below it),
+/// so only the tick's lock holds it off, and the tick never waits for it.
+pub const PLAN_LEVEL: u8 = TICK_LEVEL + 1;
 
 #[cfg(test)]
 mod tests {
@@ -246,6 +259,20 @@ mod tests {
         let level = |n: &str| PRIORITIES.iter().find(|p| p.0 == n).unwrap().1;
         assert_eq!(level(ESTOP_IRQ), ESTOP_LEVEL);
         assert_eq!(level(TICK_IRQ), TICK_LEVEL);
+    }
+
+    #[test]
+    fn the_plan_is_next_below_the_tick_and_alone_at_its_level() {
+        // the plan takes no lock (app/tick/plan.rs): only the tick may
+        // pre-empt it, and nothing that takes the critical section (cs.rs
+        // masks the levels below PLAN_LEVEL) may share or outrank its level
+        let level = |n: &str| PRIORITIES.iter().find(|p| p.0 == n).unwrap().1;
+        assert_eq!(level(PLAN_IRQ), TICK_LEVEL + 1);
+        for (name, l) in PRIORITIES {
+            if ![ESTOP_IRQ, TICK_IRQ, PLAN_IRQ].contains(name) {
+                assert!(*l > PLAN_LEVEL, "{name} reaches the plan's level");
+            }
+        }
     }
 
     #[test]

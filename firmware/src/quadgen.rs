@@ -38,9 +38,12 @@
 //!
 //! `LATENCY_MAX` = 3 000 cycles is an estimate, not a measurement: the
 //! interrupt must sit below the tick (level 1; the E-stop, above it, is
-//! 0); at level 2 it waits for the E-stop's handler and the tick (790 instructions worst in QEMU, 900-1 400 cycles estimated on
-//! silicon, README), the longest section under the tick's lock (671
-//! instructions), embassy's TIM5 handler at the same level, and its own
+//! 0, and the tick's step plan below it, 2); at level 3 it waits for the
+//! E-stop's handler, the tick and its plan (the same work the tick did
+//! alone before the plan moved out of it: 790 instructions worst in QEMU
+//! then, 900-1 400 cycles estimated on silicon, README), the longest
+//! section under the tick's lock (671 instructions), embassy's TIM5
+//! handler at the same level, and its own
 //! entry (12) and prologue. `MARGIN` (8 cycles) covers TIM3's input path:
 //! A, B and the index go through the same 8-sample filter (`app::drivers`).
 //! Not bounded here: every global critical section (BASEPRI, `app/cs.rs`)
@@ -55,7 +58,7 @@
 //! count): 732 counts/s; slower parts of a profile are idle periods.
 //!
 //! Wiring in the app (`app/selftest.rs`): RCC_APB2ENR.TIM9EN; PA4 output
-//! push-pull, low; TIM1_BRK_TIM9 enabled at level 2 (`board::PRIORITIES`);
+//! push-pull, low; TIM1_BRK_TIM9 enabled at level 3 (`board::PRIORITIES`);
 //! the generator put where the handler finds it and `Generator::start`'s
 //! program applied inside the critical section, which masks the interrupt
 //! (its last write starts the counter one tick before update event 0,

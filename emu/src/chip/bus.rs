@@ -48,6 +48,7 @@ impl Chip {
             self.fault(format!("read of {addr:#010x}: no model claims it"));
             return 0;
         };
+        crate::probe::on_read(self, word);
         self.sync();
         let off = word - base;
         let v = match p {

@@ -68,6 +68,11 @@ impl Chip {
         let Some(until) = self.flash.busy_until_ns() else { return };
         let ns = until.saturating_sub(self.flash.now_ns());
         let cycles = (ns as u128 * self.sysclk() as u128).div_ceil(1_000_000_000) as u64;
+        self.stall(cycles);
+    }
+
+    /// The CPU stalled for `cycles`: time passes at once, the models with it.
+    pub(crate) fn stall(&mut self, cycles: u64) {
         self.stalled += cycles;
         self.now += cycles;
         self.blk += cycles;

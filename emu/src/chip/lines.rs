@@ -96,10 +96,18 @@ impl Chip {
     pub fn deliverable(&self, primask: bool, basepri: u32) -> Option<usize> {
         let e = self.nvic.best_pending()?;
         // a job's hold: as if BASEPRI stood at the tick's level (the tick's
-        // own lock, `app/tick.rs`), unless something masks more already
+        // own lock, `app/tick.rs`), or at the plan's (the tick unmasked),
+        // unless something masks more already
         let bp = basepri & 0xF0;
-        let held = self.now < self.tick_held_until && (bp == 0 || bp > crate::tickmask::TICK_PRIO);
-        let basepri = if held { crate::tickmask::TICK_PRIO } else { basepri };
+        let hold = if self.now < self.tick_held_until {
+            crate::tickmask::TICK_PRIO
+        } else if self.now < self.plan_held_until {
+            crate::tickmask::PLAN_PRIO
+        } else {
+            0
+        };
+        let held = hold != 0 && (bp == 0 || bp > hold);
+        let basepri = if held { hold } else { basepri };
         (self.nvic.group(self.nvic.prio[e]) < self.exec_priority(primask, basepri)).then_some(e)
     }
 }
@@ -125,5 +133,23 @@ mod tests {
         assert_eq!(c.deliverable(true, 0), None, "PRIMASK");
         c.now += 100;
         assert_eq!(c.deliverable(false, 0), Some(tick), "the hold is over");
+    }
+
+    /// A hold on the plan's level keeps the pending plan out, not the tick.
+    #[test]
+    fn a_plan_hold_keeps_the_plan_out_and_lets_the_tick_in() {
+        let mut c = Chip::new(Params::default());
+        let (tick, plan) = (crate::probe::tick_exc(), crate::probe::plan_exc());
+        c.nvic.prio[tick] = crate::tickmask::TICK_PRIO as u8;
+        c.nvic.prio[plan] = crate::tickmask::PLAN_PRIO as u8;
+        (c.nvic.pending[plan], c.nvic.enabled[plan - 16]) = (true, true);
+        assert_eq!(c.deliverable(false, 0), Some(plan), "unheld: taken");
+        c.plan_held_until = c.now + 100;
+        assert_eq!(c.deliverable(false, 0), None, "held");
+        (c.nvic.pending[tick], c.nvic.enabled[tick - 16]) = (true, true);
+        assert_eq!(c.deliverable(false, 0), Some(tick), "the tick is not held");
+        c.nvic.pending[tick] = false;
+        c.now += 100;
+        assert_eq!(c.deliverable(false, 0), Some(plan), "the hold is over");
     }
 }

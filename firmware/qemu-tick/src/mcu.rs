@@ -1,10 +1,10 @@
-use crate::meter::{calibration_loop, measure, TIMING};
+use crate::meter::{calibration_loop, measure, Costs, TIMING};
 use cortex_m::peripheral::{syst::SystClkSource, SYST};
 use cortex_m_rt::entry;
 use cortex_m_semihosting::{debug, hprintln};
 use polyturn_sync::edges::{EdgeClock, EdgeRegs};
 use polyturn_sync::gear::Scale;
-use polyturn_sync::steps::Dir;
+use polyturn_sync::steps::{Dir, StepPlan};
 use polyturn_sync::{Config, Controller, State, TickInput, TickOutput};
 
 #[panic_handler]
@@ -27,11 +27,20 @@ fn rise_between(before: u32, after: u32, k: u32) -> Option<EdgeRegs> {
     Some(EdgeRegs { count: count as u16, stamp: (40 * k + into) as u16 })
 }
 
-/// The tick under test, kept out of line so its cost is measured alone.
+/// The tick under test, kept out of line so its cost is measured alone:
+/// the control part, as the firmware's tick runs it.
 #[inline(never)]
 #[no_mangle]
 pub fn polyturn_tick(ctl: &mut Controller, input: &TickInput) -> TickOutput {
-    ctl.tick(input)
+    ctl.control(input)
+}
+
+/// The step plan the tick leaves, as the firmware's plan handler runs it
+/// one level below the tick (`app/tick/plan.rs`), measured on its own.
+#[inline(never)]
+#[no_mangle]
+pub fn polyturn_plan(ctl: &mut Controller) -> StepPlan {
+    ctl.plan_steps()
 }
 
 /// Cost of the tick's building blocks alone (instructions, common path).
@@ -109,7 +118,7 @@ fn main() -> ! {
     let (mut pos_q8, mut emitted) = (0u32, 0u32);
     // plans in flight: the hardware runs each two ticks after it was made
     let mut flight = [0u32; 2];
-    let (mut worst, mut sum_synced, mut synced) = (0u32, 0u64, 0u32);
+    let (mut tick, mut plan) = (Costs::default(), Costs::default());
     let total = 30_000u32;
     let ramp = |k: u32| -> u32 {
         let top = 246u32;
@@ -134,6 +143,7 @@ fn main() -> ! {
         };
         let mut out = TickOutput::default();
         let cost = measure(syst, || out = polyturn_tick(&mut ctl, &input));
+        let plan_cost = measure(syst, || out.plan = polyturn_plan(&mut ctl));
         // A perfect step generator: every planned step is emitted, two
         // ticks later; the counter counts up whichever way DIR points.
         emitted = emitted.wrapping_add(flight[0]);
@@ -142,25 +152,24 @@ fn main() -> ! {
             engaged = ctl.engage().is_ok();
         }
         if ctl.state() == State::Synced && speed_q8 == 246 {
-            sum_synced += cost as u64;
-            synced += 1;
-            worst = worst.max(cost);
+            tick.add(cost);
+            plan.add(plan_cost);
         }
     }
     let lathe = (pos_q8 >> 8) as i64;
     let d = ctl.derived();
     let exact = Scale::round(d.scale, lathe) + ctl.turn_offset_steps();
     let cutter = ctl.status().cutter_steps;
-    // instructions = counts × 1201 / counts_per_1201
-    let avg_instr = (sum_synced * 1201 / synced.max(1) as u64) / per_1201 as u64;
-    let worst_instr = worst as u64 * 1201 / per_1201 as u64;
+    let (avg, worst) = tick.instructions(per_1201);
+    let (plan_avg, plan_worst) = plan.instructions(per_1201);
     hprintln!("calibration: {} systick counts per 1201 instructions", per_1201);
-    hprintln!("ticks: {} total, {} synced at 600 rpm", total, synced);
-    hprintln!("tick instructions: average {} (synced, common path), worst {}", avg_instr, worst_instr);
+    hprintln!("ticks: {} total, {} synced at 600 rpm", total, tick.n);
+    hprintln!("tick instructions: average {} (synced, common path), worst {}", avg, worst);
+    hprintln!("step plan instructions (one level below the tick): average {}, worst {}", plan_avg, plan_worst);
     hprintln!("gear: lathe {} counts, exact target {} steps, cutter {} steps", lathe, exact, cutter);
     parts(syst, per_1201);
     let locked = crate::locked::report(syst, per_1201);
-    let ok = synced > 10_000 && exact == cutter && locked.is_some();
+    let ok = tick.n > 10_000 && exact == cutter && locked.is_some();
     hprintln!("{}", if ok { "1 passed, 0 failed" } else { "0 passed, 1 failed" });
     debug::exit(if ok { debug::EXIT_SUCCESS } else { debug::EXIT_FAILURE });
     loop {}

@@ -34,3 +34,23 @@ pub(crate) fn calibration_loop() {
         );
     }
 }
+
+/// A part's SysTick counts over the ticks measured: sum, worst, how many.
+#[derive(Default)]
+pub(crate) struct Costs {
+    sum: u64,
+    worst: u32,
+    pub(crate) n: u32,
+}
+
+impl Costs {
+    pub(crate) fn add(&mut self, counts: u32) {
+        (self.sum, self.worst, self.n) = (self.sum + counts as u64, self.worst.max(counts), self.n + 1);
+    }
+
+    /// (average, worst) in instructions: counts × 1201 / counts per 1201.
+    pub(crate) fn instructions(&self, per_1201: u32) -> (u64, u64) {
+        let avg = self.sum * 1201 / self.n.max(1) as u64 / per_1201 as u64;
+        (avg, self.worst as u64 * 1201 / per_1201 as u64)
+    }
+}

@@ -201,7 +201,8 @@ pub fn halt_steps() {
 
 /// RAM the DMA reads TIM1's segments from (only through `Mmio`).
 pub struct Ring(core::cell::UnsafeCell<[u32; stepgen::program::RING_WORDS as usize]>);
-// SAFETY: written only by the tick (through volatile writes), read by the DMA.
+// SAFETY: written only by the tick and its step plan, which never run at
+// once (`tick::plan`), through volatile writes; read by the DMA.
 unsafe impl Sync for Ring {}
 static RING: Ring = Ring(core::cell::UnsafeCell::new([0; stepgen::program::RING_WORDS as usize]));
 

@@ -1,9 +1,10 @@
 //! The MCU application: wires the Black Pill's hardware to the sync core.
 //! Priorities (`board::PRIORITIES`, applied and checked at boot): the
-//! control tick (TIM11 update) highest, the E-stop beside it; then the
-//! index, embassy's timer, USB; the planning executor (InterruptExecutor on
-//! USART6's vector) below them; console, flash, logging and the watchdog in
-//! the thread executor.
+//! E-stop highest, the control tick (TIM11 update) next, then the tick's
+//! step plan (USART2's vector); then the self-test's generator, embassy's
+//! timer, USB; the planning executor (InterruptExecutor on USART6's vector)
+//! below them; console, flash, logging and the watchdog in the thread
+//! executor.
 
 mod bldc;
 mod cs;
@@ -132,8 +133,8 @@ fn clocks() -> embassy_stm32::Config {
     c.rcc.apb2_pre = APBPrescaler::DIV1;
     c.rcc.mux.clk48sel = mux::Clk48sel::PLL1_Q;
     // embassy enables all 16 DMA streams' interrupts at this level (0 by
-    // default: the tick's); none is used with interrupts, and none may sit
-    // at or above the tick (`priorities::check`)
+    // default: above the tick); none is used with interrupts, and none may
+    // sit at or above the tick's step plan (`priorities::check`)
     c.dma_interrupt_priority = embassy_stm32::interrupt::Priority::P15;
     c
 }
@@ -170,7 +171,7 @@ async fn main(spawner: Spawner) {
     bldc::init(p.TIM10, p.PB8, p.PB1, &config);
     safety::inputs(p.PB14, p.PB15);
     if !priorities::check() {
-        defmt::error!("an interrupt sits at the tick's level (above): fix board::PRIORITIES");
+        defmt::error!("an interrupt sits at the tick's or its step plan's level (above): fix board::PRIORITIES");
     }
     tick::start(config, pins);
     let cam = cam.filter(|(h, t)| match tick::fit_cam(h, t) {

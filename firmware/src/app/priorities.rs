@@ -1,5 +1,6 @@
 //! Applies `board::PRIORITIES` and checks, at boot, that no enabled
-//! interrupt reaches the tick's level but the tick and the E-stop above it
+//! interrupt reaches the tick's step plan's level but the plan, the tick
+//! and the E-stop above them
 //! (an interrupt enabled by a driver without a priority is at 0, the
 //! E-stop's, above the tick).
 
@@ -24,6 +25,7 @@ pub fn apply() {
             "TIM1_BRK_TIM9" => interrupt::TIM1_BRK_TIM9.set_priority(p),
             "OTG_FS" => interrupt::OTG_FS.set_priority(p),
             "USART6" => interrupt::USART6.set_priority(p),
+            "USART2" => interrupt::USART2.set_priority(p),
             _ => defmt::error!("priority map: unknown interrupt {}", name),
         }
     }
@@ -38,14 +40,16 @@ unsafe impl InterruptNumber for Irq {
     }
 }
 
-/// True when every enabled interrupt at or above the tick's level is the
-/// tick or the E-stop, the E-stop is above the tick, and all 4 priority
+/// True when every enabled interrupt at or above the step plan's level is
+/// the tick, its plan or the E-stop, the E-stop is above the tick, the
+/// plan below it, and all 4 priority
 /// bits are group priority
 /// (AIRCR.PRIGROUP ≤ 3, PM0214 §4.4.5: `cs.rs`'s BASEPRI mask assumes it);
 /// logs each that is not.
 pub fn check() -> bool {
     let tick = interrupt::TIM1_TRG_COM_TIM11.get_priority();
-    let allowed = [interrupt::TIM1_TRG_COM_TIM11.number(), estop()];
+    let plan = interrupt::USART2.get_priority();
+    let allowed = [interrupt::TIM1_TRG_COM_TIM11.number(), interrupt::USART2.number(), estop()];
     // SAFETY: a read of SCB.AIRCR
     let prigroup = (unsafe { (*cortex_m::peripheral::SCB::PTR).aircr.read() } >> 8) & 7;
     let mut ok = prigroup <= 3;
@@ -56,10 +60,14 @@ pub fn check() -> bool {
         defmt::error!("the E-stop does not pre-empt the tick");
         ok = false;
     }
+    if u8::from(plan) <= u8::from(tick) {
+        defmt::error!("the tick does not pre-empt its step plan");
+        ok = false;
+    }
     for n in 0..86u16 {
         let irq = Irq(n);
-        if NVIC::is_enabled(irq) && NVIC::get_priority(irq) <= u8::from(tick) && !allowed.contains(&n) {
-            defmt::error!("interrupt {} is enabled at the tick's priority", n);
+        if NVIC::is_enabled(irq) && NVIC::get_priority(irq) <= u8::from(plan) && !allowed.contains(&n) {
+            defmt::error!("interrupt {} is enabled at the tick's or its plan's priority", n);
             ok = false;
         }
     }

@@ -39,9 +39,10 @@ pub async fn every_second() {
         // again once everything is up (USB, the self-test's timer and the
         // planning executor enable their interrupts after boot's check)
         if !core::mem::replace(&mut checked, true) && !super::priorities::check() {
-            defmt::error!("an interrupt reaches the tick's level: fix board::PRIORITIES");
+            defmt::error!("an interrupt reaches the tick's or its step plan's level: fix board::PRIORITIES");
         }
         let (ticks, avg, worst) = tick::take_cost();
+        let (plan_avg, plan_worst) = tick::take_plan_cost();
         // defmt-rtt holds the critical section for a whole line (80 µs,
         // `cs.rs`), which would hold off the self-test's TIM9 interrupt
         // past its index deadline (`quadgen`): no report while it runs
@@ -54,11 +55,13 @@ pub async fn every_second() {
             snap.write(&mut line);
             let late = tick::steps_late();
             info!(
-                "{} | tick {} cycles avg, {} worst ({} ticks), step segments late {}, NDTR lead {}",
+                "{} | tick {} cycles avg, {} worst ({} ticks), its step plan {} avg, {} worst, step segments late {}, NDTR lead {}",
                 line.as_str(),
                 avg,
                 worst,
                 ticks,
+                plan_avg,
+                plan_worst,
                 late,
                 tick::ndtr_lead()
             );

@@ -4,7 +4,7 @@
 //! executor copies its books to the controller every millisecond.
 //!
 //! The generator lives under the global critical section (BASEPRI, `cs.rs`),
-//! which masks TIM9's interrupt (level 2) but never the tick: the handler
+//! which masks TIM9's interrupt (level 3) but never the tick: the handler
 //! may take it for its whole run, and the tick waits for nothing of it.
 
 use super::drivers::Mmio;

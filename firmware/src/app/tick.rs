@@ -1,8 +1,11 @@
 //! The control tick: TIM11's update interrupt at 25 kHz, below only the
-//! E-stop (`board::PRIORITIES`). Reads the counters, runs the core's tick,
-//! applies its output. The core is shared with lower priorities under its
+//! E-stop (`board::PRIORITIES`). Reads the counters, runs the core's
+//! control, applies its output, and leaves the step plan to a handler one
+//! level below (`plan`). The core is shared with lower priorities under its
 //! own lock (`locked`: BASEPRI at the tick's level), not the global
-//! critical section (`cs.rs`, one level lower, which the tick outranks).
+//! critical section (`cs.rs`, below the plan, which both outrank).
+
+mod plan;
 
 use super::drivers::{self, Mmio, OutputPins, TIMER_HZ};
 use super::{bldc, safety};
@@ -25,7 +28,7 @@ struct Io {
     steps: Generator,
     pins: OutputPins,
     x: XSteps,
-    /// `safety::halts()` when the generator last heard of an E-stop halt
+    /// `halts()` when the generator last heard of a halt made elsewhere
     halts_seen: u32,
     /// whether the lathe's edge registers hold an edge (`edgetime::read`)
     gate: Gate,
@@ -66,7 +69,8 @@ static LAST_SEEN: AtomicU32 = AtomicU32::new(0);
 /// Tick cost in CPU cycles: running sum and worst, reset by `take_cost`.
 static COST_SUM: AtomicU32 = AtomicU32::new(0);
 static COST_WORST: AtomicU32 = AtomicU32::new(0);
-/// Ticks whose segments the DMA reached before they were written.
+/// Ticks whose segments the DMA reached before they were written, or
+/// whose step plan was not made by the next tick (`plan::late`).
 static STEPS_LATE: AtomicU32 = AtomicU32::new(0);
 /// `Generator::ndtr_lead` of the last arm, for the bench's log.
 static NDTR_LEAD: AtomicU32 = AtomicU32::new(0);
@@ -115,16 +119,8 @@ pub fn start(config: Config, mut pins: OutputPins) {
     // core's full speed, and its sense, before the first tick
     let drive = bldc::out_for(&core);
     bldc::set_sense(core.config());
-    let io = Io {
-        core,
-        steps,
-        pins,
-        x: XSteps::default(),
-        halts_seen: safety::halts(),
-        gate: Gate::Off,
-        watch: None,
-        bldc: drive,
-    };
+    let io =
+        Io { core, steps, pins, x: XSteps::default(), halts_seen: halts(), gate: Gate::Off, watch: None, bldc: drive };
     // Under the lock nothing but the E-stop runs: not the tick (its
     // interrupt is enabled in here, and waits for the lock's end), nor
     // anything that could come between TIM5's step and TIM11's start.
@@ -138,8 +134,11 @@ pub fn start(config: Config, mut pins: OutputPins) {
         // an E-stop longer than a tick inside the start may have let an
         // update pend the interrupt before TIM11 was rewound: not a tick
         interrupt::TIM1_TRG_COM_TIM11.unpend();
-        // SAFETY: the handler below is ready and the shared state is set.
-        unsafe { interrupt::TIM1_TRG_COM_TIM11.enable() };
+        // SAFETY: the handlers below are ready and the shared state is set.
+        unsafe {
+            plan::enable();
+            interrupt::TIM1_TRG_COM_TIM11.enable();
+        }
         if let (Some(s), Some(k0), Some(io)) = (s, low_low, IO.borrow(cs).borrow_mut().as_mut()) {
             let clock = edgetime::start::clock(s, k0);
             io.core.start_edges(clock);
@@ -177,25 +176,35 @@ fn TIM1_TRG_COM_TIM11() {
     // SAFETY: the token `IO` asks for, without raising BASEPRI: everything
     // else that opens `IO` runs at a lower priority (thread mode, or the
     // planning executor's interrupt) under `locked`, which masks this
-    // handler, and the only interrupt above it (the E-stop) never opens it. (`.ci/qemu` checks no BASEPRI write is reachable from here.)
-    run(unsafe { &CriticalSection::new() });
-    TICKS.fetch_add(1, Ordering::Relaxed);
+    // handler, and the only interrupt above it (the E-stop) never opens it;
+    // the plan, below it, opens it without a lock, and `run` does not if it
+    // pre-empted one (`plan::making`). (`.ci/qemu` checks no BASEPRI write is
+    // reachable from here.)
+    if run(unsafe { &CriticalSection::new() }) {
+        TICKS.fetch_add(1, Ordering::Relaxed);
+    }
     let cost = cortex_m::peripheral::DWT::cycle_count().wrapping_sub(start);
     COST_SUM.fetch_add(cost, Ordering::Relaxed);
     COST_WORST.fetch_max(cost, Ordering::Relaxed);
 }
 
-/// The tick's work on the shared state: inputs in, the core's tick, its
-/// output applied.
-fn run(cs: &CriticalSection) {
-    let halts_at_entry = safety::halts();
+/// The tick's work on the shared state: inputs in, the core's control, its
+/// output applied, the step plan handed on. False if the last tick's plan
+/// still held the state: this tick did not run (`plan::late`).
+fn run(cs: &CriticalSection) -> bool {
+    let estops_at_entry = safety::halts();
     let bldc_stops = bldc::stops();
     // (both read before anything the E-stop's interrupt also writes)
     compiler_fence(Ordering::SeqCst);
+    if plan::making() {
+        plan::late();
+        return false;
+    }
     // (try_: nothing else can hold it while the tick runs, and the tick
     // keeps no panic path)
-    let Ok(mut io) = IO.borrow(cs).try_borrow_mut() else { return };
-    let Some(io) = io.as_mut() else { return };
+    let Ok(mut io) = IO.borrow(cs).try_borrow_mut() else { return true };
+    let Some(io) = io.as_mut() else { return true };
+    plan::settle(io);
     // the encoder counters (lathe TIM3, cutter TIM4) and the lathe's last
     // timed edge read straight into the core's seam; the E-stop and alarm
     // as they are, or as the E-stop interrupt saw them if it fired since
@@ -215,17 +224,18 @@ fn run(cs: &CriticalSection) {
         x_emitted: io.x.emitted,
         lathe_edge,
     };
-    let out = io.core.tick(&input);
+    let out = io.core.control(&input);
     heard_of_halts(io);
-    // the plan for two ticks on: RAM writes only (stepgen); a halt or
-    // a (re-)arm applies its register program. Any other drive keeps
-    // the step output halted.
+    // the plan for two ticks on, RAM writes only (stepgen), one level
+    // below (`plan`); but a halt, or a (re-)arm, whose register program
+    // must run inside the tick it was made for (`program::arm`'s Sync),
+    // here. Any other drive keeps the step output halted.
     let stepping = io.core.config().drive == DriveKind::Stepper;
-    let timing = io.core.derived().steps;
-    if io.steps.tick(&out.plan, out.halt || !stepping, &timing, &mut Mmio).is_err() {
-        STEPS_LATE.fetch_add(1, Ordering::Relaxed);
+    if stepping && !out.halt && io.steps.armed() {
+        plan::hand_on();
+    } else {
+        write_steps(io, out.halt || !stepping);
     }
-    NDTR_LEAD.store(io.steps.ndtr_lead(), Ordering::Relaxed);
     // every tick, whatever the drive: a halt stops the BLDC at once,
     // anything else not running it gets the stop from the next frame
     let run = io.core.config().drive == DriveKind::Bldc && out.enable;
@@ -243,16 +253,33 @@ fn run(cs: &CriticalSection) {
     // again would only cut a stop pulse. The fence keeps this load after
     // those writes.)
     compiler_fence(Ordering::SeqCst);
-    if safety::halts() != halts_at_entry {
+    if safety::halts() != estops_at_entry {
         drivers::halt_steps();
         heard_of_halts(io);
     }
+    true
 }
 
-/// The E-stop interrupt halted the step output since the generator last
-/// heard: it re-arms at the next tick without a halt.
+/// The core's step plan into the ring (`Generator::tick`), or the halt.
+fn write_steps(io: &mut Io, halt: bool) {
+    let plan = io.core.plan_steps();
+    let timing = io.core.derived().steps;
+    if io.steps.tick(&plan, halt, &timing, &mut Mmio).is_err() {
+        STEPS_LATE.fetch_add(1, Ordering::Relaxed);
+    }
+    NDTR_LEAD.store(io.steps.ndtr_lead(), Ordering::Relaxed);
+}
+
+/// Halts of the step output made outside the generator: the E-stop
+/// interrupt's (`safety::halts`) and a late plan's (`plan::late`).
+fn halts() -> u32 {
+    safety::halts().wrapping_add(plan::lates())
+}
+
+/// The step output was halted elsewhere since the generator last heard
+/// (`halts`): it re-arms at the next tick without a halt.
 fn heard_of_halts(io: &mut Io) {
-    let now = safety::halts();
+    let now = halts();
     if now != io.halts_seen {
         io.halts_seen = now;
         io.steps.halted_elsewhere();
@@ -404,6 +431,12 @@ pub fn steps_late() -> u32 {
 /// 1 if DMA2's NDTR counted the preloaded word at the last arm, else 0.
 pub fn ndtr_lead() -> u32 {
     NDTR_LEAD.load(Ordering::Relaxed)
+}
+
+/// The step plan's handler: (average cycles a tick, worst) since the last
+/// call.
+pub fn take_plan_cost() -> (u32, u32) {
+    plan::take_cost()
 }
 
 /// (ticks, average cycles, worst cycles) since the last call.

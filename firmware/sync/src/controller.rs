@@ -158,6 +158,8 @@ pub struct Controller {
     lost: lost::LostSteps,
     /// the lathe's edge times, once the board has said how they line up
     edges: Option<crate::edges::EdgeTimer>,
+    /// `control` left a step plan to make (`plan_steps`)
+    plan_due: bool,
 }
 
 impl Controller {
@@ -193,6 +195,7 @@ impl Controller {
             selftest: None,
             lost: lost::LostSteps::default(),
             edges: None,
+            plan_due: false,
         }
     }
 
@@ -222,8 +225,32 @@ impl Controller {
         self.edges.is_some()
     }
 
-    /// The control tick.
+    /// The control tick: `control`, then the step plan (`plan_steps`).
     pub fn tick(&mut self, io: &TickInput) -> TickOutput {
+        let mut out = self.control(io);
+        out.plan = self.plan_steps();
+        out
+    }
+
+    /// The step plan `control` left: the window two ticks on, to where the
+    /// follower now is (`steps::pipe`); empty if it left none. The
+    /// firmware runs it apart from `control`, one level below the tick
+    /// (`app/tick/plan.rs`): the window it fills starts a tick after the next,
+    /// so it has a tick's slack the rest has not (grbl plans its segments
+    /// outside the step interrupt for the same reason). Nothing but the
+    /// plan may come between the two: the plan is this tick's only while
+    /// no other tick has run.
+    #[inline]
+    pub fn plan_steps(&mut self) -> StepPlan {
+        if !core::mem::take(&mut self.plan_due) {
+            return StepPlan::default();
+        }
+        self.steps.plan(self.follower.position, &self.d.steps)
+    }
+
+    /// The control tick without its step plan (`plan_steps` makes it):
+    /// `TickOutput::plan` is empty.
+    pub fn control(&mut self, io: &TickInput) -> TickOutput {
         self.ticks += 1;
         let delta = self.lathe.update(io.lathe);
         // (during a flash stall, `stall` judges jumps and indexes)
@@ -432,7 +459,7 @@ impl Controller {
             return out;
         }
         match self.config.drive {
-            DriveKind::Stepper => out.plan = self.steps.plan(self.follower.position, &self.d.steps),
+            DriveKind::Stepper => self.plan_due = true,
             DriveKind::Bldc => {
                 let (cmd, stalled) = self.bldc.command(&self.follower, cutter, &self.d);
                 out.speed_q16 = cmd;
@@ -481,6 +508,8 @@ mod sense_tests;
 mod settings_tests;
 #[cfg(test)]
 mod setup_tests;
+#[cfg(test)]
+mod split_tests;
 mod stall;
 #[cfg(test)]
 mod sync_tests;
