@@ -167,7 +167,7 @@ fn lost_ticks(r: &mut Report, o: &Outcome) {
         r.line(counted && c.seen == 0 && o.plans_late == Some(0), &format!("ticks {}", o.name), &text);
         return;
     };
-    let restarted = h.clock_before.is_some() && h.clock_after.is_some() && h.clock_before != h.clock_after;
+    let restarted = clock_moved(h.clock_before, h.clock_after);
     // the late tick has lost a step window: the books no longer fit the
     // pulses counted, and the step output's check stops the cutter
     let step_output = polyturn_firmware::led::fault_code(polyturn_sync::Fault::StepOutput);
@@ -186,16 +186,16 @@ fn lost_ticks(r: &mut Report, o: &Outcome) {
 fn late_plan(r: &mut Report, o: &Outcome) {
     let Some(l) = &o.late else { return };
     let c = o.ticks_lost;
-    let tick = 3_840;
+    let tick = crate::job::SYSCLK / polyturn_firmware::board::TICK_HZ as u64;
     // the cause, then the tick that finds it: two ticks for a held plan (the
     // first pends it), one and the stall for a stalled one
     let bound = match l.how {
-        crate::job::planlate::How::HeldOff { .. } => 2 * tick,
-        crate::job::planlate::How::Stalled { us } => tick + us * 96,
+        HeldOff { .. } => 2 * tick,
+        Stalled { .. } => tick + l.how.cycles(),
     } + o.tick.1;
     let skipped = l.how.ticks_skipped();
     let step_output = polyturn_firmware::led::fault_code(polyturn_sync::Fault::StepOutput);
-    let restarted = l.clock_before.is_some() && l.clock_after.is_some() && l.clock_before != l.clock_after;
+    let restarted = clock_moved(l.clock_before, l.clock_after);
     let ok = l.stopped_after.is_some_and(|s| s <= bound)
         && l.lates == Some(1)
         && c.seen == 0
@@ -209,6 +209,11 @@ fn late_plan(r: &mut Report, o: &Outcome) {
         l.lates, c.image, c.seen, l.clock_before, l.clock_after, l.led_code
     );
     r.line(ok, &format!("late plan {}", o.name), &text);
+}
+
+/// The image wrote its edge clock's first instant again (`edges::clock`).
+fn clock_moved(before: Option<u16>, after: Option<u16>) -> bool {
+    before.is_some() && after.is_some() && before != after
 }
 
 /// Cycles a Cortex-M4 takes to enter an exception (Cortex-M4 TRM §3.3.1).

@@ -25,37 +25,48 @@ pub struct Probe {
     pub step_timer_stopped: Option<u64>,
     pub before: Option<Outputs>,
     pub edge_at: Option<u64>,
-    /// the tick handler's runs: entry time of the one running, and (count,
-    /// total, worst) instructions from entry to return
-    tick_entered: Option<u64>,
-    pub tick_runs: u64,
-    pub tick_total: u64,
-    pub tick_worst: u64,
-    /// when the worst tick began
-    pub tick_worst_at: u64,
-    /// the step plan's handler (`board::PLAN_IRQ`): entry time of the one
-    /// running, and (count, total, worst) instructions from entry to return
-    plan_entered: Option<u64>,
-    pub plan_runs: u64,
-    pub plan_total: u64,
-    pub plan_worst: u64,
+    /// the tick handler's runs
+    pub tick: Runs,
+    /// the step plan's handler's runs (`board::PLAN_IRQ`)
+    pub plan: Runs,
     /// CPU cycles to stall at the plan handler's first read of DMA2 stream
     /// 5's NDTR (`job::planlate`): the plan still running at the next tick
     pub stall_in_plan: Option<u64>,
 }
 
-impl Probe {
-    /// When the tick's handler now running was entered.
-    pub fn tick_entered(&self) -> Option<u64> {
-        self.tick_entered
+/// A handler's runs: the entry time of the one running, and (count, total,
+/// worst) instructions from entry to return.
+#[derive(Default)]
+pub struct Runs {
+    entered: Option<u64>,
+    pub runs: u64,
+    pub total: u64,
+    pub worst: u64,
+    /// when the worst run began
+    pub worst_at: u64,
+}
+
+impl Runs {
+    /// When the run now under way was entered.
+    pub fn entered(&self) -> Option<u64> {
+        self.entered
     }
 
-    pub fn tick_average(&self) -> f64 {
-        self.tick_total as f64 / self.tick_runs.max(1) as f64
+    pub fn average(&self) -> f64 {
+        self.total as f64 / self.runs.max(1) as f64
     }
 
-    pub fn plan_average(&self) -> f64 {
-        self.plan_total as f64 / self.plan_runs.max(1) as f64
+    fn enter(&mut self, now: u64) {
+        self.entered = Some(now);
+    }
+
+    fn leave(&mut self, now: u64) {
+        if let Some(t) = self.entered.take() {
+            if now - t > self.worst {
+                self.worst_at = t;
+            }
+            (self.runs, self.total, self.worst) = (self.runs + 1, self.total + (now - t), self.worst.max(now - t));
+        }
     }
 }
 
@@ -73,26 +84,19 @@ fn exti_exc() -> usize {
 
 pub fn on_enter(c: &mut Chip, exc: usize) {
     if exc == tick_exc() {
-        c.probe.tick_entered = Some(c.now);
+        c.probe.tick.enter(c.now);
     }
     if exc == exti_exc() && c.probe.exti_entered.is_none() {
         c.probe.exti_entered = Some(c.now);
     }
     if exc == plan_exc() {
-        c.probe.plan_entered = Some(c.now);
+        c.probe.plan.enter(c.now);
     }
 }
 
 pub fn on_return(c: &mut Chip, exc: usize) {
     if exc == tick_exc() {
-        if let Some(t) = c.probe.tick_entered.take() {
-            let p = &mut c.probe;
-            if c.now - t > p.tick_worst {
-                p.tick_worst_at = t;
-            }
-            (p.tick_runs, p.tick_total, p.tick_worst) =
-                (p.tick_runs + 1, p.tick_total + (c.now - t), p.tick_worst.max(c.now - t));
-        }
+        c.probe.tick.leave(c.now);
         if c.tape.is_some() {
             let o = c.outputs();
             let enable = o.enable.is_some_and(|e| e != o.enable_inactive);
@@ -109,11 +113,7 @@ pub fn on_return(c: &mut Chip, exc: usize) {
     } else if exc == exti_exc() && c.probe.exti_return.is_none() {
         c.probe.exti_return = Some(c.outputs());
     } else if exc == plan_exc() {
-        if let Some(t) = c.probe.plan_entered.take() {
-            let p = &mut c.probe;
-            (p.plan_runs, p.plan_total, p.plan_worst) =
-                (p.plan_runs + 1, p.plan_total + (c.now - t), p.plan_worst.max(c.now - t));
-        }
+        c.probe.plan.leave(c.now);
     }
 }
 

@@ -173,7 +173,7 @@ impl Tape {
 impl Chip {
     /// Feeds a read to the tape, if one is running.
     pub(crate) fn tape_read(&mut self, word: u32, value: u32) {
-        let entered = self.probe.tick_entered();
+        let entered = self.probe.tick.entered();
         let now = self.blk;
         if let Some(t) = self.tape.as_mut() {
             t.read(word, value, entered, now);

@@ -22,7 +22,7 @@ pub enum How {
 }
 
 impl How {
-    fn cycles(self) -> u64 {
+    pub fn cycles(self) -> u64 {
         match self {
             How::HeldOff { us } | How::Stalled { us } => us * (MS / 1000),
         }
