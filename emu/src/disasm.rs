@@ -19,6 +19,17 @@ fn objdump() -> Result<PathBuf, String> {
     Err("no llvm-objdump under the rust sysroot (rustup component add llvm-tools)".into())
 }
 
+/// `llvm-objdump -d` of the image with the raw bytes shown (what
+/// `cycles::insn::Program::parse` reads).
+#[allow(dead_code)] // the machine does not read the cycle clock's input yet
+pub fn text(elf: &Path) -> Result<String, String> {
+    let out = Command::new(objdump()?).arg("-d").arg(elf).output().map_err(|e| e.to_string())?;
+    if !out.status.success() {
+        return Err(format!("llvm-objdump -d {}: {}", elf.display(), String::from_utf8_lossy(&out.stderr).trim()));
+    }
+    Ok(String::from_utf8_lossy(&out.stdout).into_owned())
+}
+
 pub fn scan(elf: &Path) -> Result<Insns, String> {
     let out =
         Command::new(objdump()?).args(["-d", "--no-show-raw-insn"]).arg(elf).output().map_err(|e| e.to_string())?;

@@ -86,6 +86,15 @@ fn load_address(elf: &object::File, seg: &object::Segment) -> u32 {
 }
 
 impl Image {
+    /// Whether `addr` lies inside a function symbol's extent, not in the fill
+    /// the linker puts between functions (lld's 0xd4d4 halfwords, which
+    /// llvm-objdump shows as code).
+    #[cfg(test)]
+    pub fn in_function(&self, addr: u32) -> bool {
+        let i = self.funcs.partition_point(|f| f.0 <= addr);
+        i > 0 && addr < self.funcs[i - 1].0 + self.funcs[i - 1].1
+    }
+
     /// The function containing `addr` (or the nearest before it), for messages.
     pub fn func_at(&self, addr: u32) -> String {
         let a = addr & !1;

@@ -1,0 +1,215 @@
+//! The image's instructions as the timing rules need them, read from
+//! `llvm-objdump -d` with raw bytes shown. Code lines print their encoding as
+//! halfwords (`f8d1 0004`, so the size is known); data that the ELF's mapping
+//! symbols mark (`$d`: literal pools, jump tables) prints as bytes with a
+//! `.word`/`.short`/`.byte` directive and is skipped.
+
+use super::decode::build;
+use super::mnemonic::classify;
+use super::operands::bit;
+use crate::image::FLASH_BASE;
+
+pub const SP: u8 = 13;
+pub const LR: u8 = 14;
+pub const PC: u8 = 15;
+
+/// One instruction of the image, as the timing rules need it.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Insn {
+    pub addr: u32,
+    /// 2 or 4 bytes
+    pub size: u8,
+    pub op: Op,
+    /// core registers read, bit n = rn (r13 sp, r14 lr, r15 pc)
+    pub reads: u16,
+    /// core registers written (a branch writes the pc)
+    pub writes: u16,
+    /// for loads and stores: the registers the address is generated from
+    pub addr_regs: u16,
+    /// may not take effect: a condition code in the mnemonic, inside an IT
+    /// block, or CBZ/CBNZ
+    pub conditional: bool,
+}
+
+impl Insn {
+    pub fn writes_pc(&self) -> bool {
+        self.writes & bit(PC) != 0
+    }
+}
+
+/// A single load or store (TRM DDI 0439D §3.3.2 times them by these classes).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Access {
+    /// LDR, LDRB, LDRH, LDRSB, LDRSH (immediate, register or literal), PLD
+    Load,
+    /// LDREX, STREX and their byte/halfword forms: "pipelined exactly as LDR"
+    Exclusive,
+    /// STR/STRB/STRH with an immediate offset (or none)
+    StoreImm,
+    /// STR/STRB/STRH with a register offset
+    StoreReg,
+}
+
+/// The instruction classes of the timing rules (timing.rs cites each).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Op {
+    /// data processing: moves, arithmetic, logic, shifts, compares, extends,
+    /// bit fields, reverse, saturate, the DSP parallel arithmetic
+    Alu,
+    /// multiplies, 32- and 64-bit results, the DSP multiplies
+    Mul,
+    /// SDIV/UDIV: the registers holding the dividend (Rn) and divisor (Rm)
+    Div {
+        signed: bool,
+        dividend: u8,
+        divisor: u8,
+    },
+    /// a single load or store; `literal`: the address a PC-relative load reads
+    Single {
+        access: Access,
+        literal: Option<u32>,
+    },
+    /// LDRD/STRD
+    Double {
+        literal: Option<u32>,
+    },
+    /// LDM/STM/PUSH/POP with `regs` registers in the list (pc included)
+    Multiple {
+        regs: u8,
+    },
+    /// IT covering `count` instructions
+    It {
+        count: u8,
+    },
+    /// B, B<cond>, CBZ, CBNZ to an immediate target
+    Branch {
+        target: u32,
+    },
+    /// BL
+    Call {
+        target: u32,
+    },
+    /// BX, BLX (register), and MOV/ADD with the pc as destination
+    BranchReg,
+    /// TBB, TBH
+    Table,
+    /// MRS, MSR, CPSID, CPSIE
+    System,
+    /// DMB, DSB
+    Barrier,
+    Isb,
+    /// NOP, YIELD, SEV, WFI, WFE, CLREX
+    Hint,
+    /// SVC, BKPT, UDF: raise an exception
+    Trap,
+    /// FP data processing and register moves: cycles per Table 7-1;
+    /// `arith`: the §7.2.3 note's one-cycle result-use stall can apply
+    Fp {
+        cycles: u8,
+        arith: bool,
+    },
+    /// VLDR, VSTR, VLDM, VSTM, VPUSH, VPOP moving `words` 32-bit words
+    FpMem {
+        words: u8,
+    },
+}
+
+#[derive(Default)]
+pub struct Program {
+    insns: Vec<Insn>,
+    unknown: Vec<(u32, String)>,
+}
+
+impl Program {
+    pub fn parse(objdump_text: &str) -> Program {
+        let mut p = Program::default();
+        let mut it_left = 0u8;
+        for line in objdump_text.lines() {
+            match parse_line(line) {
+                Line::Code(mut insn) => {
+                    insn.conditional |= it_left > 0;
+                    it_left = match insn.op {
+                        Op::It { count } => count,
+                        _ => it_left.saturating_sub(1),
+                    };
+                    p.insns.push(insn);
+                }
+                Line::Unknown(addr, why) => p.unknown.push((addr, why)),
+                Line::Other => {}
+            }
+        }
+        p.insns.sort_by_key(|i| i.addr);
+        p
+    }
+
+    pub fn insns(&self) -> &[Insn] {
+        &self.insns
+    }
+
+    /// The instructions in [addr, addr + size) in order (a translated block);
+    /// addresses in the boot alias at 0 map to flash.
+    pub fn block(&self, addr: u32, size: u32) -> &[Insn] {
+        let start = if addr < FLASH_BASE { FLASH_BASE + addr } else { addr };
+        let end = start.saturating_add(size);
+        let lo = self.insns.partition_point(|i| i.addr < start);
+        let hi = self.insns.partition_point(|i| i.addr < end);
+        &self.insns[lo..hi.max(lo)]
+    }
+
+    pub fn at(&self, addr: u32) -> Option<&Insn> {
+        let addr = if addr < FLASH_BASE { FLASH_BASE + addr } else { addr };
+        self.insns.binary_search_by_key(&addr, |i| i.addr).ok().map(|k| &self.insns[k])
+    }
+
+    /// Lines the parser could not read: must be empty for the real image.
+    pub fn unknown(&self) -> &[(u32, String)] {
+        &self.unknown
+    }
+
+    /// The SDIV/UDIV instructions: the caller reads their operands to time them.
+    pub fn divides(&self) -> impl Iterator<Item = &Insn> {
+        self.insns.iter().filter(|i| matches!(i.op, Op::Div { .. }))
+    }
+}
+
+enum Line {
+    Code(Insn),
+    Unknown(u32, String),
+    Other,
+}
+
+/// ` 8000abc: f8d1 0004   \tldr.w\tr0, [r1, #4]   @ comment`
+fn parse_line(line: &str) -> Line {
+    let Some((addr, rest)) = line.trim_start().split_once(':') else { return Line::Other };
+    let Ok(addr) = u32::from_str_radix(addr, 16) else { return Line::Other };
+    let mut fields = rest.splitn(2, '\t');
+    let raw: Vec<&str> = fields.next().unwrap_or("").split_whitespace().collect();
+    let text = fields.next().unwrap_or("").trim();
+    if text.starts_with('.') {
+        return Line::Other; // data under a `$d` mapping symbol
+    }
+    let halfwords: Vec<u16> =
+        raw.iter().filter(|w| w.len() == 4).filter_map(|w| u16::from_str_radix(w, 16).ok()).collect();
+    if halfwords.is_empty() || halfwords.len() != raw.len() || halfwords.len() > 2 {
+        return Line::Unknown(addr, format!("unreadable line: {}", line.trim()));
+    }
+    // ARMv7-M ARM §A5.1: a first halfword 0b11101/0b11110/0b11111 starts a 32-bit instruction
+    let size = if matches!(halfwords[0] >> 11, 0x1D..=0x1F) { 4 } else { 2 };
+    if size != 2 * halfwords.len() {
+        return Line::Unknown(addr, format!("{} halfwords shown for a {size}-byte encoding: {}", raw.len(), text));
+    }
+    let (text, comment) = text.split_once('@').unwrap_or((text, ""));
+    let (mnemonic, ops) = text.trim().split_once(char::is_whitespace).unwrap_or((text.trim(), ""));
+    let mnemonic = mnemonic.to_ascii_lowercase();
+    let Some((kind, cond)) = classify(&mnemonic) else {
+        return Line::Unknown(addr, format!("unknown mnemonic: {}", text.trim()));
+    };
+    match build(addr, kind, &mnemonic, ops.trim(), comment) {
+        Ok(mut insn) => {
+            insn.size = size as u8;
+            insn.conditional |= cond;
+            Line::Code(insn)
+        }
+        Err(why) => Line::Unknown(addr, format!("{why}: {}", text.trim())),
+    }
+}
