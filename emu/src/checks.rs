@@ -203,9 +203,10 @@ pub fn primask(r: &mut Report, m: &mut Machine) {
     let (longest, ticking, n) = (log.longest, log.ticking, log.sections);
     let part = |s: crate::primask::Section| {
         format!(
-            "{} instructions ({:.1} us) from {} ({:#010x})",
-            s.instructions,
-            s.instructions as f64 / mhz,
+            "{} cycles, {} on the bound ({:.1} us) from {} ({:#010x})",
+            s.cycles,
+            s.bound,
+            s.bound as f64 / mhz,
             m.image.func_at(s.pc),
             s.pc
         )

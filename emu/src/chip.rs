@@ -61,10 +61,21 @@ pub struct Chip {
     pub host: Option<Box<crate::usb::host::Host>>,
     pub nvic: Nvic,
     map: Vec<(u32, u32, Periph)>,
-    /// CPU cycles (= instructions, see `machine`) so far, and at the start of the
-    /// block running now (what an MMIO access sees)
+    /// CPU cycles so far on the model's clock (`clock`: the peripherals run on
+    /// it), and at the start of the block running now (what an MMIO access sees)
     pub now: u64,
     pub blk: u64,
+    /// the same on the bound's clock
+    pub bound: u64,
+    pub blk_bound: u64,
+    /// the block running now: (address, size)
+    pub block: (u32, u32),
+    /// the cycles each block, exception and bus access costs (`clock`)
+    pub meter: crate::clock::Meter,
+    /// DMA2's transfers already counted in the bound
+    dma_seen: u64,
+    /// where each exception's cycles go, block by block (`--profile`)
+    pub profile: Option<crate::clock::profile::Profile>,
     pub faults: Vec<(u64, String)>,
     /// exceptions being handled, outermost first
     pub active: Vec<usize>,
@@ -74,9 +85,8 @@ pub struct Chip {
     pub deadline: u64,
     /// where to resume after a stop at a block boundary
     pub resume: Option<u32>,
-    /// the flash's bytes as mapped, and the instruction count of each block seen
+    /// the flash's bytes as mapped
     pub code: Vec<u8>,
-    blocks: std::collections::HashMap<(u32, u32), u64>,
     /// times each exception was entered, by number
     pub entries: std::collections::HashMap<usize, u64>,
     pub probe: crate::probe::Probe,
@@ -160,6 +170,12 @@ impl Chip {
             map,
             now: 0,
             blk: 0,
+            bound: 0,
+            blk_bound: 0,
+            block: (0, 0),
+            meter: crate::clock::Meter::new(Default::default()),
+            dma_seen: 0,
+            profile: None,
             tick_held_until: 0,
             plan_held_until: 0,
             faults: Vec::new(),
@@ -168,7 +184,6 @@ impl Chip {
             deadline: 0,
             resume: None,
             code: Vec::new(),
-            blocks: Default::default(),
             entries: Default::default(),
             probe: Default::default(),
             flash_mem: std::ptr::null_mut(),
@@ -207,6 +222,7 @@ impl Chip {
             self.gp[i].advance(t, sysclk, clk);
         }
         self.mcu_run(t);
+        self.dma_in_bound();
         self.note_first_tick();
         if self.jumpers.ab {
             self.wire_ab();
@@ -275,18 +291,45 @@ impl Chip {
         self.usb_step();
     }
 
-    /// Instructions in the block of `size` bytes at `addr` (cached per block).
-    pub fn block_insns(&mut self, addr: u32, size: u32) -> u64 {
-        if let Some(&n) = self.blocks.get(&(addr, size)) {
-            return n;
+    /// The block of `size` bytes at `addr` starts now: both clocks moved to
+    /// its first instruction, and on by its cost (`clock::Meter::block`).
+    pub fn begin_block(&mut self, addr: u32, size: u32) {
+        let (lead, body) = self.meter.block(addr, size, self.now, self.bound);
+        if let Some(p) = self.profile.as_mut() {
+            p.add(self.active.last().copied().unwrap_or(0), addr, lead + body);
         }
-        let off = (addr & 0x00FF_FFFF) as usize; // flash or its alias at 0
-        let n = match self.code.get(off..off + size as usize) {
-            Some(code) if addr < 0x2000_0000 => crate::machine::insn_count(code),
-            _ => size as u64 / 2, // code in RAM: not expected; counted as 16-bit
+        self.now += lead.model as u64;
+        self.bound += lead.bound as u64;
+        (self.blk, self.blk_bound, self.block) = (self.now, self.bound, (addr, size));
+        self.now += body.model as u64;
+        self.bound += body.bound as u64;
+    }
+
+    /// A bus access's wait on both clocks (`clock::bus`).
+    pub(crate) fn bus_wait(&mut self, addr: u32, write: bool) {
+        use crate::clock::bus;
+        let b = bus::bus_of(addr);
+        let hclk = self.sysclk();
+        let pclk = match b {
+            bus::Bus::Apb1 => self.rcc.apb1().0,
+            bus::Bus::Apb2 => self.rcc.apb2().0,
+            _ => hclk,
         };
-        self.blocks.insert((addr, size), n);
-        n
+        let c = bus::access(b, hclk / pclk.max(1), write);
+        self.now += c.model as u64;
+        self.bound += c.bound as u64;
+    }
+
+    /// DMA2's transfers since the last look, in the bound: each can hold the
+    /// CPU off the SRAM it reads and the APB2 timer it writes for its length
+    /// (RM0383 §2.1.6, round-robin arbitration; `clock::bus`).
+    fn dma_in_bound(&mut self) {
+        let n = self.mcu.dma_transfers();
+        let new = n - self.dma_seen.min(n);
+        self.dma_seen = n;
+        let apb2 = crate::clock::bus::access(crate::clock::bus::Bus::Apb2, 1, true).bound as u64;
+        // the SRAM read (one cycle, and arbitration) and the APB2 write
+        self.bound += new * (2 + apb2 + 1);
     }
 
     pub fn find(&self, addr: u32) -> Option<(u32, Periph)> {

@@ -10,6 +10,8 @@
 //!   frame (+S0-S15, FPSCR, reserved) and EXC_RETURN bit 4 clear. LR = EXC_RETURN,
 //!   IPSR = the exception number, PC from the vector table at VTOR (0 aliases flash).
 //! - Return: unstacks the frame EXC_RETURN names, restores IPSR from the stacked xPSR.
+//!
+//! What each costs in cycles is `clock::exception`'s (the meter counts it here).
 
 use crate::chip::Chip;
 use crate::machine::Machine;
@@ -93,6 +95,10 @@ fn enter(uc: &mut Unicorn<Chip>, exc: usize) -> bool {
     *c.entries.entry(exc).or_default() += 1;
     crate::probe::on_enter(c, exc);
     let vtor = c.nvic.vtor();
+    // the entry's cycles: stacking, the vector's read (`clock::exception`)
+    let cost = c.meter.enter(vtor + 4 * exc as u32, c.now, c.bound);
+    c.now += cost.model as u64;
+    c.bound += cost.bound as u64;
     set(uc, R::LR, exc_return);
     set(uc, R::XPSR, (xpsr & !0x1FF & !(1 << 9) & !0x0600_FC00) | exc as u32);
     let mut v = [0u8; 4];
@@ -157,6 +163,8 @@ fn exit(uc: &mut Unicorn<Chip>, exc_return: u32) {
         return c.fault(f);
     }
     set(uc, R::PC, w[6] | 1);
+    // the return's cycles are the meter's, held for the next instruction
+    uc.get_data_mut().meter.exit();
     crate::probe::on_return(uc.get_data_mut(), done);
     after_write(uc); // tail-chain: taken at the next block boundary
 }

@@ -29,6 +29,8 @@ pub struct Image {
     funcs: Vec<(u32, u32, String)>,
     pub vectors: Vec<u32>,
     pub insns: Insns,
+    /// every instruction, as the cycle clock times them (`cycles`)
+    pub program: std::rc::Rc<crate::cycles::insn::Program>,
 }
 
 /// Why an image cannot run, in one line.
@@ -66,8 +68,13 @@ pub fn load(path: &Path) -> Result<Image, String> {
     let vt = elf.section_by_name(".vector_table").ok_or("the ELF has no .vector_table: not a cortex-m-rt image")?;
     let raw = vt.data().map_err(|e| e.to_string())?;
     let vectors = raw.chunks_exact(4).map(|w| u32::from_le_bytes([w[0], w[1], w[2], w[3]])).collect();
-    let insns = crate::disasm::scan(path)?;
-    Ok(Image { segments, symbols, funcs, vectors, insns })
+    let listing = crate::disasm::text(path)?;
+    let insns = crate::disasm::scan(&listing);
+    let program = crate::cycles::insn::Program::parse(&listing);
+    if let Some((addr, why)) = program.unknown().first() {
+        return Err(format!("the cycle clock cannot time the instruction at {addr:#010x}: {why}"));
+    }
+    Ok(Image { segments, symbols, funcs, vectors, insns, program: std::rc::Rc::new(program) })
 }
 
 /// A segment's physical (load) address: `object` gives the virtual one, so take

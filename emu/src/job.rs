@@ -85,8 +85,15 @@ pub struct Outcome {
     /// the lathe's count when ENGAGE went down
     pub engage_count: i64,
     pub estop: Option<crate::job::estop::Seen>,
-    /// the tick handler: average and worst instructions, entry to return
+    /// the tick handler: average and worst cycles, entry to return (the
+    /// model's, and the bound's)
     pub tick: (f64, u64),
+    pub tick_bound: (f64, u64),
+    pub plan_bound: (f64, u64),
+    /// flash misses (instruction, literal), the model's and the bound's
+    pub misses: [(u64, u64); 2],
+    pub tick_all: Vec<(u64, u64)>,
+    pub plan_all: Vec<(u64, u64)>,
     /// the longest interrupts-off (PRIMASK) section in thread mode, instructions:
     /// what can delay the E-stop
     pub irq_off: u64,
@@ -145,6 +152,9 @@ pub fn run(image: &Rc<Image>, spec: &Spec) -> Result<Outcome, String> {
     let flash = settings::saved(&sc.core)?;
     let mut m = Machine::new(image.clone(), params, &flash)?;
     m.cpr = sc.core.encoder_counts_per_rev;
+    if std::env::var_os("POLYTURN_EMU_PROFILE").is_some() {
+        m.chip().profile = Some(Default::default());
+    }
     // (no tape where the job stops the tick's flow: the replay follows one
     // edge clock from the start, and a lost tick has it measured again)
     if !matches!(spec.kind, Kind::EStop { .. } | Kind::LostTick { .. } | Kind::LatePlan { .. }) {
@@ -230,7 +240,20 @@ impl Outcome {
     }
 }
 
+/// The profile's top functions for the tick and its plan (`--profile`).
+fn print_profile(m: &mut Machine) {
+    let image = m.image.clone();
+    let Some(p) = m.chip().profile.take() else { return };
+    for (what, exc) in [("tick", crate::probe::tick_exc()), ("plan", crate::probe::plan_exc())] {
+        println!("  profile of the {what} (function: model, bound cycles in all):");
+        for (f, model, bound) in p.functions(exc, |a| image.func_at(a)).iter().take(25) {
+            println!("    {bound:>12} {model:>12}  {f}");
+        }
+    }
+}
+
 fn outcome(m: &mut Machine, spec: &Spec, cfg: &Config, wall: Instant) -> Outcome {
+    print_profile(m);
     let d = polyturn_sync::derived::Derived::new(cfg, polyturn_sync::Timing::FIRMWARE);
     let (pulse, dir_setup) = (d.steps.pulse as u64, d.steps.dir_setup as u64);
     let received = receive(m.chip().mcu.edges(), pulse, true);
@@ -254,8 +277,13 @@ fn outcome(m: &mut Machine, spec: &Spec, cfg: &Config, wall: Instant) -> Outcome
         engage_count: 0,
         estop: None,
         tick: (c.probe.tick.average(), c.probe.tick.worst),
-        irq_off: c.primask.longest.instructions,
-        tick_lock: c.tickmask.ticking.instructions,
+        tick_bound: (c.probe.tick.average_bound(), c.probe.tick.worst_bound),
+        plan_bound: (c.probe.plan.average_bound(), c.probe.plan.worst_bound),
+        misses: c.meter.misses(),
+        tick_all: std::mem::take(&mut c.probe.tick.all),
+        plan_all: std::mem::take(&mut c.probe.plan.all),
+        irq_off: c.primask.longest.bound,
+        tick_lock: c.tickmask.ticking.bound,
         replay: None,
         edges: None,
         ticks_lost: lost::Counted::default(),

@@ -140,12 +140,27 @@ fn show(o: &Outcome) {
         rx.unseen,
         rx.min_high,
         rx.min_low,
-        format!("{:.0}/{}", o.tick.0, o.tick.1),
-        format!("{:.0}/{}", o.plan.0, o.plan.1),
+        format!("{:.0}/{} b{:.0}/{}", o.tick.0, o.tick.1, o.tick_bound.0, o.tick_bound.1),
+        format!("{:.0}/{} b{:.0}/{}", o.plan.0, o.plan.1, o.plan_bound.0, o.plan_bound.1),
         o.irq_off,
         o.tick_lock,
         if o.faults.is_empty() { "none".to_string() } else { o.faults.join("; ") }
     );
+    println!("  flash misses (instruction, literal): model {:?}, bound {:?}", o.misses[0], o.misses[1]);
+    for (what, all) in [("tick", &o.tick_all), ("plan", &o.plan_all)] {
+        if all.is_empty() {
+            continue;
+        }
+        let mut v: Vec<u64> = all.iter().map(|r| r.1).collect();
+        v.sort();
+        let q = |p: f64| v[((v.len() - 1) as f64 * p) as usize];
+        let top: Vec<String> = {
+            let mut a = all.clone();
+            a.sort_by_key(|r| std::cmp::Reverse(r.1));
+            a.iter().take(8).map(|r| format!("{}@{:.1}ms", r.1, r.0 as f64 / 96e3)).collect()
+        };
+        println!("  {what} bound p50 {} p90 {} p99 {} p99.9 {} max {}; top {}", q(0.5), q(0.9), q(0.99), q(0.999), q(1.0), top.join(" "));
+    }
 }
 
 /// The image's count of lost ticks is the emulator's, in every job: none

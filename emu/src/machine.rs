@@ -3,13 +3,15 @@
 //! §2.4; SRAM 128 KiB at 0x2000_0000, which is the model's own SRAM so the DMA
 //! reads what the CPU wrote), the peripheral bus, and time.
 //!
-//! Time: one emulated instruction is one CPU cycle. Instructions are counted per
-//! translated block (the block hook adds the block's count, decoded from its Thumb
-//! halfwords), so the count is exact at block boundaries; an MMIO access sees the
-//! time at the start of its block. Exception entry and return cost no cycles. The
-//! run is sliced: it stops at the first block boundary at or after the next model
-//! event, where pending interrupts are taken (`cpu.rs`). README "Emulator" gives the
-//! rule that turns instructions into cycles and what it leaves out.
+//! Time: CPU cycles, on two clocks (`clock`): the model's, what silicon most
+//! likely spends, on which the peripherals run, and the bound's, what it
+//! cannot exceed. Each translated block's cost at zero wait states is
+//! computed once from its instructions (`cycles`, the Cortex-M4 TRM's
+//! timings) and cached; the flash's waits, taken branches, divisions,
+//! exceptions and bus accesses are counted as they happen. An MMIO access
+//! sees the time at the start of its block. The run is sliced: it stops at
+//! the first block boundary at or after the next model event, where pending
+//! interrupts are taken (`cpu.rs`).
 
 use crate::chip::Chip;
 use crate::image::{Image, FLASH_BASE, FLASH_SIZE};
@@ -104,6 +106,7 @@ impl Machine {
             flash[o..o + 2].copy_from_slice(&NOP);
         }
         let mut chip = Chip::new(params);
+        chip.meter = crate::clock::Meter::new(image.program.clone());
         chip.code = flash.to_vec();
         chip.flash_mem = flash.as_mut_ptr();
         let sram = chip.mcu.sram_mut_ptr();
@@ -158,9 +161,7 @@ impl Machine {
                 return;
             }
             c.apply_fixups();
-            let n = c.block_insns(addr as u32, size);
-            c.blk = c.now;
-            c.now += n;
+            c.begin_block(addr as u32, size);
             c.pc = addr as u32;
         }))?;
         e(self.uc.add_intr_hook(crate::cpu::interrupt))?;
@@ -194,8 +195,40 @@ impl Machine {
                 let _ = uc.emu_stop();
             }))?;
         }
+        self.divide_hooks()?;
         crate::primask::hooks(self)?;
         crate::tape::hooks(self)
+    }
+
+    /// SDIV/UDIV take 2 to 12 cycles by their operands (`cycles::timing::divide`):
+    /// the block's static cost holds the least, the rest is added as each runs.
+    fn divide_hooks(&mut self) -> Result<(), String> {
+        use crate::cycles::insn::Op;
+        use crate::cycles::timing::{divide, DIVIDE_IN_BLOCK};
+        let divs: Vec<(u32, bool, u8, u8)> = self
+            .image
+            .program
+            .divides()
+            .filter_map(|i| match i.op {
+                Op::Div { signed, dividend, divisor } => Some((i.addr, signed, dividend, divisor)),
+                _ => None,
+            })
+            .collect();
+        for (a, signed, n, d) in divs {
+            let reg = |r: u8| RegisterARM::R0 as i32 + r as i32;
+            for at in [a, a - FLASH_BASE] {
+                self.uc
+                    .add_code_hook(at as u64, at as u64, move |uc, _, _| {
+                        let (n, d) = (uc.reg_read(reg(n)).unwrap_or(0) as u32, uc.reg_read(reg(d)).unwrap_or(0) as u32);
+                        let c = divide(n, d, signed);
+                        let chip = uc.get_data_mut();
+                        chip.now += c.model.saturating_sub(DIVIDE_IN_BLOCK.model) as u64;
+                        chip.bound += c.bound.saturating_sub(DIVIDE_IN_BLOCK.bound) as u64;
+                    })
+                    .map_err(|e| format!("unicorn: {e:?}"))?;
+            }
+        }
+        Ok(())
     }
 
     fn boot(&mut self) {

@@ -27,8 +27,7 @@
 mod checks;
 mod chip;
 mod cpu;
-// the static half of the cycle clock; the machine does not call it yet
-#[allow(dead_code)]
+mod clock;
 mod cycles;
 mod disasm;
 mod edges;

@@ -1,15 +1,18 @@
 //! Interrupts-off sections in thread mode: each `cpsid i` (or `msr primask, rN`
-//! with 1) to the `cpsie i` (or `msr` with 0) that ends it, timed in instructions.
+//! with 1) to the `cpsie i` (or `msr` with 0) that ends it, timed on both of
+//! the emulator's clocks (`clock`: the model's cycles and the bound's).
 //! Sections begun while the tick's interrupt is enabled are the ones that can
 //! delay it (app/cs.rs keeps logging and embassy off PRIMASK).
 
 use crate::chip::Chip;
-use crate::machine::{insn_count, Machine};
+use crate::machine::Machine;
 use unicorn_engine::{RegisterARM as R, Unicorn};
 
 #[derive(Default, Clone, Copy, Debug)]
 pub struct Section {
-    pub instructions: u64,
+    /// CPU cycles, the model's and the bound's
+    pub cycles: u64,
+    pub bound: u64,
     pub pc: u32,
 }
 
@@ -17,7 +20,7 @@ pub struct Section {
 /// of those begun with the tick's interrupt enabled).
 #[derive(Default)]
 pub struct SectionLog {
-    since: Option<(u64, u32, bool)>,
+    since: Option<((u64, u64), u32, bool)>,
     pub longest: Section,
     pub ticking: Section,
     pub sections: u64,
@@ -28,20 +31,20 @@ impl SectionLog {
         self.since.is_some()
     }
 
-    /// A section begins at instruction `t`, at `pc`.
-    pub fn open(&mut self, t: u64, pc: u32, tick_on: bool) {
+    /// A section begins at `t` (the model's and the bound's cycle), at `pc`.
+    pub fn open(&mut self, t: (u64, u64), pc: u32, tick_on: bool) {
         self.since = Some((t, pc, tick_on));
     }
 
-    /// The open section (if any) ends at instruction `t`.
-    pub fn close(&mut self, t: u64) {
+    /// The open section (if any) ends at `t`; the longest are the bound's.
+    pub fn close(&mut self, t: (u64, u64)) {
         let Some((t0, pc, ticking)) = self.since.take() else { return };
-        let s = Section { instructions: t - t0, pc };
+        let s = Section { cycles: t.0 - t0.0, bound: t.1 - t0.1, pc };
         self.sections += 1;
-        if s.instructions > self.longest.instructions {
+        if s.bound > self.longest.bound {
             self.longest = s;
         }
-        if ticking && s.instructions > self.ticking.instructions {
+        if ticking && s.bound > self.ticking.bound {
             self.ticking = s;
         }
     }
@@ -93,10 +96,11 @@ fn sysm(uc: &Unicorn<Chip>, addr: u32) -> u16 {
 }
 
 /// The run's instruction count at `addr`, inside the block being run.
-fn time_at(uc: &Unicorn<Chip>, addr: u32) -> u64 {
+/// Both clocks at the instruction at `addr` of the block running now.
+fn time_at(uc: &Unicorn<Chip>, addr: u32) -> (u64, u64) {
     let c = uc.get_data();
-    let (start, off) = ((c.pc & 0x00FF_FFFF) as usize, (addr & 0x00FF_FFFF) as usize);
-    c.blk + insn_count(&c.code[start..off.max(start)])
+    let o = c.meter.offset(c.block, addr);
+    (c.blk + o.model as u64, c.blk_bound + o.bound as u64)
 }
 
 /// The value an `msr <special>, rN` at `addr` is about to write: its T1

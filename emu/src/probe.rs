@@ -34,38 +34,53 @@ pub struct Probe {
     pub stall_in_plan: Option<u64>,
 }
 
-/// A handler's runs: the entry time of the one running, and (count, total,
-/// worst) instructions from entry to return.
+/// A handler's runs, from its request's entry to its return (the return's
+/// own cycles included), on both clocks (`clock`): the model's time of the
+/// run under way, and (count, total, worst) of each.
 #[derive(Default)]
 pub struct Runs {
-    entered: Option<u64>,
+    entered: Option<(u64, u64)>,
     pub runs: u64,
     pub total: u64,
     pub worst: u64,
-    /// when the worst run began
+    /// when the worst run (the model's) began
     pub worst_at: u64,
+    /// the bound's total and worst
+    pub total_bound: u64,
+    pub worst_bound: u64,
+    /// every run's (model start, bound) when POLYTURN_EMU_RUNS is set (a study)
+    pub all: Vec<(u64, u64)>,
 }
 
 impl Runs {
-    /// When the run now under way was entered.
+    /// When the run now under way was entered (the model's cycle).
     pub fn entered(&self) -> Option<u64> {
-        self.entered
+        self.entered.map(|e| e.0)
     }
 
     pub fn average(&self) -> f64 {
         self.total as f64 / self.runs.max(1) as f64
     }
 
-    fn enter(&mut self, now: u64) {
+    pub fn average_bound(&self) -> f64 {
+        self.total_bound as f64 / self.runs.max(1) as f64
+    }
+
+    fn enter(&mut self, now: (u64, u64)) {
         self.entered = Some(now);
     }
 
-    fn leave(&mut self, now: u64) {
-        if let Some(t) = self.entered.take() {
-            if now - t > self.worst {
+    fn leave(&mut self, now: (u64, u64)) {
+        if let Some((t, tb)) = self.entered.take() {
+            let (d, db) = (now.0 - t, now.1 - tb);
+            if d > self.worst {
                 self.worst_at = t;
             }
-            (self.runs, self.total, self.worst) = (self.runs + 1, self.total + (now - t), self.worst.max(now - t));
+            (self.runs, self.total, self.worst) = (self.runs + 1, self.total + d, self.worst.max(d));
+            (self.total_bound, self.worst_bound) = (self.total_bound + db, self.worst_bound.max(db));
+            if std::env::var_os("POLYTURN_EMU_RUNS").is_some() {
+                self.all.push((t, db));
+            }
         }
     }
 }
@@ -82,21 +97,27 @@ fn exti_exc() -> usize {
     16 + svd::irq("EXTI15_10")
 }
 
+/// At an exception's entry, before its cost is counted.
 pub fn on_enter(c: &mut Chip, exc: usize) {
+    let now = (c.now, c.bound);
     if exc == tick_exc() {
-        c.probe.tick.enter(c.now);
+        c.probe.tick.enter(now);
     }
     if exc == exti_exc() && c.probe.exti_entered.is_none() {
         c.probe.exti_entered = Some(c.now);
     }
     if exc == plan_exc() {
-        c.probe.plan.enter(c.now);
+        c.probe.plan.enter(now);
     }
 }
 
+/// At an exception's return: its cost (held by the meter for the next
+/// instruction) counted in the run.
 pub fn on_return(c: &mut Chip, exc: usize) {
+    let ret = crate::clock::exception::RETURN as u64;
+    let now = (c.now + ret, c.bound + ret);
     if exc == tick_exc() {
-        c.probe.tick.leave(c.now);
+        c.probe.tick.leave(now);
         if c.tape.is_some() {
             let o = c.outputs();
             let enable = o.enable.is_some_and(|e| e != o.enable_inactive);
@@ -113,7 +134,7 @@ pub fn on_return(c: &mut Chip, exc: usize) {
     } else if exc == exti_exc() && c.probe.exti_return.is_none() {
         c.probe.exti_return = Some(c.outputs());
     } else if exc == plan_exc() {
-        c.probe.plan.leave(c.now);
+        c.probe.plan.leave(now);
     }
 }
 

@@ -32,9 +32,9 @@ pub fn masks_tick(primask: bool, basepri: u32) -> bool {
     primask || (basepri != 0 && basepri <= TICK_PRIO)
 }
 
-/// Before an instruction at `addr` (instruction `t` of the run, in thread mode)
+/// Before an instruction at `addr` (at `t` on both clocks, in thread mode)
 /// sets PRIMASK and BASEPRI to these: opens or closes a section.
-pub fn change(uc: &mut Unicorn<Chip>, t: u64, addr: u32, primask: bool, basepri: u32) {
+pub fn change(uc: &mut Unicorn<Chip>, t: (u64, u64), addr: u32, primask: bool, basepri: u32) {
     if uc.reg_read(R::IPSR).unwrap_or(0) & 0x1FF != 0 {
         return;
     }
@@ -42,10 +42,14 @@ pub fn change(uc: &mut Unicorn<Chip>, t: u64, addr: u32, primask: bool, basepri:
     let now = masks_tick(primask, basepri);
     let c = uc.get_data_mut();
     let tick_on = c.nvic.enabled[crate::svd::irq(polyturn_firmware::board::TICK_IRQ)];
-    let log = &mut c.tickmask;
     match (was, now) {
-        (false, true) => log.open(t, addr, tick_on),
-        (true, false) => log.close(t),
+        (false, true) => {
+            c.tickmask.open(t, addr, tick_on);
+            // the bound's cache is cold as the section starts: anything may
+            // have run just before
+            c.meter.cold();
+        }
+        (true, false) => c.tickmask.close(t),
         _ => {}
     }
 }

@@ -50,6 +50,7 @@ impl Chip {
         };
         crate::probe::on_read(self, word);
         self.sync();
+        self.bus_wait(word, false);
         let off = word - base;
         let v = match p {
             Periph::Mcu if is_dmar(word) => self.narrow(addr, size),
@@ -79,6 +80,7 @@ impl Chip {
             return;
         };
         self.sync();
+        self.bus_wait(word, true);
         let (off, shift) = (word - base, 8 * (addr & 3));
         let (v, m) = (value << shift, mask(size) << shift);
         match p {
@@ -195,7 +197,13 @@ impl Chip {
                 }
                 self.flash_erased();
             }
-            _ => self.flash_regs.write(off, v, m),
+            _ => {
+                self.flash_regs.write(off, v, m);
+                if off == 0 {
+                    // FLASH_ACR (§3.8.1): the wait states and caches from now
+                    self.meter.set_acr(self.flash_regs.get(0));
+                }
+            }
         }
     }
 }

@@ -99,6 +99,9 @@ pub struct Mcu {
     edges: Vec<Edge>,
     pins: [bool; 4],
     dma_lost: u64,
+    /// DMA2 stream 5's transfers so far (an emulator bounds the CPU's bus
+    /// waits by them)
+    dma_transfers: u64,
     /// Nothing counts, nothing is pending: a step only advances the cycle count.
     quiescent: bool,
     /// Direct mode, memory to peripheral: the stream reads its next item from
@@ -136,6 +139,7 @@ impl Mcu {
             edges: Vec::new(),
             pins: [false; 4],
             dma_lost: 0,
+            dma_transfers: 0,
             quiescent: false,
             prefetched: None,
         }
@@ -166,6 +170,12 @@ impl Mcu {
     /// disabled, or while the previous one was still pending (merged).
     pub fn dma_requests_lost(&self) -> u64 {
         self.dma_lost + self.tim1.dma_overruns
+    }
+
+    /// DMA2 stream 5's transfers so far: each a read of SRAM and a write of
+    /// TIM1's DMAR on the bus matrix the CPU shares (§2.1).
+    pub fn dma_transfers(&self) -> u64 {
+        self.dma_transfers
     }
 
     /// Advance one CK_INT cycle: TIM1, then TIM2 sampling TIM1's TRGO of this cycle,
@@ -246,6 +256,7 @@ impl Mcu {
             None => self.sram_read(t.mem, t.size),
         };
         self.tim1.dma_write(t.par - addr::TIM1, value);
+        self.dma_transfers += 1;
         self.dma.finish();
         self.prefetch();
         self.sync_dma();

@@ -76,7 +76,10 @@ impl Controller {
         }
     }
 
-    /// Starts synchronising (from rest or while the lathe turns).
+    /// Starts synchronising (from rest or while the lathe turns). Never
+    /// inlined, as `disengage` and `rebase`: the emulator finds each command's
+    /// entry by its symbol (emu/src/tape.rs).
+    #[inline(never)]
     pub fn engage(&mut self) -> Result<(), Refusal> {
         match self.state {
             State::Fault(_) => return Err(Refusal::Faulted),
@@ -100,6 +103,7 @@ impl Controller {
     }
 
     /// Ramps the cutter down and goes idle.
+    #[inline(never)]
     pub fn disengage(&mut self) {
         if matches!(self.state, State::Engaging | State::Synced | State::Jogging) {
             self.jog = None;
@@ -196,6 +200,7 @@ impl Controller {
         self.x.as_ref()
     }
 
+    #[inline(never)]
     pub(super) fn rebase(&mut self) {
         let rel = self.lathe.position() - self.origin;
         if let Some(x) = &mut self.x {
