@@ -295,7 +295,7 @@ impl Chip {
     /// its first instruction, and on by its cost (`clock::Meter::block`).
     pub fn begin_block(&mut self, addr: u32, size: u32) {
         let (lead, body) = self.meter.block(addr, size, self.now, self.bound);
-        if let Some(p) = self.profile.as_mut() {
+        if let Some(p) = self.profile.as_mut().filter(|p| p.window.contains(&self.now)) {
             p.add(self.active.last().copied().unwrap_or(0), addr, lead + body);
         }
         self.now += lead.model as u64;

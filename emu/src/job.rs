@@ -153,7 +153,11 @@ pub fn run(image: &Rc<Image>, spec: &Spec) -> Result<Outcome, String> {
     let mut m = Machine::new(image.clone(), params, &flash)?;
     m.cpr = sc.core.encoder_counts_per_rev;
     if std::env::var_os("POLYTURN_EMU_PROFILE").is_some() {
-        m.chip().profile = Some(Default::default());
+        let ms = |v: &str| std::env::var(v).ok().and_then(|s| s.parse::<f64>().ok()).map(|t| (t * 96e3) as u64);
+        let window = ms("POLYTURN_EMU_PROFILE_FROM_MS").unwrap_or(0)..ms("POLYTURN_EMU_PROFILE_TO_MS").unwrap_or(u64::MAX);
+        let mut p = crate::clock::profile::Profile::default();
+        p.window = window;
+        m.chip().profile = Some(p);
     }
     // (no tape where the job stops the tick's flow: the replay follows one
     // edge clock from the start, and a lost tick has it measured again)
@@ -245,6 +249,10 @@ fn print_profile(m: &mut Machine) {
     let image = m.image.clone();
     let Some(p) = m.chip().profile.take() else { return };
     for (what, exc) in [("tick", crate::probe::tick_exc()), ("plan", crate::probe::plan_exc())] {
+        if let Some(dir) = std::env::var_os("POLYTURN_EMU_PROFILE") {
+            let lines: Vec<String> = p.blocks(exc).iter().map(|b| format!("{:#x} {} {}", b.0, b.1, b.2)).collect();
+            let _ = std::fs::write(std::path::Path::new(&dir).join(format!("{what}.blocks")), lines.join("\n"));
+        }
         println!("  profile of the {what} (function: model, bound cycles in all):");
         for (f, model, bound) in p.functions(exc, |a| image.func_at(a)).iter().take(25) {
             println!("    {bound:>12} {model:>12}  {f}");

@@ -5,10 +5,17 @@
 use super::Cost;
 use std::collections::HashMap;
 
-#[derive(Default)]
 pub struct Profile {
     /// (exception number, block address) → cycles
     blocks: HashMap<(usize, u32), (u64, u64)>,
+    /// the model's cycles in which blocks are counted
+    pub window: std::ops::Range<u64>,
+}
+
+impl Default for Profile {
+    fn default() -> Profile {
+        Profile { blocks: HashMap::new(), window: 0..u64::MAX }
+    }
 }
 
 impl Profile {
@@ -16,6 +23,14 @@ impl Profile {
         let e = self.blocks.entry((exc, addr)).or_default();
         e.0 += c.model as u64;
         e.1 += c.bound as u64;
+    }
+
+    /// Exception `exc`'s blocks: (address, model, bound), most first.
+    pub fn blocks(&self, exc: usize) -> Vec<(u32, u64, u64)> {
+        let mut v: Vec<(u32, u64, u64)> =
+            self.blocks.iter().filter(|(k, _)| k.0 == exc).map(|(k, v)| (k.1, v.0, v.1)).collect();
+        v.sort_by_key(|r| std::cmp::Reverse(r.2));
+        v
     }
 
     /// Exception `exc`'s cycles by function (named by `name`), most first:
