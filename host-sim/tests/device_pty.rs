@@ -325,3 +325,123 @@ fn negative_numbers_on_nested_commands_are_refused_naming_their_flag_and_range()
         assert!(heard.is_empty(), "{args}: sent {heard:?}");
     }
 }
+
+/// The machinist's terminal: a pseudo-terminal whose master the test
+/// types into and reads (non-blocking), and whose slave becomes the
+/// child's stdin, stdout, stderr and controlling terminal.
+struct Term {
+    master: std::fs::File,
+    slave: std::os::fd::OwnedFd,
+    seen: Vec<u8>,
+}
+
+impl Term {
+    fn new() -> Term {
+        use std::os::fd::FromRawFd;
+        let _g = spawning();
+        let (mut m, mut s) = (0, 0);
+        // SAFETY: openpty writes two new descriptors, owned from here on
+        let r = unsafe { libc::openpty(&mut m, &mut s, std::ptr::null_mut(), std::ptr::null(), std::ptr::null()) };
+        assert_eq!(r, 0, "openpty");
+        // SAFETY: m and s are open descriptors owned by no one else
+        unsafe {
+            libc::fcntl(m, libc::F_SETFD, libc::FD_CLOEXEC);
+            libc::fcntl(s, libc::F_SETFD, libc::FD_CLOEXEC);
+            libc::fcntl(m, libc::F_SETFL, libc::O_NONBLOCK);
+            Term { master: std::fs::File::from_raw_fd(m), slave: std::os::fd::OwnedFd::from_raw_fd(s), seen: vec![] }
+        }
+    }
+
+    /// `polyturn device --port PORT ARGS` on this terminal.
+    fn spawn(&self, port: &str, args: &[&str]) -> std::process::Child {
+        use std::os::unix::process::CommandExt;
+        let _g = spawning();
+        let io = || Stdio::from(self.slave.try_clone().unwrap());
+        let mut c = Command::new(env!("CARGO_BIN_EXE_polyturn"));
+        c.args(["device", "--port", port]).args(args).stdin(io()).stdout(io()).stderr(io());
+        // SAFETY: only async-signal-safe calls between fork and exec
+        unsafe {
+            c.pre_exec(|| {
+                libc::setsid();
+                libc::ioctl(0, libc::TIOCSCTTY as _, 0);
+                Ok(())
+            });
+        }
+        c.spawn().unwrap()
+    }
+
+    /// Reads until `text` has been shown (at most 20 s).
+    fn until(&mut self, text: &str) {
+        let deadline = Instant::now() + Duration::from_secs(20);
+        while !String::from_utf8_lossy(&self.seen).contains(text) {
+            assert!(Instant::now() < deadline, "'{text}' never shown: {:?}", String::from_utf8_lossy(&self.seen));
+            self.read();
+        }
+    }
+
+    /// Reads until the cursor was last hidden, not shown (at most 20 s).
+    fn until_hidden(&mut self, hide: &str, show: &str) {
+        let deadline = Instant::now() + Duration::from_secs(20);
+        loop {
+            let shown = String::from_utf8_lossy(&self.seen).into_owned();
+            if shown.rfind(hide).is_some_and(|h| shown.rfind(show).is_none_or(|s| s < h)) {
+                return;
+            }
+            assert!(Instant::now() < deadline, "the cursor never hidden: {shown:?}");
+            self.read();
+        }
+    }
+
+    fn read(&mut self) {
+        let mut buf = [0u8; 4096];
+        match self.master.read(&mut buf) {
+            Ok(n) if n > 0 => self.seen.extend_from_slice(&buf[..n]),
+            _ => std::thread::sleep(Duration::from_millis(10)),
+        }
+    }
+
+    fn type_keys(&mut self, keys: &[u8]) {
+        self.master.write_all(keys).unwrap();
+    }
+
+    /// Waits (at most 20 s) for the child to end, reading what it shows.
+    fn end(&mut self, child: &mut std::process::Child) -> std::process::ExitStatus {
+        let deadline = Instant::now() + Duration::from_secs(20);
+        loop {
+            self.read();
+            if let Some(status) = child.try_wait().unwrap() {
+                for _ in 0..20 {
+                    self.read();
+                }
+                return status;
+            }
+            assert!(Instant::now() < deadline, "still running: {:?}", String::from_utf8_lossy(&self.seen));
+        }
+    }
+}
+
+#[test]
+fn ctrl_c_at_a_yes_no_or_a_list_prompt_gives_the_terminal_its_cursor_back() {
+    const HIDE: &str = "\x1b[?25l";
+    const SHOW: &str = "\x1b[?25h";
+    // (keys before Ctrl-C, what is on screen then): the index question
+    // (yes/no); the cutter question (a list), after the encoder check
+    for (keys, prompt) in [(&[][..], "index (Z) pulse"), (&[&b"y"[..], b"\r", b"600\r"][..], "What turns the cutter?")]
+    {
+        let f = fake(Board::Real);
+        let mut t = Term::new();
+        let mut child = t.spawn(&f.path, &["setup"]);
+        t.until("index (Z) pulse");
+        for (i, k) in keys.iter().enumerate() {
+            t.type_keys(k);
+            t.until(["Turn the chuck", "Encoder lines", prompt][i]);
+        }
+        t.until_hidden(HIDE, SHOW);
+        t.type_keys(b"\x03");
+        let status = t.end(&mut child);
+        let shown = String::from_utf8_lossy(&t.seen).into_owned();
+        assert!(!status.success(), "{prompt}: cancelled is not a success: {shown:?}");
+        let (hidden, back) = (shown.rfind(HIDE).unwrap(), shown.rfind(SHOW));
+        assert!(back.is_some_and(|b| b > hidden), "{prompt}: the cursor is left hidden: {shown:?}");
+    }
+}

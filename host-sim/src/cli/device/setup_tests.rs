@@ -36,7 +36,7 @@ fn the_non_interactive_setup_derives_sends_and_saves_the_settings() {
     let c = *s.io.ctl.config();
     assert_eq!((c.encoder_counts_per_rev, c.motor_steps_per_rev, c.max_lathe_rpm), (4_000, 3_200, 600));
     assert_eq!((c.sense, c.step_pulse_ns), (polyturn_sync::Sense::Opposite, 2_500), "a reversed encoder flips dir");
-    assert_eq!(sent(&s).last().map(String::as_str), Some("save"));
+    assert_eq!(sent(&s).iter().rev().take(2).collect::<Vec<_>>(), ["get", "save"], "saved, then read back");
     assert!(out.contains("at ratio 2: 8/5 motor steps per encoder count"), "{out}");
     assert!(out.contains("ratio    4:   600 rpm"), "{out}");
 }
@@ -107,7 +107,7 @@ fn missing_or_impossible_facts_change_nothing_on_the_board() {
     .unwrap_err();
     assert!(e.0.contains("do not fit together"), "{}", e.0);
     let e = run(&mut s, &args("--non-interactive --encoder-lines 600 --motor-steps 200 --microsteps 1 --reduction 37/21 --max-lathe-rpm 600"), &mut Scripted::new(&[])).unwrap_err();
-    assert!(e.0.starts_with("--reduction"), "{}", e.0);
+    assert!(e.0.starts_with("--motor-steps x --microsteps x --reduction: 200 x 1 x 37/21"), "{}", e.0);
     assert!(sent(&s).iter().all(|l| !l.starts_with("set ")), "{:?}", sent(&s));
     assert_eq!(*s.io.ctl.config(), Config::default());
 }
@@ -154,7 +154,7 @@ fn the_interview_measures_the_encoder_jogs_the_cutter_and_saves() {
     assert!(sent(&s).contains(&"set cutter-cpr off".to_string()), "{:?}", sent(&s));
     assert!(out.contains("start-rate 1600 steps/s: engaged at rest"), "{out}");
     let cmds = sent(&s);
-    assert!(cmds.contains(&"jog 360".to_string()) && cmds.last().unwrap() == "save", "{cmds:?}");
+    assert!(cmds.contains(&"jog 360".to_string()) && cmds[cmds.len() - 2] == "save", "{cmds:?}");
     assert!(ask.said.iter().any(|l| l.contains("proposed: set cpr 2000")), "{:?}", ask.said);
     assert!(out.contains("ok saving") || out.contains("saving"), "{out}");
 }
@@ -249,4 +249,112 @@ fn the_interview_asks_a_bldcs_drive_and_jogs_it_on_its_encoder() {
     assert!(refused[0].contains("pwm-hz 7000") && refused[1].contains("--cutter-max-rpm"), "{refused:?}");
     assert!(!ask.said.iter().any(|l| l.contains("STEP pulse")), "no stepper's question: {:?}", ask.said);
     assert!(out.contains("bldc-out pwm at 8000 Hz"), "{out}");
+}
+
+#[test]
+fn the_summary_is_what_the_board_holds_after_the_last_save() {
+    let mut s = hand_turned();
+    let mut ask = Scripted::new(&[
+        "y",
+        "",
+        "y",
+        "a stepper",
+        "200",
+        "16",
+        "direct",
+        "same",
+        "1000",
+        "2500",
+        "5000",
+        "n",
+        "0",
+        "",
+        "one turn",
+        "n", // the jog turned the wrong way: dir flipped and saved
+    ]);
+    let out = run(&mut s, &args(""), &mut ask).unwrap_or_else(|e| panic!("{e:?} after {:?}", sent(&s)));
+    assert_eq!(s.io.ctl.config().sense, polyturn_sync::Sense::Opposite);
+    let set = out.lines().find(|l| l.starts_with("set: ")).unwrap_or_else(|| panic!("{out}"));
+    assert!(set.contains("dir=opposite") && !set.contains("dir=same"), "{out}");
+    let cmds = sent(&s);
+    let saved = cmds.iter().rposition(|c| c == "save").unwrap();
+    assert!(cmds[saved + 1..].iter().any(|c| c == "get"), "read back after the save: {cmds:?}");
+}
+
+#[test]
+fn a_bldc_setup_refuses_a_steppers_flag_as_every_other_flag_of_the_other_cutter() {
+    for flag in ["--motor-steps 400", "--microsteps 8", "--reduction 2", "--pulse-ns 2500", "--dir-setup-ns 5000"] {
+        let mut s = session(FakeDevice::new());
+        let e = run(&mut s, &args(&format!("{BLDC} --bldc-out pwm {flag}")), &mut Scripted::new(&[])).unwrap_err();
+        let name = flag.split(' ').next().unwrap();
+        assert_eq!(e.0, format!("{name} is for a stepper (--drive stepper)"), "{flag}");
+        assert!(sent(&s).iter().all(|l| !l.starts_with("set ")), "{flag}: {:?}", sent(&s));
+    }
+}
+
+#[test]
+fn a_bldc_setup_clears_what_a_stepper_left_that_would_bind_it() {
+    // a stepper's start rate found at 200 000 steps/s, past the BLDC's
+    // full scale (1 500 rpm x 4 000 counts / 60 = 100 000 counts/s); and a
+    // slow driver's 10 µs pulse, which holds max-rate to 50 000
+    let bldc = BLDC.replace("3000 --no", "1500 --no") + " --bldc-out pwm";
+    for (board, full_scale) in [
+        (&["set start-rate 200000"][..], 100_000),
+        (&["set max-rpm 300", "set max-rate 50000", "set pulse 10000"][..], 200_000),
+    ] {
+        let mut s = session(FakeDevice::new());
+        for l in board {
+            s.ask(l).unwrap();
+        }
+        let flags = if full_scale == 100_000 { bldc.clone() } else { format!("{BLDC} --bldc-out pwm") };
+        let out = run(&mut s, &args(&flags), &mut Scripted::new(&[])).unwrap_or_else(|e| panic!("{board:?}: {}", e.0));
+        let c = *s.io.ctl.config();
+        assert_eq!((c.drive, c.max_step_rate_hz), (polyturn_sync::DriveKind::Bldc, full_scale), "{out}");
+        assert_eq!((c.start_rate_hz, c.step_pulse_ns), (0, Config::default().step_pulse_ns), "{out}");
+        assert!(out.contains("start-rate=0") && out.contains("pulse=2000"), "said: {out}");
+    }
+}
+
+#[test]
+fn every_prompt_takes_the_consoles_range_and_asks_again() {
+    let mut s = hand_turned();
+    let mut ask = Scripted::new(&[
+        "y",
+        "",
+        "y",
+        "a stepper",
+        "100000",
+        "512",
+        "direct", // 51 200 000 steps a cutter turn: past the console's 1 000 000
+        "200",
+        "16",
+        "belt or gears",
+        "7",
+        "3", // 7/3 of 3 200 steps: no whole number
+        "200",
+        "16",
+        "direct",
+        "same",
+        "20000", // past max-rpm's 10 000
+        "1000",
+        "500000", // a pulse past the console's 100 000 ns
+        "2500",
+        "200000", // a DIR setup past 100 000 ns
+        "5000",
+        "n",
+        "0",
+        "",
+        "one turn",
+        "y",
+    ]);
+    let out = run(&mut s, &args(""), &mut ask).unwrap_or_else(|e| panic!("{e:?}: {:?}", ask.said));
+    let c = *s.io.ctl.config();
+    assert_eq!((c.motor_steps_per_rev, c.max_lathe_rpm, c.step_pulse_ns, c.dir_setup_ns), (3_200, 1_000, 2_500, 5_000));
+    let refused: Vec<&String> = ask.said.iter().filter(|l| l.starts_with("refused: ")).collect();
+    assert_eq!(refused.len(), 5, "{:?}", ask.said);
+    assert!(refused[0].contains("1..=1000000 steps per cutter rev"), "{refused:?}");
+    assert!(refused[1].contains("not a whole number"), "{refused:?}");
+    assert!(refused[2].contains("1..=10000") && refused[3].contains("100..=100000"), "{refused:?}");
+    assert!(refused[4].contains("0..=100000"), "{refused:?}");
+    assert!(out.contains("saving"), "{out}");
 }

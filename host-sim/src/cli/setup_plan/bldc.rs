@@ -5,7 +5,8 @@
 //! performance page shows them).
 
 use crate::cli::errors::{CliError, CliResult};
-use crate::cli::values::{bldc_out, pwm_hz, whole32};
+use crate::cli::values::{bldc_out, pwm_hz, setting, whole32};
+use polyturn_sync::config::table::{BLDC_TAU, MAX_RATE};
 use polyturn_sync::config::BldcOut;
 use polyturn_sync::Config;
 
@@ -16,11 +17,11 @@ pub struct BldcArgs {
     /// With --drive bldc: what PB8 sends the drive: pwm (a spindle driver's speed input), esc400, oneshot125 or esc50 (an RC ESC's pulse) (the console's `bldc-out`)
     #[arg(long, value_name = "pwm|esc400|oneshot125|esc50", value_parser = bldc_out)]
     pub bldc_out: Option<BldcOut>,
-    /// With --bldc-out pwm: the frequency the driver takes, Hz (1000..=20000, a divisor of 96000000; the console's `pwm-hz`)
+    /// With --bldc-out pwm: the frequency the driver takes, Hz
     #[arg(long, value_name = "HZ", value_parser = pwm_hz)]
     pub pwm_hz: Option<u32>,
-    /// With --drive bldc: the drive's time constant from the bench procedure, ms (1..=1000; the console's `bldc-tau`)
-    #[arg(long, value_name = "MS", value_parser = whole32(1, 1_000))]
+    /// With --drive bldc: the drive's time constant from the bench procedure, ms
+    #[arg(long, value_name = "MS", value_parser = setting(BLDC_TAU))]
     pub bldc_tau: Option<u32>,
     /// With --drive bldc: the cutter's speed at full command (100 % duty, or the ESC's 2.0 ms pulse), rpm
     #[arg(long, value_name = "RPM", value_parser = whole32(1, 100_000))]
@@ -46,9 +47,6 @@ pub struct BldcFacts {
 pub fn from_flags(a: &BldcArgs, cutter_cpr: Option<u32>) -> CliResult<BldcFacts> {
     let need = |flag: &str| CliError::flag(flag, "is needed with --drive bldc");
     let out = a.bldc_out.ok_or_else(|| need("bldc-out"))?;
-    if a.pwm_hz.is_some() && out != BldcOut::Pwm {
-        return Err(CliError::flag("pwm-hz", "is for --bldc-out pwm (an RC ESC's frame is fixed)"));
-    }
     let counts = cutter_cpr.filter(|&n| n != 0).ok_or_else(|| {
         CliError::flag(
             "cutter-encoder-cpr",
@@ -62,25 +60,34 @@ pub fn from_flags(a: &BldcArgs, cutter_cpr: Option<u32>) -> CliResult<BldcFacts>
 /// `max-rate`, counts/s, from the cutter's full speed and its encoder.
 pub fn max_rate(rpm: u32, counts: u32) -> CliResult<u32> {
     let rate = rpm as u64 * counts as u64 / 60;
-    if !(1..=250_000).contains(&rate) {
-        return Err(CliError::flag(
+    match u32::try_from(rate).ok().filter(|&r| MAX_RATE.contains(r)) {
+        Some(r) => Ok(r),
+        None => Err(CliError::flag(
             "cutter-max-rpm",
-            format!("x {counts} counts per turn / 60 is {rate} counts/s: the board takes 1..=250000 (max-rate)"),
-        ));
+            format!(
+                "x {counts} counts per turn / 60 is {rate} counts/s: the console's `max-rate` takes {} (got {rpm})",
+                MAX_RATE.allowed
+            ),
+        )),
     }
-    Ok(rate as u32)
 }
 
 /// The settings a BLDC cutter makes besides `steps` (its encoder's
 /// counts, `Facts::steps`): `max-rate` the drive's full scale, and
 /// `ferror` twice the error the drive is expected to reach in the cut (so
-/// a good cut never trips it).
+/// a good cut never trips it). A stepper's settings that would still act
+/// on it or bind it go back to their defaults: `start-rate` (the follower
+/// would jump the BLDC's speed, and it must not exceed `max-rate`) and
+/// `pulse` (a STEP pulse bounds `max-rate`: max-rate x 2 x pulse <= 1 s).
 pub fn changes(f: &BldcFacts) -> Vec<(String, String)> {
+    let stepper = Config::default();
     let mut c = vec![
         ("drive".to_string(), "bldc".to_string()),
         ("bldc-out".into(), f.out.name().into()),
         ("max-rate".into(), f.max_rate.to_string()),
         ("ferror".into(), ferror(f.out, f.counts).to_string()),
+        ("start-rate".into(), stepper.start_rate_hz.to_string()),
+        ("pulse".into(), stepper.step_pulse_ns.to_string()),
     ];
     if let Some(hz) = f.pwm_hz {
         c.push(("pwm-hz".into(), hz.to_string()));
@@ -204,8 +211,6 @@ mod tests {
         let fast = BldcArgs { cutter_max_rpm: Some(4_000), ..a.clone() };
         let e = from_flags(&fast, Some(4_000)).unwrap_err().0;
         assert!(e.starts_with("--cutter-max-rpm") && e.contains("266666 counts/s"), "{e}");
-        let esc_hz = BldcArgs { pwm_hz: Some(2_000), ..a.clone() };
-        assert!(from_flags(&esc_hz, Some(4_000)).unwrap_err().0.starts_with("--pwm-hz is for --bldc-out pwm"));
         assert!(from_flags(&BldcArgs { bldc_out: None, ..a }, Some(4_000))
             .unwrap_err()
             .0
