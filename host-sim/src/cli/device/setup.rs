@@ -35,19 +35,11 @@ pub fn run<P: Read + Write>(s: &mut Session<P>, a: &SetupArgs, ask: &mut dyn Ask
     Ok(format!("{}\n{saved}", summary(&now, &order)))
 }
 
-/// `save`, asked again while the board says the lathe is not at rest yet:
-/// each `set` restarts its at-rest estimate (0.1 s without an encoder count,
-/// `Controller::lathe_at_rest`), so a save right after the settings is
-/// refused though the lathe stands still. Asked again up to the timeout.
+/// `save`, waiting as long as a save takes. A `set` leaves a lathe at rest
+/// at rest (`Controller::lathe_at_rest`), so a refusal here is real: the
+/// board's reply says what it saw of the lathe.
 fn save_at_rest<P: Read + Write>(s: &mut Session<P>) -> CliResult<String> {
-    let until = std::time::Instant::now() + s.timeout;
-    loop {
-        let reply = s.ask_within("save", super::FLASH_WAIT.max(s.timeout))?;
-        if !reply.starts_with("error: stop the lathe first") || std::time::Instant::now() >= until {
-            return ok_or_device_error(reply);
-        }
-        std::thread::sleep(std::time::Duration::from_millis(50));
-    }
+    ok_or_device_error(s.ask_within("save", super::FLASH_WAIT.max(s.timeout))?)
 }
 
 /// What can turn the cutter, in the order offered.
