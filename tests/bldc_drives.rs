@@ -176,8 +176,7 @@ fn an_rc_esc_at_400_hz_or_oneshot125_holds_phase_while_cutting_but_not_the_run_d
 
 /// `ferror` as the guided setup sets it (twice the accuracy it promises
 /// each interface, `setup_plan::bldc::ferror`): the cut is never stopped
-/// by it. (As a console default it was 64 counts, loose enough to hide a
-/// cutter 8 times further off than promised.)
+/// by it.
 #[test]
 fn the_setups_ferror_never_stops_a_good_cut() {
     use polyturn_host::cli::setup_plan::bldc::ferror;

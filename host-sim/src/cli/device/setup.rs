@@ -30,7 +30,7 @@ pub fn run<P: Read + Write>(s: &mut Session<P>, a: &SetupArgs, ask: &mut dyn Ask
     let saved = if a.no_save {
         "not saved (--no-save): the settings last until the board restarts".to_string()
     } else {
-        save_at_rest(s)?
+        save(s)?
     };
     Ok(format!("{}\n{saved}", summary(&now, &order)))
 }
@@ -38,7 +38,7 @@ pub fn run<P: Read + Write>(s: &mut Session<P>, a: &SetupArgs, ask: &mut dyn Ask
 /// `save`, waiting as long as a save takes. A `set` leaves a lathe at rest
 /// at rest (`Controller::lathe_at_rest`), so a refusal here is real: the
 /// board's reply says what it saw of the lathe.
-fn save_at_rest<P: Read + Write>(s: &mut Session<P>) -> CliResult<String> {
+fn save<P: Read + Write>(s: &mut Session<P>) -> CliResult<String> {
     ok_or_device_error(s.ask_within("save", super::FLASH_WAIT.max(s.timeout))?)
 }
 
