@@ -4,7 +4,7 @@
 #![cfg(unix)]
 
 use polyturn_sync::console::{self, tag, Action};
-use polyturn_sync::{Config, Controller, Timing};
+use polyturn_sync::{Config, Controller, TickInput, Timing};
 use serialport::{SerialPort, TTYPort};
 use std::io::{Read, Write};
 use std::process::{Command, Stdio};
@@ -34,6 +34,10 @@ enum Board {
     Long(usize),
     /// closes the port when a command arrives, unanswered
     Hangup,
+    /// the real console on a board whose time passes: it has been on
+    /// 0.2 s, and this many control ticks (25 kHz) pass before each line,
+    /// the lathe at rest
+    Ticking(usize),
 }
 
 struct Fake {
@@ -76,6 +80,14 @@ fn fake(board: Board) -> Fake {
 
 fn serve(port: &mut TTYPort, board: Board, heard: &Mutex<Vec<String>>, stop: &AtomicBool) {
     let mut ctl = Controller::new(Config::default(), Timing::FIRMWARE);
+    let pass = |ctl: &mut Controller, ticks: usize| {
+        for _ in 0..ticks {
+            ctl.tick(&TickInput::default());
+        }
+    };
+    if let Board::Ticking(_) = board {
+        pass(&mut ctl, 5_000);
+    }
     let (mut line, mut watching, mut buf) = (Vec::new(), false, [0u8; 64]);
     while !stop.load(Ordering::SeqCst) {
         let n = port.read(&mut buf).unwrap_or(0);
@@ -104,6 +116,9 @@ fn serve(port: &mut TTYPort, board: Board, heard: &Mutex<Vec<String>>, stop: &At
             let text = String::from_utf8_lossy(&std::mem::take(&mut line)).into_owned();
             heard.lock().unwrap().push(text.clone());
             let tag = text.split_once(' ').map_or("", |(t, _)| t);
+            if let Board::Ticking(ticks) = board {
+                pass(&mut ctl, ticks);
+            }
             let reply = match board {
                 Board::Hangup => {
                     // the command is in: the board goes (unplugged, a reset)
@@ -112,7 +127,7 @@ fn serve(port: &mut TTYPort, board: Board, heard: &Mutex<Vec<String>>, stop: &At
                 }
                 Board::Odd(body) => format!("{tag} {body}\r\n"),
                 Board::Long(n) => format!("{tag} ok {}\r\n", "x".repeat(n - tag.len() - 4)),
-                Board::Real | Board::Echo { board: true } => match tag::split(text.as_bytes()) {
+                Board::Real | Board::Echo { board: true } | Board::Ticking(_) => match tag::split(text.as_bytes()) {
                     Ok((t, body)) => {
                         let (r, a) = console::handle(body, &mut ctl);
                         watching = a == Action::Watch;
@@ -162,6 +177,17 @@ fn the_binary_talks_to_the_real_console_with_tagged_lines() {
     let (code, out, _, _) = polyturn(&f.path, "set phase -12.5");
     assert_eq!((code, out.trim()), (0, "ok phase=-12.500"));
     assert!(f.heard.lock().unwrap().iter().all(|l| l.starts_with('#')), "every command is tagged");
+}
+
+/// `polyturn device set cpr 1000 && polyturn device save`, a millisecond
+/// of the board's time apart, the lathe at rest: the save goes.
+#[test]
+fn set_then_save_with_the_lathe_at_rest_is_saved() {
+    let f = fake(Board::Ticking(25));
+    let (code, out, err, _) = polyturn(&f.path, "set cpr 1000");
+    assert_eq!((code, out.trim()), (0, "ok cpr=1000"), "{err}");
+    let (code, out, err, _) = polyturn(&f.path, "save");
+    assert_eq!((code, out.trim(), err.as_str()), (0, "ok saving", ""));
 }
 
 #[test]
@@ -444,4 +470,33 @@ fn ctrl_c_at_a_yes_no_or_a_list_prompt_gives_the_terminal_its_cursor_back() {
         let (hidden, back) = (shown.rfind(HIDE).unwrap(), shown.rfind(SHOW));
         assert!(back.is_some_and(|b| b > hidden), "{prompt}: the cursor is left hidden: {shown:?}");
     }
+}
+
+/// A cam table file whose steps per mm no `polyturn cam` makes, or whose
+/// points no X axis follows, is refused before anything is sent.
+#[test]
+fn a_cam_table_the_board_would_refuse_is_refused_before_anything_is_sent() {
+    let dir = std::env::temp_dir().join(format!("polyturn-pty-cam-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let table = |spm: &str, jump: i32| {
+        let points: Vec<String> = (0..1024).map(|i| if i == 500 { jump.to_string() } else { "0".into() }).collect();
+        format!(
+            r#"{{"format":"polyturn-cam-1","counts_per_rev":2400,"period_counts":2400,"steps_per_mm":{spm},"max_rate_hz":12500,"max_accel":1000000,"points":[{}]}}"#,
+            points.join(",")
+        )
+    };
+    for (name, text, says) in [
+        ("zero.json", table("0", 0), "steps_per_mm must be a finite number >= 1 and <= 100000 (got 0.0)"),
+        ("neg.json", table("-800", 0), "(got -800.0)"),
+        ("huge.json", table("1e308", 0), "(got 1e308)"),
+        ("jump.json", table("800", 100_000), "neighbouring points 100000 steps apart need 1706650 X steps/s"),
+    ] {
+        let path = dir.join(name);
+        std::fs::write(&path, text).unwrap();
+        let (code, out, err, heard) = run_against(Board::Real, &format!("upload-cam {}", path.display()));
+        assert_eq!(code, 2, "{name}: {out}");
+        assert!(err.contains("is refused: ") && err.contains(says), "{name}: {err}");
+        assert!(heard.is_empty(), "{name}: sent {heard:?}");
+    }
+    let _ = std::fs::remove_dir_all(&dir);
 }

@@ -11,9 +11,10 @@ use crate::noncircular::order;
 use crate::noncircular::path::ToolPath;
 use crate::noncircular::plan::{plan, Evaluation, Limit, Outcome, TOLERANCE_MM};
 use crate::noncircular::rounded::Rounded;
-use crate::noncircular::table::{build, CamFile};
+use crate::noncircular::table::{build, CamFile, STEPS_PER_MM};
 use polyturn_sync::cam::{Cam, CamError};
 use polyturn_sync::config::table::CPR;
+use polyturn_sync::cam_upload::motion::MotionError;
 use request::{request, turns, Request};
 use serde_json::json;
 use std::f64::consts::TAU;
@@ -53,7 +54,7 @@ pub struct CamArgs {
     #[arg(long, value_name = "M", allow_hyphen_values = true, value_parser = turns)]
     pub m: Option<u32>,
     /// X axis steps per mm of tool radius: a 1 mm screw, 200-step motor at 256 microsteps is 51200; under 1 a step is more than ten times the 0.1 mm a table may be off
-    #[arg(long, value_name = "STEPS/MM", default_value = "800", allow_hyphen_values = true, value_parser = within(1.0, 1e5, "steps/mm"))]
+    #[arg(long, value_name = "STEPS/MM", default_value = "800", allow_hyphen_values = true, value_parser = within(STEPS_PER_MM.0, STEPS_PER_MM.1, "steps/mm"))]
     pub steps_per_mm: f64,
     /// Lathe encoder counts per turn, after x4 quadrature
     #[arg(long = "encoder-cpr", alias = "encoder-counts", value_name = "COUNTS", default_value = "2400", allow_hyphen_values = true, value_parser = setting(CPR))]
@@ -103,6 +104,12 @@ fn faithful(table: &CamFile, dev_mm: f64, r: &Request) -> CliResult<()> {
     Cam::check(&table.points, table.period_counts).map_err(|e| match e {
         CamError::Step => CliError::flag("steps-per-mm", format!("is too fine for this path: {}", e.describe())),
         CamError::Points | CamError::Period => CliError::flag("encoder-cpr", e.describe()),
+    })?;
+    // the board's check of the points against the X axis the table
+    // declares; a plan within the axis at --rpm (>= 1) passes it
+    polyturn_sync::cam_upload::motion::check(&table.header(), &table.points).map_err(|e| match e {
+        MotionError::Rate { .. } => CliError::flag("x-max-speed", e.to_string()),
+        MotionError::Accel { .. } => CliError::flag("x-max-accel", e.to_string()),
     })?;
     if dev_mm <= TABLE_REFUSED_MM {
         return Ok(());

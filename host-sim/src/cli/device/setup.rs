@@ -35,7 +35,7 @@ pub fn run<P: Read + Write>(s: &mut Session<P>, a: &SetupArgs, ask: &mut dyn Ask
     let saved = if a.no_save {
         "not saved (--no-save): the settings last until the board restarts".to_string()
     } else {
-        save_at_rest(s)?
+        save(s)?
     };
     // the summary is what the board holds after the last save, read back
     let (reply, now) = read_back(s)?;
@@ -62,19 +62,11 @@ fn held(reply: &str, names: &[&str]) -> Vec<(String, String)> {
     out
 }
 
-/// `save`, asked again while the board says the lathe is not at rest yet:
-/// each `set` restarts its at-rest estimate (0.1 s without an encoder count,
-/// `Controller::lathe_at_rest`), so a save right after the settings is
-/// refused though the lathe stands still. Asked again up to the timeout.
-fn save_at_rest<P: Read + Write>(s: &mut Session<P>) -> CliResult<String> {
-    let until = std::time::Instant::now() + s.timeout;
-    loop {
-        let reply = s.ask_within("save", super::FLASH_WAIT.max(s.timeout))?;
-        if !reply.starts_with("error: stop the lathe first") || std::time::Instant::now() >= until {
-            return ok_or_device_error(reply);
-        }
-        std::thread::sleep(std::time::Duration::from_millis(50));
-    }
+/// `save`, waiting as long as a save takes. A `set` leaves a lathe at rest
+/// at rest (`Controller::lathe_at_rest`), so a refusal here is real: the
+/// board's reply says what it saw of the lathe.
+fn save<P: Read + Write>(s: &mut Session<P>) -> CliResult<String> {
+    ok_or_device_error(s.ask_within("save", super::FLASH_WAIT.max(s.timeout))?)
 }
 
 /// What can turn the cutter, in the order offered.

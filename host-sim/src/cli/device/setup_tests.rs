@@ -115,36 +115,74 @@ fn missing_or_impossible_facts_change_nothing_on_the_board() {
 /// A board whose 2 000-count lathe the machinist turns for the encoder
 /// check (and only then).
 fn hand_turned() -> Session<FakeDevice> {
+    hand_turned_at(110_000)
+}
+
+/// `hand_turned`, `ticks` of the board passing before each line (the
+/// check's hand still takes 4.4 s).
+fn hand_turned_at(ticks: usize) -> Session<FakeDevice> {
     let mut dev = FakeDevice::new();
-    let mut m = Machine::new(110_000);
-    (m.counts_per_tick_x1000, m.cpr, m.turn_for_check) = (100, 2_000, true);
+    let mut m = Machine::new(ticks);
+    (m.counts_per_tick_x1000, m.cpr, m.turn_for_check, m.check_ticks) = (100, 2_000, true, 110_000);
     dev.machine = Some(m);
     let mut s = session(dev);
     s.timeout = std::time::Duration::from_secs(30);
     s
 }
 
+/// A machinist who answers at once: 40 ms of the board between lines, so
+/// the jog comes 80 ms after the last setting is sent, and the save 40 ms
+/// after `set dir`. The lathe has rested since the check: both go.
+#[test]
+fn the_interview_answered_at_once_jogs_and_saves() {
+    let mut s = hand_turned_at(1_000);
+    let mut ask = Scripted::new(INTERVIEW);
+    let out = run(&mut s, &args(""), &mut ask).unwrap_or_else(|e| panic!("{e:?} after {:?}", sent(&s)));
+    let cmds = sent(&s);
+    assert!(cmds.contains(&"jog 360".to_string()), "{cmds:?}");
+    assert_eq!(cmds.iter().rev().take(2).collect::<Vec<_>>(), ["get", "save"], "saved, then read back: {cmds:?}");
+    assert!(out.contains("ok saving"), "{out}");
+    assert_eq!(s.io.ctl.config().sense, polyturn_sync::Sense::Opposite);
+}
+
+/// The non-interactive setup, each line 1 ms of the board apart and a
+/// timeout of 10 ms: the save right after the settings is saved.
+#[test]
+fn the_non_interactive_setup_saves_at_once_after_its_settings() {
+    let mut dev = FakeDevice::new();
+    dev.machine = Some(Machine::new(25));
+    let mut s = session(dev);
+    s.timeout = std::time::Duration::from_millis(10);
+    let a = args("--non-interactive --encoder-lines 1000 --microsteps 8 --max-lathe-rpm 600");
+    let out = run(&mut s, &a, &mut Scripted::new(&[])).unwrap_or_else(|e| panic!("{e:?} after {:?}", sent(&s)));
+    assert_eq!(sent(&s).iter().filter(|l| *l == "save").count(), 1, "{:?}", sent(&s));
+    assert!(out.ends_with("ok saving"), "{out}");
+}
+
+/// The interview's answers, in order.
+const INTERVIEW: &[&str] = &[
+    "y",
+    "",
+    "y", // index; turn the chuck; use the measured cpr
+    "a stepper",
+    "200",
+    "16",
+    "direct",
+    "same",
+    "1000",
+    "2500",
+    "5000", // motor, sense, lathe, driver
+    "n",    // no shaft encoder (the fake board has none: a jog would trip lost-steps)
+    "1600", // the start rate found on the bench
+    "",
+    "one turn",
+    "n", // the jog: one turn, but the wrong way
+];
+
 #[test]
 fn the_interview_measures_the_encoder_jogs_the_cutter_and_saves() {
     let mut s = hand_turned();
-    let mut ask = Scripted::new(&[
-        "y",
-        "",
-        "y", // index; turn the chuck; use the measured cpr
-        "a stepper",
-        "200",
-        "16",
-        "direct",
-        "same",
-        "1000",
-        "2500",
-        "5000", // motor, sense, lathe, driver
-        "n",    // no shaft encoder (the fake board has none: a jog would trip lost-steps)
-        "1600", // the start rate found on the bench
-        "",
-        "one turn",
-        "n", // the jog: one turn, but the wrong way
-    ]);
+    let mut ask = Scripted::new(INTERVIEW);
     let out = run(&mut s, &args(""), &mut ask).unwrap_or_else(|e| panic!("{e:?} after {:?}", sent(&s)));
     let c = *s.io.ctl.config();
     assert_eq!(c.encoder_counts_per_rev, 2_000, "measured by the check, not the default 2400");
@@ -174,14 +212,14 @@ fn a_bldc_cutter_is_set_from_its_drive_its_encoder_and_its_full_speed() {
     assert_eq!((c.motor_steps_per_rev, c.max_step_rate_hz), (4_000, 200_000), "its encoder; 3 000 rpm of it");
     assert!(out.contains("bldc-out pwm at 2000 Hz") && out.contains("expect the cutter within about 0.7°"), "{out}");
     assert!(!out.contains("bldc-tau is still the default"), "{out}");
-    // an RC ESC on a fine encoder: ferror is twice what it is expected to
-    // reach, 2 x 2° of 40 000 counts (on 4 000, 45: the default 64 stays)
+    // an RC ESC: ferror is twice what it is expected to reach, 2 x 2° of
+    // 40 000 counts, and of 4 000 counts 45
     let mut s = session(FakeDevice::new());
     let fine = "--non-interactive --drive bldc --encoder-lines 600 --max-lathe-rpm 100 --cutter-encoder-cpr 40000 --cutter-max-rpm 300 --no-save";
     run(&mut s, &args(&format!("{fine} --bldc-out esc400")), &mut Scripted::new(&[])).unwrap();
     assert_eq!(s.io.ctl.config().following_error_limit_steps, 445);
     run(&mut s, &args(&format!("{BLDC} --bldc-out esc400")), &mut Scripted::new(&[])).unwrap();
-    assert_eq!(s.io.ctl.config().following_error_limit_steps, 64);
+    assert_eq!(s.io.ctl.config().following_error_limit_steps, 45);
     // and back to a stepper, by the same setup
     run(&mut s, &args("--non-interactive --encoder-lines 600 --max-lathe-rpm 600 --no-save"), &mut Scripted::new(&[]))
         .unwrap();

@@ -112,11 +112,20 @@ pub fn expected_mdeg(out: BldcOut) -> Option<u32> {
     }
 }
 
-/// `ferror` for the drive: twice the expected error in the encoder's
-/// counts, and not below the console's default (64).
+/// The least `ferror` for a BLDC cutter, counts: the phase loop reads its
+/// encoder in whole counts, so a cutter within `e` counts of its target
+/// reads up to `e + 1` behind; twice a promise under a count is less than
+/// that, and 2 is not (a promise p <= 1 count reads at most p + 1 <= 2).
+pub const FERROR_MIN_COUNTS: u32 = 2;
+
+/// `ferror` for the drive: twice the error it is expected to reach
+/// (`expected_mdeg`) in the encoder's counts, rounded up, and at least
+/// `FERROR_MIN_COUNTS`; so a good cut never trips it, and a cutter that
+/// falls behind by more does, on any encoder. An esc50 holds no phase:
+/// nothing is promised, and the console's default stays.
 pub fn ferror(out: BldcOut, counts: u32) -> u32 {
     let d = Config::default().following_error_limit_steps;
-    expected_mdeg(out).map_or(d, |m| counts_of(2 * m, counts).max(d))
+    expected_mdeg(out).map_or(d, |m| counts_of(2 * m, counts).max(FERROR_MIN_COUNTS))
 }
 
 /// `mdeg` millidegrees of the cutter in counts of its encoder, rounded up.
@@ -183,18 +192,18 @@ mod tests {
         let pwm = &lines(&with("pwm", "2"))[0];
         assert!(pwm.contains("at 1000 Hz") && !pwm.contains("warning"), "{pwm}");
         // 0.7° of the default 3 200 counts: 6.2, so 7 counts; ferror 2 x
-        // 0.7° is 13 counts, under the default 64
+        // 0.7° is 12.4, so 13 counts
         assert!(
-            pwm.contains("within about 0.7° while cutting (7 counts of its 3200") && pwm.ends_with("ferror 64 counts"),
+            pwm.contains("within about 0.7° while cutting (7 counts of its 3200") && pwm.ends_with("ferror 13 counts"),
             "{pwm}"
         );
         for out in ["esc400", "oneshot125"] {
             let l = lines(&with(out, "79"));
             assert!(l[0].contains(out) && l[0].contains("cannot brake"), "{l:?}");
         }
-        // 2° of 3 200 counts is 17.8; twice it 35.6, under the default 64
+        // 2° of 3 200 counts is 17.8; twice it 35.6, so 36
         let esc = &lines(&with("esc400", "79"))[0];
-        assert!(esc.contains("2.0° while cutting (18 counts") && esc.ends_with("ferror 64 counts"), "{esc}");
+        assert!(esc.contains("2.0° while cutting (18 counts") && esc.ends_with("ferror 36 counts"), "{esc}");
     }
 
     #[test]
@@ -202,7 +211,7 @@ mod tests {
         let a = BldcArgs { bldc_out: Some(BldcOut::Esc400), cutter_max_rpm: Some(3_000), ..BldcArgs::default() };
         let f = from_flags(&a, Some(4_000)).unwrap();
         assert_eq!((f.counts, f.max_rate), (4_000, 200_000), "3 000 rpm x 4 000 counts / 60");
-        assert!(changes(&f).contains(&("ferror".into(), "64".into())), "2 x 2° of 4 000 counts, 45: {:?}", changes(&f));
+        assert!(changes(&f).contains(&("ferror".into(), "45".into())), "2 x 2° of 4 000 counts: {:?}", changes(&f));
         // a fine encoder: 2 x 2° of 100 000 counts
         let fine = from_flags(&BldcArgs { cutter_max_rpm: Some(100), ..a.clone() }, Some(100_000)).unwrap();
         assert!(changes(&fine).contains(&("ferror".into(), "1112".into())), "{:?}", changes(&fine));
@@ -215,6 +224,28 @@ mod tests {
             .unwrap_err()
             .0
             .starts_with("--bldc-out is needed"));
+    }
+
+    /// Twice the accuracy the setup promises, in the encoder's counts: on a
+    /// coarse encoder the fault stays reachable (2 counts, the least a
+    /// reading in whole counts allows), on a fine one it is no looser
+    /// than promised.
+    #[test]
+    fn ferror_is_twice_the_promised_accuracy_on_any_encoder() {
+        // 2 x 0.7° of 4 000 counts is 15.6; 2 x 2° of 4 000, 44.4
+        assert_eq!(ferror(BldcOut::Pwm, 4_000), 16);
+        assert_eq!(ferror(BldcOut::Esc400, 4_000), 45);
+        assert_eq!(ferror(BldcOut::OneShot125, 3_200), 9, "2 x 0.5° of 3 200 counts is 8.9");
+        // 4 counts a turn: 2 x 2° is 0.04 count; a reading is up to a count
+        // off, so 2 counts (half a turn), not 64 (16 turns)
+        for out in [BldcOut::Pwm, BldcOut::Esc400, BldcOut::OneShot125] {
+            assert_eq!(ferror(out, 4), 2, "{out:?}");
+        }
+        // 2 x 0.5° of 720 counts is exactly 2
+        assert_eq!(ferror(BldcOut::OneShot125, 720), 2);
+        assert_eq!(ferror(BldcOut::OneShot125, 721), 3);
+        // esc50 holds no phase: nothing promised, the console's default
+        assert_eq!(ferror(BldcOut::Esc50, 4_000), Config::default().following_error_limit_steps);
     }
 
     #[test]
