@@ -174,6 +174,49 @@ fn an_rc_esc_at_400_hz_or_oneshot125_holds_phase_while_cutting_but_not_the_run_d
     }
 }
 
+/// `ferror` as the guided setup sets it (twice the accuracy it promises
+/// each interface, `setup_plan::bldc::ferror`): the cut is never stopped
+/// by it.
+#[test]
+fn the_setups_ferror_never_stops_a_good_cut() {
+    use polyturn_host::cli::setup_plan::bldc::ferror;
+    for (j, out, counts) in [
+        (HEXAGON, BldcOut::Pwm, 1_000),
+        (HEXAGON, BldcOut::Pwm, 4_000),
+        (ELEVEN, BldcOut::Pwm, 3_200),
+        (HEXAGON, BldcOut::Esc400, 3_200),
+        (ELEVEN, BldcOut::OneShot125, 3_200),
+    ] {
+        let mut sc = Scenario::standard(
+            job(j).setup,
+            j.rpm,
+            REVS,
+            if j.gr == 2.0 { 0.02 } else { 0.05 },
+            Start::Spinning,
+            2400,
+            counts,
+            DriveKind::Bldc,
+            7,
+        );
+        fit_drive(&mut sc, out, 1_000, None).unwrap();
+        if out != BldcOut::Pwm {
+            sc.core = sc.core.with("max-accel", "150000").unwrap();
+        }
+        let limit = ferror(out, counts);
+        sc.core = sc.core.with("ferror", &limit.to_string()).unwrap();
+        let r = simulate(&sc);
+        eprintln!("{} (ferror {limit})", row_of(j, out.name(), &r, counts));
+        if let Some((t, f)) = first_fault_s(&r) {
+            assert!(
+                t >= cut_end_s(j, &r),
+                "{out:?} {} at {counts} counts, ferror {limit}: {f:?} at {t:.2} s, in the cut",
+                j.name
+            );
+        }
+        assert!(r.first_synced_s.is_some(), "{out:?} {}: synced", j.name);
+    }
+}
+
 #[test]
 fn an_rc_esc_at_50_hz_loses_phase_in_the_cut() {
     for j in [HEXAGON, ELEVEN] {

@@ -15,7 +15,7 @@
 //!   output is off.
 #![no_main]
 use libfuzzer_sys::fuzz_target;
-use polyturn_sync::cam_upload::{checksum, CamHeader, CamUpload, Progress};
+use polyturn_sync::cam_upload::{checksum, CamHeader, CamUpload, Progress, TableRefusal};
 use polyturn_sync::controller::check_table;
 use polyturn_sync::{console, Config, Controller, State, TickInput, Timing};
 
@@ -115,7 +115,7 @@ impl Run {
         if self.ctl.state() != State::Idle || !self.ctl.lathe_at_rest() {
             return;
         }
-        let checked = self.ctl.check_cam(&h).and_then(|()| check_table(&h, points));
+        let checked = self.ctl.check_cam(&h).map_err(TableRefusal::from).and_then(|()| check_table(&h, points));
         let table = Box::into_raw(points.to_vec().into_boxed_slice());
         self.tables.push(table);
         // SAFETY: freed only after the controller is dropped (`Drop`)

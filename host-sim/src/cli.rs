@@ -7,6 +7,7 @@ pub mod cam;
 pub mod carried;
 pub mod compensate;
 pub mod console_line;
+pub mod cutters;
 #[cfg(feature = "device")]
 pub mod device;
 pub mod errors;
@@ -19,6 +20,9 @@ pub mod measure;
 #[cfg(test)]
 mod names_tests;
 pub mod output;
+mod ranges;
+#[cfg(test)]
+mod ranges_tests;
 pub mod sequence;
 pub mod setup_args;
 pub mod setup_plan;
@@ -109,9 +113,10 @@ pub fn dispatch(argv: &[String]) -> CliResult<String> {
 /// The command line, with negative numbers taken as values at every depth
 /// (so that `--ratio -2` is refused as a ratio, naming --ratio, not as a
 /// flag), and so is any value given to an option (`--rpm -inf`, which is
-/// no negative number to clap, is refused by `--rpm`'s own range).
+/// no negative number to clap, is refused by `--rpm`'s own range); each
+/// flag's help says the range its parser refuses by (`ranges.rs`).
 pub fn command() -> clap::Command {
-    hyphen_values(Cli::command())
+    ranges::in_help(hyphen_values(Cli::command()))
 }
 
 fn hyphen_values(c: clap::Command) -> clap::Command {

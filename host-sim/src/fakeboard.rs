@@ -11,8 +11,9 @@ mod machine;
 
 pub use machine::Machine;
 use polyturn_firmware::line::{only_line_ends, route, Line, LineBuffer, Route, PACKET_MAX, TOO_LONG};
-use polyturn_sync::cam_upload::{CamUpload, Progress};
+use polyturn_sync::cam_upload::{CamUpload, Progress, TableRefusal};
 use polyturn_sync::console::{self, Action};
+use polyturn_sync::controller::check_table;
 use polyturn_sync::{Config, Controller, Timing};
 use std::collections::VecDeque;
 use std::io::{ErrorKind, Read, Write};
@@ -100,20 +101,21 @@ impl FakeDevice {
             Err(e) => format!("error: {e}"),
             Ok(Progress::Begun) => "ok cam begin".into(),
             Ok(Progress::Received(n)) => format!("ok cam {n}"),
-            Ok(Progress::Complete(h))
-                if !(self.ctl.state() == polyturn_sync::State::Idle && self.ctl.lathe_at_rest()) =>
-            {
-                format!(
-                    "error: stop the lathe first: the table is saved to flash ({} points kept, send cam end again)",
-                    h.points
-                )
-            }
-            Ok(Progress::Complete(h)) => match self.ctl.check_cam(&h) {
-                Ok(()) => {
-                    format!("ok cam {} points checked (a simulated board: no flash, not saved or fitted)", h.points)
-                }
-                Err(e) => format!("error: {e}"),
+            Ok(Progress::Complete(h)) => match console::cam_wait(&mut self.ctl) {
+                Some(why) => format!("error: {why} ({} points kept, send cam end again)", h.points),
+                None => self.check_table(&h),
             },
+        }
+    }
+
+    /// A complete table, idle with the lathe at rest: checked as `usb.rs`
+    /// checks it before saving (this board has no flash).
+    fn check_table(&mut self, h: &polyturn_sync::cam_upload::CamHeader) -> String {
+        // the header under the lock, the points outside it, as `usb.rs`
+        let points = self.upload.table().map_or(&[][..], |(_, p)| p);
+        match self.ctl.check_cam(h).map_err(TableRefusal::from).and_then(|()| check_table(h, points)) {
+            Ok(()) => format!("ok cam {} points checked (a simulated board: no flash, not saved or fitted)", h.points),
+            Err(e) => format!("error: {e}"),
         }
     }
 

@@ -116,6 +116,9 @@ pub struct SimResult {
     /// with a shaft encoder: the largest distance the core measured between
     /// the steps sent and the shaft, steps (the lost-step alarm's margin)
     pub max_shaft_error_steps: f64,
+    /// lathe turns cut: synchronised with the lathe at speed (0: the
+    /// stock was never cut)
+    pub cut_turns: f64,
 }
 
 impl Scenario {
@@ -176,6 +179,17 @@ impl Scenario {
             edge_timing: true,
             sabotage_ratio_num: 0,
         }
+    }
+
+    /// The most a steady lathe's speed ripple asks of the cutter, steps/s²:
+    /// the lathe's speed ω(1 + r sin θ) (`lathe.rs`) changes by up to rω²
+    /// rad/s², which the gear turns into the cutter's steps. The
+    /// follower makes no more than `max-accel`, so a ripple asking more
+    /// leaves the cutter behind the gear.
+    pub fn ripple_accel(&self, rpm: f64) -> f64 {
+        let omega = rpm / 60.0 * std::f64::consts::TAU;
+        let steps_per_rad = self.core.ratio.to_f64() * self.core.motor_steps_per_rev as f64 / std::f64::consts::TAU;
+        self.lathe.ripple * omega * omega * steps_per_rad
     }
 }
 #[cfg(test)]

@@ -4,7 +4,7 @@
 #![cfg(unix)]
 
 use polyturn_sync::console::{self, tag, Action};
-use polyturn_sync::{Config, Controller, Timing};
+use polyturn_sync::{Config, Controller, TickInput, Timing};
 use serialport::{SerialPort, TTYPort};
 use std::io::{Read, Write};
 use std::process::{Command, Stdio};
@@ -34,6 +34,10 @@ enum Board {
     Long(usize),
     /// closes the port when a command arrives, unanswered
     Hangup,
+    /// the real console on a board whose time passes: it has been on
+    /// 0.2 s, and this many control ticks (25 kHz) pass before each line,
+    /// the lathe at rest
+    Ticking(usize),
 }
 
 struct Fake {
@@ -76,6 +80,14 @@ fn fake(board: Board) -> Fake {
 
 fn serve(port: &mut TTYPort, board: Board, heard: &Mutex<Vec<String>>, stop: &AtomicBool) {
     let mut ctl = Controller::new(Config::default(), Timing::FIRMWARE);
+    let pass = |ctl: &mut Controller, ticks: usize| {
+        for _ in 0..ticks {
+            ctl.tick(&TickInput::default());
+        }
+    };
+    if let Board::Ticking(_) = board {
+        pass(&mut ctl, 5_000);
+    }
     let (mut line, mut watching, mut buf) = (Vec::new(), false, [0u8; 64]);
     while !stop.load(Ordering::SeqCst) {
         let n = port.read(&mut buf).unwrap_or(0);
@@ -104,6 +116,9 @@ fn serve(port: &mut TTYPort, board: Board, heard: &Mutex<Vec<String>>, stop: &At
             let text = String::from_utf8_lossy(&std::mem::take(&mut line)).into_owned();
             heard.lock().unwrap().push(text.clone());
             let tag = text.split_once(' ').map_or("", |(t, _)| t);
+            if let Board::Ticking(ticks) = board {
+                pass(&mut ctl, ticks);
+            }
             let reply = match board {
                 Board::Hangup => {
                     // the command is in: the board goes (unplugged, a reset)
@@ -112,7 +127,7 @@ fn serve(port: &mut TTYPort, board: Board, heard: &Mutex<Vec<String>>, stop: &At
                 }
                 Board::Odd(body) => format!("{tag} {body}\r\n"),
                 Board::Long(n) => format!("{tag} ok {}\r\n", "x".repeat(n - tag.len() - 4)),
-                Board::Real | Board::Echo { board: true } => match tag::split(text.as_bytes()) {
+                Board::Real | Board::Echo { board: true } | Board::Ticking(_) => match tag::split(text.as_bytes()) {
                     Ok((t, body)) => {
                         let (r, a) = console::handle(body, &mut ctl);
                         watching = a == Action::Watch;
@@ -162,6 +177,17 @@ fn the_binary_talks_to_the_real_console_with_tagged_lines() {
     let (code, out, _, _) = polyturn(&f.path, "set phase -12.5");
     assert_eq!((code, out.trim()), (0, "ok phase=-12.500"));
     assert!(f.heard.lock().unwrap().iter().all(|l| l.starts_with('#')), "every command is tagged");
+}
+
+/// `polyturn device set cpr 1000 && polyturn device save`, a millisecond
+/// of the board's time apart, the lathe at rest: the save goes.
+#[test]
+fn set_then_save_with_the_lathe_at_rest_is_saved() {
+    let f = fake(Board::Ticking(25));
+    let (code, out, err, _) = polyturn(&f.path, "set cpr 1000");
+    assert_eq!((code, out.trim()), (0, "ok cpr=1000"), "{err}");
+    let (code, out, err, _) = polyturn(&f.path, "save");
+    assert_eq!((code, out.trim(), err.as_str()), (0, "ok saving", ""));
 }
 
 #[test]
@@ -324,4 +350,153 @@ fn negative_numbers_on_nested_commands_are_refused_naming_their_flag_and_range()
         assert!(err.starts_with(&format!("error: {says} must be")) && err.contains("(got '-"), "{args}: {err}");
         assert!(heard.is_empty(), "{args}: sent {heard:?}");
     }
+}
+
+/// The machinist's terminal: a pseudo-terminal whose master the test
+/// types into and reads (non-blocking), and whose slave becomes the
+/// child's stdin, stdout, stderr and controlling terminal.
+struct Term {
+    master: std::fs::File,
+    slave: std::os::fd::OwnedFd,
+    seen: Vec<u8>,
+}
+
+impl Term {
+    fn new() -> Term {
+        use std::os::fd::FromRawFd;
+        let _g = spawning();
+        let (mut m, mut s) = (0, 0);
+        // SAFETY: openpty writes two new descriptors, owned from here on
+        let r = unsafe { libc::openpty(&mut m, &mut s, std::ptr::null_mut(), std::ptr::null(), std::ptr::null()) };
+        assert_eq!(r, 0, "openpty");
+        // SAFETY: m and s are open descriptors owned by no one else
+        unsafe {
+            libc::fcntl(m, libc::F_SETFD, libc::FD_CLOEXEC);
+            libc::fcntl(s, libc::F_SETFD, libc::FD_CLOEXEC);
+            libc::fcntl(m, libc::F_SETFL, libc::O_NONBLOCK);
+            Term { master: std::fs::File::from_raw_fd(m), slave: std::os::fd::OwnedFd::from_raw_fd(s), seen: vec![] }
+        }
+    }
+
+    /// `polyturn device --port PORT ARGS` on this terminal.
+    fn spawn(&self, port: &str, args: &[&str]) -> std::process::Child {
+        use std::os::unix::process::CommandExt;
+        let _g = spawning();
+        let io = || Stdio::from(self.slave.try_clone().unwrap());
+        let mut c = Command::new(env!("CARGO_BIN_EXE_polyturn"));
+        c.args(["device", "--port", port]).args(args).stdin(io()).stdout(io()).stderr(io());
+        // SAFETY: only async-signal-safe calls between fork and exec
+        unsafe {
+            c.pre_exec(|| {
+                libc::setsid();
+                libc::ioctl(0, libc::TIOCSCTTY as _, 0);
+                Ok(())
+            });
+        }
+        c.spawn().unwrap()
+    }
+
+    /// Reads until `text` has been shown (at most 20 s).
+    fn until(&mut self, text: &str) {
+        let deadline = Instant::now() + Duration::from_secs(20);
+        while !String::from_utf8_lossy(&self.seen).contains(text) {
+            assert!(Instant::now() < deadline, "'{text}' never shown: {:?}", String::from_utf8_lossy(&self.seen));
+            self.read();
+        }
+    }
+
+    /// Reads until the cursor was last hidden, not shown (at most 20 s).
+    fn until_hidden(&mut self, hide: &str, show: &str) {
+        let deadline = Instant::now() + Duration::from_secs(20);
+        loop {
+            let shown = String::from_utf8_lossy(&self.seen).into_owned();
+            if shown.rfind(hide).is_some_and(|h| shown.rfind(show).is_none_or(|s| s < h)) {
+                return;
+            }
+            assert!(Instant::now() < deadline, "the cursor never hidden: {shown:?}");
+            self.read();
+        }
+    }
+
+    fn read(&mut self) {
+        let mut buf = [0u8; 4096];
+        match self.master.read(&mut buf) {
+            Ok(n) if n > 0 => self.seen.extend_from_slice(&buf[..n]),
+            _ => std::thread::sleep(Duration::from_millis(10)),
+        }
+    }
+
+    fn type_keys(&mut self, keys: &[u8]) {
+        self.master.write_all(keys).unwrap();
+    }
+
+    /// Waits (at most 20 s) for the child to end, reading what it shows.
+    fn end(&mut self, child: &mut std::process::Child) -> std::process::ExitStatus {
+        let deadline = Instant::now() + Duration::from_secs(20);
+        loop {
+            self.read();
+            if let Some(status) = child.try_wait().unwrap() {
+                for _ in 0..20 {
+                    self.read();
+                }
+                return status;
+            }
+            assert!(Instant::now() < deadline, "still running: {:?}", String::from_utf8_lossy(&self.seen));
+        }
+    }
+}
+
+#[test]
+fn ctrl_c_at_a_yes_no_or_a_list_prompt_gives_the_terminal_its_cursor_back() {
+    const HIDE: &str = "\x1b[?25l";
+    const SHOW: &str = "\x1b[?25h";
+    // (keys before Ctrl-C, what is on screen then): the index question
+    // (yes/no); the cutter question (a list), after the encoder check
+    for (keys, prompt) in [(&[][..], "index (Z) pulse"), (&[&b"y"[..], b"\r", b"600\r"][..], "What turns the cutter?")]
+    {
+        let f = fake(Board::Real);
+        let mut t = Term::new();
+        let mut child = t.spawn(&f.path, &["setup"]);
+        t.until("index (Z) pulse");
+        for (i, k) in keys.iter().enumerate() {
+            t.type_keys(k);
+            t.until(["Turn the chuck", "Encoder lines", prompt][i]);
+        }
+        t.until_hidden(HIDE, SHOW);
+        t.type_keys(b"\x03");
+        let status = t.end(&mut child);
+        let shown = String::from_utf8_lossy(&t.seen).into_owned();
+        assert!(!status.success(), "{prompt}: cancelled is not a success: {shown:?}");
+        let (hidden, back) = (shown.rfind(HIDE).unwrap(), shown.rfind(SHOW));
+        assert!(back.is_some_and(|b| b > hidden), "{prompt}: the cursor is left hidden: {shown:?}");
+    }
+}
+
+/// A cam table file whose steps per mm no `polyturn cam` makes, or whose
+/// points no X axis follows, is refused before anything is sent.
+#[test]
+fn a_cam_table_the_board_would_refuse_is_refused_before_anything_is_sent() {
+    let dir = std::env::temp_dir().join(format!("polyturn-pty-cam-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let table = |spm: &str, jump: i32| {
+        let points: Vec<String> = (0..1024).map(|i| if i == 500 { jump.to_string() } else { "0".into() }).collect();
+        format!(
+            r#"{{"format":"polyturn-cam-1","counts_per_rev":2400,"period_counts":2400,"steps_per_mm":{spm},"max_rate_hz":12500,"max_accel":1000000,"points":[{}]}}"#,
+            points.join(",")
+        )
+    };
+    for (name, text, says) in [
+        ("zero.json", table("0", 0), "steps_per_mm must be a finite number >= 1 and <= 100000 (got 0.0)"),
+        ("neg.json", table("-800", 0), "(got -800.0)"),
+        ("huge.json", table("1e308", 0), "(got 1e308)"),
+        ("jump.json", table("800", 100_000), "neighbouring points 100000 steps apart need 1706650 X steps/s"),
+    ] {
+        let path = dir.join(name);
+        std::fs::write(&path, text).unwrap();
+        let (code, out, err, heard) = run_against(Board::Real, &format!("upload-cam {}", path.display()));
+        assert_eq!(code, 2, "{name}: {out}");
+        assert!(err.contains("is refused: ") && err.contains(says), "{name}: {err}");
+        assert!(heard.is_empty(), "{name}: sent {heard:?}");
+    }
+    let _ = std::fs::remove_dir_all(&dir);
 }

@@ -13,7 +13,7 @@ use embassy_usb::class::cdc_acm::{CdcAcmClass, State};
 use embassy_usb::driver::EndpointError;
 use embassy_usb::Builder;
 use polyturn_firmware::line::{only_line_ends, route, Line, LineBuffer, Route, PACKET_MAX, TOO_LONG};
-use polyturn_sync::cam_upload::{CamHeader, CamUpload, Progress};
+use polyturn_sync::cam_upload::{CamHeader, CamUpload, Progress, TableRefusal};
 use polyturn_sync::console::{self, tag, Action, Reply};
 use polyturn_sync::controller::check_table;
 use static_cell::StaticCell;
@@ -209,8 +209,6 @@ fn text_reply(s: &str) -> Reply {
 /// lathe at rest) and fitted from there.
 fn cam_line(args: &[u8], store: &mut Store) -> Reply {
     let args = core::str::from_utf8(args).unwrap_or("?");
-    // asked only once a table is complete (not under the lock per chunk)
-    let idle = || tick::with_core(|c| c.state() == polyturn_sync::State::Idle && c.lathe_at_rest()).unwrap_or(false);
     if args.trim() == "off" {
         return match tick::with_core(|c| c.set_x_axis(None)) {
             Some(Ok(())) => {
@@ -227,35 +225,36 @@ fn cam_line(args: &[u8], store: &mut Store) -> Reply {
         Err(e) => write!(r, "error: {e}"),
         Ok(Progress::Begun) => write!(r, "ok cam begin"),
         Ok(Progress::Received(n)) => write!(r, "ok cam {n}"),
-        Ok(Progress::Complete(h)) if !idle() => write!(
-            r,
-            "error: stop the lathe first: the table is saved to flash ({} points kept, send cam end again)",
-            h.points
-        ),
-        Ok(Progress::Complete(h)) => {
-            // Every check the fit applies, before anything is saved or
-            // replaced: the header under the lock, the points outside it.
-            let (cfg, header) = match tick::with_core(|c| (*c.config(), c.check_cam(&h))) {
-                Some((cfg, header)) => (Some(cfg), header),
-                None => (None, Err("the controller is not running yet")),
-            };
-            let checked = header
-                .and_then(|()| store.upload.table().map_or(Err("cam table incomplete"), |(h, p)| check_table(&h, p)));
-            match (cfg, checked) {
-                (_, Err(e)) => write!(r, "error: {e}"),
-                (None, _) => write!(r, "error: the controller is not running yet"),
-                (Some(cfg), Ok(())) => match persist(&mut store.flash, &mut store.cam, &cfg, store.upload.table()) {
-                    Ok((stall, Fit::Fitted)) => {
-                        write!(r, "ok cam {} points saved and fitted{}", h.points, stall.describe())
-                    }
-                    Ok((_, Fit::Refused(e))) => write!(r, "error: cam saved but not fitted, X axis off: {e}"),
-                    Ok((_, Fit::NoCam)) => write!(r, "error: cam not saved (the flash kept none)"),
-                    Err(()) => write!(r, "error: flash write failed: cam not saved"),
-                },
-            }
-        }
+        // asked only once a table is complete (not under the lock per chunk)
+        Ok(Progress::Complete(h)) => match tick::with_core(console::cam_wait) {
+            Some(Some(why)) => write!(r, "error: {why} ({} points kept, send cam end again)", h.points),
+            _ => save_table(&h, store, &mut r),
+        },
     };
     r
+}
+
+/// A complete table, idle with the lathe at rest: every check the fit
+/// applies, before anything is saved or replaced (the header under the
+/// lock, the points outside it), then saved and fitted.
+fn save_table(h: &CamHeader, store: &mut Store, r: &mut Reply) -> core::fmt::Result {
+    let (cfg, header) = match tick::with_core(|c| (*c.config(), c.check_cam(h))) {
+        Some((cfg, header)) => (Some(cfg), header),
+        None => (None, Err("the controller is not running yet")),
+    };
+    let checked = header.map_err(TableRefusal::from).and_then(|()| {
+        store.upload.table().map_or(Err(TableRefusal::Text("cam table incomplete")), |(h, p)| check_table(&h, p))
+    });
+    match (cfg, checked) {
+        (_, Err(e)) => write!(r, "error: {e}"),
+        (None, _) => write!(r, "error: the controller is not running yet"),
+        (Some(cfg), Ok(())) => match persist(&mut store.flash, &mut store.cam, &cfg, store.upload.table()) {
+            Ok((stall, Fit::Fitted)) => write!(r, "ok cam {} points saved and fitted{}", h.points, stall.describe()),
+            Ok((_, Fit::Refused(e))) => write!(r, "error: cam saved but not fitted, X axis off: {e}"),
+            Ok((_, Fit::NoCam)) => write!(r, "error: cam not saved (the flash kept none)"),
+            Err(()) => write!(r, "error: flash write failed: cam not saved"),
+        },
+    }
 }
 
 /// Sends `#tag reply` (or `reply` untagged) and CRLF.

@@ -36,6 +36,50 @@ pub fn checksum(h: &CamHeader, points: &[i32]) -> u32 {
     !points.iter().fold(crc, |c, p| crc32_update(c, &p.to_le_bytes()))
 }
 
+/// The X axis a header declares, against the board's X output: at most one
+/// step per two ticks (`tick_hz / 2`, 12 500 steps/s at 25 kHz), and some
+/// acceleration.
+pub fn check_axis(h: &CamHeader, tick_hz: u32) -> Result<(), &'static str> {
+    if h.max_rate_hz > tick_hz / 2 || h.max_rate_hz == 0 || h.max_accel == 0 {
+        return Err("cam max-rate must be 1..=12500 steps/s (one X step per two ticks), max-accel > 0");
+    }
+    Ok(())
+}
+
+/// Why a complete table is not taken: a reason of the points
+/// (`Cam::check`) or the controller's, or what the points ask of the X
+/// axis, with its figures.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum TableRefusal {
+    Text(&'static str),
+    Motion(motion::MotionError),
+}
+
+impl TableRefusal {
+    /// The reason without figures.
+    pub fn describe(self) -> &'static str {
+        match self {
+            TableRefusal::Text(t) => t,
+            TableRefusal::Motion(m) => m.describe(),
+        }
+    }
+}
+
+impl From<&'static str> for TableRefusal {
+    fn from(t: &'static str) -> TableRefusal {
+        TableRefusal::Text(t)
+    }
+}
+
+impl core::fmt::Display for TableRefusal {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        match self {
+            TableRefusal::Text(t) => f.write_str(t),
+            TableRefusal::Motion(m) => m.fmt(f),
+        }
+    }
+}
+
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Progress {
     Begun,
@@ -142,7 +186,11 @@ impl CamUpload {
     }
 }
 
+pub mod motion;
+
 #[cfg(test)]
 mod crc_tests;
+#[cfg(test)]
+mod motion_tests;
 #[cfg(test)]
 mod tests;

@@ -6,7 +6,10 @@ use crate::console::number::unsigned;
 use crate::ratio::{Ratio, RatioError};
 
 pub mod bldc;
+pub mod table;
 pub use bldc::BldcOut;
+use table::*;
+pub use table::{Span, NAMES, SETTINGS};
 
 /// Relative sense of rotation (see the geometry model for the convention:
 /// "same" = both spindles turn the same way seen from the same end).
@@ -116,20 +119,8 @@ impl Default for Config {
     }
 }
 
-const CUTTER_CPR: &str = "4..=1000000 counts per cutter rev, or off";
-const LOST_STEPS: &str = "1..=1000000 steps";
-const START_RATE: &str = "0..=250000 Hz (0: off)";
-
 const fn range(field: &'static str, allowed: &'static str) -> ConfigError {
     ConfigError { field, allowed }
-}
-
-fn within(v: u32, lo: u32, hi: u32, e: ConfigError) -> Result<(), ConfigError> {
-    if v < lo || v > hi {
-        Err(e)
-    } else {
-        Ok(())
-    }
 }
 
 impl Config {
@@ -147,25 +138,25 @@ impl Config {
 
     /// Each field in its own range.
     fn validate_fields(&self) -> Result<(), ConfigError> {
-        within(self.encoder_counts_per_rev, 4, 1_000_000, range("cpr", "4..=1000000 counts per lathe rev"))?;
-        within(self.motor_steps_per_rev, 1, 1_000_000, range("steps", "1..=1000000 steps per cutter rev"))?;
-        within(self.edges as u32, 1, 12, range("edges", "1..=12"))?;
-        within(self.max_step_rate_hz, 1, 250_000, range("max-rate", "1..=250000 Hz"))?;
-        within(self.max_accel_steps_per_s2, 10, 50_000_000, range("max-accel", "10..=50000000 steps/s^2"))?;
-        within(self.following_error_limit_steps, 1, 1_000_000, range("ferror", "1..=1000000 steps"))?;
+        CPR.check(self.encoder_counts_per_rev)?;
+        STEPS.check(self.motor_steps_per_rev)?;
+        EDGES.check(self.edges as u32)?;
+        MAX_RATE.check(self.max_step_rate_hz)?;
+        MAX_ACCEL.check(self.max_accel_steps_per_s2)?;
+        FERROR.check(self.following_error_limit_steps)?;
         if self.phase_offset_mdeg.unsigned_abs() > 360_000 {
-            return Err(range("phase", "-360..=360 degrees of the cutter"));
+            return Err(range("phase", PHASE));
         }
-        within(self.dir_setup_ns, 0, 100_000, range("dir-setup", "0..=100000 ns"))?;
-        within(self.step_pulse_ns, 100, 100_000, range("pulse", "100..=100000 ns"))?;
-        within(self.max_lathe_rpm, 1, 10_000, range("max-rpm", "1..=10000 rpm"))?;
+        DIR_SETUP.check(self.dir_setup_ns)?;
+        PULSE.check(self.step_pulse_ns)?;
+        MAX_RPM.check(self.max_lathe_rpm)?;
         if self.cutter_encoder_cpr != 0 {
-            within(self.cutter_encoder_cpr, 4, 1_000_000, range("cutter-cpr", CUTTER_CPR))?;
+            CUTTER_CPR.check(self.cutter_encoder_cpr)?;
         }
-        within(self.lost_step_limit_steps, 1, 1_000_000, range("lost-steps", LOST_STEPS))?;
-        within(self.start_rate_hz, 0, 250_000, range("start-rate", START_RATE))?;
+        LOST_STEPS.check(self.lost_step_limit_steps)?;
+        START_RATE.check(self.start_rate_hz)?;
         bldc::check_pwm_hz(self.pwm_hz)?;
-        bldc::check_tau(self.bldc_tau_ms)
+        BLDC_TAU.check(self.bldc_tau_ms).map(|_| ())
     }
 
     /// The limits that join several settings. The error names one of them
@@ -203,28 +194,28 @@ impl Config {
     /// unless the whole result validates.
     pub fn with(&self, name: &str, value: &str) -> Result<Config, ConfigError> {
         let mut c = *self;
-        let num = |field, allowed| unsigned(value.trim()).ok_or(range(field, allowed));
+        let num = |s: Span| unsigned(value.trim()).ok_or(s.error());
         match name {
-            "cpr" => c.encoder_counts_per_rev = num("cpr", "4..=1000000 counts per lathe rev")?,
-            "steps" => c.motor_steps_per_rev = num("steps", "1..=1000000 steps per cutter rev")?,
+            "cpr" => c.encoder_counts_per_rev = num(CPR)?,
+            "steps" => c.motor_steps_per_rev = num(STEPS)?,
             "ratio" => c.ratio = Ratio::parse(value).map_err(ratio_error)?,
             "dir" => c.sense = parse_sense(value)?,
-            "edges" => c.edges = num("edges", "1..=12")?.min(255) as u8,
-            "max-rate" => c.max_step_rate_hz = num("max-rate", "1..=250000 Hz")?,
-            "max-accel" => c.max_accel_steps_per_s2 = num("max-accel", "10..=50000000 steps/s^2")?,
-            "ferror" => c.following_error_limit_steps = num("ferror", "1..=1000000 steps")?,
+            "edges" => c.edges = num(EDGES)?.min(255) as u8,
+            "max-rate" => c.max_step_rate_hz = num(MAX_RATE)?,
+            "max-accel" => c.max_accel_steps_per_s2 = num(MAX_ACCEL)?,
+            "ferror" => c.following_error_limit_steps = num(FERROR)?,
             "phase" => c.phase_offset_mdeg = parse_mdeg(value)?,
             "drive" => c.drive = parse_drive(value)?,
-            "dir-setup" => c.dir_setup_ns = num("dir-setup", "0..=100000 ns")?,
-            "pulse" => c.step_pulse_ns = num("pulse", "100..=100000 ns")?,
+            "dir-setup" => c.dir_setup_ns = num(DIR_SETUP)?,
+            "pulse" => c.step_pulse_ns = num(PULSE)?,
             "enable" => c.enable_active_high = parse_polarity(value)?,
-            "max-rpm" => c.max_lathe_rpm = num("max-rpm", "1..=10000 rpm")?,
+            "max-rpm" => c.max_lathe_rpm = num(MAX_RPM)?,
             "cutter-cpr" => c.cutter_encoder_cpr = parse_cutter_cpr(value)?,
-            "lost-steps" => c.lost_step_limit_steps = num("lost-steps", LOST_STEPS)?,
-            "start-rate" => c.start_rate_hz = num("start-rate", START_RATE)?,
+            "lost-steps" => c.lost_step_limit_steps = num(LOST_STEPS)?,
+            "start-rate" => c.start_rate_hz = num(START_RATE)?,
             "bldc-out" => c.bldc_out = BldcOut::parse(value)?,
-            "pwm-hz" => c.pwm_hz = num("pwm-hz", bldc::PWM_HZ)?,
-            "bldc-tau" => c.bldc_tau_ms = num("bldc-tau", bldc::TAU)?,
+            "pwm-hz" => c.pwm_hz = num(PWM_HZ)?,
+            "bldc-tau" => c.bldc_tau_ms = num(BLDC_TAU)?,
             _ => return Err(range("name", "one of: cpr steps ratio dir edges max-rate max-accel ferror phase drive dir-setup pulse enable max-rpm cutter-cpr lost-steps start-rate bldc-out pwm-hz bldc-tau")),
         }
         c.validate_fields()?;
@@ -239,30 +230,6 @@ impl Config {
     }
 }
 
-/// The settable names, in `get` order.
-pub const NAMES: [&str; 20] = [
-    "cpr",
-    "steps",
-    "ratio",
-    "dir",
-    "edges",
-    "max-rate",
-    "max-accel",
-    "ferror",
-    "phase",
-    "drive",
-    "dir-setup",
-    "pulse",
-    "enable",
-    "max-rpm",
-    "cutter-cpr",
-    "lost-steps",
-    "start-rate",
-    "bldc-out",
-    "pwm-hz",
-    "bldc-tau",
-];
-
 fn ratio_error(e: RatioError) -> ConfigError {
     range("ratio", e.describe())
 }
@@ -271,7 +238,7 @@ fn parse_sense(v: &str) -> Result<Sense, ConfigError> {
     match v.trim() {
         "same" => Ok(Sense::Same),
         "opposite" => Ok(Sense::Opposite),
-        _ => Err(range("dir", "same or opposite")),
+        _ => Err(range("dir", DIR)),
     }
 }
 
@@ -280,7 +247,7 @@ fn parse_drive(v: &str) -> Result<DriveKind, ConfigError> {
         "stepper" => Ok(DriveKind::Stepper),
         "bldc" => Ok(DriveKind::Bldc),
         "none" => Ok(DriveKind::None),
-        _ => Err(range("drive", "stepper, bldc or none")),
+        _ => Err(range("drive", DRIVE)),
     }
 }
 
@@ -289,7 +256,7 @@ fn parse_drive(v: &str) -> Result<DriveKind, ConfigError> {
 fn parse_cutter_cpr(v: &str) -> Result<u32, ConfigError> {
     match v.trim() {
         "off" => Ok(0),
-        n => unsigned(n).filter(|&n| n != 0).ok_or(range("cutter-cpr", CUTTER_CPR)),
+        n => unsigned(n).filter(|&n| n != 0).ok_or(CUTTER_CPR.error()),
     }
 }
 
@@ -297,13 +264,13 @@ fn parse_polarity(v: &str) -> Result<bool, ConfigError> {
     match v.trim() {
         "high" => Ok(true),
         "low" => Ok(false),
-        _ => Err(range("enable", "high or low (the active level)")),
+        _ => Err(range("enable", ENABLE)),
     }
 }
 
 /// Degrees with up to three decimals, e.g. `-12.5`, as millidegrees.
 fn parse_mdeg(v: &str) -> Result<i32, ConfigError> {
-    degrees_mdeg(v, 360_000).ok_or(range("phase", "-360..=360 degrees of the cutter"))
+    degrees_mdeg(v, 360_000).ok_or(range("phase", PHASE))
 }
 
 /// Degrees with up to three decimals as millidegrees, at most `max_mdeg`

@@ -4,7 +4,7 @@
 //! changes a setting.
 
 use crate::config::{Config, ConfigError, DriveKind, Sense, NAMES};
-use crate::controller::{Controller, PreparedConfig};
+use crate::controller::{Controller, PreparedConfig, Refusal};
 use crate::derived::Timing;
 use core::fmt::Write;
 
@@ -33,7 +33,7 @@ pub enum Action {
     Dfu,
 }
 
-pub use status::{write_status as status_line, Snapshot};
+pub use status::{cam_wait, write_status as status_line, CamWait, LatheSeen, Snapshot};
 
 pub const HELP: &str = "ok commands: get [name] | set <name> <value> | engage | stop | status | watch | save | defaults | clear | cam begin|data|end|off | check-encoder [start|stop] | jog <deg> | selftest [start [rpm]|stop] | dfu | help; names: cpr steps ratio dir edges max-rate max-accel ferror phase drive dir-setup pulse enable max-rpm cutter-cpr lost-steps start-rate bldc-out pwm-hz bldc-tau";
 
@@ -81,6 +81,9 @@ pub enum Outcome {
     SelfTestRefused(crate::controller::selftest::SelfTestRefusal),
     SelfTest(crate::selftest::Report),
     Dfu,
+    /// `save` or `jog` refused with the lathe turning: what the board saw,
+    /// and what waits for the lathe to stop
+    LatheTurning(status::LatheSeen, &'static str),
 }
 
 pub fn parse(line: &[u8]) -> Command<'_> {
@@ -199,7 +202,7 @@ pub fn apply_prepared(cmd: Command<'_>, pre: Option<Prepared>, ctl: &mut Control
             Outcome::Error("stop first: settings are saved only while idle")
         }
         Command::Save if !ctl.lathe_at_rest() => {
-            Outcome::Error("stop the lathe first: saving pauses the controller for up to 2 s")
+            Outcome::LatheTurning(status::LatheSeen::of(ctl), "saving pauses the controller for up to 2 s")
         }
         Command::Save => Outcome::Save,
         Command::Defaults => match installed(ctl) {
@@ -209,9 +212,16 @@ pub fn apply_prepared(cmd: Command<'_>, pre: Option<Prepared>, ctl: &mut Control
         Command::CheckEncoder(op) => checks::encoder(op, ctl),
         Command::Jog(mdeg) => match ctl.jog(mdeg) {
             Ok(plan) => Outcome::Jog(plan, mdeg),
+            Err(Refusal::LatheTurning) => {
+                Outcome::LatheTurning(status::LatheSeen::of(ctl), "jog only with the lathe at rest")
+            }
             Err(r) => Outcome::Error(r.describe()),
         },
         Command::SelfTest(op) => selftest::apply(op, pre.and_then(|p| p.selftest.map(|s| (p.generation, s))), ctl),
+        // as `engage`, `jog` and `selftest`: a hand turns the chuck, or the
+        // self-test's generator plays into the lathe input
+        Command::Dfu if ctl.encoder_check_running() => Outcome::Error(Refusal::Checking.describe()),
+        Command::Dfu if ctl.selftest_running() => Outcome::Error(Refusal::SelfTesting.describe()),
         Command::Dfu if ctl.state() != crate::state::State::Idle => {
             Outcome::Error("stop first (and clear any fault): dfu restarts the board into its ROM bootloader")
         }
@@ -243,7 +253,8 @@ fn action(outcome: &Outcome) -> Action {
         | Outcome::Jog(..)
         | Outcome::SelfTestStarted(..)
         | Outcome::SelfTestRefused(_)
-        | Outcome::SelfTest(_) => Action::None,
+        | Outcome::SelfTest(_)
+        | Outcome::LatheTurning(..) => Action::None,
     }
 }
 
@@ -278,6 +289,9 @@ fn write_reply(outcome: &Outcome, out: &mut Reply) {
         Outcome::SelfTest(r) => selftest::write_report(r, out),
         Outcome::Dfu => {
             let _ = out.push_str(checks::DFU_REPLY);
+        }
+        Outcome::LatheTurning(seen, then) => {
+            let _ = write!(out, "error: stop the lathe first: {seen}: {then}");
         }
     }
 }

@@ -93,6 +93,10 @@ pub enum Refusal {
     SelfTesting,
     /// engage refused: an encoder check runs, the chuck turned by hand
     Checking,
+    /// engage refused: drive=none and no cam table, so nothing would move
+    NothingToDrive,
+    /// jog refused: the cutter is engaged or ramping down
+    Engaged,
 }
 
 impl Refusal {
@@ -113,6 +117,10 @@ impl Refusal {
             Refusal::Checking => {
                 "an encoder check is running (the chuck is being turned by hand): check-encoder stop first"
             }
+            Refusal::NothingToDrive => {
+                "drive=none and no cam table: nothing to engage (set drive stepper or bldc, or upload a cam table)"
+            }
+            Refusal::Engaged => "stop first: the cutter is engaged or ramping down (jog only while idle)",
         }
     }
 }
@@ -173,7 +181,7 @@ impl Controller {
             lathe: Extender::default(),
             index: IndexTracker::default(),
             gear: Gear::new(d.scale),
-            est: Estimator::new(d.still_ticks),
+            est: Estimator::resting(d.still_ticks),
             follower: Follower::default(),
             steps: StepPipe::default(),
             bldc: Bldc::default(),
@@ -499,6 +507,8 @@ pub mod jog;
 mod lost;
 #[cfg(test)]
 mod lost_tests;
+#[cfg(test)]
+mod refusal_tests;
 #[cfg(test)]
 mod rig;
 pub mod selftest;

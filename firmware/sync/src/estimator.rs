@@ -38,6 +38,20 @@ impl Estimator {
         Estimator { still_limit, ..Estimator::default() }
     }
 
+    /// An estimate that starts at rest: a board that has just started has
+    /// seen no count, and takes the lathe at rest until one comes (as
+    /// 0.1 s after the last).
+    pub fn resting(still_limit: u32) -> Estimator {
+        Estimator { still_ticks: still_limit, ..Estimator::new(still_limit) }
+    }
+
+    /// A new estimate (no speed, no offset: measured afresh) that keeps the
+    /// ticks since the last count: they are the encoder's, not the
+    /// estimate's, so a lathe at rest stays at rest.
+    pub fn restarted(&self, still_limit: u32) -> Estimator {
+        Estimator { still_ticks: self.still_ticks, ..Estimator::new(still_limit) }
+    }
+
     /// One tick with the measured count change `delta`.
     #[inline]
     pub fn update(&mut self, delta: i32) {
@@ -87,6 +101,10 @@ impl Estimator {
     }
     pub fn at_rest(&self) -> bool {
         self.still_ticks >= self.still_limit
+    }
+    /// Ticks since the last count (saturating).
+    pub fn still_ticks(&self) -> u32 {
+        self.still_ticks
     }
 }
 

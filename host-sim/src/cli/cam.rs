@@ -5,14 +5,16 @@ mod request;
 
 use super::errors::{CliError, CliResult};
 use super::output::Outputs;
-use super::values::{out_file, rpm, whole32, within};
+use super::values::{out_file, rpm, setting, whole32, within};
 use crate::geometry::svg::Drawing;
 use crate::noncircular::order;
 use crate::noncircular::path::ToolPath;
 use crate::noncircular::plan::{plan, Evaluation, Limit, Outcome, TOLERANCE_MM};
 use crate::noncircular::rounded::Rounded;
-use crate::noncircular::table::{build, CamFile};
+use crate::noncircular::table::{build, CamFile, STEPS_PER_MM};
 use polyturn_sync::cam::{Cam, CamError};
+use polyturn_sync::config::table::CPR;
+use polyturn_sync::cam_upload::motion::MotionError;
 use request::{request, turns, Request};
 use serde_json::json;
 use std::f64::consts::TAU;
@@ -33,29 +35,29 @@ const MAX_SIDES: u32 = 360;
 // refused naming its flag rather than read as flags `-i -n -f`.
 #[derive(clap::Args, Debug)]
 pub struct CamArgs {
-    /// Sides N of the sharp polygon (3..=360)
+    /// Sides N of the sharp polygon
     #[arg(long, value_name = "N", allow_hyphen_values = true, value_parser = whole32(3, MAX_SIDES))]
     pub sides: u32,
-    /// Inscribed radius (half the across-flats), mm (> 0, <= 500)
+    /// Inscribed radius (half the across-flats), mm
     #[arg(long, value_name = "MM", allow_hyphen_values = true, value_parser = within(0.001, 500.0, "mm"))]
     pub inscribed_radius: f64,
-    /// Lathe speed while cutting, rpm (1..=3000)
+    /// Lathe speed while cutting, rpm
     #[arg(long, value_name = "RPM", allow_hyphen_values = true, value_parser = rpm(3000.0))]
     pub rpm: f64,
-    /// The X axis's top speed, mm/s (> 0, <= 10000; at most 12500 steps/s with --steps-per-mm)
+    /// The X axis's top speed, mm/s; at most 12500 steps/s with --steps-per-mm
     #[arg(long, value_name = "MM/S", allow_hyphen_values = true, value_parser = within(0.001, 1e4, "mm/s"))]
     pub x_max_speed: f64,
-    /// The X axis's top acceleration, mm/s^2 (> 0, <= 1000000)
+    /// The X axis's top acceleration, mm/s^2
     #[arg(long, value_name = "MM/S^2", allow_hyphen_values = true, value_parser = within(0.001, 1e6, "mm/s^2"))]
     pub x_max_accel: f64,
     /// Lathe turns per pattern m: 2..=N-1 and at most 128, co-prime with N (the noncircular turning note's Theorem 2). The cuts set the top speed, not m: m + N cuts the sides in the same order in N more turns, and past 128 a cut gets under 8 of the table's 1024 points [default: the smallest valid]
     #[arg(long, value_name = "M", allow_hyphen_values = true, value_parser = turns)]
     pub m: Option<u32>,
-    /// X axis steps per mm of tool radius (1..=100000: a 1 mm screw, 200-step motor at 256 microsteps is 51200; under 1 a step is more than ten times the 0.1 mm a table may be off)
-    #[arg(long, value_name = "STEPS/MM", default_value = "800", allow_hyphen_values = true, value_parser = within(1.0, 1e5, "steps/mm"))]
+    /// X axis steps per mm of tool radius: a 1 mm screw, 200-step motor at 256 microsteps is 51200; under 1 a step is more than ten times the 0.1 mm a table may be off
+    #[arg(long, value_name = "STEPS/MM", default_value = "800", allow_hyphen_values = true, value_parser = within(STEPS_PER_MM.0, STEPS_PER_MM.1, "steps/mm"))]
     pub steps_per_mm: f64,
-    /// Lathe encoder counts per turn, after x4 quadrature (4..=1048576; the console's `cpr`)
-    #[arg(long = "encoder-cpr", alias = "encoder-counts", value_name = "COUNTS", default_value = "2400", allow_hyphen_values = true, value_parser = whole32(4, 1 << 20))]
+    /// Lathe encoder counts per turn, after x4 quadrature
+    #[arg(long = "encoder-cpr", alias = "encoder-counts", value_name = "COUNTS", default_value = "2400", allow_hyphen_values = true, value_parser = setting(CPR))]
     pub encoder_counts: u32,
     /// Write the cam table (JSON, for `polyturn device upload-cam`) to this file (- for stdout)
     #[arg(long, value_name = "FILE", value_parser = out_file)]
@@ -102,6 +104,12 @@ fn faithful(table: &CamFile, dev_mm: f64, r: &Request) -> CliResult<()> {
     Cam::check(&table.points, table.period_counts).map_err(|e| match e {
         CamError::Step => CliError::flag("steps-per-mm", format!("is too fine for this path: {}", e.describe())),
         CamError::Points | CamError::Period => CliError::flag("encoder-cpr", e.describe()),
+    })?;
+    // the board's check of the points against the X axis the table
+    // declares; a plan within the axis at --rpm (>= 1) passes it
+    polyturn_sync::cam_upload::motion::check(&table.header(), &table.points).map_err(|e| match e {
+        MotionError::Rate { .. } => CliError::flag("x-max-speed", e.to_string()),
+        MotionError::Accel { .. } => CliError::flag("x-max-accel", e.to_string()),
     })?;
     if dev_mm <= TABLE_REFUSED_MM {
         return Ok(());

@@ -11,13 +11,13 @@ use serde_json::json;
 pub struct CompensateArgs {
     #[command(flatten)]
     pub setup: SetupArgs,
-    /// Lathe speed while cutting, rpm (1..=6000)
+    /// Lathe speed while cutting, rpm
     #[arg(long, value_name = "RPM", value_parser = rpm(6000.0))]
     pub rpm: f64,
-    /// The X axis's top speed, mm/s (> 0, <= 10000)
+    /// The X axis's top speed, mm/s
     #[arg(long, value_name = "MM/S", value_parser = within(0.001, 1e4, "mm/s"))]
     pub x_max_speed: f64,
-    /// The X axis's top acceleration, mm/s^2 (> 0, <= 1000000)
+    /// The X axis's top acceleration, mm/s^2
     #[arg(long, value_name = "MM/S^2", value_parser = within(0.001, 1e6, "mm/s^2"))]
     pub x_max_accel: f64,
     /// Print the report as one JSON object

@@ -3,8 +3,10 @@
 //! `polyturn device` and the web page's device panel.
 
 use super::errors::{escaped, CliError, CliResult};
-use crate::noncircular::table::{CamFile, FORMAT};
+use crate::noncircular::table::{CamFile, FORMAT, STEPS_PER_MM};
+use polyturn_sync::cam_upload::check_axis;
 use polyturn_sync::console::tag::TAG_DIGITS;
+use polyturn_sync::controller::check_table;
 
 /// The firmware's line buffer (`polyturn_firmware::line::LINE_MAX`).
 pub const DEVICE_LINE_MAX: usize = polyturn_firmware::line::LINE_MAX;
@@ -60,9 +62,34 @@ pub fn cam_table(name: &str, text: &str) -> CliResult<CamFile> {
             FORMAT
         )));
     }
+    declared(&table).map_err(|e| CliError(format!("upload-cam: '{name}' is refused: {e}")))?;
     // every line must go as one console line: checked before the port opens
     for line in table.upload_lines() {
         check_command(&line).map_err(|e| CliError(format!("upload-cam: '{name}' cannot be sent: {}", e.0)))?;
     }
     Ok(table)
 }
+
+/// What a table declares, checked before the port opens: its steps per mm
+/// in `polyturn cam`'s range, its encoder in the console's `cpr` range,
+/// and its X axis and points by the board's own rules (the sync core's
+/// `check_axis` and `check_table`: the points against the X axis it
+/// declares, `cam_upload::motion`). The board checks them again, and that
+/// the encoder is its `cpr`.
+fn declared(table: &CamFile) -> Result<(), String> {
+    let (lo, hi) = STEPS_PER_MM;
+    if !(lo..=hi).contains(&table.steps_per_mm) {
+        return Err(format!("steps_per_mm must be a finite number >= {lo} and <= {hi} (got {:?})", table.steps_per_mm));
+    }
+    let cpr = table.counts_per_rev.to_string();
+    polyturn_sync::Config::default()
+        .with("cpr", &cpr)
+        .map_err(|e| format!("counts_per_rev must be {} (the console's cpr; got {cpr})", e.allowed))?;
+    let h = table.header();
+    check_axis(&h, polyturn_sync::Timing::FIRMWARE.tick_hz)?;
+    check_table(&h, &table.points).map_err(|e| e.to_string())
+}
+
+#[cfg(test)]
+#[path = "console_line_tests.rs"]
+mod tests;

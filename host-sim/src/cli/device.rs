@@ -32,7 +32,7 @@ pub struct DeviceArgs {
     /// The board's serial port [default: the first /dev/ttyACM* or /dev/cu.usbmodem*]
     #[arg(long, global = true, value_name = "PATH")]
     pub port: Option<String>,
-    /// How long to wait for each reply, seconds (> 0, <= 60)
+    /// How long to wait for each reply, seconds
     #[arg(long, global = true, value_name = "S", default_value = "3", allow_hyphen_values = true, value_parser = within(0.01, 60.0, "s"))]
     pub timeout: f64,
     #[command(subcommand)]
@@ -47,12 +47,14 @@ pub enum DeviceCommand {
     Watch,
     /// One setting, or all of them
     Get {
-        /// cpr, steps, ratio, dir, edges, max-rate, max-accel, ferror, phase, drive, dir-setup, pulse, enable or max-rpm
+        /// the setting [default: all of them]
+        #[arg(value_parser = setting_name())]
         name: Option<String>,
     },
     /// Change a setting (checked by the board; `save` keeps it)
     Set {
-        /// the setting (see `get`)
+        /// the setting
+        #[arg(value_parser = setting_name())]
         name: String,
         /// its new value (negative numbers are taken as values)
         #[arg(allow_hyphen_values = true)]
@@ -151,7 +153,6 @@ pub fn run(a: DeviceArgs) -> CliResult<String> {
         .open()
         .map_err(|e| CliError::flag("port", format!("cannot open {}: {e}", escaped(&path))))?;
     let mut s = Session::new(serial, &path, Duration::from_secs_f64(a.timeout));
-    let mut terminal = prompt::Terminal;
     match (&a.command, line) {
         (DeviceCommand::Watch, _) => watch(&mut s, &mut std::io::stdout().lock()),
         (DeviceCommand::Save, Some(l)) => ok_or_device_error(s.ask_within(&l, FLASH_WAIT.max(s.timeout))?),
@@ -165,14 +166,21 @@ now: polyturn flash FILE",
         (DeviceCommand::CheckEncoder { turns, seconds }, _) => {
             let turning =
                 seconds.map_or(checks::Turning::UntilEnter, |t| checks::Turning::For(Duration::from_secs_f64(t)));
-            let (f, proposal) = checks::check_encoder(&mut s, &mut terminal, turning, *turns)?;
-            Ok(checks::explain(&f, &proposal))
+            let (f, proposal) = checks::check_encoder(&mut s, &mut prompt::Terminal::with_ctrl_c(), turning, *turns)?;
+            Ok(checks::explain(&f, &proposal, *turns))
         }
-        (DeviceCommand::Setup(args), _) => setup::run(&mut s, args, &mut terminal),
+        (DeviceCommand::Setup(args), _) => setup::run(&mut s, args, &mut prompt::Terminal::with_ctrl_c()),
         (DeviceCommand::UploadCam { .. }, _) => upload(&mut s, table.as_ref().expect("read above")),
         (_, Some(l)) => s.ask(&l),
         (_, None) => Err(CliError("internal: a device command without a line".into())),
     }
+}
+
+/// A setting's name: the console's table of settings lists them (its
+/// `get` order), so `--help` shows each and a name the console does not
+/// have is refused before any port is opened.
+fn setting_name() -> clap::builder::PossibleValuesParser {
+    clap::builder::PossibleValuesParser::new(polyturn_sync::config::NAMES)
 }
 
 /// Set by Ctrl-C during a watch.

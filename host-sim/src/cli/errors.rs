@@ -86,9 +86,9 @@ fn one_line(e: &clap::Error) -> String {
     }
 }
 
-/// `--depth <MM>` → `--depth`; a positional `<FILE>` → `FILE`.
+/// `--depth <MM>` → `--depth`; a positional `<FILE>` or `[NAME]` → `FILE`, `NAME`.
 fn name(arg: &str) -> String {
-    arg.split([' ', '=']).next().unwrap_or(arg).trim_start_matches('<').trim_end_matches('>').to_string()
+    arg.split([' ', '=']).next().unwrap_or(arg).trim_start_matches(['<', '[']).trim_end_matches(['>', ']']).to_string()
 }
 
 fn flag_of(e: &clap::Error) -> String {

@@ -3,6 +3,7 @@
 //! per cutter turn, the sense setting, and the fastest lathe speed each
 //! ratio allows. Everything exact (integers and reduced fractions).
 
+use polyturn_sync::config::table::{CPR, STEPS};
 use polyturn_sync::{Config, Sense};
 use std::collections::BTreeMap;
 
@@ -36,40 +37,83 @@ pub fn parse_encoder(reply: &str) -> Option<EncoderFigures> {
     })
 }
 
-/// The cpr to set, or why none can be proposed. With an index the board's
-/// own figure; without one, the counts over a known number of turns.
+/// The cpr to set, or why none can be proposed. The index pulses' own
+/// figure wins when the board measured one (the counts between two index
+/// edges are exact; turns counted from a mark by hand are not); without
+/// one, the counts over the turns given. Never a cpr the console refuses.
 pub fn propose_cpr(f: &EncoderFigures, turns: Option<u32>) -> Result<u32, String> {
     if f.jumps > 0 {
         return Err(format!("{} jump(s) no lathe can make: noise on the encoder wires (shield them, check the ground) or max-rpm too low", f.jumps));
     }
-    if let Some(n) = turns.filter(|&n| n > 0) {
-        // Quadrature decoded ×4 makes 4 counts a line: the nearest multiple
-        // of 4 to the counts a turn, which absorbs a hand's misalignment
-        // of the mark by up to 2 counts a turn (the index check is exact).
-        let counts = f.moved.unsigned_abs();
-        let per_turn = (counts + 2 * n as u64) / (4 * n as u64) * 4;
-        if per_turn == 0 {
-            return Err(format!("{counts} counts in {n} turn(s): is the encoder connected?"));
-        }
-        return u32::try_from(per_turn).map_err(|_| "more counts than any encoder makes".into());
+    match (by_index(f), turns.filter(|&n| n > 0)) {
+        (Some(indexed), _) => indexed,
+        (None, Some(n)) => by_turns(f, n),
+        (None, None) => Err(format!(
+            "{} index pulse(s) seen: turn the chuck 3 turns or more one way, or give the number of turns (no index)",
+            f.indexes
+        )),
     }
+}
+
+/// The index pulses' figure, if the board measured one.
+fn by_index(f: &EncoderFigures) -> Option<Result<u32, String>> {
     match (f.cpr, f.gap) {
-        (Some(c), _) => Ok(c),
-        (None, Some((lo, hi))) if hi.saturating_sub(lo) > 1 => Err(format!("counts between index pulses varied from {lo} to {hi}: counts are lost (noise, a loose coupling, or the lathe turned too fast for the encoder)")),
-        _ => Err(format!("{} index pulse(s) seen: turn the chuck 3 turns or more one way, or give the number of turns (no index)", f.indexes)),
+        (Some(c), _) if CPR.contains(c) => Some(Ok(c)),
+        (Some(c), _) => Some(Err(format!("the board reported cpr={c} between index pulses, which the console refuses ({}): a faulty board or encoder", CPR.allowed))),
+        (None, Some((lo, hi))) if hi.saturating_sub(lo) > 1 => Some(Err(format!("counts between index pulses varied from {lo} to {hi}: counts are lost (noise, a loose coupling, or the lathe turned too fast for the encoder)"))),
+        _ => None,
+    }
+}
+
+/// The counts over `n` turns from a mark, to a whole cpr.
+fn by_turns(f: &EncoderFigures, n: u32) -> Result<u32, String> {
+    // Quadrature decoded ×4 makes 4 counts a line: the nearest multiple
+    // of 4 to the counts a turn, which absorbs a hand's misalignment
+    // of the mark by up to 2 counts a turn (the index check is exact).
+    let counts = f.moved.unsigned_abs();
+    let per_turn = (counts + 2 * n as u64) / (4 * n as u64) * 4;
+    if per_turn == 0 {
+        return Err(format!("{counts} counts in {n} turn(s): is the encoder connected?"));
+    }
+    match u32::try_from(per_turn).ok().filter(|&c| CPR.contains(c)) {
+        Some(c) => Ok(c),
+        None => Err(format!(
+            "{counts} counts in {n} turn(s) is {per_turn} a turn, which the console's `cpr` refuses ({})",
+            CPR.allowed
+        )),
+    }
+}
+
+/// When the index pulses and the turns counted both give a cpr and they
+/// differ: said, with which is proposed (the index's).
+pub fn disagreement(f: &EncoderFigures, turns: Option<u32>) -> Option<String> {
+    let n = turns.filter(|&n| n > 0)?;
+    let indexed = by_index(f)?.ok()?;
+    match by_turns(f, n) {
+        Ok(counted) if counted == indexed => None,
+        Ok(counted) => Some(format!("the index pulses and the turns disagree: {n} turn(s) counted {counted} a turn, the index pulses {indexed}; the index's figure is proposed (were there exactly {n} turn(s) from the mark?)")),
+        Err(why) => Some(format!("the index pulses and the turns disagree: {why}; the index's figure is proposed")),
     }
 }
 
 /// Motor steps per cutter turn: full steps × microsteps × the reduction
 /// (motor turns per cutter turn, a fraction: 40/20 for a 20-tooth motor
-/// pulley driving a 40-tooth one). Must come out whole.
+/// pulley driving a 40-tooth one). Must come out whole, and in the
+/// console's range for `steps`.
 pub fn steps_per_cutter_turn(full_steps: u32, microsteps: u32, reduction: (u64, u64)) -> Result<u32, String> {
     let (n, d) = reduction;
     let total = full_steps as u64 * microsteps as u64 * n;
     if d == 0 || !total.is_multiple_of(d) {
         return Err(format!("{full_steps} x {microsteps} x {n}/{d} is not a whole number of steps per cutter turn: check the pulley teeth"));
     }
-    u32::try_from(total / d).map_err(|_| "too many steps per cutter turn".to_string())
+    let steps = total / d;
+    match u32::try_from(steps).ok().filter(|&s| STEPS.contains(s)) {
+        Some(s) => Ok(s),
+        None => Err(format!(
+            "{full_steps} x {microsteps} x {n}/{d} is {steps} steps per cutter turn: the console's `steps` takes {}",
+            STEPS.allowed
+        )),
+    }
 }
 
 /// The `dir` setting that turns the cutter `wanted` relative to the

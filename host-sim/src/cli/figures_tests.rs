@@ -95,3 +95,39 @@ fn a_board_reporting_gaps_at_the_ends_of_the_range_gets_an_answer_not_a_panic() 
     assert_eq!(f.gap, Some((i64::MIN, i64::MAX)));
     assert!(propose_cpr(&f, None).unwrap_err().contains("varied"));
 }
+
+#[test]
+fn the_index_measurement_wins_over_counted_turns() {
+    let f = parse_encoder(REPLY).unwrap();
+    // 3 turns counted 11 700: 3 900 a turn, where the index pulses were
+    // 4 000 counts apart every time
+    let miscounted = EncoderFigures { moved: 11_700, ..f.clone() };
+    assert_eq!(propose_cpr(&miscounted, Some(3)), Ok(4_000));
+    // a lone index pulse (no gap measured) leaves the count over the turns
+    let one_index = EncoderFigures { moved: 7_202, indexes: 1, gap: None, cpr: None, ..f };
+    assert_eq!(propose_cpr(&one_index, Some(3)), Ok(2_400));
+}
+
+#[test]
+fn a_cpr_the_console_would_refuse_is_not_proposed() {
+    let f = parse_encoder(REPLY).unwrap();
+    for bad in [0, 2, 1_000_001, u32::MAX] {
+        let e = propose_cpr(&EncoderFigures { cpr: Some(bad), ..f.clone() }, None).unwrap_err();
+        assert!(e.contains(&format!("cpr={bad}")) && e.contains("4..=1000000 counts per lathe rev"), "{bad}: {e}");
+    }
+    // 1 000 turns' worth of counts in one turn, past the console's range
+    let e = propose_cpr(&EncoderFigures { moved: 4_000_004, cpr: None, gap: None, ..f }, Some(1)).unwrap_err();
+    assert!(e.contains("4..=1000000"), "{e}");
+}
+
+#[test]
+fn a_disagreement_between_the_index_and_the_turns_is_said() {
+    let f = parse_encoder(REPLY).unwrap();
+    let miscounted = EncoderFigures { moved: 11_700, ..f.clone() };
+    let said = crate::cli::device::checks::explain(&miscounted, &propose_cpr(&miscounted, Some(3)), Some(3));
+    assert!(said.contains("disagree: 3 turn(s) counted 3900 a turn, the index pulses 4000"), "{said}");
+    assert!(said.ends_with("proposed: set cpr 4000   (polyturn device set cpr 4000)"), "{said}");
+    // agreeing, or no turns given: nothing to say
+    assert_eq!(disagreement(&f, Some(3)), None);
+    assert_eq!(disagreement(&miscounted, None), None);
+}

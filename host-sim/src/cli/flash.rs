@@ -24,7 +24,7 @@ pub struct FlashArgs {
     /// Write an image without the polyturn marker (address, size and vector table checks still apply; an image marked for another chip is still refused)
     #[arg(long)]
     pub any_image: bool,
-    /// How long to look for the bootloader on USB, seconds (0..=600)
+    /// How long to look for the bootloader on USB, seconds
     // a leading '-' is a value (`-inf`), refused naming --wait, not flags
     #[arg(long, value_name = "S", default_value = "10", allow_hyphen_values = true, value_parser = within(0.0, 600.0, "s"))]
     pub wait: f64,

@@ -12,10 +12,10 @@ use crate::geometry::SectionSummary;
 #[derive(clap::Args, Debug, Clone)]
 #[group(required = true, multiple = false)]
 pub struct Stock {
-    /// Stock radius R2 before the cut, mm (<= 10000); or give --stock-diameter
+    /// Stock radius R2 before the cut, mm; or give --stock-diameter
     #[arg(long, value_name = "MM", value_parser = length_mm())]
     pub stock_radius: Option<f64>,
-    /// Stock diameter before the cut, mm (<= 20000); or give --stock-radius
+    /// Stock diameter before the cut, mm; or give --stock-radius
     #[arg(long, value_name = "MM", value_parser = within(0.001, 20_000.0, "mm"))]
     pub stock_diameter: Option<f64>,
 }
@@ -45,7 +45,7 @@ impl Stock {
 #[derive(clap::Args, Debug, Clone)]
 #[group(required = true, multiple = false)]
 pub struct Cut {
-    /// Depth of cut DOC at the flats' middle, mm (> 0, < the stock radius); or give --across-flats
+    /// Depth of cut DOC at the flats' middle, mm, less than the stock radius; or give --across-flats
     #[arg(long, value_name = "MM", value_parser = length_mm())]
     pub depth: Option<f64>,
     /// Across flats wanted, mm: twice the inscribed radius (< the stock diameter); or give --depth

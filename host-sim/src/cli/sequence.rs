@@ -8,7 +8,7 @@ use serde_json::json;
 
 #[derive(clap::Args, Debug)]
 pub struct SequenceArgs {
-    /// Sides N of the polygon (3..=10000)
+    /// Sides N of the polygon
     #[arg(long, value_name = "N", value_parser = whole32(3, 10_000))]
     pub sides: u32,
     /// Lathe turns per pattern m: >= 2, coprime with --sides, not 1 more than a multiple of it (the noncircular turning note, Theorem 2) [default: the smallest]

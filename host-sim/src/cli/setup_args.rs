@@ -5,25 +5,26 @@
 use super::errors::{CliError, CliResult};
 use super::geometry::not_round;
 use super::measure::{Cut, Stock};
-use super::values::{direction, length_mm, ratio, whole32};
+use super::values::{direction, length_mm, ratio, setting};
 use crate::geometry::{Direction, Section, Setup};
+use polyturn_sync::config::table::EDGES;
 use polyturn_sync::Ratio;
 
 /// Foale's R1, R2, DOC, GR, Z and sense.
 #[derive(clap::Args, Debug)]
 pub struct SetupArgs {
-    /// Cutter radius R1: the cutting edge's distance from the cutter's axis, mm (> --depth)
+    /// Cutter radius R1: the cutting edge's distance from the cutter's axis, mm, more than --depth
     #[arg(long, value_name = "MM", value_parser = length_mm())]
     pub cutter_radius: f64,
     #[command(flatten)]
     pub stock: Stock,
     #[command(flatten)]
     pub cut: Cut,
-    /// Gear ratio GR, cutter turns per lathe turn: 2, 2:1, 5/2, 11:3 or 2.5 (numerator and denominator 1..=1000)
+    /// Gear ratio GR, cutter turns per lathe turn, greater than 0: 2, 2:1, 5/2, 11:3 or 2.5 (numerator and denominator 1..=1000)
     #[arg(long, value_name = "GR", value_parser = ratio)]
     pub ratio: Ratio,
-    /// Cutting edges Z on the cutter (1..=12)
-    #[arg(long, value_name = "Z", value_parser = whole32(1, 12))]
+    /// Cutting edges Z on the cutter
+    #[arg(long, value_name = "Z", value_parser = setting(EDGES))]
     pub edges: u32,
     /// The cutter's sense against the lathe's: same or opposite (the console's `dir`)
     #[arg(long, value_name = "same|opposite", value_parser = direction)]

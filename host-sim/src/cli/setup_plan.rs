@@ -6,10 +6,13 @@
 
 pub mod bldc;
 
+use super::cutters::{refuse_others, For};
 use super::errors::{CliError, CliResult};
 use super::figures::{self, COMMON_RATIOS};
-use super::values::{ratio, whole32, within};
+use super::values::{ratio, setting, setting_range, whole32, within};
 use crate::geometry::Direction;
+use polyturn_sync::config::table::{CPR, CUTTER_CPR, DIR_SETUP, MAX_RPM, PULSE, START_RATE};
+use polyturn_sync::config::BldcOut;
 use polyturn_sync::{DriveKind, Ratio, Sense};
 
 #[derive(clap::Args, Debug, Clone)]
@@ -21,34 +24,34 @@ pub struct SetupArgs {
     #[arg(long, value_name = "stepper|bldc", default_value = "stepper", value_parser = crate::cli::values::drive)]
     pub drive: DriveKind,
     /// Encoder lines per turn, as on its label (counts = 4 x lines)
-    #[arg(long, value_name = "N", value_parser = whole32(1, 250_000), conflicts_with = "encoder_cpr")]
+    #[arg(long, value_name = "N", value_parser = whole32(CPR.lo.div_ceil(4), CPR.hi / 4), conflicts_with = "encoder_cpr")]
     pub encoder_lines: Option<u32>,
-    /// Measured encoder counts per lathe turn (from check-encoder; the console's `cpr`)
-    #[arg(long, value_name = "N", value_parser = whole32(4, 1_000_000))]
+    /// Measured encoder counts per lathe turn (from check-encoder)
+    #[arg(long, value_name = "N", value_parser = setting(CPR))]
     pub encoder_cpr: Option<u32>,
-    /// Motor full steps per turn
-    #[arg(long, value_name = "N", default_value = "200", value_parser = whole32(1, 100_000))]
-    pub motor_steps: u32,
-    /// Driver microsteps per full step
-    #[arg(long, value_name = "N", default_value = "16", value_parser = whole32(1, 512))]
-    pub microsteps: u32,
-    /// Motor turns per cutter turn (belt or gears), e.g. 2, 40/20 or 40:20
-    #[arg(long, value_name = "RATIO", default_value = "1", value_parser = ratio)]
-    pub reduction: Ratio,
+    /// With --drive stepper: motor full steps per turn [default: 200]
+    #[arg(long, value_name = "N", value_parser = whole32(1, 100_000))]
+    pub motor_steps: Option<u32>,
+    /// With --drive stepper: driver microsteps per full step [default: 16]
+    #[arg(long, value_name = "N", value_parser = whole32(1, 512))]
+    pub microsteps: Option<u32>,
+    /// With --drive stepper: motor turns per cutter turn (belt or gears), greater than 0, e.g. 2, 40/20 or 40:20 (numerator and denominator 1..=1000) [default: 1]
+    #[arg(long, value_name = "RATIO", value_parser = ratio)]
+    pub reduction: Option<Ratio>,
     /// The lathe's fastest speed, rpm
-    #[arg(long, value_name = "RPM", value_parser = whole32(1, 10_000))]
+    #[arg(long, value_name = "RPM", value_parser = setting(MAX_RPM))]
     pub max_lathe_rpm: Option<u32>,
-    /// The driver's shortest STEP pulse, ns (its datasheet; 100..=100000, the console's `pulse`)
-    #[arg(long, value_name = "NS", value_parser = whole32(100, 100_000), conflicts_with = "pulse_us")]
+    /// With --drive stepper: the driver's shortest STEP pulse, ns (its datasheet)
+    #[arg(long, value_name = "NS", value_parser = setting(PULSE), conflicts_with = "pulse_us")]
     pub pulse_ns: Option<u32>,
     /// The same in microseconds: the old spelling, hidden, still taken
-    #[arg(long, value_name = "US", value_parser = within(1.0, 1000.0, "us"), hide = true)]
+    #[arg(long, value_name = "US", value_parser = within(PULSE.lo as f64 / 1e3, PULSE.hi as f64 / 1e3, "us"), hide = true)]
     pub pulse_us: Option<f64>,
-    /// The driver's DIR setup time before a STEP, ns (0..=100000, the console's `dir-setup`)
-    #[arg(long, value_name = "NS", value_parser = whole32(0, 100_000), conflicts_with = "dir_setup_us")]
+    /// With --drive stepper: the driver's DIR setup time before a STEP, ns
+    #[arg(long, value_name = "NS", value_parser = setting(DIR_SETUP), conflicts_with = "dir_setup_us")]
     pub dir_setup_ns: Option<u32>,
     /// The same in microseconds: the old spelling, hidden, still taken
-    #[arg(long, value_name = "US", value_parser = within(0.0, 1000.0, "us"), hide = true)]
+    #[arg(long, value_name = "US", value_parser = within(DIR_SETUP.lo as f64 / 1e3, DIR_SETUP.hi as f64 / 1e3, "us"), hide = true)]
     pub dir_setup_us: Option<f64>,
     /// The cutter's sense against the chuck's (seen from the same end): same or opposite (the console's `dir`)
     #[arg(long = "direction", alias = "sense", value_name = "same|opposite", default_value = "same", value_parser = crate::cli::values::direction)]
@@ -59,11 +62,11 @@ pub struct SetupArgs {
     /// With dir=same, a jog turned the cutter against the chuck's forward turn
     #[arg(long)]
     pub motor_reversed: bool,
-    /// Counts per cutter turn of an encoder on the motor's shaft or the cutter spindle (4 x lines x belt), on PB6/PB7: a stepper's lost-step alarm (the console's `cutter-cpr`; 0: none), or the BLDC's phase loop (the console's `steps`)
+    /// Counts per cutter turn of an encoder on the motor's shaft or the cutter spindle (4 x lines x belt), on PB6/PB7: a stepper's lost-step alarm, or the BLDC's phase loop (the console's `steps`); 0 or off: none
     #[arg(long, value_name = "N", value_parser = cutter_cpr)]
     pub cutter_encoder_cpr: Option<u32>,
-    /// The motor's start rate with the cutter fitted, steps/s: while following, a change of speed within it is made at once, so engaged at rest the cutter starts at the lathe's speed (0..=250000, at most the board's max-rate; 0: off, every change at max-accel; the console's `start-rate`, found on the bench)
-    #[arg(long, value_name = "STEPS_PER_S", value_parser = whole32(0, 250_000))]
+    /// With --drive stepper: the motor's start rate with the cutter fitted, steps/s: while following, a change of speed within it is made at once, so engaged at rest the cutter starts at the lathe's speed (at most the board's max-rate; 0: off, every change at max-accel; found on the bench)
+    #[arg(long, value_name = "STEPS_PER_S", value_parser = setting(START_RATE))]
     pub start_rate: Option<u32>,
     #[command(flatten)]
     pub bldc: bldc::BldcArgs,
@@ -94,24 +97,55 @@ pub struct Facts {
     pub bldc: Option<bldc::BldcFacts>,
 }
 
-/// `--cutter-encoder-cpr`: 0 (none) or the console's 4..=1000000.
+/// A stepper's motor and driver unless told: 200 full steps, 16 microsteps.
+pub const MOTOR_STEPS: u32 = 200;
+pub const MICROSTEPS: u32 = 16;
+
+/// `--cutter-encoder-cpr`: `off` or 0 (none), or the console's `cutter-cpr`.
 fn cutter_cpr(v: &str) -> Result<u32, String> {
-    match v.parse::<u32>() {
-        Ok(n) if n == 0 || (4..=1_000_000).contains(&n) => Ok(n),
-        _ => Err("0 (none) or 4..=1000000 counts per cutter turn".to_string()),
+    match v.trim() {
+        "off" => Ok(0),
+        n => match n.parse::<u32>() {
+            Ok(n) if n == 0 || CUTTER_CPR.contains(n) => Ok(n),
+            _ => Err(format!("must be {} (0 is off too)", setting_range(CUTTER_CPR))),
+        },
     }
 }
 
+/// Every flag that is one kind of cutter's, given or not.
+fn cutters_flags(a: &SetupArgs) -> [(&'static str, For, bool); 12] {
+    let b = &a.bldc;
+    [
+        ("motor-steps", For::Stepper, a.motor_steps.is_some()),
+        ("microsteps", For::Stepper, a.microsteps.is_some()),
+        ("reduction", For::Stepper, a.reduction.is_some()),
+        ("pulse-ns", For::Stepper, a.pulse_ns.is_some()),
+        ("pulse-us", For::Stepper, a.pulse_us.is_some()),
+        ("dir-setup-ns", For::Stepper, a.dir_setup_ns.is_some()),
+        ("dir-setup-us", For::Stepper, a.dir_setup_us.is_some()),
+        ("start-rate", For::Stepper, a.start_rate.is_some()),
+        ("bldc-out", For::Bldc, b.bldc_out.is_some()),
+        ("pwm-hz", For::Pwm, b.pwm_hz.is_some()),
+        ("bldc-tau", For::Bldc, b.bldc_tau.is_some()),
+        ("cutter-max-rpm", For::Bldc, b.cutter_max_rpm.is_some()),
+    ]
+}
+
 pub fn from_flags(a: &SetupArgs) -> CliResult<Facts> {
+    refuse_others(a.drive, a.bldc.bldc_out == Some(BldcOut::Pwm), &cutters_flags(a))?;
     let need = |flag: &str| CliError::flag(flag, "is needed with --non-interactive");
     let cpr = match (a.encoder_cpr, a.encoder_lines) {
         (Some(c), _) => c,
         (None, Some(l)) => l * 4,
         (None, None) => return Err(need("encoder-lines (or --encoder-cpr)")),
     };
+    let steps = match a.drive {
+        DriveKind::Bldc => 0, // the BLDC's encoder's counts, below
+        _ => motor_steps(a)?,
+    };
     let stepper = Facts {
         cpr,
-        steps: motor_steps(a)?,
+        steps,
         max_rpm: a.max_lathe_rpm.ok_or_else(|| need("max-lathe-rpm"))?,
         pulse_ns: a.pulse_ns.or(a.pulse_us.map(ns)),
         dir_setup_ns: a.dir_setup_ns.or(a.dir_setup_us.map(ns)),
@@ -124,41 +158,14 @@ pub fn from_flags(a: &SetupArgs) -> CliResult<Facts> {
     };
     match a.drive {
         DriveKind::Bldc => bldc_facts(a, stepper),
-        _ => only_for_bldc(a).map(|()| stepper),
+        _ => Ok(stepper),
     }
 }
 
-/// A BLDC's facts in place of the stepper's: a flag that is only a
-/// stepper's is refused, not ignored.
+/// A BLDC's facts in place of the stepper's (its flags refused above).
 fn bldc_facts(a: &SetupArgs, f: Facts) -> CliResult<Facts> {
-    let stepper_only = [
-        ("pulse-ns", f.pulse_ns.is_some()),
-        ("dir-setup-ns", f.dir_setup_ns.is_some()),
-        ("start-rate", f.start_rate.is_some()),
-    ];
-    refuse_given(&stepper_only, "is for a stepper's driver (--drive stepper)")?;
     let b = bldc::from_flags(&a.bldc, a.cutter_encoder_cpr)?;
     Ok(Facts { steps: b.counts, cutter_cpr: None, bldc: Some(b), ..f })
-}
-
-/// A stepper's setup with a BLDC's flag: refused, naming it.
-fn only_for_bldc(a: &SetupArgs) -> CliResult<()> {
-    let b = &a.bldc;
-    let given = [
-        ("bldc-out", b.bldc_out.is_some()),
-        ("pwm-hz", b.pwm_hz.is_some()),
-        ("bldc-tau", b.bldc_tau.is_some()),
-        ("cutter-max-rpm", b.cutter_max_rpm.is_some()),
-    ];
-    refuse_given(&given, "is for a BLDC cutter (--drive bldc)")
-}
-
-/// The first of `flags` given (flag, given), refused with `why`.
-fn refuse_given(flags: &[(&str, bool)], why: &str) -> CliResult<()> {
-    match flags.iter().find(|(_, given)| *given) {
-        Some((flag, _)) => Err(CliError::flag(flag, why)),
-        None => Ok(()),
-    }
 }
 
 /// Microseconds (the old `--pulse-us`, `--dir-setup-us`) as the
@@ -174,9 +181,12 @@ pub fn sense_of(d: Direction) -> Sense {
     }
 }
 
+/// A stepper's steps per cutter turn from its flags (or their defaults).
 pub fn motor_steps(a: &SetupArgs) -> CliResult<u32> {
-    let r = (a.reduction.num() as u64, a.reduction.den() as u64);
-    figures::steps_per_cutter_turn(a.motor_steps, a.microsteps, r).map_err(|e| CliError::flag("reduction", e))
+    let r = a.reduction.map_or((1, 1), |r| (r.num() as u64, r.den() as u64));
+    let (full, micro) = (a.motor_steps.unwrap_or(MOTOR_STEPS), a.microsteps.unwrap_or(MICROSTEPS));
+    figures::steps_per_cutter_turn(full, micro, r)
+        .map_err(|e| CliError(format!("--motor-steps x --microsteps x --reduction: {e}")))
 }
 
 /// The settings the facts make (the board checks each again).

@@ -12,15 +12,16 @@ mod tests;
 
 use super::errors::{CliError, CliResult};
 use super::measure::{Cut, Stock};
-use super::values::{length_mm, ratio_bound, rpm, whole32, within};
+use super::values::{length_mm, ratio_bound, rpm, setting, whole32, within};
 use crate::planner::{plan, Request};
 use advice::Limits;
 use assumed::Cutter;
+use polyturn_sync::config::table::EDGES;
 use table::Report;
 
 #[derive(clap::Args, Debug)]
 pub struct SetupsArgs {
-    /// Sides N of the polygon wanted (2..=1000)
+    /// Sides N of the polygon wanted
     #[arg(long, value_name = "N", value_parser = whole32(2, 1000))]
     pub sides: u32,
     #[command(flatten)]
@@ -30,25 +31,25 @@ pub struct SetupsArgs {
     /// Cutter radius R1, mm [default: 5 x the stock radius, said in the output]
     #[arg(long, value_name = "MM", value_parser = length_mm())]
     pub cutter_radius: Option<f64>,
-    /// Most cutting edges Z to consider (1..=12)
-    #[arg(long, value_name = "Z", default_value = "6", value_parser = whole32(1, 12))]
+    /// Most cutting edges Z to consider
+    #[arg(long, value_name = "Z", default_value = "6", value_parser = setting(EDGES))]
     pub max_edges: u32,
-    /// Largest gear ratio to consider: 8, 8:1, 15/2 or 7.5 (> 0, <= 1000)
-    #[arg(long, value_name = "GR", default_value = "8", value_parser = ratio_bound(1000.0))]
+    /// Largest gear ratio to consider: 8, 8:1, 15/2 or 7.5
+    #[arg(long, value_name = "GR", default_value = "8", value_parser = ratio_bound(0.01, 1000.0))]
     pub max_ratio: f64,
-    /// Most lathe turns per pattern to consider (1..=12)
+    /// Most lathe turns per pattern to consider
     #[arg(long, value_name = "TURNS", default_value = "1", value_parser = whole32(1, 12))]
     pub max_revolutions: u32,
-    /// Lathe speed, rpm (1..=10000): adds the cutter's speed and tip speed
+    /// Lathe speed, rpm: adds the cutter's speed and tip speed
     #[arg(long, value_name = "RPM", value_parser = rpm(10_000.0))]
     pub rpm: Option<f64>,
-    /// Flat deviation to size the smallest cutter for, mm (> 0, <= 10)
+    /// Flat deviation to size the smallest cutter for, mm
     #[arg(long, value_name = "MM", default_value = "0.01", value_parser = within(0.0001, 10.0, "mm"))]
     pub tolerance: f64,
-    /// Warn of setups whose cutter tip, with --rpm, cuts faster than this, m/s (> 0, <= 1000)
+    /// Warn of setups whose cutter tip, with --rpm, cuts faster than this, m/s
     #[arg(long, value_name = "M/S", default_value_t = advice::DEFAULT_MAX_TIP_SPEED, value_parser = within(0.01, 1000.0, "m/s"))]
     pub max_tip_speed: f64,
-    /// Warn of setups that, with --rpm, turn the cutter faster than this, rpm (> 0, <= 1000000; the default is the firmware's default motor's top speed, 200000 steps/s at 3200 steps a turn)
+    /// Warn of setups that, with --rpm, turn the cutter faster than this, rpm; the default is the firmware's default motor's top speed, 200000 steps/s at 3200 steps a turn
     #[arg(long, value_name = "RPM", default_value_t = advice::default_max_cutter_rpm(), value_parser = within(1.0, 1e6, "rpm"))]
     pub max_cutter_rpm: f64,
     /// Print the setups as JSON

@@ -3,13 +3,16 @@
 // the browser runs it in its own worker, with no terminal
 #[cfg(not(target_family = "wasm"))]
 mod alive;
+mod refused;
 
+use super::cutters::{refuse_others, For};
 use super::errors::{escaped, CliError, CliResult};
 use super::geometry::SetupArgs;
 use super::output::Outputs;
-use super::values::{bldc_out, drive, out_file, rpm, whole, whole32, within};
+use super::values::{bldc_out, drive, out_file, pwm_hz, rpm, setting, whole, whole32, within};
 use crate::geometry::{Direction, Setup};
 use crate::sim::{report, run, Scenario, Start};
+use polyturn_sync::config::table::{BLDC_TAU, CPR, START_RATE, STEPS};
 use polyturn_sync::config::BldcOut;
 use polyturn_sync::{DriveKind, Ratio};
 use std::path::PathBuf;
@@ -23,55 +26,55 @@ const MAX_CUT_S: f64 = 600.0;
 pub struct SimulateArgs {
     #[command(flatten)]
     pub setup: SetupArgs,
-    /// Lathe speed while cutting, rpm (1..=6000)
+    /// Lathe speed while cutting, rpm
     #[arg(long, value_name = "RPM", allow_hyphen_values = true, value_parser = rpm(6000.0))]
     pub rpm: f64,
-    /// Lathe turns to cut (> 0, <= 10000; at most 600 s of cutting)
+    /// Lathe turns to cut; at most 600 s of cutting
     #[arg(long, value_name = "TURNS", allow_hyphen_values = true, value_parser = within(0.001, 10_000.0, "turns"))]
     pub revolutions: f64,
-    /// Lathe speed ripple, a fraction of the speed (0..=0.5)
+    /// Lathe speed ripple, a fraction of the speed
     #[arg(long, value_name = "FRACTION", default_value = "0", allow_hyphen_values = true, value_parser = within(0.0, 0.5, ""))]
     pub ripple: f64,
     /// Engage with the lathe at rest or already spinning: rest or spinning
     #[arg(long, value_name = "rest|spinning", default_value = "rest", value_parser = start)]
     pub start: Start,
-    /// Lathe encoder counts per turn, after x4 quadrature (4..=1000000)
-    #[arg(long, value_name = "COUNTS", default_value = "2400", allow_hyphen_values = true, value_parser = whole32(4, 1_000_000))]
+    /// Lathe encoder counts per turn, after x4 quadrature
+    #[arg(long, value_name = "COUNTS", default_value = "2400", allow_hyphen_values = true, value_parser = setting(CPR))]
     pub encoder_cpr: u32,
-    /// Cutter motor steps per cutter turn, microsteps included (1..=1000000)
-    #[arg(long, value_name = "STEPS", default_value = "3200", allow_hyphen_values = true, value_parser = whole32(1, 1_000_000))]
+    /// Cutter motor steps per cutter turn, microsteps included (a BLDC: its encoder's counts)
+    #[arg(long, value_name = "STEPS", default_value = "3200", allow_hyphen_values = true, value_parser = setting(STEPS))]
     pub motor_steps: u32,
     /// The cutter's drive: stepper or bldc
     #[arg(long, value_name = "stepper|bldc", default_value = "stepper", value_parser = drive)]
     pub drive: DriveKind,
-    /// What the BLDC drive is fed (--drive bldc): esc50, esc400, oneshot125 (an RC ESC) or pwm (a spindle driver's speed input)
-    #[arg(long, value_name = "esc50|esc400|oneshot125|pwm", default_value = "esc50", value_parser = bldc_out)]
-    pub bldc_out: BldcOut,
-    /// The PWM's frequency with --bldc-out pwm, Hz (1000..=20000, a divisor of 96000000)
-    #[arg(long, value_name = "HZ", default_value = "1000", allow_hyphen_values = true, value_parser = whole32(1_000, 20_000))]
-    pub pwm_hz: u32,
-    /// The BLDC drive's time constant as set (`bldc-tau`), ms (1..=1000; by default the simulated drive's own)
-    #[arg(long, value_name = "MS", allow_hyphen_values = true, value_parser = whole32(1, 1_000))]
+    /// With --drive bldc: what the BLDC drive is fed: esc50, esc400, oneshot125 (an RC ESC) or pwm (a spindle driver's speed input) [default: esc50]
+    #[arg(long, value_name = "esc50|esc400|oneshot125|pwm", value_parser = bldc_out)]
+    pub bldc_out: Option<BldcOut>,
+    /// With --bldc-out pwm: the PWM's frequency, Hz [default: 1000]
+    #[arg(long, value_name = "HZ", allow_hyphen_values = true, value_parser = pwm_hz)]
+    pub pwm_hz: Option<u32>,
+    /// With --drive bldc: the drive's time constant as set (`bldc-tau`), ms [default: the simulated drive's own]
+    #[arg(long, value_name = "MS", allow_hyphen_values = true, value_parser = setting(BLDC_TAU))]
     pub bldc_tau: Option<u32>,
-    /// Seed of the simulated encoder noise and speed ripple (0..=2^64-1)
+    /// Seed of the simulated encoder noise and speed ripple
     #[arg(long, value_name = "S", default_value = "1", allow_hyphen_values = true, value_parser = whole(0, u64::MAX))]
     pub seed: u64,
-    /// The cutter's `max-accel`, steps/s² (10..=2000000; the simulated motor stalls past 5000000)
+    /// The cutter's `max-accel`, steps/s²; the simulated motor stalls past 5000000
     #[arg(long, value_name = "STEPS/S2", default_value = "400000", allow_hyphen_values = true, value_parser = whole32(10, 2_000_000))]
     pub max_accel: u32,
-    /// The cutter's `start-rate`: speeds it takes and leaves at once, steps/s (0..=250000, 0: off)
-    #[arg(long, value_name = "STEPS/S", default_value = "0", allow_hyphen_values = true, value_parser = whole32(0, 250_000))]
-    pub start_rate: u32,
+    /// With --drive stepper: the cutter's `start-rate`, speeds it takes and leaves at once, steps/s; 0: off [default: 0]
+    #[arg(long, value_name = "STEPS/S", allow_hyphen_values = true, value_parser = setting(START_RATE))]
+    pub start_rate: Option<u32>,
     /// Time the encoder's edges as the board does: on, or off (the count alone)
     #[arg(long, value_name = "on|off", default_value = "on", action = clap::ArgAction::Set, value_parser = on_off)]
     pub edge_timing: bool,
-    /// Encoder disc eccentricity: edge error once a turn, counts (0..=2)
+    /// Encoder disc eccentricity: edge error once a turn, counts
     #[arg(long, value_name = "COUNTS", default_value = "0", allow_hyphen_values = true, value_parser = within(0.0, 2.0, "counts"))]
     pub encoder_eccentricity: f64,
-    /// Encoder B edges off their 90°, counts (-0.45..=0.45)
+    /// Encoder B edges off their 90°, counts
     #[arg(long, value_name = "COUNTS", default_value = "0", allow_hyphen_values = true, value_parser = within(-0.45, 0.45, "counts"))]
     pub encoder_quadrature_error: f64,
-    /// Encoder A's duty-cycle error, counts (-0.45..=0.45)
+    /// Encoder A's duty-cycle error, counts
     #[arg(long, value_name = "COUNTS", default_value = "0", allow_hyphen_values = true, value_parser = within(-0.45, 0.45, "counts"))]
     pub encoder_duty_error: f64,
     /// Print the report as one JSON object
@@ -99,6 +102,14 @@ fn start(s: &str) -> Result<Start, String> {
 }
 
 pub fn scenario_from(a: &SimulateArgs) -> CliResult<Scenario> {
+    let pwm = a.bldc_out == Some(BldcOut::Pwm);
+    let flags = [
+        ("bldc-out", For::Bldc, a.bldc_out.is_some()),
+        ("pwm-hz", For::Pwm, a.pwm_hz.is_some()),
+        ("bldc-tau", For::Bldc, a.bldc_tau.is_some()),
+        ("start-rate", For::Stepper, a.start_rate.is_some()),
+    ];
+    refuse_others(a.drive, pwm, &flags)?;
     let setup = a.setup.setup()?;
     let (rpm, revs) = (a.rpm, a.revolutions);
     let seconds = revs * 60.0 / rpm;
@@ -111,28 +122,27 @@ pub fn scenario_from(a: &SimulateArgs) -> CliResult<Scenario> {
     let mut sc = Scenario::standard(setup, rpm, revs, a.ripple, a.start, a.encoder_cpr, a.motor_steps, a.drive, a.seed);
     sc.edge_timing = a.edge_timing;
     sc.core.max_accel_steps_per_s2 = a.max_accel;
-    sc.core.start_rate_hz = a.start_rate;
+    sc.core.start_rate_hz = a.start_rate.unwrap_or(0);
     if a.drive == DriveKind::Bldc {
-        crate::sim::bldc::fit_drive(&mut sc, a.bldc_out, a.pwm_hz, a.bldc_tau)
-            .map_err(|e| CliError::flag(e.field, e.allowed))?;
+        fit_bldc(&mut sc, a)?;
     }
     sc.disc = crate::sim::encoder::Disc {
         eccentricity_counts: a.encoder_eccentricity,
         quadrature_counts: a.encoder_quadrature_error,
         duty_counts: a.encoder_duty_error,
     };
-    // Refuse, with the reason, a run whose motor would overspeed. The
-    // simulated controller is set up for 30 % above --rpm (`max-rpm`: the
-    // ripple and the lathe's overshoot), and the check is made there.
-    sc.core.validate().map_err(|e| match e.field {
-        "ratio" => CliError::flag("rpm", format!(
-            "too fast for this ratio and motor: the simulated controller allows {} rpm (--rpm + 30 % headroom), which needs {:.0} steps/s; the motor's limit is {} (lower --rpm or --motor-steps)",
-            sc.core.max_lathe_rpm, sc.core.motor_rate_at(sc.core.max_lathe_rpm as f64), sc.core.max_step_rate_hz)),
-        "cpr" => CliError::flag("encoder-cpr", e.allowed),
-        "steps" => CliError::flag("motor-steps", e.allowed),
-        f => CliError::flag(f, e.allowed),
-    })?;
+    sc.core.validate().map_err(|e| refused::setting(e, &sc, a))?;
     Ok(sc)
+}
+
+/// The BLDC's drive fitted to the run; a time constant of its own out of
+/// `bldc-tau`'s range is named with where it came from.
+fn fit_bldc(sc: &mut Scenario, a: &SimulateArgs) -> CliResult<()> {
+    let out = a.bldc_out.unwrap_or(BldcOut::Esc50);
+    if a.bldc_tau.is_none() {
+        refused::own_tau(sc, out, a.motor_steps)?;
+    }
+    crate::sim::bldc::fit_drive(sc, out, a.pwm_hz.unwrap_or(1_000), a.bldc_tau).map_err(|e| refused::setting(e, sc, a))
 }
 
 pub fn run_cli(a: SimulateArgs) -> CliResult<String> {
@@ -142,6 +152,9 @@ pub fn run_cli(a: SimulateArgs) -> CliResult<String> {
     #[cfg(target_family = "wasm")]
     let r = run(&sc);
     let r = r.map_err(CliError)?;
+    if r.cut_turns == 0.0 {
+        return Err(refused::nothing_cut(&sc, &r, &a));
+    }
     let mut files = Outputs::default();
     if let Some(path) = &a.svg {
         files.add("svg", path, report::svg(&sc, &r))?;

@@ -1,10 +1,13 @@
 //! The value parsers of every flag: each names what is allowed, with the
 //! unit, so the one-line error (`error: --FLAG must be ... (got '...')`)
 //! tells the machinist what to type. Surrounding spaces are trimmed for
-//! every kind of value alike (numbers, ratios and choices).
+//! every kind of value alike (numbers, ratios and choices). A range is
+//! said as `lo..=hi`, and `--help` shows each flag's range as its parser
+//! refuses it (`cli::ranges`): the two cannot disagree. A flag that is a
+//! console setting takes the console's own range (`setting`).
 
 use crate::geometry::Direction;
-use polyturn_sync::config::BldcOut;
+use polyturn_sync::config::{BldcOut, Span};
 use polyturn_sync::{DriveKind, Ratio};
 
 /// A value parser as clap takes it: text in, value or what is allowed.
@@ -15,7 +18,7 @@ impl<T, F: Fn(&str) -> Result<T, String> + Clone + Send + Sync + 'static> Parser
 pub fn within(lo: f64, hi: f64, unit: &'static str) -> impl Parser<f64> {
     move |s: &str| match s.trim().parse::<f64>() {
         Ok(v) if v.is_finite() && (lo..=hi).contains(&v) => Ok(v),
-        _ => Err(format!("must be a finite number >= {lo} and <= {hi}{}", spaced(unit))),
+        _ => Err(format!("must be a number in {lo}..={hi}{}", spaced(unit))),
     }
 }
 
@@ -30,7 +33,7 @@ pub fn length_mm() -> impl Parser<f64> {
 pub fn rpm(hi: f64) -> impl Parser<f64> {
     move |s: &str| match s.trim().parse::<f64>() {
         Ok(v) if v.is_finite() && (1.0..=hi).contains(&v) => Ok(v),
-        _ => Err(format!("must be a lathe speed >= 1 and <= {hi} rpm")),
+        _ => Err(format!("must be a lathe speed in 1..={hi} rpm")),
     }
 }
 
@@ -48,21 +51,38 @@ pub fn whole32(lo: u32, hi: u32) -> impl Parser<u32> {
     move |s: &str| w(s).map(|v| v as u32)
 }
 
+/// A console setting's number, in the console's own range (its table,
+/// `polyturn_sync::config::table`), refused in its words.
+pub fn setting(span: Span) -> impl Parser<u32> {
+    move |s: &str| match s.trim().parse::<u32>() {
+        Ok(v) if span.contains(v) => Ok(v),
+        _ => Err(format!("must be {}", setting_range(span))),
+    }
+}
+
+/// A console setting's range as the CLI says it: the console's words and
+/// its name.
+pub fn setting_range(span: Span) -> String {
+    format!("{}, the console's `{}`", span.allowed, span.name)
+}
+
 /// A gear ratio as the console takes it (the core's own parser).
 pub fn ratio(s: &str) -> Result<Ratio, String> {
     Ratio::parse(s).map_err(|e| e.describe().to_string())
 }
 
-/// A bound on the ratio, in (0, hi]: a number (`7.5`, as before), or a
-/// ratio as `--ratio` takes it (`8:1`, `15/2`).
-pub fn ratio_bound(hi: f64) -> impl Parser<f64> {
-    let number = within(0.01, hi, "");
+/// A bound on the ratio in lo..=hi: a number (`7.5`) or a ratio as
+/// `--ratio` takes it (`8:1`, `15/2`), read to its value and then held to
+/// the one range whatever the spelling (`1/1000` is 0.001, as `0.001` is).
+pub fn ratio_bound(lo: f64, hi: f64) -> impl Parser<f64> {
     move |s: &str| {
-        match s.contains(['/', ':']) {
-            true => Ratio::parse(s).map(Ratio::to_f64).ok().filter(|&v| v <= hi),
-            false => number(s).ok(),
-        }
-        .ok_or_else(|| format!("must be a number >= 0.01 and <= {hi}, or p/q or p:q"))
+        let value = match s.contains(['/', ':']) {
+            true => Ratio::parse(s).map(Ratio::to_f64).ok(),
+            false => s.trim().parse::<f64>().ok(),
+        };
+        value
+            .filter(|v| v.is_finite() && (lo..=hi).contains(v))
+            .ok_or_else(|| format!("must be {lo}..={hi}, as a number, p/q or p:q"))
     }
 }
 
@@ -91,8 +111,9 @@ pub fn bldc_out(s: &str) -> Result<BldcOut, String> {
 
 /// A PWM frequency TIM10 makes exactly (the console's own rule, `pwm-hz`).
 pub fn pwm_hz(s: &str) -> Result<u32, String> {
-    let hz = whole32(1, u32::MAX)(s)?;
-    polyturn_sync::config::bldc::check_pwm_hz(hz).map_err(|e| format!("must be {}", e.allowed))?;
+    let refused = || format!("must be {}", setting_range(polyturn_sync::config::table::PWM_HZ));
+    let hz = s.trim().parse::<u32>().map_err(|_| refused())?;
+    polyturn_sync::config::bldc::check_pwm_hz(hz).map_err(|_| refused())?;
     Ok(hz)
 }
 
@@ -121,10 +142,10 @@ mod tests {
         assert_eq!(length_mm()(" 2.5 "), Ok(2.5));
         assert_eq!(direction(" same "), Ok(Direction::Same));
         assert_eq!(whole(1, 12)(" 12"), Ok(12));
-        assert_eq!(length_mm()("nan").unwrap_err(), "must be a finite number >= 0.001 and <= 10000 mm");
+        assert_eq!(length_mm()("nan").unwrap_err(), "must be a number in 0.001..=10000 mm");
         assert!(length_mm()("0").is_err() && length_mm()("10000.1").is_err() && length_mm()("inf").is_err());
         assert!(length_mm()("0.001").is_ok() && length_mm()("0.00099").is_err(), "a micron, not less");
-        assert!(rpm(6000.0)("1e-308").unwrap_err().contains(">= 1"));
+        assert!(rpm(6000.0)("1e-308").unwrap_err().contains("1..=6000 rpm"));
         assert_eq!(whole(1, 12)("13").unwrap_err(), "must be a whole number in 1..=12");
         assert!(within(0.0, 0.5, "")("0").is_ok() && within(0.0, 0.5, "")("-0.1").is_err());
         assert_eq!(ratio("1/0").unwrap_err(), "has a zero denominator");
@@ -133,11 +154,33 @@ mod tests {
 
     #[test]
     fn a_ratio_bound_is_a_number_or_a_ratio_as_the_shop_writes_it() {
-        let b = ratio_bound(1000.0);
+        let b = ratio_bound(0.01, 1000.0);
         assert_eq!((b("7.5"), b("15/2"), b(" 15:2 "), b("1000:1")), (Ok(7.5), Ok(7.5), Ok(7.5), Ok(1000.0)));
-        assert_eq!(b("0").unwrap_err(), "must be a number >= 0.01 and <= 1000, or p/q or p:q");
+        assert_eq!(b("0").unwrap_err(), "must be 0.01..=1000, as a number, p/q or p:q");
         assert!(b("0.01").is_ok() && b("1e-308").is_err());
-        assert!(b("1001").is_err() && b("2:0").is_err() && b("nan").is_err() && ratio_bound(8.0)("17:2").is_err());
+        assert!(
+            b("1001").is_err() && b("2:0").is_err() && b("nan").is_err() && ratio_bound(0.01, 8.0)("17:2").is_err()
+        );
         assert_eq!(ratio(" 11:3 ").map(|r| r.to_string()), Ok("11/3".into()));
+    }
+
+    #[test]
+    fn a_ratio_bound_is_one_check_for_every_spelling() {
+        let b = ratio_bound(0.01, 1000.0);
+        for (number, ratio) in [("0.001", "1/1000"), ("0.0099", "1/101"), ("1001", "1001/1")] {
+            assert_eq!(b(ratio), b(number), "{ratio} as {number}");
+            assert!(b(ratio).is_err(), "{ratio}");
+        }
+        assert_eq!((b("1/100"), b("0.01")), (Ok(0.01), Ok(0.01)));
+    }
+
+    #[test]
+    fn a_setting_takes_the_consoles_range_and_says_it() {
+        use polyturn_sync::config::table::{CPR, START_RATE};
+        let cpr = setting(CPR);
+        assert_eq!((cpr("4"), cpr(" 1000000")), (Ok(4), Ok(1_000_000)));
+        assert_eq!(cpr("1048576").unwrap_err(), "must be 4..=1000000 counts per lathe rev, the console's `cpr`");
+        assert!(cpr("3").is_err() && cpr("-4").is_err() && cpr("x").is_err());
+        assert_eq!(setting(START_RATE)("0"), Ok(0));
     }
 }

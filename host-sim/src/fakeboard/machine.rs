@@ -50,6 +50,10 @@ pub struct Machine {
     /// encoder check, the lathe rests 1.2 s and then turns at
     /// `counts_per_tick_x1000`; at any other time it rests
     pub turn_for_check: bool,
+    /// with `turn_for_check`, the ticks before the line that ends the
+    /// check, if more than `ticks_per_line`: the machinist's hand takes its
+    /// time on the chuck, and quick answers elsewhere
+    pub check_ticks: usize,
     lathe_milli: i64,
     /// counts the self-test's generator made, and the index it latched
     played: i64,
@@ -70,6 +74,7 @@ impl Machine {
             counts_per_tick_x1000: 0,
             cpr: 2400,
             turn_for_check: false,
+            check_ticks: 0,
             lathe_milli: 0,
             played: 0,
             played_index: None,
@@ -84,7 +89,8 @@ impl Machine {
 
     pub fn run(&mut self, ctl: &mut Controller, line: &str) {
         let checking = self.turn_for_check && line.contains("check-encoder stop");
-        self.ticks(ctl, self.ticks_per_line, checking);
+        let n = if checking { self.ticks_per_line.max(self.check_ticks) } else { self.ticks_per_line };
+        self.ticks(ctl, n, checking);
     }
 
     /// Runs the lathe under power toward `rpm` (forward; 0 stops it), as a

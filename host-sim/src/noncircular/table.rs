@@ -26,6 +26,11 @@ pub struct CamFile {
 
 pub const FORMAT: &str = "polyturn-cam-1";
 
+/// X axis steps per mm of tool radius a table is made for, at least and at
+/// most: under 1 a step is more than ten times the 0.1 mm a table may be
+/// off its path; 100 000 is a 1 mm screw at 500 steps a turn x 200.
+pub const STEPS_PER_MM: (f64, f64) = (1.0, 1e5);
+
 /// The shortest whole-count period of a cam that repeats `sides` times
 /// over `revolutions` lathe turns: one repeat when that is whole counts
 /// (a finer table for the same size), else the whole pattern.

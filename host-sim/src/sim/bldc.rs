@@ -148,21 +148,40 @@ impl Bldc {
 /// slower, not faster).
 pub const SPINDLE_TAU_S: f64 = 2e-3;
 
+/// The drive the simulator puts behind `out`.
+fn drive_for(out: BldcOut) -> BldcDrive {
+    if out == BldcOut::Pwm {
+        BldcDrive::SpeedLoop { tau: SPINDLE_TAU_S }
+    } else {
+        BldcDrive::RcEsc
+    }
+}
+
+/// The full speed the firmware scales its command to (`max-rate` counts/s
+/// of the motor's encoder), rad/s.
+pub fn full_speed(sc: &super::Scenario) -> f64 {
+    sc.core.max_step_rate_hz as f64 / sc.core.motor_steps_per_rev.max(1) as f64 * TAU
+}
+
+/// The time constant of the drive behind `out`, ms, as the bench
+/// procedure measures it: the speed loop's, or an ESC's motor's (inertia ×
+/// full speed / stall torque), rounded, at least 1.
+pub fn own_tau_ms(sc: &super::Scenario, out: BldcOut) -> u32 {
+    let own_s = match drive_for(out) {
+        BldcDrive::SpeedLoop { tau } => tau,
+        _ => INERTIA_KG_M2 * full_speed(sc) / sc.bldc_max_torque,
+    };
+    (own_s * 1e3).round().clamp(1.0, u32::MAX as f64) as u32
+}
+
 /// `sc` fed through `out`: the drive the simulator puts behind it (an RC
 /// ESC, or a spindle driver's speed loop for `pwm`) and the firmware's
 /// settings for it. `bldc-tau` is the drive's own time constant unless
 /// given, as the bench procedure measures it: the speed loop's, or an
 /// ESC's motor's (inertia × full speed / stall torque).
 pub fn fit_drive(sc: &mut super::Scenario, out: BldcOut, pwm_hz: u32, tau_ms: Option<u32>) -> Result<(), ConfigError> {
-    let drive = if out == BldcOut::Pwm { BldcDrive::SpeedLoop { tau: SPINDLE_TAU_S } } else { BldcDrive::RcEsc };
-    let own_s = match drive {
-        BldcDrive::SpeedLoop { tau } => tau,
-        _ => {
-            let full = sc.core.max_step_rate_hz as f64 / sc.core.motor_steps_per_rev.max(1) as f64 * TAU;
-            INERTIA_KG_M2 * full / sc.bldc_max_torque
-        }
-    };
-    let tau = tau_ms.unwrap_or((own_s * 1e3).round().max(1.0) as u32);
+    let drive = drive_for(out);
+    let tau = tau_ms.unwrap_or(own_tau_ms(sc, out));
     // set together and checked once: a drive too slow for the job is then
     // named as `bldc-out`, the rule's own name, whichever field moved
     let c = Config { bldc_out: out, pwm_hz, bldc_tau_ms: tau, ..sc.core };

@@ -26,6 +26,7 @@ pub fn json(sc: &Scenario, r: &SimResult) -> serde_json::Value {
         "tick_hz": sc.tick_hz,
         "motor_stalled": r.stalled,
         "max_shaft_error_steps": r.max_shaft_error_steps,
+        "cut_turns": r.cut_turns,
     })
 }
 

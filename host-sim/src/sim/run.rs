@@ -129,6 +129,8 @@ struct Ran {
     passes: Vec<CutRecorder>,
     out: Tally,
     tick: u64,
+    /// lathe radians cut
+    cut: f64,
 }
 
 /// The machinist's part: where the cut stands, in lathe angle.
@@ -215,7 +217,7 @@ fn event_loop(sc: &Scenario, ctl: &mut Controller, p: &mut Plants, bins: usize) 
             break;
         }
     }
-    Ran { passes, out, tick }
+    Ran { passes, out, tick, cut: machinist.cut_done }
 }
 
 /// The events that hold once they have come: the E-stop open, the cutter
@@ -309,7 +311,7 @@ impl Machinist {
 /// The figures of a finished run: the final error against the exact gear,
 /// the section cut (the minimum of the passes) against the ideal.
 fn result(sc: &Scenario, ctl: &Controller, p: &mut Plants, bins: usize, ran: Ran) -> Result<SimResult, String> {
-    let Ran { passes, out, tick } = ran;
+    let Ran { passes, out, tick, cut } = ran;
     let Gearing { m, sense, gr, .. } = Gearing::of(sc);
     let a = p.lathe.angle;
     let count = p.encoder.count(a, tick);
@@ -359,6 +361,7 @@ fn result(sc: &Scenario, ctl: &Controller, p: &mut Plants, bins: usize, ran: Ran
         error_trace: out.trace,
         stalled: p.stepper.stalled,
         max_shaft_error_steps: out.max_shaft,
+        cut_turns: cut / TAU,
     })
 }
 

@@ -26,9 +26,6 @@ pub enum BldcOut {
 pub const TIMER_HZ: u32 = Timing::FIRMWARE.step_timer_hz;
 
 pub const OUT: &str = "esc50, esc400, oneshot125 or pwm";
-pub const PWM_HZ: &str =
-    "1000..=20000 Hz, a divisor of 96000000 (the timer's clock), e.g. 1000 2000 4000 5000 8000 10000 16000 20000";
-pub const TAU: &str = "1..=1000 ms (the drive's time to 63 % of a speed step)";
 pub const RATE: &str = "does not fit with the others: the drive must take a command at least once per cutter revolution at max-rpm (max-rpm x ratio / 60 <= 50 Hz for esc50, 400 for esc400, 2000 for oneshot125, pwm-hz for pwm)";
 
 impl BldcOut {
@@ -77,15 +74,11 @@ pub fn pwm_prescaler(hz: u32) -> u32 {
 /// `pwm-hz` alone: in range, and a period of whole timer counts (the timer
 /// cannot make any other frequency).
 pub fn check_pwm_hz(hz: u32) -> Result<(), ConfigError> {
-    let e = range("pwm-hz", PWM_HZ);
-    if !(1_000..=20_000).contains(&hz) || !TIMER_HZ.is_multiple_of((pwm_prescaler(hz) + 1) * hz) {
-        return Err(e);
+    let span = super::table::PWM_HZ;
+    if !span.contains(hz) || !TIMER_HZ.is_multiple_of((pwm_prescaler(hz) + 1) * hz) {
+        return Err(span.error());
     }
     Ok(())
-}
-
-pub fn check_tau(ms: u32) -> Result<(), ConfigError> {
-    super::within(ms, 1, 1_000, range("bldc-tau", TAU))
 }
 
 #[cfg(test)]

@@ -186,7 +186,7 @@ fn the_bldc_drives_time_constant_and_pwm_frequency_have_their_ranges() {
     assert_eq!(set("bldc-tau", "1000").map(|c| c.bldc_tau_ms), Ok(1000));
     for bad in ["0", "1001"] {
         let e = set("bldc-tau", bad).unwrap_err();
-        assert_eq!((e.field, e.allowed), ("bldc-tau", crate::config::bldc::TAU), "{bad}");
+        assert_eq!((e.field, e.allowed), ("bldc-tau", crate::config::table::BLDC_TAU.allowed), "{bad}");
     }
     assert_eq!(set("pwm-hz", "7000").unwrap_err().field, "pwm-hz", "no whole number of 96 MHz counts");
     assert_eq!(set("pwm-hz", "8000").map(|c| c.pwm_hz), Ok(8000));

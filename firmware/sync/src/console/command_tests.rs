@@ -180,18 +180,68 @@ fn defaults_loads_the_defaults_without_saving_and_only_while_idle() {
 #[test]
 fn save_is_refused_while_the_lathe_turns() {
     let mut c = ctl();
-    for t in 1..=100u16 {
+    for t in 1..=5_000u16 {
         c.tick(&TickInput { lathe: t, ..TickInput::default() });
     }
     assert_eq!(
         say(&mut c, "save"),
-        ("error: stop the lathe first: saving pauses the controller for up to 2 s".into(), Action::None)
+        ("error: stop the lathe first: its encoder counted 0 ms ago (at rest after 100 ms without a count): saving pauses the controller for up to 2 s".into(), Action::None)
+    );
+    // 40 ms later, what the board saw then
+    for _ in 0..1_000 {
+        c.tick(&TickInput { lathe: 5_000, ..TickInput::default() });
+    }
+    assert!(say(&mut c, "save").0.starts_with("error: stop the lathe first: its encoder counted 40 ms ago (at"));
+    assert_eq!(
+        say(&mut c, "jog 90").0,
+        "error: stop the lathe first: its encoder counted 40 ms ago (at rest after 100 ms without a count): jog only with the lathe at rest"
     );
     // 0.1 s without a count: at rest
+    for _ in 0..1_500 {
+        c.tick(&TickInput { lathe: 5_000, ..TickInput::default() });
+    }
+    assert_eq!(say(&mut c, "save"), ("ok saving".into(), Action::Save));
+}
+
+/// A `set` with the lathe at rest leaves it at rest: `set` then `save`, at
+/// once, is saved; `set` then `jog`, at once, jogs.
+#[test]
+fn a_set_with_the_lathe_at_rest_leaves_save_and_jog_free_to_go_at_once() {
+    let mut c = ctl();
+    for t in 1..=100u16 {
+        c.tick(&TickInput { lathe: t, ..TickInput::default() });
+    }
     for _ in 0..2_500 {
         c.tick(&TickInput { lathe: 100, ..TickInput::default() });
     }
+    assert_eq!(say(&mut c, "set cpr 1000").0, "ok cpr=1000");
+    c.tick(&TickInput { lathe: 100, ..TickInput::default() });
     assert_eq!(say(&mut c, "save"), ("ok saving".into(), Action::Save));
+    assert_eq!(say(&mut c, "defaults").0, "ok defaults loaded (not saved: use save)");
+    assert_eq!(say(&mut c, "set dir opposite").0, "ok dir=opposite");
+    assert!(say(&mut c, "jog 90").0.starts_with("ok jogging"));
+}
+
+#[test]
+fn engage_with_nothing_to_drive_is_refused_with_the_reason() {
+    let mut c = ctl();
+    assert_eq!(say(&mut c, "set drive none").0, "ok drive=none");
+    assert_eq!(
+        say(&mut c, "engage").0,
+        "error: drive=none and no cam table: nothing to engage (set drive stepper or bldc, or upload a cam table)"
+    );
+    assert_eq!(c.state(), State::Idle);
+    assert!(!c.tick(&TickInput::default()).enable);
+}
+
+#[test]
+fn jog_while_engaged_says_the_cutter_runs() {
+    let mut c = ctl();
+    assert_eq!(say(&mut c, "engage").0, "ok engaging");
+    assert_eq!(
+        say(&mut c, "jog 90").0,
+        "error: stop first: the cutter is engaged or ramping down (jog only while idle)"
+    );
 }
 
 #[test]

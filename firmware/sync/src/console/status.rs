@@ -41,10 +41,7 @@ impl Snapshot {
     /// with a cutter encoder, `shaft_err_steps` (steps sent − shaft).
     pub fn write(&self, out: &mut Reply) {
         let (s, c) = (&self.status, &self.config);
-        // rpm ×10 = v[Q16 counts/tick] · hz · 600 / (2^16 · E), all within
-        // i64: |v| < 2^30 (Q16, ≤ 16 000 counts/tick) and hz · 600 < 2^25.
-        let v_q16 = s.lathe_velocity_q32 >> 16;
-        let lathe_rpm10 = v_q16 * self.tick_hz as i64 * 600 / ((c.encoder_counts_per_rev as i64) << 16);
+        let lathe_rpm10 = lathe_rpm10(s.lathe_velocity_q32, self.tick_hz, c.encoder_counts_per_rev);
         // the speed the cutter is driven at, not the lathe's × ratio: 0 while
         // idle, the jog's while jogging, in the motor's own sense (its steps
         // count down with dir=opposite while the lathe's encoder counts up).
@@ -74,6 +71,71 @@ impl Snapshot {
             let _ = write!(out, " reason=\"{}\"", f.reason());
         }
     }
+}
+
+/// What the board saw of a lathe it does not take to be at rest: the time
+/// since its encoder's last count, and the time without a count that is at
+/// rest (`Controller::lathe_at_rest`). (Not its speed: a change of the
+/// settings measures that afresh, while the count's time stands.)
+#[derive(Clone, Copy, Debug)]
+pub struct LatheSeen {
+    since_count_ticks: u32,
+    still_ticks: u32,
+    tick_hz: u32,
+}
+
+impl LatheSeen {
+    pub fn of(ctl: &Controller) -> LatheSeen {
+        LatheSeen {
+            since_count_ticks: ctl.ticks_since_lathe_count(),
+            still_ticks: ctl.derived().still_ticks,
+            tick_hz: ctl.derived().tick_hz,
+        }
+    }
+}
+
+/// `its encoder counted N ms ago (at rest after M ms without a count)`
+impl core::fmt::Display for LatheSeen {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        let ms = |ticks: u32| ticks as u64 * 1000 / self.tick_hz.max(1) as u64;
+        let (ago, rest) = (ms(self.since_count_ticks), ms(self.still_ticks));
+        write!(f, "its encoder counted {ago} ms ago (at rest after {rest} ms without a count)")
+    }
+}
+
+/// Why a complete cam table is not saved now: the board saves it (and
+/// pauses the controller) only idle, with the lathe at rest.
+#[derive(Clone, Copy, Debug)]
+pub enum CamWait {
+    Running,
+    LatheTurning(LatheSeen),
+}
+
+/// Whether a complete cam table may be saved now (`None`), or why not.
+pub fn cam_wait(ctl: &mut Controller) -> Option<CamWait> {
+    if ctl.state() != crate::state::State::Idle {
+        Some(CamWait::Running)
+    } else if !ctl.lathe_at_rest() {
+        Some(CamWait::LatheTurning(LatheSeen::of(ctl)))
+    } else {
+        None
+    }
+}
+
+impl core::fmt::Display for CamWait {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        match self {
+            CamWait::Running => f.write_str("stop first: the cam changes only while idle"),
+            CamWait::LatheTurning(seen) => write!(f, "stop the lathe first: {seen}: the table is saved to flash"),
+        }
+    }
+}
+
+/// The lathe's speed, tenths of an rpm: v[Q16 counts/tick] · hz · 600 /
+/// (2^16 · E), all within i64: |v| < 2^30 (Q16, ≤ 16 000 counts/tick) and
+/// hz · 600 < 2^25.
+fn lathe_rpm10(velocity_q32: i64, tick_hz: u32, counts_per_rev: u32) -> i64 {
+    (velocity_q32 >> 16) * tick_hz as i64 * 600 / ((counts_per_rev.max(1) as i64) << 16)
 }
 
 /// The status line of a controller (host and tests; the firmware snapshots

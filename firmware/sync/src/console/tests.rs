@@ -177,6 +177,33 @@ fn dfu_only_while_idle_and_the_reply_comes_first() {
     assert_eq!(action, Action::None);
 }
 
+/// As `engage`, `jog` and `selftest` do: the chuck is being turned by hand,
+/// or the self-test's generator plays into the lathe input.
+#[test]
+fn dfu_is_refused_while_an_encoder_check_or_a_self_test_runs() {
+    let mut c = ctl();
+    c.start(0, 0, 0);
+    assert!(say(&mut c, "check-encoder start").0.starts_with("ok encoder check started"));
+    assert_eq!(
+        say(&mut c, "dfu"),
+        (
+            "error: an encoder check is running (the chuck is being turned by hand): check-encoder stop first".into(),
+            Action::None
+        )
+    );
+    assert!(say(&mut c, "check-encoder stop").0.starts_with("ok encoder ended"));
+    assert!(say(&mut c, "selftest start").0.starts_with("ok selftest started"));
+    assert_eq!(
+        say(&mut c, "dfu"),
+        ("error: a self-test is running: selftest stop first, then unplug its jumpers".into(), Action::None)
+    );
+    assert!(say(&mut c, "selftest stop").0.starts_with("ok"));
+    for _ in 0..25_000 {
+        c.tick(&TickInput::default());
+    }
+    assert_eq!(say(&mut c, "dfu").1, Action::Dfu, "{}", say(&mut c, "status").0);
+}
+
 /// What `polyturn device` takes as a reply: `ok`, `ok `
 /// and more, or `error: ` and more; no command starts so, so the echo of
 /// one is never taken for its reply.

@@ -90,6 +90,11 @@ impl Controller {
         if self.encoder_check_running() {
             return Err(Refusal::Checking);
         }
+        // with no cutter and no X axis, engaging would move nothing yet
+        // report `synced` and assert ENABLE
+        if self.config.drive == crate::config::DriveKind::None && self.x.is_none() {
+            return Err(Refusal::NothingToDrive);
+        }
         let margin = self.d.limits.max_velocity - self.d.limits.max_velocity / 16;
         if self.target_velocity.abs() > margin {
             return Err(Refusal::Overspeed);
@@ -190,10 +195,7 @@ impl Controller {
         if h.counts_per_rev != self.config.encoder_counts_per_rev {
             return Err("cam table made for another cpr: set cpr or remake the table");
         }
-        if h.max_rate_hz > self.timing.tick_hz / 2 || h.max_rate_hz == 0 || h.max_accel == 0 {
-            return Err("cam max-rate must be 1..=12500 steps/s (one X step per two ticks), max-accel > 0");
-        }
-        Ok(())
+        crate::cam_upload::check_axis(h, self.timing.tick_hz)
     }
 
     pub fn x_axis(&self) -> Option<&super::XAxis> {
@@ -250,14 +252,24 @@ impl Controller {
             return Ok(());
         }
         self.d = d;
-        self.est = crate::estimator::Estimator::new(d.still_ticks);
+        // The speed is measured afresh (its sign follows `dir`), but the
+        // time since the encoder's last count is the encoder's, whatever
+        // the settings: a lathe at rest stays at rest (`lathe_at_rest`).
+        self.est = self.est.restarted(d.still_ticks);
         self.rebase();
         Ok(())
     }
 
-    /// No lathe encoder count for the last 0.1 s.
+    /// No lathe encoder count for the last 0.1 s (or since the start).
     pub fn lathe_at_rest(&self) -> bool {
-        self.est.at_rest() || self.ticks == 0
+        self.est.at_rest()
+    }
+
+    /// Ticks since the lathe encoder's last count (saturating). A board
+    /// that has just started counts from the at-rest limit, and a flash
+    /// stall that lost ticks from its end.
+    pub fn ticks_since_lathe_count(&self) -> u32 {
+        self.est.still_ticks()
     }
 
     pub fn fault(&self) -> Option<Fault> {
@@ -302,9 +314,12 @@ impl PreparedConfig {
 
 /// The checks `prepare_cam` applies to the points, on a table not yet
 /// stored (the firmware runs them on an upload before saving it, outside
-/// the tick's lock: one pass over the points).
-pub fn check_table(h: &crate::cam_upload::CamHeader, points: &[i32]) -> Result<(), &'static str> {
-    crate::cam::Cam::check(points, h.period_counts).map_err(|e| e.describe())
+/// the tick's lock: two passes over the points): the points themselves,
+/// and what they ask of the X axis the header declares
+/// (`cam_upload::motion`).
+pub fn check_table(h: &crate::cam_upload::CamHeader, points: &[i32]) -> Result<(), crate::cam_upload::TableRefusal> {
+    crate::cam::Cam::check(points, h.period_counts).map_err(|e| e.describe())?;
+    crate::cam_upload::motion::check(h, points).map_err(crate::cam_upload::TableRefusal::Motion)
 }
 
 /// The long half of `Controller::fit_cam`, which needs no controller: the
@@ -316,7 +331,7 @@ pub fn prepare_cam(
     table: &'static [i32],
     timing: crate::derived::Timing,
 ) -> Result<super::XAxis, &'static str> {
-    check_table(h, table)?;
+    check_table(h, table).map_err(|e| e.describe())?;
     let cam = crate::cam::Cam::new(table, h.period_counts).map_err(|e| e.describe())?;
     let limits = crate::follower::Limits::from_rates(h.max_rate_hz as u64, h.max_accel as u64, timing.tick_hz as u64);
     Ok(super::XAxis::new(cam, limits))

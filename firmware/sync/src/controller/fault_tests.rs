@@ -37,8 +37,12 @@ fn a_lathe_speeding_up_past_max_rate_while_engaged_trips_overspeed() {
 
 #[test]
 fn with_no_cutter_a_fast_lathe_is_no_overspeed() {
-    // drive=none: there is no motor to outrun
+    // drive=none: there is no motor to outrun (an X axis on a flat cam is
+    // what there is to engage)
+    static FLAT: [i32; 2] = [0, 0];
     let mut r = Rig::new(Config { drive: DriveKind::None, ..Config::default() });
+    let cam = crate::cam::Cam::new(&FLAT, 2_400).unwrap();
+    r.c.set_x_axis(Some(XAxis::new(cam, crate::follower::Limits::from_rates(12_500, 1_000_000, 25_000)))).unwrap();
     r.c.engage().unwrap();
     r.run(per_tick(4.0), 5_000);
     assert_eq!(r.c.state(), State::Synced);

@@ -46,7 +46,7 @@ impl Controller {
         match self.state {
             State::Fault(_) => return Err(Refusal::Faulted),
             State::Jogging => return Err(Refusal::Moving),
-            State::Engaging | State::Synced | State::Disengaging => return Err(Refusal::NotIdle),
+            State::Engaging | State::Synced | State::Disengaging => return Err(Refusal::Engaged),
             State::Idle => {}
         }
         // the check has the chuck turned by hand: no cutter may move then

@@ -78,7 +78,7 @@ fn a_jog_turns_the_way_the_gear_would_for_the_lathe_counting_up() {
 fn jog_is_refused_while_engaged_faulted_moving_or_with_the_lathe_turning() {
     let mut c = ctl(Config::default());
     c.engage().unwrap();
-    assert_eq!(c.jog(90_000), Err(Refusal::NotIdle));
+    assert_eq!(c.jog(90_000), Err(Refusal::Engaged));
     let mut c = ctl(Config::default());
     c.trip(Fault::EStop);
     assert_eq!(c.jog(90_000), Err(Refusal::Faulted));

@@ -51,8 +51,8 @@ pub fn check_encoder<P: Read + Write>(
     Ok((f, proposal))
 }
 
-/// The check's result in words, with what to do.
-pub fn explain(f: &EncoderFigures, proposal: &Result<u32, String>) -> String {
+/// The check's result in words, with what to do; `turns` as given.
+pub fn explain(f: &EncoderFigures, proposal: &Result<u32, String>, turns: Option<u32>) -> String {
     let mut out = vec![format!(
         "counts: {} ({} against the direction of travel), index pulses: {}, chatter at rest: {}, jumps: {}",
         f.moved, f.backward, f.indexes, f.chatter, f.jumps
@@ -66,6 +66,7 @@ pub fn explain(f: &EncoderFigures, proposal: &Result<u32, String>) -> String {
     if f.chatter > 0 {
         out.push("the count changed while the chuck was still: an encoder edge sitting on a line, or noise (shielded cable, common ground)".into());
     }
+    out.extend(figures::disagreement(f, turns));
     out.push(match proposal {
         Ok(c) => format!("proposed: set cpr {c}   (polyturn device set cpr {c})"),
         Err(why) => format!("no cpr proposed: {why}"),

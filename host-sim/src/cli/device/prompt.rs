@@ -1,5 +1,7 @@
 //! The questions the setup asks a machinist: at a terminal through
-//! `dialoguer`, or from a script in tests (`Scripted`).
+//! `dialoguer`, or from a script in tests (`Scripted`). A number out of
+//! its range is asked again; a refusal of several answers together is
+//! asked again through `retry`.
 
 use crate::cli::errors::{CliError, CliResult};
 
@@ -15,10 +17,51 @@ pub trait Ask {
     fn choose(&mut self, question: &str, choices: &[&str]) -> CliResult<usize>;
 }
 
+/// How often a refused answer is asked again before the setup stops.
+pub const TRIES: usize = 3;
+
+/// `question`, asked again after a refusal (said with its reason), at
+/// most `TRIES` times.
+pub fn retry<T>(ask: &mut dyn Ask, mut question: impl FnMut(&mut dyn Ask) -> CliResult<T>) -> CliResult<T> {
+    let mut last = CliError(String::new());
+    for _ in 0..TRIES {
+        match question(ask) {
+            Ok(v) => return Ok(v),
+            Err(e) => {
+                ask.say(&format!("refused: {}", e.0));
+                last = e;
+            }
+        }
+    }
+    Err(CliError(format!("setup: {} ({TRIES} tries): nothing sent", last.0)))
+}
+
 /// A terminal.
 pub struct Terminal;
 
+impl Terminal {
+    /// The terminal for the setup's questions: Ctrl-C between two reads of
+    /// a key (a signal, not a key) gives the cursor back before it ends
+    /// the setup, as a Ctrl-C read as a key does (`cancelled`).
+    pub fn with_ctrl_c() -> Terminal {
+        let _ = ctrlc::set_handler(|| {
+            show_cursor();
+            eprintln!("error: setup: cancelled (Ctrl-C): nothing saved");
+            std::process::exit(130);
+        });
+        Terminal
+    }
+}
+
+/// dialoguer hides the cursor while a yes/no or a list waits for a key,
+/// and leaves it hidden when the wait ends in an error (Ctrl-C is one):
+/// shown again (on a terminal only).
+fn show_cursor() {
+    let _ = dialoguer::console::Term::stderr().show_cursor();
+}
+
 fn cancelled(e: dialoguer::Error) -> CliError {
+    show_cursor();
     CliError(format!("setup: cancelled ({e}): nothing saved"))
 }
 
@@ -77,12 +120,15 @@ impl Ask for Scripted {
     fn yes(&mut self, question: &str, _: bool) -> CliResult<bool> {
         Ok(self.next(question)? == "y")
     }
+    /// Asks again after an answer out of `min..=max`, as the terminal
+    /// does (until the script runs out).
     fn number(&mut self, question: &str, _: Option<u32>, min: u32, max: u32) -> CliResult<u32> {
-        let v: u32 = self.next(question)?.parse().map_err(|_| CliError("scripted: not a number".into()))?;
-        if (min..=max).contains(&v) {
-            Ok(v)
-        } else {
-            Err(CliError(format!("scripted: {v} outside {min}..={max}")))
+        loop {
+            let a = self.next(question)?;
+            match a.parse::<u32>() {
+                Ok(v) if (min..=max).contains(&v) => return Ok(v),
+                _ => self.said.push(format!("refused: {a}: {min}..={max}")),
+            }
         }
     }
     fn choose(&mut self, question: &str, choices: &[&str]) -> CliResult<usize> {

@@ -1,53 +1,72 @@
 //! `polyturn device setup`: the guided setup. It asks only
 //! physical facts (the encoder, the motor and its driver, the belt, the
 //! lathe's top speed), runs the encoder check and a jog on the board,
-//! derives the settings, sends them in an order the board accepts, shows
-//! what they mean (steps per count, the fastest lathe speed per ratio) and
-//! saves. `--non-interactive` takes every fact from flags, for scripts.
+//! derives the settings, sends them in an order the board accepts, saves,
+//! and shows what the board then holds, read back (steps per count, the
+//! fastest lathe speed per ratio). Every question takes the console's own
+//! range for the setting it makes (`polyturn_sync::config::table`).
+//! `--non-interactive` takes every fact from flags, for scripts.
 
 use super::checks::{self, Turning};
 use super::figures;
-use super::prompt::Ask;
+use super::prompt::{retry, Ask};
 use super::session::{ok_or_device_error, Session};
 use crate::cli::errors::{CliError, CliResult};
 pub use crate::cli::setup_plan::SetupArgs;
-use crate::cli::setup_plan::{changes, from_flags, summary, Facts};
-use polyturn_sync::Sense;
+use crate::cli::setup_plan::{changes, from_flags, summary, Facts, MICROSTEPS, MOTOR_STEPS};
+use polyturn_sync::config::table::{CPR, CUTTER_CPR, DIR_SETUP, MAX_RPM, PULSE, START_RATE};
+use polyturn_sync::{Config, Sense};
 use std::io::{Read, Write};
 
 pub fn run<P: Read + Write>(s: &mut Session<P>, a: &SetupArgs, ask: &mut dyn Ask) -> CliResult<String> {
     let facts = if a.non_interactive { from_flags(a)? } else { interview(s, a, ask)? };
-    let current = figures::parse_settings(&s.ask("get")?)
-        .ok_or_else(|| s.port_error("its settings could not be read (get): flash this version"))?;
-    let (order, now) = figures::send_order(&current, &changes(&facts)).map_err(CliError)?;
+    let (_, current) = read_back(s)?;
+    let (order, _) = figures::send_order(&current, &changes(&facts)).map_err(CliError)?;
     for (name, value) in &order {
         s.ask(&format!("set {name} {value}"))?;
     }
+    let mut names: Vec<&str> = order.iter().map(|(n, _)| n.as_str()).collect();
     if !a.non_interactive {
         clear_check_fault(s, ask)?;
-        jog_check(s, ask)?;
+        if jog_check(s, ask)? {
+            names.push("dir");
+        }
     }
     let saved = if a.no_save {
         "not saved (--no-save): the settings last until the board restarts".to_string()
     } else {
-        save_at_rest(s)?
+        save(s)?
     };
-    Ok(format!("{}\n{saved}", summary(&now, &order)))
+    // the summary is what the board holds after the last save, read back
+    let (reply, now) = read_back(s)?;
+    Ok(format!("{}\n{saved}", summary(&now, &held(&reply, &names))))
 }
 
-/// `save`, asked again while the board says the lathe is not at rest yet:
-/// each `set` restarts its at-rest estimate (0.1 s without an encoder count,
-/// `Controller::lathe_at_rest`), so a save right after the settings is
-/// refused though the lathe stands still. Asked again up to the timeout.
-fn save_at_rest<P: Read + Write>(s: &mut Session<P>) -> CliResult<String> {
-    let until = std::time::Instant::now() + s.timeout;
-    loop {
-        let reply = s.ask_within("save", super::FLASH_WAIT.max(s.timeout))?;
-        if !reply.starts_with("error: stop the lathe first") || std::time::Instant::now() >= until {
-            return ok_or_device_error(reply);
+/// The board's settings (`get`): its reply and what it says.
+fn read_back<P: Read + Write>(s: &mut Session<P>) -> CliResult<(String, Config)> {
+    let reply = s.ask("get")?;
+    let c = figures::parse_settings(&reply)
+        .ok_or_else(|| s.port_error("its settings could not be read (get): flash this version"))?;
+    Ok((reply, c))
+}
+
+/// The values a `get` reply gives for `names`, each once, in their order.
+fn held(reply: &str, names: &[&str]) -> Vec<(String, String)> {
+    let all: Vec<(&str, &str)> = reply.split_whitespace().filter_map(|w| w.split_once('=')).collect();
+    let mut out: Vec<(String, String)> = Vec::new();
+    for n in names {
+        if let Some((_, v)) = all.iter().find(|(k, _)| k == n).filter(|_| !out.iter().any(|(k, _)| k == n)) {
+            out.push((n.to_string(), v.to_string()));
         }
-        std::thread::sleep(std::time::Duration::from_millis(50));
     }
+    out
+}
+
+/// `save`, waiting as long as a save takes. A `set` leaves a lathe at rest
+/// at rest (`Controller::lathe_at_rest`), so a refusal here is real: the
+/// board's reply says what it saw of the lathe.
+fn save<P: Read + Write>(s: &mut Session<P>) -> CliResult<String> {
+    ok_or_device_error(s.ask_within("save", super::FLASH_WAIT.max(s.timeout))?)
 }
 
 /// What can turn the cutter, in the order offered.
@@ -73,7 +92,8 @@ fn interview<P: Read + Write>(s: &mut Session<P>, a: &SetupArgs, ask: &mut dyn A
         0 => Sense::Same,
         _ => Sense::Opposite,
     };
-    let max_rpm = ask.number("The lathe's fastest speed, rpm", a.max_lathe_rpm.or(Some(1500)), 1, 10_000)?;
+    let max_rpm =
+        ask.number("The lathe's fastest speed, rpm", a.max_lathe_rpm.or(Some(1500)), MAX_RPM.lo, MAX_RPM.hi)?;
     let f = Facts {
         cpr,
         steps,
@@ -99,36 +119,41 @@ fn lathe_encoder<P: Read + Write>(s: &mut Session<P>, a: &SetupArgs, ask: &mut d
     let index = ask.yes("Does the lathe encoder have an index (Z) pulse wired to PB0?", true)?;
     let turns = if index { None } else { Some(ask.number("How many chuck turns will you make?", Some(3), 1, 20)?) };
     let (f, proposal) = checks::check_encoder(s, ask, Turning::UntilEnter, turns)?;
-    ask.say(&checks::explain(&f, &proposal));
+    ask.say(&checks::explain(&f, &proposal, turns));
     let cpr = match proposal {
         Ok(c) if ask.yes(&format!("Use cpr {c}?"), true)? => c,
-        _ => 4 * ask.number("Encoder lines per turn, from its label", a.encoder_lines, 1, 250_000)?,
+        _ => {
+            4 * ask.number("Encoder lines per turn, from its label", a.encoder_lines, CPR.lo.div_ceil(4), CPR.hi / 4)?
+        }
     };
     Ok((cpr, f.moved))
 }
 
-/// A stepper's steps per cutter turn: the motor, the driver, the belt.
+/// A stepper's steps per cutter turn: the motor, the driver, the belt;
+/// asked again while they make no whole number the console takes.
 fn motor_steps(ask: &mut dyn Ask, a: &SetupArgs) -> CliResult<u32> {
-    let full = ask.number("Motor full steps per turn", Some(a.motor_steps), 1, 100_000)?;
-    let micro = ask.number("Driver microsteps", Some(a.microsteps), 1, 512)?;
-    let belt = ask.choose("Between motor and cutter", &["direct", "belt or gears"])?;
-    let reduction = if belt == 0 {
-        (1, 1)
-    } else {
-        (
-            ask.number("Cutter pulley teeth", None, 1, 1000)? as u64,
-            ask.number("Motor pulley teeth", None, 1, 1000)? as u64,
-        )
-    };
-    figures::steps_per_cutter_turn(full, micro, reduction).map_err(CliError)
+    retry(ask, |ask| {
+        let full = ask.number("Motor full steps per turn", Some(a.motor_steps.unwrap_or(MOTOR_STEPS)), 1, 100_000)?;
+        let micro = ask.number("Driver microsteps", Some(a.microsteps.unwrap_or(MICROSTEPS)), 1, 512)?;
+        let belt = ask.choose("Between motor and cutter", &["direct", "belt or gears"])?;
+        let reduction = if belt == 0 {
+            (1, 1)
+        } else {
+            (
+                ask.number("Cutter pulley teeth", None, 1, 1000)? as u64,
+                ask.number("Motor pulley teeth", None, 1, 1000)? as u64,
+            )
+        };
+        figures::steps_per_cutter_turn(full, micro, reduction).map_err(CliError)
+    })
 }
 
 /// A stepper's driver timing, its shaft encoder and its start rate.
 fn stepper_driver<P: Read + Write>(s: &mut Session<P>, ask: &mut dyn Ask, a: &SetupArgs, f: Facts) -> CliResult<Facts> {
     let q = "The driver's shortest STEP pulse, ns (its datasheet; 2500 if unsure)";
-    let pulse_ns = Some(ask.number(q, Some(2500), 1000, 1_000_000)?);
+    let pulse_ns = Some(ask.number(q, Some(2500), PULSE.lo, PULSE.hi)?);
     let q = "The driver's DIR setup time, ns (5000 if unsure)";
-    let dir_setup_ns = Some(ask.number(q, Some(5000), 0, 1_000_000)?);
+    let dir_setup_ns = Some(ask.number(q, Some(5000), DIR_SETUP.lo, DIR_SETUP.hi)?);
     let cutter_cpr = Some(shaft_encoder(ask, a)?);
     Ok(Facts { pulse_ns, dir_setup_ns, cutter_cpr, start_rate: Some(start_rate(s, ask, a)?), ..f })
 }
@@ -140,15 +165,16 @@ fn shaft_encoder(ask: &mut dyn Ask, a: &SetupArgs) -> CliResult<u32> {
     if !ask.yes(q, a.cutter_encoder_cpr.is_some_and(|n| n != 0))? {
         return Ok(0);
     }
-    ask.number("Its counts per cutter turn (4 x lines x belt)", a.cutter_encoder_cpr.filter(|&n| n != 0), 4, 1_000_000)
+    let q = "Its counts per cutter turn (4 x lines x belt)";
+    ask.number(q, a.cutter_encoder_cpr.filter(|&n| n != 0), CUTTER_CPR.lo, CUTTER_CPR.hi)
 }
 
 /// The motor's start rate, up to the board's `max-rate` (the rule the
 /// board holds it to): 0, off, unless the machinist has found it.
 fn start_rate<P: Read + Write>(s: &mut Session<P>, ask: &mut dyn Ask, a: &SetupArgs) -> CliResult<u32> {
-    let max = figures::parse_settings(&s.ask("get")?).map_or(250_000, |c| c.max_step_rate_hz.min(250_000));
+    let max = read_back(s)?.1.max_step_rate_hz.min(START_RATE.hi);
     let q = "The motor's start rate with the cutter fitted, steps/s: engaged at rest, the cutter then starts at the lathe's speed (0 if unsure: every change ramps; find it on the bench)";
-    ask.number(q, Some(a.start_rate.unwrap_or(0).min(max)), 0, max)
+    ask.number(q, Some(a.start_rate.unwrap_or(0).min(max)), START_RATE.lo, max)
 }
 
 /// The encoder check turns the lathe under the old cpr, whose index
@@ -170,7 +196,8 @@ fn clear_check_fault<P: Read + Write>(s: &mut Session<P>, ask: &mut dyn Ask) -> 
 
 /// One cutter turn on the board, and the machinist's eyes: the steps and
 /// the direction are corrected if it was not one turn the right way.
-fn jog_check<P: Read + Write>(s: &mut Session<P>, ask: &mut dyn Ask) -> CliResult<()> {
+/// True if `dir` was flipped.
+fn jog_check<P: Read + Write>(s: &mut Session<P>, ask: &mut dyn Ask) -> CliResult<bool> {
     ask.wait("Cutter check: the cutter will turn once, slowly. Keep clear, then press Enter")?;
     ask.say(&checks::jog(s, "360")?);
     let turned = ask.choose("How far did it turn?", &["one turn", "half a turn", "two turns", "other"])?;
@@ -183,8 +210,9 @@ fn jog_check<P: Read + Write>(s: &mut Session<P>, ask: &mut dyn Ask) -> CliResul
         let flipped = if dir.contains("dir=same") { "opposite" } else { "same" };
         s.ask(&format!("set dir {flipped}"))?;
         ask.say(&format!("dir set to {flipped}"));
+        return Ok(true);
     }
-    Ok(())
+    Ok(false)
 }
 
 #[cfg(test)]

@@ -3,15 +3,13 @@
 //! full speed and its time constant. A fact the board's rules refuse is
 //! asked again, with the reason, a bounded number of times.
 
-use super::prompt::Ask;
+use super::prompt::{retry, Ask};
 use crate::cli::errors::{CliError, CliResult};
 use crate::cli::setup_plan::bldc::{max_rate, BldcFacts};
 use crate::cli::setup_plan::SetupArgs;
 use polyturn_sync::config::bldc::check_pwm_hz;
+use polyturn_sync::config::table::{BLDC_TAU, CUTTER_CPR, PWM_HZ};
 use polyturn_sync::config::BldcOut;
-
-/// How often a refused answer is asked again before the setup stops.
-const TRIES: usize = 3;
 
 /// The RC ESC's pulses, in the order offered.
 const ESC: [(BldcOut, &str); 3] = [
@@ -29,36 +27,21 @@ pub fn drive(ask: &mut dyn Ask, a: &SetupArgs, esc: bool) -> CliResult<BldcFacts
     };
     let pwm_hz = if out == BldcOut::Pwm { Some(pwm_hz(ask, a)?) } else { None };
     let q = "The cutter's encoder on PB6/PB7: counts per cutter turn (4 x lines x belt)";
-    let counts = ask.number(q, a.cutter_encoder_cpr.filter(|&n| n != 0), 4, 1_000_000)?;
+    let counts = ask.number(q, a.cutter_encoder_cpr.filter(|&n| n != 0), CUTTER_CPR.lo, CUTTER_CPR.hi)?;
     let max_rate = retry(ask, |ask| {
         let q = "The cutter's speed at full command (100 % duty, or the ESC's 2.0 ms pulse), rpm";
         max_rate(ask.number(q, a.bldc.cutter_max_rpm, 1, 100_000)?, counts)
     })?;
     let q = "The drive's time constant, ms (the bench procedure, \"The BLDC drive\"; 0 if not measured yet)";
-    let tau = ask.number(q, Some(a.bldc.bldc_tau.unwrap_or(0)), 0, 1_000)?;
+    let tau = ask.number(q, Some(a.bldc.bldc_tau.unwrap_or(0)), 0, BLDC_TAU.hi)?;
     Ok(BldcFacts { out, pwm_hz, tau_ms: (tau != 0).then_some(tau), counts, max_rate })
 }
 
 /// A frequency the timer makes exactly (`pwm-hz`'s rule).
 fn pwm_hz(ask: &mut dyn Ask, a: &SetupArgs) -> CliResult<u32> {
     retry(ask, |ask| {
-        let hz = ask.number("The PWM frequency the driver takes, Hz", a.bldc.pwm_hz.or(Some(1_000)), 1_000, 20_000)?;
+        let hz =
+            ask.number("The PWM frequency the driver takes, Hz", a.bldc.pwm_hz.or(Some(1_000)), PWM_HZ.lo, PWM_HZ.hi)?;
         check_pwm_hz(hz).map(|()| hz).map_err(|e| CliError(format!("pwm-hz {hz}: {}", e.allowed)))
     })
-}
-
-/// `question`, asked again after a refusal (said with its reason), at
-/// most `TRIES` times.
-fn retry<T>(ask: &mut dyn Ask, mut question: impl FnMut(&mut dyn Ask) -> CliResult<T>) -> CliResult<T> {
-    let mut last = CliError(String::new());
-    for _ in 0..TRIES {
-        match question(ask) {
-            Ok(v) => return Ok(v),
-            Err(e) => {
-                ask.say(&format!("refused: {}", e.0));
-                last = e;
-            }
-        }
-    }
-    Err(CliError(format!("setup: {} ({TRIES} tries): nothing sent", last.0)))
 }

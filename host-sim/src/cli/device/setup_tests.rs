@@ -36,7 +36,7 @@ fn the_non_interactive_setup_derives_sends_and_saves_the_settings() {
     let c = *s.io.ctl.config();
     assert_eq!((c.encoder_counts_per_rev, c.motor_steps_per_rev, c.max_lathe_rpm), (4_000, 3_200, 600));
     assert_eq!((c.sense, c.step_pulse_ns), (polyturn_sync::Sense::Opposite, 2_500), "a reversed encoder flips dir");
-    assert_eq!(sent(&s).last().map(String::as_str), Some("save"));
+    assert_eq!(sent(&s).iter().rev().take(2).collect::<Vec<_>>(), ["get", "save"], "saved, then read back");
     assert!(out.contains("at ratio 2: 8/5 motor steps per encoder count"), "{out}");
     assert!(out.contains("ratio    4:   600 rpm"), "{out}");
 }
@@ -107,7 +107,7 @@ fn missing_or_impossible_facts_change_nothing_on_the_board() {
     .unwrap_err();
     assert!(e.0.contains("do not fit together"), "{}", e.0);
     let e = run(&mut s, &args("--non-interactive --encoder-lines 600 --motor-steps 200 --microsteps 1 --reduction 37/21 --max-lathe-rpm 600"), &mut Scripted::new(&[])).unwrap_err();
-    assert!(e.0.starts_with("--reduction"), "{}", e.0);
+    assert!(e.0.starts_with("--motor-steps x --microsteps x --reduction: 200 x 1 x 37/21"), "{}", e.0);
     assert!(sent(&s).iter().all(|l| !l.starts_with("set ")), "{:?}", sent(&s));
     assert_eq!(*s.io.ctl.config(), Config::default());
 }
@@ -115,36 +115,74 @@ fn missing_or_impossible_facts_change_nothing_on_the_board() {
 /// A board whose 2 000-count lathe the machinist turns for the encoder
 /// check (and only then).
 fn hand_turned() -> Session<FakeDevice> {
+    hand_turned_at(110_000)
+}
+
+/// `hand_turned`, `ticks` of the board passing before each line (the
+/// check's hand still takes 4.4 s).
+fn hand_turned_at(ticks: usize) -> Session<FakeDevice> {
     let mut dev = FakeDevice::new();
-    let mut m = Machine::new(110_000);
-    (m.counts_per_tick_x1000, m.cpr, m.turn_for_check) = (100, 2_000, true);
+    let mut m = Machine::new(ticks);
+    (m.counts_per_tick_x1000, m.cpr, m.turn_for_check, m.check_ticks) = (100, 2_000, true, 110_000);
     dev.machine = Some(m);
     let mut s = session(dev);
     s.timeout = std::time::Duration::from_secs(30);
     s
 }
 
+/// A machinist who answers at once: 40 ms of the board between lines, so
+/// the jog comes 80 ms after the last setting is sent, and the save 40 ms
+/// after `set dir`. The lathe has rested since the check: both go.
+#[test]
+fn the_interview_answered_at_once_jogs_and_saves() {
+    let mut s = hand_turned_at(1_000);
+    let mut ask = Scripted::new(INTERVIEW);
+    let out = run(&mut s, &args(""), &mut ask).unwrap_or_else(|e| panic!("{e:?} after {:?}", sent(&s)));
+    let cmds = sent(&s);
+    assert!(cmds.contains(&"jog 360".to_string()), "{cmds:?}");
+    assert_eq!(cmds.iter().rev().take(2).collect::<Vec<_>>(), ["get", "save"], "saved, then read back: {cmds:?}");
+    assert!(out.contains("ok saving"), "{out}");
+    assert_eq!(s.io.ctl.config().sense, polyturn_sync::Sense::Opposite);
+}
+
+/// The non-interactive setup, each line 1 ms of the board apart and a
+/// timeout of 10 ms: the save right after the settings is saved.
+#[test]
+fn the_non_interactive_setup_saves_at_once_after_its_settings() {
+    let mut dev = FakeDevice::new();
+    dev.machine = Some(Machine::new(25));
+    let mut s = session(dev);
+    s.timeout = std::time::Duration::from_millis(10);
+    let a = args("--non-interactive --encoder-lines 1000 --microsteps 8 --max-lathe-rpm 600");
+    let out = run(&mut s, &a, &mut Scripted::new(&[])).unwrap_or_else(|e| panic!("{e:?} after {:?}", sent(&s)));
+    assert_eq!(sent(&s).iter().filter(|l| *l == "save").count(), 1, "{:?}", sent(&s));
+    assert!(out.ends_with("ok saving"), "{out}");
+}
+
+/// The interview's answers, in order.
+const INTERVIEW: &[&str] = &[
+    "y",
+    "",
+    "y", // index; turn the chuck; use the measured cpr
+    "a stepper",
+    "200",
+    "16",
+    "direct",
+    "same",
+    "1000",
+    "2500",
+    "5000", // motor, sense, lathe, driver
+    "n",    // no shaft encoder (the fake board has none: a jog would trip lost-steps)
+    "1600", // the start rate found on the bench
+    "",
+    "one turn",
+    "n", // the jog: one turn, but the wrong way
+];
+
 #[test]
 fn the_interview_measures_the_encoder_jogs_the_cutter_and_saves() {
     let mut s = hand_turned();
-    let mut ask = Scripted::new(&[
-        "y",
-        "",
-        "y", // index; turn the chuck; use the measured cpr
-        "a stepper",
-        "200",
-        "16",
-        "direct",
-        "same",
-        "1000",
-        "2500",
-        "5000", // motor, sense, lathe, driver
-        "n",    // no shaft encoder (the fake board has none: a jog would trip lost-steps)
-        "1600", // the start rate found on the bench
-        "",
-        "one turn",
-        "n", // the jog: one turn, but the wrong way
-    ]);
+    let mut ask = Scripted::new(INTERVIEW);
     let out = run(&mut s, &args(""), &mut ask).unwrap_or_else(|e| panic!("{e:?} after {:?}", sent(&s)));
     let c = *s.io.ctl.config();
     assert_eq!(c.encoder_counts_per_rev, 2_000, "measured by the check, not the default 2400");
@@ -154,7 +192,7 @@ fn the_interview_measures_the_encoder_jogs_the_cutter_and_saves() {
     assert!(sent(&s).contains(&"set cutter-cpr off".to_string()), "{:?}", sent(&s));
     assert!(out.contains("start-rate 1600 steps/s: engaged at rest"), "{out}");
     let cmds = sent(&s);
-    assert!(cmds.contains(&"jog 360".to_string()) && cmds.last().unwrap() == "save", "{cmds:?}");
+    assert!(cmds.contains(&"jog 360".to_string()) && cmds[cmds.len() - 2] == "save", "{cmds:?}");
     assert!(ask.said.iter().any(|l| l.contains("proposed: set cpr 2000")), "{:?}", ask.said);
     assert!(out.contains("ok saving") || out.contains("saving"), "{out}");
 }
@@ -174,14 +212,14 @@ fn a_bldc_cutter_is_set_from_its_drive_its_encoder_and_its_full_speed() {
     assert_eq!((c.motor_steps_per_rev, c.max_step_rate_hz), (4_000, 200_000), "its encoder; 3 000 rpm of it");
     assert!(out.contains("bldc-out pwm at 2000 Hz") && out.contains("expect the cutter within about 0.7°"), "{out}");
     assert!(!out.contains("bldc-tau is still the default"), "{out}");
-    // an RC ESC on a fine encoder: ferror is twice what it is expected to
-    // reach, 2 x 2° of 40 000 counts (on 4 000, 45: the default 64 stays)
+    // an RC ESC: ferror is twice what it is expected to reach, 2 x 2° of
+    // 40 000 counts, and of 4 000 counts 45
     let mut s = session(FakeDevice::new());
     let fine = "--non-interactive --drive bldc --encoder-lines 600 --max-lathe-rpm 100 --cutter-encoder-cpr 40000 --cutter-max-rpm 300 --no-save";
     run(&mut s, &args(&format!("{fine} --bldc-out esc400")), &mut Scripted::new(&[])).unwrap();
     assert_eq!(s.io.ctl.config().following_error_limit_steps, 445);
     run(&mut s, &args(&format!("{BLDC} --bldc-out esc400")), &mut Scripted::new(&[])).unwrap();
-    assert_eq!(s.io.ctl.config().following_error_limit_steps, 64);
+    assert_eq!(s.io.ctl.config().following_error_limit_steps, 45);
     // and back to a stepper, by the same setup
     run(&mut s, &args("--non-interactive --encoder-lines 600 --max-lathe-rpm 600 --no-save"), &mut Scripted::new(&[]))
         .unwrap();
@@ -249,4 +287,112 @@ fn the_interview_asks_a_bldcs_drive_and_jogs_it_on_its_encoder() {
     assert!(refused[0].contains("pwm-hz 7000") && refused[1].contains("--cutter-max-rpm"), "{refused:?}");
     assert!(!ask.said.iter().any(|l| l.contains("STEP pulse")), "no stepper's question: {:?}", ask.said);
     assert!(out.contains("bldc-out pwm at 8000 Hz"), "{out}");
+}
+
+#[test]
+fn the_summary_is_what_the_board_holds_after_the_last_save() {
+    let mut s = hand_turned();
+    let mut ask = Scripted::new(&[
+        "y",
+        "",
+        "y",
+        "a stepper",
+        "200",
+        "16",
+        "direct",
+        "same",
+        "1000",
+        "2500",
+        "5000",
+        "n",
+        "0",
+        "",
+        "one turn",
+        "n", // the jog turned the wrong way: dir flipped and saved
+    ]);
+    let out = run(&mut s, &args(""), &mut ask).unwrap_or_else(|e| panic!("{e:?} after {:?}", sent(&s)));
+    assert_eq!(s.io.ctl.config().sense, polyturn_sync::Sense::Opposite);
+    let set = out.lines().find(|l| l.starts_with("set: ")).unwrap_or_else(|| panic!("{out}"));
+    assert!(set.contains("dir=opposite") && !set.contains("dir=same"), "{out}");
+    let cmds = sent(&s);
+    let saved = cmds.iter().rposition(|c| c == "save").unwrap();
+    assert!(cmds[saved + 1..].iter().any(|c| c == "get"), "read back after the save: {cmds:?}");
+}
+
+#[test]
+fn a_bldc_setup_refuses_a_steppers_flag_as_every_other_flag_of_the_other_cutter() {
+    for flag in ["--motor-steps 400", "--microsteps 8", "--reduction 2", "--pulse-ns 2500", "--dir-setup-ns 5000"] {
+        let mut s = session(FakeDevice::new());
+        let e = run(&mut s, &args(&format!("{BLDC} --bldc-out pwm {flag}")), &mut Scripted::new(&[])).unwrap_err();
+        let name = flag.split(' ').next().unwrap();
+        assert_eq!(e.0, format!("{name} is for a stepper (--drive stepper)"), "{flag}");
+        assert!(sent(&s).iter().all(|l| !l.starts_with("set ")), "{flag}: {:?}", sent(&s));
+    }
+}
+
+#[test]
+fn a_bldc_setup_clears_what_a_stepper_left_that_would_bind_it() {
+    // a stepper's start rate found at 200 000 steps/s, past the BLDC's
+    // full scale (1 500 rpm x 4 000 counts / 60 = 100 000 counts/s); and a
+    // slow driver's 10 µs pulse, which holds max-rate to 50 000
+    let bldc = BLDC.replace("3000 --no", "1500 --no") + " --bldc-out pwm";
+    for (board, full_scale) in [
+        (&["set start-rate 200000"][..], 100_000),
+        (&["set max-rpm 300", "set max-rate 50000", "set pulse 10000"][..], 200_000),
+    ] {
+        let mut s = session(FakeDevice::new());
+        for l in board {
+            s.ask(l).unwrap();
+        }
+        let flags = if full_scale == 100_000 { bldc.clone() } else { format!("{BLDC} --bldc-out pwm") };
+        let out = run(&mut s, &args(&flags), &mut Scripted::new(&[])).unwrap_or_else(|e| panic!("{board:?}: {}", e.0));
+        let c = *s.io.ctl.config();
+        assert_eq!((c.drive, c.max_step_rate_hz), (polyturn_sync::DriveKind::Bldc, full_scale), "{out}");
+        assert_eq!((c.start_rate_hz, c.step_pulse_ns), (0, Config::default().step_pulse_ns), "{out}");
+        assert!(out.contains("start-rate=0") && out.contains("pulse=2000"), "said: {out}");
+    }
+}
+
+#[test]
+fn every_prompt_takes_the_consoles_range_and_asks_again() {
+    let mut s = hand_turned();
+    let mut ask = Scripted::new(&[
+        "y",
+        "",
+        "y",
+        "a stepper",
+        "100000",
+        "512",
+        "direct", // 51 200 000 steps a cutter turn: past the console's 1 000 000
+        "200",
+        "16",
+        "belt or gears",
+        "7",
+        "3", // 7/3 of 3 200 steps: no whole number
+        "200",
+        "16",
+        "direct",
+        "same",
+        "20000", // past max-rpm's 10 000
+        "1000",
+        "500000", // a pulse past the console's 100 000 ns
+        "2500",
+        "200000", // a DIR setup past 100 000 ns
+        "5000",
+        "n",
+        "0",
+        "",
+        "one turn",
+        "y",
+    ]);
+    let out = run(&mut s, &args(""), &mut ask).unwrap_or_else(|e| panic!("{e:?}: {:?}", ask.said));
+    let c = *s.io.ctl.config();
+    assert_eq!((c.motor_steps_per_rev, c.max_lathe_rpm, c.step_pulse_ns, c.dir_setup_ns), (3_200, 1_000, 2_500, 5_000));
+    let refused: Vec<&String> = ask.said.iter().filter(|l| l.starts_with("refused: ")).collect();
+    assert_eq!(refused.len(), 5, "{:?}", ask.said);
+    assert!(refused[0].contains("1..=1000000 steps per cutter rev"), "{refused:?}");
+    assert!(refused[1].contains("not a whole number"), "{refused:?}");
+    assert!(refused[2].contains("1..=10000") && refused[3].contains("100..=100000"), "{refused:?}");
+    assert!(refused[4].contains("0..=100000"), "{refused:?}");
+    assert!(out.contains("saving"), "{out}");
 }

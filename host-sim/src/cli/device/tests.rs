@@ -63,6 +63,61 @@ fn a_cam_table_uploads_through_the_real_console() {
     assert!(e.contains("start again with cam begin"), "{e}");
 }
 
+/// The board checks the points against the X axis the table declares
+/// before it stores anything (the host checks first: this is the board's
+/// own check, for a table sent past it).
+#[test]
+fn the_board_refuses_a_table_its_x_axis_cannot_follow_with_the_figures() {
+    let points: Vec<i32> = (0..1024).map(|i| if i == 500 { 100_000 } else { 0 }).collect();
+    let table = crate::noncircular::table::CamFile {
+        format: crate::noncircular::table::FORMAT.into(),
+        counts_per_rev: 2400,
+        period_counts: 2400,
+        steps_per_mm: 800.0,
+        max_rate_hz: 12_500,
+        max_accel: 1_000_000,
+        points,
+    };
+    let mut s = session(FakeDevice::new());
+    let e = upload(&mut s, &table).unwrap_err().0;
+    assert_eq!(
+        e,
+        "device: error: cam table: neighbouring points 100000 steps apart need 1706650 X steps/s at 1 lathe rpm, beyond its max-rate 12500 steps/s (a table must be followed at 1 rpm or faster)"
+    );
+}
+
+/// A complete table is saved only idle with the lathe at rest; the
+/// refusal says which, and what the board saw of the lathe.
+#[test]
+fn a_table_not_saved_now_says_why() {
+    let table = octagon_table();
+    let mut dev = FakeDevice::new();
+    dev.machine = Some(crate::fakeboard::Machine::new(250));
+    let mut s = session(dev);
+    s.ask("engage").unwrap();
+    let e = upload(&mut s, &table).unwrap_err().0;
+    assert_eq!(e, "device: error: stop first: the cam changes only while idle (900 points kept, send cam end again)");
+    s.ask("stop").unwrap();
+    s.io.machine.as_mut().unwrap().set_lathe_rpm(60.0);
+    s.ask("status").unwrap();
+    let e = upload(&mut s, &table).unwrap_err().0;
+    assert!(
+        e.starts_with(
+            "device: error: stop the lathe first: its encoder counted 0 ms ago (at rest after 100 ms without a count)"
+        ),
+        "{e}"
+    );
+    assert!(e.ends_with(": the table is saved to flash (900 points kept, send cam end again)"), "{e}");
+}
+
+fn octagon_table() -> crate::noncircular::table::CamFile {
+    use crate::noncircular::path::Polygon;
+    use crate::noncircular::plan::{plan, Axis, Outcome};
+    let axis = Axis { rpm: 12.0, max_speed: 15.0, max_accel: 2000.0 };
+    let Outcome::Sharp(path, _) = plan(Polygon { sides: 8, apothem_mm: 20.0 }, 3, axis) else { panic!("sharp") };
+    crate::noncircular::table::build(&path, 2400, 800.0, (12000, 1_600_000))
+}
+
 #[test]
 fn control_characters_and_long_commands_never_reach_the_board() {
     assert!(check_command("set phase 1\r\nset cpr 4000").unwrap_err().0.contains("control character (\\r)"));

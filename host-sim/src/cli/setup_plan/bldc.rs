@@ -5,7 +5,8 @@
 //! performance page shows them).
 
 use crate::cli::errors::{CliError, CliResult};
-use crate::cli::values::{bldc_out, pwm_hz, whole32};
+use crate::cli::values::{bldc_out, pwm_hz, setting, whole32};
+use polyturn_sync::config::table::{BLDC_TAU, MAX_RATE};
 use polyturn_sync::config::BldcOut;
 use polyturn_sync::Config;
 
@@ -16,11 +17,11 @@ pub struct BldcArgs {
     /// With --drive bldc: what PB8 sends the drive: pwm (a spindle driver's speed input), esc400, oneshot125 or esc50 (an RC ESC's pulse) (the console's `bldc-out`)
     #[arg(long, value_name = "pwm|esc400|oneshot125|esc50", value_parser = bldc_out)]
     pub bldc_out: Option<BldcOut>,
-    /// With --bldc-out pwm: the frequency the driver takes, Hz (1000..=20000, a divisor of 96000000; the console's `pwm-hz`)
+    /// With --bldc-out pwm: the frequency the driver takes, Hz
     #[arg(long, value_name = "HZ", value_parser = pwm_hz)]
     pub pwm_hz: Option<u32>,
-    /// With --drive bldc: the drive's time constant from the bench procedure, ms (1..=1000; the console's `bldc-tau`)
-    #[arg(long, value_name = "MS", value_parser = whole32(1, 1_000))]
+    /// With --drive bldc: the drive's time constant from the bench procedure, ms
+    #[arg(long, value_name = "MS", value_parser = setting(BLDC_TAU))]
     pub bldc_tau: Option<u32>,
     /// With --drive bldc: the cutter's speed at full command (100 % duty, or the ESC's 2.0 ms pulse), rpm
     #[arg(long, value_name = "RPM", value_parser = whole32(1, 100_000))]
@@ -46,9 +47,6 @@ pub struct BldcFacts {
 pub fn from_flags(a: &BldcArgs, cutter_cpr: Option<u32>) -> CliResult<BldcFacts> {
     let need = |flag: &str| CliError::flag(flag, "is needed with --drive bldc");
     let out = a.bldc_out.ok_or_else(|| need("bldc-out"))?;
-    if a.pwm_hz.is_some() && out != BldcOut::Pwm {
-        return Err(CliError::flag("pwm-hz", "is for --bldc-out pwm (an RC ESC's frame is fixed)"));
-    }
     let counts = cutter_cpr.filter(|&n| n != 0).ok_or_else(|| {
         CliError::flag(
             "cutter-encoder-cpr",
@@ -62,25 +60,34 @@ pub fn from_flags(a: &BldcArgs, cutter_cpr: Option<u32>) -> CliResult<BldcFacts>
 /// `max-rate`, counts/s, from the cutter's full speed and its encoder.
 pub fn max_rate(rpm: u32, counts: u32) -> CliResult<u32> {
     let rate = rpm as u64 * counts as u64 / 60;
-    if !(1..=250_000).contains(&rate) {
-        return Err(CliError::flag(
+    match u32::try_from(rate).ok().filter(|&r| MAX_RATE.contains(r)) {
+        Some(r) => Ok(r),
+        None => Err(CliError::flag(
             "cutter-max-rpm",
-            format!("x {counts} counts per turn / 60 is {rate} counts/s: the board takes 1..=250000 (max-rate)"),
-        ));
+            format!(
+                "x {counts} counts per turn / 60 is {rate} counts/s: the console's `max-rate` takes {} (got {rpm})",
+                MAX_RATE.allowed
+            ),
+        )),
     }
-    Ok(rate as u32)
 }
 
 /// The settings a BLDC cutter makes besides `steps` (its encoder's
 /// counts, `Facts::steps`): `max-rate` the drive's full scale, and
 /// `ferror` twice the error the drive is expected to reach in the cut (so
-/// a good cut never trips it).
+/// a good cut never trips it). A stepper's settings that would still act
+/// on it or bind it go back to their defaults: `start-rate` (the follower
+/// would jump the BLDC's speed, and it must not exceed `max-rate`) and
+/// `pulse` (a STEP pulse bounds `max-rate`: max-rate x 2 x pulse <= 1 s).
 pub fn changes(f: &BldcFacts) -> Vec<(String, String)> {
+    let stepper = Config::default();
     let mut c = vec![
         ("drive".to_string(), "bldc".to_string()),
         ("bldc-out".into(), f.out.name().into()),
         ("max-rate".into(), f.max_rate.to_string()),
         ("ferror".into(), ferror(f.out, f.counts).to_string()),
+        ("start-rate".into(), stepper.start_rate_hz.to_string()),
+        ("pulse".into(), stepper.step_pulse_ns.to_string()),
     ];
     if let Some(hz) = f.pwm_hz {
         c.push(("pwm-hz".into(), hz.to_string()));
@@ -105,11 +112,20 @@ pub fn expected_mdeg(out: BldcOut) -> Option<u32> {
     }
 }
 
-/// `ferror` for the drive: twice the expected error in the encoder's
-/// counts, and not below the console's default (64).
+/// The least `ferror` for a BLDC cutter, counts: the phase loop reads its
+/// encoder in whole counts, so a cutter within `e` counts of its target
+/// reads up to `e + 1` behind; twice a promise under a count is less than
+/// that, and 2 is not (a promise p <= 1 count reads at most p + 1 <= 2).
+pub const FERROR_MIN_COUNTS: u32 = 2;
+
+/// `ferror` for the drive: twice the error it is expected to reach
+/// (`expected_mdeg`) in the encoder's counts, rounded up, and at least
+/// `FERROR_MIN_COUNTS`; so a good cut never trips it, and a cutter that
+/// falls behind by more does, on any encoder. An esc50 holds no phase:
+/// nothing is promised, and the console's default stays.
 pub fn ferror(out: BldcOut, counts: u32) -> u32 {
     let d = Config::default().following_error_limit_steps;
-    expected_mdeg(out).map_or(d, |m| counts_of(2 * m, counts).max(d))
+    expected_mdeg(out).map_or(d, |m| counts_of(2 * m, counts).max(FERROR_MIN_COUNTS))
 }
 
 /// `mdeg` millidegrees of the cutter in counts of its encoder, rounded up.
@@ -176,18 +192,18 @@ mod tests {
         let pwm = &lines(&with("pwm", "2"))[0];
         assert!(pwm.contains("at 1000 Hz") && !pwm.contains("warning"), "{pwm}");
         // 0.7° of the default 3 200 counts: 6.2, so 7 counts; ferror 2 x
-        // 0.7° is 13 counts, under the default 64
+        // 0.7° is 12.4, so 13 counts
         assert!(
-            pwm.contains("within about 0.7° while cutting (7 counts of its 3200") && pwm.ends_with("ferror 64 counts"),
+            pwm.contains("within about 0.7° while cutting (7 counts of its 3200") && pwm.ends_with("ferror 13 counts"),
             "{pwm}"
         );
         for out in ["esc400", "oneshot125"] {
             let l = lines(&with(out, "79"));
             assert!(l[0].contains(out) && l[0].contains("cannot brake"), "{l:?}");
         }
-        // 2° of 3 200 counts is 17.8; twice it 35.6, under the default 64
+        // 2° of 3 200 counts is 17.8; twice it 35.6, so 36
         let esc = &lines(&with("esc400", "79"))[0];
-        assert!(esc.contains("2.0° while cutting (18 counts") && esc.ends_with("ferror 64 counts"), "{esc}");
+        assert!(esc.contains("2.0° while cutting (18 counts") && esc.ends_with("ferror 36 counts"), "{esc}");
     }
 
     #[test]
@@ -195,7 +211,7 @@ mod tests {
         let a = BldcArgs { bldc_out: Some(BldcOut::Esc400), cutter_max_rpm: Some(3_000), ..BldcArgs::default() };
         let f = from_flags(&a, Some(4_000)).unwrap();
         assert_eq!((f.counts, f.max_rate), (4_000, 200_000), "3 000 rpm x 4 000 counts / 60");
-        assert!(changes(&f).contains(&("ferror".into(), "64".into())), "2 x 2° of 4 000 counts, 45: {:?}", changes(&f));
+        assert!(changes(&f).contains(&("ferror".into(), "45".into())), "2 x 2° of 4 000 counts: {:?}", changes(&f));
         // a fine encoder: 2 x 2° of 100 000 counts
         let fine = from_flags(&BldcArgs { cutter_max_rpm: Some(100), ..a.clone() }, Some(100_000)).unwrap();
         assert!(changes(&fine).contains(&("ferror".into(), "1112".into())), "{:?}", changes(&fine));
@@ -204,12 +220,32 @@ mod tests {
         let fast = BldcArgs { cutter_max_rpm: Some(4_000), ..a.clone() };
         let e = from_flags(&fast, Some(4_000)).unwrap_err().0;
         assert!(e.starts_with("--cutter-max-rpm") && e.contains("266666 counts/s"), "{e}");
-        let esc_hz = BldcArgs { pwm_hz: Some(2_000), ..a.clone() };
-        assert!(from_flags(&esc_hz, Some(4_000)).unwrap_err().0.starts_with("--pwm-hz is for --bldc-out pwm"));
         assert!(from_flags(&BldcArgs { bldc_out: None, ..a }, Some(4_000))
             .unwrap_err()
             .0
             .starts_with("--bldc-out is needed"));
+    }
+
+    /// Twice the accuracy the setup promises, in the encoder's counts: on a
+    /// coarse encoder the fault stays reachable (2 counts, the least a
+    /// reading in whole counts allows), on a fine one it is no looser
+    /// than promised.
+    #[test]
+    fn ferror_is_twice_the_promised_accuracy_on_any_encoder() {
+        // 2 x 0.7° of 4 000 counts is 15.6; 2 x 2° of 4 000, 44.4
+        assert_eq!(ferror(BldcOut::Pwm, 4_000), 16);
+        assert_eq!(ferror(BldcOut::Esc400, 4_000), 45);
+        assert_eq!(ferror(BldcOut::OneShot125, 3_200), 9, "2 x 0.5° of 3 200 counts is 8.9");
+        // 4 counts a turn: 2 x 2° is 0.04 count; a reading is up to a count
+        // off, so 2 counts (half a turn), not 64 (16 turns)
+        for out in [BldcOut::Pwm, BldcOut::Esc400, BldcOut::OneShot125] {
+            assert_eq!(ferror(out, 4), 2, "{out:?}");
+        }
+        // 2 x 0.5° of 720 counts is exactly 2
+        assert_eq!(ferror(BldcOut::OneShot125, 720), 2);
+        assert_eq!(ferror(BldcOut::OneShot125, 721), 3);
+        // esc50 holds no phase: nothing promised, the console's default
+        assert_eq!(ferror(BldcOut::Esc50, 4_000), Config::default().following_error_limit_steps);
     }
 
     #[test]

@@ -1,0 +1,106 @@
+//! What a cam table asks of its X axis once the lathe turns. The X
+//! position is linear between the points, so the steepest step between
+//! neighbours is a speed and the sharpest bend an acceleration, both in
+//! proportion to the lathe's speed (its square). The header declares the X
+//! axis (`max_rate_hz`, `max_accel`) and the encoder the points are spaced
+//! on (`counts_per_rev`, which must be the board's `cpr`,
+//! `Controller::check_cam`). A table its own axis cannot follow even at
+//! the slowest lathe speed a cut takes, [`SLOWEST_RPM`] (`polyturn cam
+//! --rpm`'s floor), is one no cut can use (a slip of the steps per mm, a
+//! table for another machine): it is refused before it is stored.
+//!
+//! The points are whole steps, each within half a step of its path, so a
+//! step's difference between neighbours (two in a bend) is the rounding's,
+//! not motion: it is allowed for.
+
+use super::CamHeader;
+
+/// The slowest lathe speed a table must be followed at, rpm.
+pub const SLOWEST_RPM: u64 = 1;
+
+/// A table its X axis cannot follow at [`SLOWEST_RPM`].
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub enum MotionError {
+    /// neighbouring points `apart` steps apart need `needs_hz` X steps/s,
+    /// beyond the header's `max_hz`
+    Rate { apart: u32, needs_hz: u64, max_hz: u32 },
+    /// a bend of `bend` steps (a point's second difference) needs `needs`
+    /// X steps/s², beyond the header's `max`
+    Accel { bend: u32, needs: u64, max: u32 },
+}
+
+impl MotionError {
+    /// The reason without its figures (the stored table's check at boot).
+    pub fn describe(self) -> &'static str {
+        match self {
+            MotionError::Rate { .. } => "cam table: its points need more than its max-rate even at 1 lathe rpm",
+            MotionError::Accel { .. } => "cam table: its points need more than its max-accel even at 1 lathe rpm",
+        }
+    }
+}
+
+impl core::fmt::Display for MotionError {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        match *self {
+            MotionError::Rate { apart, needs_hz, max_hz } => write!(
+                f,
+                "cam table: neighbouring points {apart} steps apart need {needs_hz} X steps/s at {SLOWEST_RPM} lathe rpm, beyond its max-rate {max_hz} steps/s (a table must be followed at {SLOWEST_RPM} rpm or faster)"
+            ),
+            MotionError::Accel { bend, needs, max } => write!(
+                f,
+                "cam table: a bend of {bend} steps at a point needs {needs} X steps/s^2 at {SLOWEST_RPM} lathe rpm, beyond its max-accel {max} steps/s^2 (a table must be followed at {SLOWEST_RPM} rpm or faster)"
+            ),
+        }
+    }
+}
+
+/// The largest difference between neighbouring points and the largest
+/// second difference, around the period (the table wraps), in steps.
+fn steepest(points: &[i32]) -> (u64, u64) {
+    let n = points.len();
+    let at = |k: usize| points.get(k % n.max(1)).copied().unwrap_or(0) as i64;
+    (0..n).fold((0, 0), |(d1, d2), k| {
+        let (a, b, c) = (at(k), at(k + 1), at(k + 2));
+        (d1.max((b - a).unsigned_abs()), d2.max((c - 2 * b + a).unsigned_abs()))
+    })
+}
+
+/// Checks the table against the X axis its header declares, at
+/// [`SLOWEST_RPM`] on its encoder. One pass over the points (low priority:
+/// 128-bit products, never in the tick).
+///
+/// A segment is `period / N` counts; at ω counts/s it lasts
+/// `period / (N ω)` s, with ω = rpm · cpr / 60. A difference d between
+/// neighbours is then a speed d · N ω / period, and a bend b an
+/// acceleration b · (N ω / period)².
+pub fn check(h: &CamHeader, points: &[i32]) -> Result<(), MotionError> {
+    let (d1, d2) = steepest(points);
+    // segments per minute at the slowest speed, and the seconds in a minute
+    // per period: a segment is 60 · period / (N · cpr · rpm) s
+    let per_min = points.len() as u128 * h.counts_per_rev as u128 * SLOWEST_RPM as u128;
+    let period_s = 60 * h.period_counts.max(1) as u128;
+    let needs_hz = ceil_div(d1.saturating_sub(1) as u128 * per_min, period_s);
+    if needs_hz > h.max_rate_hz as u64 {
+        return Err(MotionError::Rate { apart: clamp(d1), needs_hz, max_hz: h.max_rate_hz });
+    }
+    let needs = ceil_div(d2.saturating_sub(2) as u128 * per_min * per_min, period_s * period_s);
+    if needs > h.max_accel as u64 {
+        return Err(MotionError::Accel { bend: clamp(d2), needs, max: h.max_accel });
+    }
+    Ok(())
+}
+
+/// ⌈num / den⌉ (`den` > 0), saturating at `u64::MAX`; out of line, so the
+/// firmware holds one copy of the 128-bit division.
+/// (`div_ceil` takes a remainder too: 188 bytes more of the image.)
+#[inline(never)]
+#[allow(clippy::manual_div_ceil)]
+fn ceil_div(num: u128, den: u128) -> u64 {
+    // num < 2^118 (a step < 2^34, N · cpr < 2^42): no overflow
+    ((num + den - 1) / den).min(u64::MAX as u128) as u64
+}
+
+fn clamp(v: u64) -> u32 {
+    v.min(u32::MAX as u64) as u32
+}

@@ -1,0 +1,97 @@
+use super::motion::{check, MotionError};
+use super::*;
+use crate::controller::{check_table, prepare_cam};
+use crate::{Config, Controller, Timing};
+use std::format;
+use std::vec::Vec;
+
+/// A header for `points` over one turn of a 2 400-count encoder, its X
+/// axis at the board's 12 500 steps/s and 10^6 steps/s².
+fn header(points: usize) -> CamHeader {
+    CamHeader {
+        points: points as u32,
+        period_counts: 2_400,
+        counts_per_rev: 2_400,
+        max_rate_hz: 12_500,
+        max_accel: 1_000_000,
+    }
+}
+
+/// 1 024 points of a 1 mm (800-step) wave: what `polyturn cam` makes.
+fn smooth() -> Vec<i32> {
+    (0..1024).map(|i| ((i as f64 / 1024.0 * core::f64::consts::TAU).sin() * 800.0).round() as i32).collect()
+}
+
+#[test]
+fn a_smooth_table_is_taken() {
+    assert_eq!(check(&header(1024), &smooth()), Ok(()));
+    assert_eq!(check_table(&header(1024), &smooth()), Ok(()));
+}
+
+/// 125 mm at 800 steps/mm between two neighbours: at 1 rpm of a 2 400-count
+/// lathe a segment (2 400 / 1 024 counts) lasts 60 / 1 024 s, so the jump
+/// needs (100 000 - 1) x 1 024 / 60 X steps/s.
+#[test]
+fn a_jump_between_neighbours_no_x_axis_can_make_is_refused_with_its_figures() {
+    let mut points = smooth();
+    points[500] += 100_000;
+    let e = check(&header(1024), &points).unwrap_err();
+    let apart = (points[500] - points[499]).max(points[500] - points[501]) as u32;
+    let needs_hz = ((apart as u64 - 1) * 1024).div_ceil(60);
+    assert_eq!(e, MotionError::Rate { apart, needs_hz, max_hz: 12_500 });
+    assert_eq!(
+        format!("{e}"),
+        format!("cam table: neighbouring points {apart} steps apart need {needs_hz} X steps/s at 1 lathe rpm, beyond its max-rate 12500 steps/s (a table must be followed at 1 rpm or faster)")
+    );
+    assert_eq!(check_table(&header(1024), &points), Err(TableRefusal::Motion(e)));
+    let leaked: &'static [i32] = Vec::leak(points);
+    assert_eq!(prepare_cam(&header(1024), leaked, Timing::FIRMWARE).err(), Some(e.describe()));
+    let mut c = Controller::new(Config::default(), Timing::FIRMWARE);
+    assert_eq!(c.fit_cam(&header(1024), leaked).err(), Some(e.describe()));
+    assert!(c.x_axis().is_none(), "nothing fitted");
+}
+
+/// Two points over a turn: a segment is 1 200 counts, 30 s at 1 rpm. The
+/// step is d - 1 steps (a step is the rounding's) over 30 s.
+#[test]
+fn the_rate_is_taken_up_to_its_limit_and_the_rounding_is_allowed_for() {
+    let h = CamHeader { max_rate_hz: 100, max_accel: 1_000, ..header(2) };
+    assert_eq!(check(&h, &[0, 3_001]), Ok(()), "3 000 steps in 30 s: 100 steps/s");
+    assert_eq!(check(&h, &[0, 3_002]), Err(MotionError::Rate { apart: 3_002, needs_hz: 101, max_hz: 100 }));
+    assert_eq!(check(&h, &[5, 6]), Ok(()), "a step of rounding");
+}
+
+/// A zigzag of 100 steps between neighbours, within the rate (99 x 1 024
+/// / 60 = 1 690 steps/s) but bending by 200 steps at each point: 198 x
+/// (1 024 / 60)^2 steps/s² at 1 rpm.
+#[test]
+fn a_bend_sharper_than_the_x_axis_accelerates_is_refused_with_its_figures() {
+    let zigzag: Vec<i32> = (0..1024).map(|i| if i % 2 == 0 { 0 } else { 100 }).collect();
+    let h = CamHeader { max_accel: 10_000, ..header(1024) };
+    let needs = (198u64 * 1024 * 1024).div_ceil(3_600);
+    assert_eq!(needs, 57_672);
+    let e = check(&h, &zigzag).unwrap_err();
+    assert_eq!(e, MotionError::Accel { bend: 200, needs, max: 10_000 });
+    assert!(format!("{e}").starts_with("cam table: a bend of 200 steps at a point needs 57672 X steps/s^2 at 1 lathe rpm, beyond its max-accel 10000 steps/s^2"), "{e}");
+    assert_eq!(check(&CamHeader { max_accel: 57_672, ..h }, &zigzag), Ok(()));
+}
+
+/// The table wraps: the step from the last point back to the first counts.
+#[test]
+fn the_step_from_the_last_point_to_the_first_counts() {
+    let ramp: Vec<i32> = (0..1024).map(|i| i * 4).collect();
+    let e = check(&header(1024), &ramp).unwrap_err();
+    assert!(matches!(e, MotionError::Rate { apart: 4_092, .. }), "{e:?}");
+}
+
+/// Fine encoders, coarse tables: the products stay within 128 bits and the
+/// figures saturate rather than wrap.
+#[test]
+fn extreme_headers_give_figures_not_overflows() {
+    let h =
+        CamHeader { points: 2, period_counts: 2, counts_per_rev: u32::MAX, max_rate_hz: u32::MAX, max_accel: u32::MAX };
+    let e = check(&h, &[i32::MIN, i32::MAX]).unwrap_err();
+    assert!(matches!(e, MotionError::Rate { apart: u32::MAX, max_hz: u32::MAX, .. }), "{e:?}");
+    let h = CamHeader { period_counts: 0, ..h };
+    assert!(check(&h, &[0, 0]).is_ok());
+}

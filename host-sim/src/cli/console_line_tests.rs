@@ -1,0 +1,63 @@
+//! A cam table file is checked before the port opens: what it declares,
+//! and its points by the board's own rules.
+
+use super::*;
+use crate::noncircular::path::Polygon;
+use crate::noncircular::plan::{plan, Axis, Outcome};
+
+/// `polyturn cam --sides 8 --inscribed-radius 20 --rpm 12 --x-max-speed 15
+/// --x-max-accel 2000`'s table, at 800 steps/mm.
+fn octagon() -> CamFile {
+    let axis = Axis { rpm: 12.0, max_speed: 15.0, max_accel: 2000.0 };
+    let Outcome::Sharp(path, _) = plan(Polygon { sides: 8, apothem_mm: 20.0 }, 3, axis) else { panic!("sharp") };
+    crate::noncircular::table::build(&path, 2400, 800.0, (12_000, 1_600_000))
+}
+
+fn checked(t: &CamFile) -> Result<CamFile, String> {
+    cam_table("t.json", &serde_json::to_string(t).unwrap()).map_err(|e| e.0)
+}
+
+#[test]
+fn a_table_polyturn_cam_makes_is_taken() {
+    let t = octagon();
+    assert_eq!(checked(&t), Ok(t));
+}
+
+#[test]
+fn steps_per_mm_outside_polyturn_cams_range_is_refused_naming_it() {
+    for (spm, shown) in [(0.0, "0.0"), (-800.0, "-800.0"), (1e308, "1e308"), (0.5, "0.5"), (100_001.0, "100001.0")] {
+        let e = checked(&CamFile { steps_per_mm: spm, ..octagon() }).unwrap_err();
+        assert_eq!(
+            e,
+            format!("upload-cam: 't.json' is refused: steps_per_mm must be a finite number >= 1 and <= 100000 (got {shown})")
+        );
+    }
+    // the JSON text itself, as a hand-edited file has it
+    let text = serde_json::to_string(&octagon()).unwrap().replace("\"steps_per_mm\":800.0", "\"steps_per_mm\":1e308");
+    assert!(cam_table("t.json", &text).unwrap_err().0.contains("steps_per_mm must be"));
+}
+
+/// 125 mm between neighbours at 800 steps/mm: refused with the board's own
+/// figures (`cam_upload::motion`), before anything is sent.
+#[test]
+fn a_jump_no_x_axis_can_make_is_refused_with_the_boards_figures() {
+    let mut t = octagon();
+    t.points[100] += 100_000;
+    let h = t.header();
+    let core = polyturn_sync::controller::check_table(&h, &t.points).unwrap_err().to_string();
+    assert!(core.starts_with("cam table: neighbouring points 10"), "{core}");
+    assert_eq!(checked(&t).unwrap_err(), format!("upload-cam: 't.json' is refused: {core}"));
+}
+
+#[test]
+fn an_encoder_or_an_x_axis_the_board_refuses_is_refused_here() {
+    let e = checked(&CamFile { counts_per_rev: 0, ..octagon() }).unwrap_err();
+    assert_eq!(
+        e,
+        "upload-cam: 't.json' is refused: counts_per_rev must be 4..=1000000 counts per lathe rev (the console's cpr; got 0)"
+    );
+    for (rate, accel) in [(0, 1_000), (12_501, 1_000), (12_000, 0)] {
+        let e = checked(&CamFile { max_rate_hz: rate, max_accel: accel, ..octagon() }).unwrap_err();
+        assert!(e.ends_with("cam max-rate must be 1..=12500 steps/s (one X step per two ticks), max-accel > 0"), "{e}");
+    }
+}

@@ -1,0 +1,82 @@
+//! Why a simulation is refused, or failed: each names the flag whose
+//! value is out of range, the figure and where it came from, and what it
+//! got. A run that never cut is a failure, not a report.
+
+use super::SimulateArgs;
+use crate::cli::errors::CliError;
+use crate::sim::bldc::{full_speed, own_tau_ms, INERTIA_KG_M2};
+use crate::sim::{Scenario, SimResult};
+use polyturn_sync::config::table::BLDC_TAU;
+use polyturn_sync::config::BldcOut;
+use polyturn_sync::ConfigError;
+
+/// A setting the simulated board refuses, named by the flag it came from
+/// (the board's `max-rpm` is --rpm and 30 %: the ripple's headroom).
+pub fn setting(e: ConfigError, sc: &Scenario, a: &SimulateArgs) -> CliError {
+    let c = &sc.core;
+    match e.field {
+        "ratio" => CliError::flag("rpm", format!(
+            "too fast for this ratio and motor: the simulated controller allows {} rpm (--rpm + 30 % headroom), which needs {:.0} steps/s; the motor's limit is {} (lower --rpm or --motor-steps)",
+            c.max_lathe_rpm, c.motor_rate_at(c.max_lathe_rpm as f64), c.max_step_rate_hz)),
+        "cpr" => CliError::flag("encoder-cpr", format!("{} (got {})", e.allowed, c.encoder_counts_per_rev)),
+        "steps" => CliError::flag("motor-steps", format!("{} (got {})", e.allowed, c.motor_steps_per_rev)),
+        "start-rate" => CliError::flag("start-rate", format!("{} (got {})", e.allowed, c.start_rate_hz)),
+        "bldc-out" => CliError::flag(
+            "bldc-out",
+            format!(
+                "{} (got {}; the simulated board's max-rpm is --rpm {} + 30 %: {})",
+                e.allowed,
+                c.bldc_out.name(),
+                a.rpm,
+                c.max_lathe_rpm
+            ),
+        ),
+        "pwm-hz" => CliError::flag("pwm-hz", format!("{} (got {})", e.allowed, c.pwm_hz)),
+        "bldc-tau" => CliError::flag("bldc-tau", format!("{} (got {})", e.allowed, c.bldc_tau_ms)),
+        f => CliError::flag(f, e.allowed),
+    }
+}
+
+/// The RC ESC's own time constant (inertia × full speed / stall torque,
+/// the full speed `max-rate` counts/s of the cutter's encoder) when it is
+/// out of `bldc-tau`'s range: a coarse encoder makes the full speed, and
+/// with it the time constant, too large.
+pub fn own_tau(sc: &Scenario, out: BldcOut, motor_steps: u32) -> Result<(), CliError> {
+    let ms = own_tau_ms(sc, out);
+    if BLDC_TAU.contains(ms) {
+        return Ok(());
+    }
+    Err(CliError::flag(
+        "motor-steps",
+        format!(
+            "makes the simulated ESC's own time constant {ms} ms (inertia {INERTIA_KG_M2} kg·m² x full speed {:.0} rad/s, max-rate {} counts/s over {motor_steps} counts a turn, / stall torque {} N·m), outside bldc-tau's {}: give --bldc-tau, or more counts a turn (got {motor_steps})",
+            full_speed(sc),
+            sc.core.max_step_rate_hz,
+            sc.bldc_max_torque,
+            BLDC_TAU.allowed
+        ),
+    ))
+}
+
+/// A run that never cut: why, as far as the figures tell.
+pub fn nothing_cut(sc: &Scenario, r: &SimResult, a: &SimulateArgs) -> CliError {
+    let mut why = vec![format!(
+        "simulate: nothing was cut: the cutter never held the gear while the lathe held its {} rpm",
+        a.rpm
+    )];
+    let need = sc.ripple_accel(a.rpm);
+    let max = sc.core.max_accel_steps_per_s2 as f64;
+    if need > max {
+        // the ripple the follower holds here, rounded down: `ripple_accel` is linear in it
+        let held = (sc.lathe.ripple * max / need * 1e3).floor() / 1e3;
+        why.push(format!(
+            "the lathe's speed ripple (--ripple {}: ±{:.0} % once a turn) asks the cutter for up to {need:.0} steps/s², past its max-accel {max}: the follower holds a ripple of at most about {held} here (lower --ripple or --rpm, or raise --max-accel)",
+            a.ripple,
+            a.ripple * 100.0
+        ));
+    }
+    if let Some((tick, f)) = r.faults.first() {
+        why.push(format!("{} at {:.2} s ({})", f.name(), *tick as f64 / sc.tick_hz as f64, f.reason()));
+    }
+    CliError(why.join("; "))
+}

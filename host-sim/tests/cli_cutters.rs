@@ -1,0 +1,112 @@
+//! `polyturn simulate`, `cam`, `setups` and `device get` through the real
+//! binary: a run that cut nothing, a flag for the other kind of cutter,
+//! a derived figure out of range, and ranges taken from the console's
+//! table of settings, one check for every spelling.
+
+use std::process::Command;
+
+fn polyturn(args: &str) -> (i32, String, String) {
+    let out = Command::new(env!("CARGO_BIN_EXE_polyturn")).args(args.split_whitespace()).output().expect("runs");
+    let text = |b: Vec<u8>| String::from_utf8(b).expect("utf-8");
+    (out.status.code().unwrap_or(-1), text(out.stdout), text(out.stderr))
+}
+
+/// The hexagon at 600 rpm, 20 turns of cutting.
+const RUN: &str = "simulate --cutter-radius 50 --stock-diameter 20 --depth 1.5 --ratio 2 --edges 3 --direction same --rpm 600 --revolutions 20";
+
+/// `polyturn ARGS` refused: exit 2, one line starting `error: START`.
+fn refused(args: &str, start: &str) -> String {
+    let (code, out, err) = polyturn(args);
+    assert_eq!(code, 2, "{args}: {out}{err}");
+    assert_eq!(err.lines().count(), 1, "{args}: {err}");
+    assert!(out.is_empty(), "{args}: nothing on stdout: {out}");
+    assert!(err.starts_with(&format!("error: {start}")), "{args}: {err}");
+    err
+}
+
+#[test]
+fn a_simulation_that_never_cut_says_so_and_why_and_exits_non_zero() {
+    let dir = std::env::temp_dir().join(format!("polyturn-nocut-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let svg = dir.join("never.svg");
+    // ±15 % once a turn at 600 rpm asks 2 x 3 200 steps of 0.15 x (20π)²
+    // / 2π: 603 000 steps/s², past max-accel's 400 000
+    for (flags, ripple) in [
+        (format!("--start spinning --ripple 0.15 --svg {}", svg.display()), "0.15"),
+        ("--start spinning --ripple 0.15 --json".to_string(), "0.15"),
+        ("--ripple 0.2".to_string(), "0.2"),
+        ("--drive bldc --bldc-out pwm --start spinning --ripple 0.3".to_string(), "0.3"),
+    ] {
+        let err = refused(&format!("{RUN} {flags}"), "simulate: nothing was cut");
+        assert!(err.contains(&format!("--ripple {ripple}")) && err.contains("max-accel 400000"), "{flags}: {err}");
+        assert!(err.contains("at most about 0.099"), "the ripple it holds here: {err}");
+    }
+    assert!(!svg.exists(), "no file written for a run that cut nothing");
+    // the same run with a ripple the follower holds cuts, and exits 0
+    let (code, out, err) = polyturn(&format!("{RUN} --start spinning --ripple 0.05"));
+    assert_eq!(code, 0, "{err}");
+    assert!(out.contains("6 sides") && out.contains("faults: none"), "{out}");
+}
+
+#[test]
+fn a_flag_for_the_other_kind_of_cutter_is_refused_naming_it() {
+    for (flags, flag, why) in [
+        ("--drive stepper --bldc-out pwm", "--bldc-out", "is for a BLDC cutter (--drive bldc)"),
+        ("--bldc-out esc400", "--bldc-out", "is for a BLDC cutter (--drive bldc)"),
+        ("--pwm-hz 2000", "--pwm-hz", "is for a BLDC cutter (--drive bldc)"),
+        ("--bldc-tau 5", "--bldc-tau", "is for a BLDC cutter (--drive bldc)"),
+        ("--drive bldc --bldc-out pwm --start-rate 100", "--start-rate", "is for a stepper (--drive stepper)"),
+        ("--drive bldc --start-rate 0", "--start-rate", "is for a stepper (--drive stepper)"),
+        ("--drive bldc --bldc-out esc400 --pwm-hz 2000", "--pwm-hz", "is for --bldc-out pwm"),
+    ] {
+        let err = refused(&format!("{RUN} {flags}"), flag);
+        assert!(err.contains(why), "{flags}: {err}");
+    }
+}
+
+#[test]
+fn a_figure_out_of_range_is_named_with_where_it_came_from_and_what_it_got() {
+    // a 100-count encoder at max-rate 200 000: the RC ESC's own time
+    // constant (inertia x full speed / stall torque) is 2.5 s
+    let err = refused(&format!("{RUN} --drive bldc --bldc-out esc400 --motor-steps 100"), "--motor-steps");
+    assert!(err.contains("(got 100)") && err.contains("2513 ms") && err.contains("bldc-tau's 1..=1000"), "{err}");
+    // given, it is the flag's own range
+    let err = refused(&format!("{RUN} --drive bldc --bldc-out esc400 --bldc-tau 1001"), "--bldc-tau");
+    assert!(err.contains("(got '1001')"), "{err}");
+}
+
+#[test]
+fn the_cam_tables_encoder_takes_the_consoles_cpr_range() {
+    let cam = "cam --sides 8 --inscribed-radius 20 --rpm 12 --x-max-speed 15 --x-max-accel 2000";
+    let err = refused(&format!("{cam} --encoder-cpr 1048576"), "--encoder-cpr");
+    assert!(err.contains("4..=1000000 counts per lathe rev, the console's `cpr`"), "{err}");
+    let (code, _, err) = polyturn(&format!("{cam} --encoder-cpr 1000000"));
+    assert_eq!(code, 0, "{err}");
+    let (_, help, _) = polyturn("cam --help");
+    assert!(help.contains("4..=1000000 counts per lathe rev"), "{help}");
+}
+
+#[test]
+fn a_ratio_bound_is_held_to_one_range_however_it_is_spelled() {
+    let setups = "setups --sides 6 --stock-diameter 20 --depth 1";
+    for (ratio, number) in [("1/1000", "0.001"), ("1/101", "0.0099"), ("1001:1", "1001")] {
+        let by_ratio = refused(&format!("{setups} --max-ratio {ratio}"), "--max-ratio");
+        let by_number = refused(&format!("{setups} --max-ratio {number}"), "--max-ratio");
+        let why = |e: &str| e.split(" (got").next().unwrap().to_string();
+        assert_eq!(why(&by_ratio), why(&by_number), "{ratio} and {number}");
+    }
+    let (code, _, err) = polyturn(&format!("{setups} --max-ratio 1/100"));
+    assert_eq!(code, 0, "{err}");
+}
+
+#[test]
+fn device_get_lists_every_name_of_the_consoles_table() {
+    let (code, help, _) = polyturn("device get --help");
+    assert_eq!(code, 0);
+    for name in polyturn_sync::config::NAMES {
+        assert!(help.contains(name), "{name}: {help}");
+    }
+    // a name the console does not have is refused before any port opens
+    let err = refused("device --port /nonexistent get bogus", "NAME");
+    assert!(err.contains("bldc-tau"), "{err}");
+}
