@@ -113,6 +113,10 @@ pub struct Chip {
     /// the image mapped system memory at 0 (SYSCFG_MEMRMP.MEM_MODE = 01, §7.2.1)
     /// to jump to the ROM bootloader, which this emulator does not have
     pub rom_jump: bool,
+    /// what the CPU sees at 0 now, and a change the image asked for that the
+    /// machine makes between two runs (SYSCFG_MEMRMP, §7.2.1)
+    pub at_zero: exti::AtZero,
+    pub remap: Option<exti::AtZero>,
 }
 
 pub const GP_NAMES: [&str; 4] = ["TIM3", "TIM4", "TIM5", "TIM10"];
@@ -196,6 +200,8 @@ impl Chip {
             tickmask: Default::default(),
             tape: None,
             rom_jump: false,
+            at_zero: exti::AtZero::Flash,
+            remap: None,
         }
     }
 

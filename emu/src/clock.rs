@@ -50,9 +50,36 @@ fn across(prev: &Insn, first: &Insn) -> (i64, i64) {
 const AFTER_EXCEPTION: Insn =
     Insn { addr: 0, size: 2, op: Op::Hint, reads: 0, writes: 0, addr_regs: 0, conditional: false };
 
-/// Flash, and its alias at 0 (RM0383 §2.4, BOOT0 = 0).
-fn in_flash(addr: u32) -> bool {
-    addr < 0x0008_0000 || (0x0800_0000..0x0808_0000).contains(&addr)
+/// Where an instruction is fetched from.
+#[derive(Clone, Copy, PartialEq, Eq)]
+enum Fetch {
+    /// the flash, through the ART accelerator (its alias at 0 too, while
+    /// SYSCFG maps it there: RM0383 §2.4, §7.2.1)
+    Flash,
+    /// the SRAM, at 0 while SYSCFG maps it there, on the I-bus at no wait
+    /// state (§2.1.1, §2.3.1): the data it reads and writes meets the fetch
+    /// at the SRAM's one port (the bus matrix's round-robin, §2.1.6), which
+    /// the bound takes as a cycle lost each time
+    Sram,
+}
+
+fn fetch_from(addr: u32, sram_at_zero: bool) -> Fetch {
+    match addr {
+        0..=0x0001_FFFF if sram_at_zero => Fetch::Sram,
+        0x2000_0000..=0x2001_FFFF => Fetch::Sram,
+        _ => Fetch::Flash,
+    }
+}
+
+/// Words a memory instruction moves over the bus.
+fn beats(i: &Insn) -> u32 {
+    match i.op {
+        Op::Single { .. } => 1,
+        Op::Double { .. } => 2,
+        Op::Multiple { regs } => regs as u32,
+        Op::FpMem { words } => words as u32,
+        _ => 0,
+    }
 }
 
 /// A block's static facts, worked out once.
@@ -73,14 +100,15 @@ struct Block {
 }
 
 impl Block {
-    fn new(insns: &[Insn], addr: u32, size: u32) -> Block {
+    fn new(insns: &[Insn], addr: u32, size: u32, sram_at_zero: bool) -> Block {
         let mut starts = Vec::with_capacity(insns.len());
         let mut reads = Vec::new();
         let mut line = None;
+        let from = fetch_from(addr, sram_at_zero);
         for (i, insn) in insns.iter().enumerate() {
             let at = if i == 0 { Cost::default() } else { timing::block_cost(&insns[..i]) };
             starts.push((insn.addr, at));
-            if in_flash(insn.addr) {
+            if from == Fetch::Flash {
                 for l in [line_of(insn.addr), line_of(insn.addr + insn.size as u32 - 1)] {
                     if line != Some(l) {
                         reads.push((l, at, false));
@@ -88,12 +116,16 @@ impl Block {
                     }
                 }
             }
-            if let Some(lit) = literal(insn).filter(|&a| in_flash(a)) {
+            if let Some(lit) = literal(insn).filter(|&a| fetch_from(a, sram_at_zero) == Fetch::Flash) {
                 reads.push((line_of(lit), at, true));
             }
         }
+        let mut body = timing::block_cost(insns);
+        if from == Fetch::Sram {
+            body.bound += insns.iter().map(beats).sum::<u32>();
+        }
         Block {
-            body: timing::block_cost(insns),
+            body,
             starts,
             reads,
             first: insns.first().copied(),
@@ -115,8 +147,10 @@ pub struct Meter {
     /// a return's cost, held until the next instruction runs (a tail-chain
     /// replaces it)
     returning: bool,
-    /// blocks run whose instructions the program does not list (code in RAM)
+    /// blocks run whose instructions the program does not list
     pub unlisted: u64,
+    /// SYSCFG maps the SRAM at 0 (`Machine::remap`)
+    sram_at_zero: bool,
 }
 
 impl Meter {
@@ -130,6 +164,7 @@ impl Meter {
             last: exception::Last::Running,
             returning: false,
             unlisted: 0,
+            sram_at_zero: false,
         }
     }
 
@@ -195,7 +230,7 @@ impl Meter {
         if insns.is_empty() {
             self.unlisted += 1;
         }
-        let b = Rc::new(Block::new(insns, addr, size));
+        let b = Rc::new(Block::new(insns, addr, size, self.sram_at_zero));
         self.blocks.insert((addr, size), b.clone());
         b
     }
@@ -216,7 +251,12 @@ impl Meter {
         let after = if std::mem::take(&mut self.returning) { exception::Last::Returned } else { self.last };
         self.bound.flush();
         let line = line_of(vector);
-        let c = exception::entry(after, self.model.literal(line, now), self.bound.literal(line, bound));
+        let mut c = exception::entry(after, self.model.literal(line, now), self.bound.literal(line, bound));
+        if self.sram_at_zero {
+            // the frame's eight words go to the SRAM the handler is fetched
+            // from: each may cost the fetch a cycle (`Fetch::Sram`)
+            c.bound += 8;
+        }
         self.prev = None;
         self.last = exception::Last::Entered;
         c
@@ -229,6 +269,14 @@ impl Meter {
         self.prev = None;
         self.returning = true;
         self.last = exception::Last::Returned;
+    }
+
+    /// SYSCFG mapped the SRAM at 0 (or the flash again): the blocks there are
+    /// other code, timed again.
+    pub fn set_sram_at_zero(&mut self, on: bool) {
+        self.sram_at_zero = on;
+        self.blocks.retain(|&(a, _), _| a >= 0x0008_0000);
+        self.prev = None;
     }
 
     /// A section masking the tick opens: the bound takes its cache as cold.

@@ -16,6 +16,7 @@
 use crate::chip::Chip;
 use crate::image::{Image, FLASH_BASE, FLASH_SIZE};
 use polyturn_stm32_model::addr::{SRAM_BASE, SRAM_SIZE};
+use polyturn_stm32_model::chip::exti::AtZero;
 use polyturn_stm32_model::chip::{iwdg::LSI_HZ, rcc};
 use polyturn_stm32_model::Params;
 use std::rc::Rc;
@@ -102,7 +103,9 @@ impl Machine {
         // WFE, WFI and SEV are NOPs here: ARMv7-M ARM B1.5.18 lets WFE be a NOP, and
         // unicorn has none of them; time still passes through the loop around them
         for a in image.insns.wfe.iter().chain(&image.insns.sev).chain(&image.insns.wfi) {
-            let o = (a - FLASH_BASE) as usize;
+            let Some(o) = a.checked_sub(FLASH_BASE).map(|o| o as usize) else {
+                return Err(format!("a wait for event at {a:#010x}, outside the flash: the emulator makes those NOPs only there"));
+            };
             flash[o..o + 2].copy_from_slice(&NOP);
         }
         let mut chip = Chip::new(params);
@@ -134,8 +137,9 @@ impl Machine {
             let write = move |uc: &mut Unicorn<Chip>, off: u64, size: usize, v: u64| {
                 uc.get_data_mut().write((base + off) as u32, size as u32, v as u32);
                 crate::cpu::after_write(uc);
-                if uc.get_data().rom_jump {
-                    // stop before the jump's fetch from system memory
+                if uc.get_data().rom_jump || uc.get_data().remap.is_some() {
+                    // stop before the jump's fetch from system memory, or
+                    // the next fetch at 0 from the memory it maps there
                     let _ = uc.emu_stop();
                 }
             };
@@ -216,7 +220,9 @@ impl Machine {
             .collect();
         for (a, signed, n, d) in divs {
             let reg = |r: u8| RegisterARM::R0 as i32 + r as i32;
-            for at in [a, a - FLASH_BASE] {
+            // (code in flash runs at its address; linked below it, SRAM at 0)
+            let alias = a.checked_sub(FLASH_BASE);
+            for at in std::iter::once(a).chain(alias) {
                 self.uc
                     .add_code_hook(at as u64, at as u64, move |uc, _, _| {
                         let (n, d) = (uc.reg_read(reg(n)).unwrap_or(0) as u32, uc.reg_read(reg(d)).unwrap_or(0) as u32);
@@ -229,6 +235,28 @@ impl Machine {
             }
         }
         Ok(())
+    }
+
+    /// Maps at 0 what SYSCFG_MEMRMP chose (§7.2.1): the flash, as at reset,
+    /// or the SRAM, the same bytes the CPU reads at 0x2000_0000.
+    fn remap(&mut self, at: AtZero) {
+        let (ptr, size) = match at {
+            AtZero::Sram => (self.chip().mcu.sram_mut_ptr(), SRAM_SIZE),
+            _ => (self._flash.as_mut_ptr(), FLASH_SIZE),
+        };
+        let now = if self.chip().at_zero == AtZero::Sram { SRAM_SIZE } else { FLASH_SIZE };
+        let done = self.uc.mem_unmap(0, now as u64).and_then(|_| {
+            // SAFETY: as in `new`: the flash is this struct's and the SRAM
+            // its chip's, neither reallocated while `uc` lives
+            unsafe { self.uc.mem_map_ptr(0, size as u64, Prot::READ | Prot::EXEC, ptr.cast()) }
+        });
+        match done {
+            Ok(()) => {
+                self.chip().at_zero = at;
+                self.chip().meter.set_sram_at_zero(at == AtZero::Sram);
+            }
+            Err(e) => self.chip().fault(format!("unicorn: remapping address 0: {e:?}")),
+        }
     }
 
     fn boot(&mut self) {
@@ -332,6 +360,9 @@ impl Machine {
             }
             if let Some(r) = self.chip().resume.filter(|_| self.chip().faults.is_empty()) {
                 let _ = self.uc.reg_write(RegisterARM::PC, (r | 1) as u64);
+            }
+            if let Some(at) = self.chip().remap.take() {
+                self.remap(at);
             }
         }
         self.chip().sync_to_now();

@@ -90,12 +90,17 @@ const SYSM_BASEPRI_MAX: u16 = 0x12;
 /// The special register an `msr` at `addr` writes: SYSm, the low byte of the T1
 /// encoding's second halfword (ARMv7-M ARM B5.2.3).
 fn sysm(uc: &Unicorn<Chip>, addr: u32) -> u16 {
-    let c = uc.get_data();
-    let off = (addr & 0x00FF_FFFF) as usize + 2;
-    u16::from_le_bytes([c.code[off], c.code[off + 1]]) & 0xFF
+    halfword(uc, addr + 2) & 0xFF
 }
 
-/// The run's instruction count at `addr`, inside the block being run.
+/// The halfword of code at `addr`, as the CPU fetches it (flash, or SRAM
+/// mapped at 0).
+fn halfword(uc: &Unicorn<Chip>, addr: u32) -> u16 {
+    let mut b = [0u8; 2];
+    let _ = uc.mem_read(addr as u64, &mut b);
+    u16::from_le_bytes(b)
+}
+
 /// Both clocks at the instruction at `addr` of the block running now.
 fn time_at(uc: &Unicorn<Chip>, addr: u32) -> (u64, u64) {
     let c = uc.get_data();
@@ -106,9 +111,7 @@ fn time_at(uc: &Unicorn<Chip>, addr: u32) -> (u64, u64) {
 /// The value an `msr <special>, rN` at `addr` is about to write: its T1
 /// encoding (ARMv7-M ARM B5.2.3) has Rn in the first halfword's low nibble.
 fn msr_source(uc: &Unicorn<Chip>, addr: u32) -> u32 {
-    let c = uc.get_data();
-    let off = (addr & 0x00FF_FFFF) as usize;
-    let hw = u16::from_le_bytes([c.code[off], c.code[off + 1]]);
+    let hw = halfword(uc, addr);
     uc.reg_read(R::R0 as i32 + (hw & 0xF) as i32).unwrap_or(0) as u32
 }
 

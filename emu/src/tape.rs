@@ -75,7 +75,8 @@ pub fn hooks(m: &mut Machine) -> Result<(), String> {
             .image
             .symbols
             .iter()
-            .filter(|(n, _)| n.contains("Controller$GT$") && n.contains(tail))
+            // (not the linker's long-branch thunks to it: flash to SRAM)
+            .filter(|(n, _)| n.contains("Controller$GT$") && n.contains(tail) && !n.starts_with("__"))
             .map(|(_, &a)| a & !1)
             .collect();
         let [a] = found[..] else {

@@ -165,7 +165,7 @@ pub const PINS: &[Pin] = &[
 ];
 
 /// Control tick rate: 25 kHz (40 µs), above the 20 kHz floor of the design.
-pub const TICK_HZ: u32 = 25_000;
+pub const TICK_HZ: u32 = 20_000;
 /// System clock from the 25 MHz HSE crystal: 96 MHz, so USB gets exactly
 /// 48 MHz from the same PLL. Every timer runs at 96 MHz (`clocks`).
 pub const SYSCLK_HZ: u32 = crate::clocks::CLOCKS.sysclk_hz();

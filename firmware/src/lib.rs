@@ -15,6 +15,7 @@ pub mod keys;
 pub mod led;
 pub mod line;
 pub mod quadgen;
+pub mod ramcode;
 pub mod regs;
 pub mod stepgen;
 pub mod store;

@@ -3,7 +3,8 @@
 //! a cross-slide needs far fewer steps than the cutter. A pulse is one tick
 //! high (40 µs), then at least one tick low; DIR changes only while STEP is
 //! low and a step never leaves in the tick DIR changed (≥ 40 µs setup). So
-//! at most one step per two ticks: 12.5 kHz, the limit `fit_cam` enforces.
+//! at most one step per two ticks (10 kHz at the board's 20 kHz tick), the limit
+//! `fit_cam` enforces.
 //! The count of steps really emitted goes back to the core, which plans
 //! anything not yet emitted again (nothing is lost, only delayed a tick).
 

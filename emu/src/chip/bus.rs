@@ -5,7 +5,7 @@
 use super::{Chip, Periph, SYSTEM_VECTORS, ZERO_READS};
 use polyturn_stm32_model::chip::gpio::{ALTERNATE, MODER};
 use polyturn_stm32_model::chip::gptimer::trigger;
-use polyturn_stm32_model::chip::rcc;
+use polyturn_stm32_model::chip::{exti, rcc};
 use polyturn_sync::edges::EdgeRegs;
 use std::panic::{catch_unwind, AssertUnwindSafe};
 
@@ -99,11 +99,8 @@ impl Chip {
             Periph::FlashIf => self.flash_write(word, off, v, m),
             Periph::Syscfg => {
                 self.syscfg.regs.write(off, v, m);
-                // MEMRMP.MEM_MODE = 01: the image is about to jump into system
-                // memory; nothing of ST's is there to run, so the run ends here
-                if off == 0 && self.syscfg.regs.get(0) & 3 == 1 {
-                    self.rom_jump = true;
-                    self.fault("the image jumped to the ROM bootloader (system memory)".into());
+                if off == exti::MEMRMP {
+                    self.mem_mode_written();
                 }
             }
             Periph::Exti => self.exti.write(off, v, m),
@@ -117,6 +114,22 @@ impl Chip {
             Periph::Ppb => self.nvic.write(off, v, m, self.blk),
         }
         crate::probe::on_write(self, word, v);
+    }
+
+    /// SYSCFG_MEMRMP written (§7.2.1): system memory at 0 means the image is
+    /// about to jump into ST's bootloader, which is not here, so the run
+    /// ends; SRAM or flash at 0 changes what the CPU fetches there, which the
+    /// machine maps between two runs (`Machine::remap`).
+    fn mem_mode_written(&mut self) {
+        match self.syscfg.at_zero() {
+            exti::AtZero::SystemMemory => {
+                self.rom_jump = true;
+                self.fault("the image jumped to the ROM bootloader (system memory)".into());
+            }
+            exti::AtZero::Reserved => self.fault("SYSCFG_MEMRMP.MEM_MODE = 10: reserved on the F411 (§7.2.1)".into()),
+            at if at != self.at_zero => self.remap = Some(at),
+            _ => {}
+        }
     }
 
     fn narrow(&mut self, addr: u32, size: u32) -> u32 {

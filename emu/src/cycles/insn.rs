@@ -149,7 +149,16 @@ impl Program {
     /// The instructions in [addr, addr + size) in order (a translated block);
     /// addresses in the boot alias at 0 map to flash.
     pub fn block(&self, addr: u32, size: u32) -> &[Insn] {
-        let start = if addr < FLASH_BASE { FLASH_BASE + addr } else { addr };
+        let found = self.range(addr, size);
+        if found.is_empty() && addr < FLASH_BASE {
+            // code linked at its own address below flash (SRAM mapped at 0)
+            // comes first; else the boot alias of flash
+            return self.range(FLASH_BASE + addr, size);
+        }
+        found
+    }
+
+    fn range(&self, start: u32, size: u32) -> &[Insn] {
         let end = start.saturating_add(size);
         let lo = self.insns.partition_point(|i| i.addr < start);
         let hi = self.insns.partition_point(|i| i.addr < end);
@@ -157,8 +166,8 @@ impl Program {
     }
 
     pub fn at(&self, addr: u32) -> Option<&Insn> {
-        let addr = if addr < FLASH_BASE { FLASH_BASE + addr } else { addr };
-        self.insns.binary_search_by_key(&addr, |i| i.addr).ok().map(|k| &self.insns[k])
+        let find = |a: u32| self.insns.binary_search_by_key(&a, |i| i.addr).ok().map(|k| &self.insns[k]);
+        find(addr).or_else(|| (addr < FLASH_BASE).then(|| find(FLASH_BASE + addr)).flatten())
     }
 
     /// Lines the parser could not read: must be empty for the real image.

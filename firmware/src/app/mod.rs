@@ -13,6 +13,7 @@ mod drivers;
 mod heartbeat;
 mod keys;
 mod priorities;
+mod ramcode;
 mod report;
 mod safety;
 mod selftest;
@@ -39,7 +40,11 @@ fn panic(_info: &core::panic::PanicInfo) -> ! {
     use core::sync::atomic::{AtomicBool, Ordering};
     static PANICKING: AtomicBool = AtomicBool::new(false);
     cortex_m::interrupt::disable();
-    drivers::all_outputs_off();
+    // (the outputs' code runs from SRAM: before it is there, nothing drives
+    // them yet)
+    if ramcode::mapped() {
+        drivers::all_outputs_off();
+    }
     if !PANICKING.swap(true, Ordering::Relaxed) {
         defmt::error!("panic: outputs off, waiting for the watchdog reset");
     }
@@ -53,7 +58,9 @@ fn panic(_info: &core::panic::PanicInfo) -> ! {
 #[cortex_m_rt::exception]
 unsafe fn HardFault(_frame: &cortex_m_rt::ExceptionFrame) -> ! {
     cortex_m::interrupt::disable();
-    drivers::all_outputs_off();
+    if ramcode::mapped() {
+        drivers::all_outputs_off();
+    }
     loop {
         cortex_m::asm::nop();
     }
@@ -62,7 +69,9 @@ unsafe fn HardFault(_frame: &cortex_m_rt::ExceptionFrame) -> ! {
 #[cortex_m_rt::exception]
 unsafe fn DefaultHandler(_irqn: i16) {
     cortex_m::interrupt::disable();
-    drivers::all_outputs_off();
+    if ramcode::mapped() {
+        drivers::all_outputs_off();
+    }
     loop {
         cortex_m::asm::nop();
     }
@@ -147,6 +156,8 @@ async fn main(spawner: Spawner) {
     // NVIC needs no clock)
     priorities::apply();
     let p = embassy_stm32::init(clocks());
+    // the handlers' code into SRAM: nothing above has called it (`ramcode`)
+    ramcode::map();
     flash_accelerator_on();
     // The settings first (they say which level of ENABLE is inactive), then
     // the outputs, inactive, before anything else runs. Until then the pins

@@ -72,9 +72,9 @@ pub struct Layout {
 }
 
 /// Segments per tick at most: a pad, the first pulse, and one per further
-/// step (a run of equal gaps is one segment). The board's tick of 3840
-/// cycles holds at most 20 steps of the shortest period (2 × 96 cycles).
-pub const MAX_SEGMENTS: usize = 24;
+/// step (a run of equal gaps is one segment). The board's tick of 4800
+/// cycles holds at most 25 steps of the shortest period (2 × 96 cycles).
+pub const MAX_SEGMENTS: usize = 28;
 pub type Segments = heapless::Vec<Entry, MAX_SEGMENTS>;
 
 impl Layout {

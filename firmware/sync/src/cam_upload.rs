@@ -36,12 +36,16 @@ pub fn checksum(h: &CamHeader, points: &[i32]) -> u32 {
     !points.iter().fold(crc, |c, p| crc32_update(c, &p.to_le_bytes()))
 }
 
+/// The board's X output: at most one step per two ticks (a tick high, a
+/// tick low: `firmware/src/xsteps.rs`), steps/s.
+pub const X_MAX_RATE_HZ: u32 = crate::Timing::FIRMWARE.tick_hz / 2;
+
 /// The X axis a header declares, against the board's X output: at most one
-/// step per two ticks (`tick_hz / 2`, 12 500 steps/s at 25 kHz), and some
-/// acceleration.
+/// step per two ticks (`tick_hz / 2`), and some acceleration.
 pub fn check_axis(h: &CamHeader, tick_hz: u32) -> Result<(), &'static str> {
+    const _: () = assert!(X_MAX_RATE_HZ == 10_000, "the refusal below names the limit");
     if h.max_rate_hz > tick_hz / 2 || h.max_rate_hz == 0 || h.max_accel == 0 {
-        return Err("cam max-rate must be 1..=12500 steps/s (one X step per two ticks), max-accel > 0");
+        return Err("cam max-rate must be 1..=10000 steps/s (one X step per two ticks), max-accel > 0");
     }
     Ok(())
 }

@@ -20,8 +20,8 @@ use serde_json::json;
 use std::f64::consts::TAU;
 use std::path::PathBuf;
 
-/// The firmware emits at most one X step per two control ticks (25 kHz).
-pub const X_MAX_RATE_HZ: f64 = 12_500.0;
+/// The firmware emits at most one X step per two control ticks.
+pub const X_MAX_RATE_HZ: f64 = polyturn_sync::cam_upload::X_MAX_RATE_HZ as f64;
 /// A table further than this from its own tool path cuts another part:
 /// refused (more steps per mm or encoder counts fix it).
 pub const TABLE_REFUSED_MM: f64 = 0.1;
@@ -44,7 +44,7 @@ pub struct CamArgs {
     /// Lathe speed while cutting, rpm
     #[arg(long, value_name = "RPM", allow_hyphen_values = true, value_parser = rpm(3000.0))]
     pub rpm: f64,
-    /// The X axis's top speed, mm/s; at most 12500 steps/s with --steps-per-mm
+    /// The X axis's top speed, mm/s; at most 10000 steps/s with --steps-per-mm
     #[arg(long, value_name = "MM/S", allow_hyphen_values = true, value_parser = within(0.001, 1e4, "mm/s"))]
     pub x_max_speed: f64,
     /// The X axis's top acceleration, mm/s^2

@@ -1,4 +1,5 @@
-//! SYSCFG's EXTI routing (RM0383 §7.2.3-§7.2.6) and the EXTI controller (§10.3).
+//! SYSCFG's memory remap (RM0383 §7.2.1) and EXTI routing (§7.2.3-§7.2.6),
+//! and the EXTI controller (§10.3).
 
 use super::RegFile;
 
@@ -15,7 +16,34 @@ pub struct Syscfg {
     pub regs: RegFile,
 }
 
+/// What the CPU sees at address 0x0000_0000 (RM0383 §7.2.1, SYSCFG_MEMRMP
+/// MEM_MODE, bits 1:0; §2.4 for the boot pins that set it at reset).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum AtZero {
+    /// 00: "Main Flash memory mapped at 0x0000 0000"
+    Flash,
+    /// 01: "System Flash memory mapped at 0x0000 0000"
+    SystemMemory,
+    /// 10: reserved on the F411
+    Reserved,
+    /// 11: "Embedded SRAM mapped at 0x0000 0000"
+    Sram,
+}
+
+/// SYSCFG_MEMRMP's offset (§7.2.7, the register map).
+pub const MEMRMP: u32 = 0x00;
+
 impl Syscfg {
+    /// The memory at 0 by MEMRMP.MEM_MODE (§7.2.1).
+    pub fn at_zero(&self) -> AtZero {
+        match self.regs.get(MEMRMP) & 0b11 {
+            0b00 => AtZero::Flash,
+            0b01 => AtZero::SystemMemory,
+            0b10 => AtZero::Reserved,
+            _ => AtZero::Sram,
+        }
+    }
+
     /// The port (0 = A, 1 = B, ...) routed to EXTI line `line`: EXTIx[3:0] of
     /// SYSCFG_EXTICR1..4 (§7.2.3-§7.2.6).
     pub fn port_of_line(&self, line: u8) -> u32 {
@@ -66,6 +94,16 @@ impl Exti {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn mem_mode_chooses_what_is_at_zero() {
+        let mut sys = Syscfg::default();
+        assert_eq!(sys.at_zero(), AtZero::Flash, "MEM_MODE resets to the boot pins' choice; BOOT0 = 0: flash");
+        for (mode, at) in [(0b01, AtZero::SystemMemory), (0b11, AtZero::Sram), (0b00, AtZero::Flash)] {
+            sys.regs.write(MEMRMP, mode, 0b11);
+            assert_eq!(sys.at_zero(), at, "MEM_MODE {mode:02b} (§7.2.1)");
+        }
+    }
 
     #[test]
     fn an_edge_pends_only_on_its_routed_port_and_selected_trigger() {
