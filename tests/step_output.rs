@@ -136,8 +136,14 @@ impl Bus for Direct<'_> {
 }
 
 /// Arms TIM1 on a ring of pulse segments (or the program `patch` makes of
-/// the arm program), halts it at `halt_at`; returns the model.
+/// the arm program), halts it at `halt_at` and releases a high pulse when
+/// the tick after `release_ticks` does (or at once, waiting, where
+/// `wait`: the panic's halt); returns the model.
 fn armed_run(patch: impl Fn(&mut Vec<Op>), halt_at: u64) -> Mcu {
+    armed_run_halting(patch, halt_at, false)
+}
+
+fn armed_run_halting(patch: impl Fn(&mut Vec<Op>), halt_at: u64, wait: bool) -> Mcu {
     let mut mcu = Mcu::new(Params::default());
     mcu.write(prog::TIM11 + prog::PSC, 0);
     mcu.write(prog::TIM11 + prog::ARR, TICK_LEN - 1);
@@ -158,8 +164,16 @@ fn armed_run(patch: impl Fn(&mut Vec<Op>), halt_at: u64) -> Mcu {
     mcu.write(prog::TIM11 + prog::SR, 0);
     apply(&ops, &mut Direct(&mut mcu)).unwrap();
     mcu.run_until(halt_at);
-    apply(&prog::halt(192), &mut Direct(&mut mcu)).unwrap();
-    mcu.run_until(halt_at + 10_000);
+    if wait {
+        apply(&prog::halt_and_wait(192), &mut Direct(&mut mcu)).unwrap();
+    } else {
+        apply(&prog::HALT, &mut Direct(&mut mcu)).unwrap();
+        let tick = TICK_LEN as u64;
+        let release = (halt_at / tick + prog::release_ticks(192, TICK_LEN) as u64) * tick;
+        mcu.run_until(release);
+        apply(&[prog::RELEASE], &mut Direct(&mut mcu)).unwrap();
+    }
+    mcu.run_until(halt_at + 10_000 + TICK_LEN as u64 * 4);
     mcu
 }
 
@@ -167,12 +181,15 @@ fn armed_run(patch: impl Fn(&mut Vec<Op>), halt_at: u64) -> Mcu {
 fn arming_counts_no_pulse_and_a_halt_cuts_none() {
     // halt at every phase of a pulse: TIM2 counts exactly the pulses the
     // driver saw, each a full pulse wide
-    for offset in (0..492).step_by(7) {
-        let mut mcu = armed_run(|_| {}, 3 * TICK_LEN as u64 + offset);
-        let counted = mcu.read(prog::TIM2 + prog::CNT) as u64;
-        let r = receive(mcu.edges(), 192, true);
-        assert_eq!(counted, r.pulses, "halt at +{offset}");
-        assert!(r.pulses > 0 && r.min_high >= 192 && r.unseen == 0, "halt at +{offset}: {r:?}");
+    for wait in [false, true] {
+        for offset in (0..492).step_by(7) {
+            let mut mcu = armed_run_halting(|_| {}, 3 * TICK_LEN as u64 + offset, wait);
+            let counted = mcu.read(prog::TIM2 + prog::CNT) as u64;
+            let r = receive(mcu.edges(), 192, true);
+            assert_eq!(counted, r.pulses, "halt at +{offset} (wait {wait})");
+            assert!(r.pulses > 0 && r.min_high >= 192 && r.unseen == 0, "halt at +{offset} (wait {wait}): {r:?}");
+            assert!(!mcu.pa8(), "STEP low in the end (wait {wait})");
+        }
     }
 }
 

@@ -72,8 +72,10 @@ pub struct Chip {
     pub block: (u32, u32),
     /// the cycles each block, exception and bus access costs (`clock`)
     pub meter: crate::clock::Meter,
-    /// DMA2's transfers already counted in the bound
+    /// DMA2's transfers already counted in the bound, and the CPU's APB2
+    /// accesses since (`dma_in_bound`)
     dma_seen: u64,
+    apb2_accesses: u64,
     /// where each exception's cycles go, block by block (`--profile`)
     pub profile: Option<crate::clock::profile::Profile>,
     pub faults: Vec<(u64, String)>,
@@ -179,6 +181,7 @@ impl Chip {
             block: (0, 0),
             meter: crate::clock::Meter::new(Default::default()),
             dma_seen: 0,
+            apb2_accesses: 0,
             profile: None,
             tick_held_until: 0,
             plan_held_until: 0,
@@ -322,20 +325,26 @@ impl Chip {
             _ => hclk,
         };
         let c = bus::access(b, hclk / pclk.max(1), write);
+        if b == bus::Bus::Apb2 {
+            self.apb2_accesses += 1;
+        }
         self.now += c.model as u64;
         self.bound += c.bound as u64;
     }
 
-    /// DMA2's transfers since the last look, in the bound: each can hold the
-    /// CPU off the SRAM it reads and the APB2 timer it writes for its length
-    /// (RM0383 §2.1.6, round-robin arbitration; `clock::bus`).
+    /// DMA2's transfers since the last look, in the bound: each reads the
+    /// SRAM the CPU fetches its code from and keeps its data in, and writes
+    /// TIM1 on APB2 (RM0383 §2.1, the bus matrix arbitrates each slave
+    /// between its masters round-robin): it can hold the CPU off the SRAM
+    /// for its read (a cycle, and one of arbitration) every time, and off
+    /// APB2 for its write only as often as the CPU went there meanwhile.
     fn dma_in_bound(&mut self) {
         let n = self.mcu.dma_transfers();
         let new = n - self.dma_seen.min(n);
         self.dma_seen = n;
-        let apb2 = crate::clock::bus::access(crate::clock::bus::Bus::Apb2, 1, true).bound as u64;
-        // the SRAM read (one cycle, and arbitration) and the APB2 write
-        self.bound += new * (2 + apb2 + 1);
+        let apb2 = crate::clock::bus::access(crate::clock::bus::Bus::Apb2, 1, true).bound as u64 + 1;
+        let met = new.min(std::mem::take(&mut self.apb2_accesses));
+        self.bound += new * 2 + met * apb2;
     }
 
     pub fn find(&self, addr: u32) -> Option<(u32, Periph)> {

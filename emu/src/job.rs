@@ -100,6 +100,8 @@ pub struct Outcome {
     /// the longest thread-mode section holding off the running tick (its lock),
     /// instructions
     pub tick_lock: u64,
+    /// where it began (the function)
+    pub tick_lock_at: String,
     /// the step stream against the host core fed the image's own tick inputs
     pub replay: Option<replay::Replay>,
     /// the edge times the image's tick read (`edges`)
@@ -262,6 +264,7 @@ fn print_profile(m: &mut Machine) {
 
 fn outcome(m: &mut Machine, spec: &Spec, cfg: &Config, wall: Instant) -> Outcome {
     print_profile(m);
+    let image = m.image.clone();
     let d = polyturn_sync::derived::Derived::new(cfg, polyturn_sync::Timing::FIRMWARE);
     let (pulse, dir_setup) = (d.steps.pulse as u64, d.steps.dir_setup as u64);
     let received = receive(m.chip().mcu.edges(), pulse, true);
@@ -292,6 +295,7 @@ fn outcome(m: &mut Machine, spec: &Spec, cfg: &Config, wall: Instant) -> Outcome
         plan_all: std::mem::take(&mut c.probe.plan.all),
         irq_off: c.primask.longest.bound,
         tick_lock: c.tickmask.ticking.bound,
+        tick_lock_at: image.func_at(c.tickmask.ticking.pc),
         replay: None,
         edges: None,
         ticks_lost: lost::Counted::default(),

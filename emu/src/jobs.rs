@@ -147,6 +147,7 @@ fn show(o: &Outcome) {
         if o.faults.is_empty() { "none".to_string() } else { o.faults.join("; ") }
     );
     println!("  flash misses (instruction, literal): model {:?}, bound {:?}", o.misses[0], o.misses[1]);
+    println!("  longest section holding off the tick: {}", o.tick_lock_at);
     for (what, all) in [("tick", &o.tick_all), ("plan", &o.plan_all)] {
         if all.is_empty() {
             continue;

@@ -13,6 +13,7 @@ pub mod flashprog;
 pub mod iwdg;
 pub mod keys;
 pub mod led;
+pub mod latency;
 pub mod line;
 pub mod quadgen;
 pub mod ramcode;

@@ -20,7 +20,7 @@ pub const MEMRMP_SRAM: u32 = 0b11;
 pub const SRAM_BASE: u32 = 0x2000_0000;
 
 /// Bytes of SRAM the code may take (`memory.x`'s RAMCODE; the rest is RAM).
-pub const RAMCODE_SIZE: u32 = 32 * 1024;
+pub const RAMCODE_SIZE: u32 = 48 * 1024;
 
 /// Where the copy of a word at section address `vma` goes.
 pub const fn sram_address(vma: u32) -> u32 {
@@ -34,6 +34,6 @@ mod tests {
     #[test]
     fn the_alias_at_zero_is_srams_first_bytes() {
         assert_eq!(sram_address(0), 0x2000_0000);
-        assert_eq!(sram_address(RAMCODE_SIZE - 4), 0x2000_7FFC, "the last word the code may take");
+        assert_eq!(sram_address(RAMCODE_SIZE - 4), 0x2000_BFFC, "the last word the code may take");
     }
 }

@@ -73,6 +73,9 @@ pub struct Generator {
     silence_next: usize,
     /// words NDTR counts ahead of the words stored: 0 or 1 (`ndtr_lead`)
     lead: u32,
+    /// ticks until a halted pulse is released (`program::RELEASE`); 0: none
+    /// owed
+    release_in: u32,
 }
 
 /// Cycles from enabling the stream to reading NDTR at arm: the preload is
@@ -94,6 +97,7 @@ impl Generator {
             silent: false,
             silence_next: 0,
             lead: 0,
+            release_in: 0,
         }
     }
 
@@ -128,30 +132,41 @@ impl Generator {
     fn silence_some(&mut self, bus: &mut impl Bus) -> bool {
         let end = (self.silence_next + SILENCE_PER_TICK).min(RING_ENTRIES);
         for i in self.silence_next..end {
-            self.put(i, &Entry::filler(), bus);
+            self.put_whole(i, &Entry::filler(), bus);
         }
         self.silence_next = end;
         self.silent = end == RING_ENTRIES;
         self.silent
     }
 
-    /// Someone else (the E-stop interrupt, the panic handler) applied
-    /// `program::halt`: re-arm at the next tick that has no halt.
-    pub fn halted_elsewhere(&mut self) {
+    /// Someone else (the E-stop interrupt, a late plan) applied
+    /// `program::HALT`: its pulse is released in time, and the output
+    /// re-arms at the next tick that has no halt.
+    pub fn halted_elsewhere(&mut self, t: &StepTiming) {
         self.armed = false;
         self.silent = false;
         self.silence_next = 0;
+        self.release_in = program::release_ticks(t.pulse, t.tick_len);
     }
 
     fn halt(&mut self, t: &StepTiming, bus: &mut impl Bus) {
-        let _ = apply(&program::halt(t.pulse), bus);
-        self.armed = false;
-        self.silent = false;
-        self.silence_next = 0;
+        let _ = apply(&program::HALT, bus);
+        self.halted_elsewhere(t);
+    }
+
+    /// At each tick: a halted pulse released once it has had its width.
+    fn release_due(&mut self, bus: &mut impl Bus) {
+        if self.release_in > 0 {
+            self.release_in -= 1;
+            if self.release_in == 0 {
+                let _ = apply(&[program::RELEASE], bus);
+            }
+        }
     }
 
     /// One control tick: the core's plan for tick k+2, or its halt.
     pub fn tick(&mut self, plan: &StepPlan, halt: bool, t: &StepTiming, bus: &mut impl Bus) -> Result<(), Fail> {
+        self.release_due(bus);
         if halt {
             if self.armed {
                 self.halt(t, bus);
@@ -182,21 +197,24 @@ impl Generator {
         }
         // segments the DMA has taken whole go silent (not the one whose
         // burst is under way: its last words are still to be read, and a
-        // mix of two segments is no segment)
+        // mix of two segments is no segment): STEP held low in each, so that
+        // a DMA that ran on past the writer could never step again from an
+        // old one (CCR1 alone: `Entry::SILENT`, PWM mode 2)
         while self.silenced != finished {
-            self.put(self.silenced, &Entry::filler(), bus);
+            bus.write(self.word(self.silenced, CCR1_WORD), entries::SILENT);
             self.silenced = (self.silenced + 1) % RING_ENTRIES;
         }
         let first = self.write;
-        let segments = self.layout.tick(plan, t, MIN_SEGMENT);
-        for e in &segments {
-            self.put(self.write, e, bus);
-            self.write = (self.write + 1) % RING_ENTRIES;
-        }
+        let (ring, mut write) = (self.ring, self.write);
+        let written = self.layout.tick(plan, t, MIN_SEGMENT, |e| {
+            put(ring, write, &e, bus);
+            write = (write + 1) % RING_ENTRIES;
+        });
+        self.write = write;
         // did the DMA start one of them while they were being written?
         let (now, _) = self.dma_entries(bus);
         let reached = (now + RING_ENTRIES - first) % RING_ENTRIES;
-        if (1..=segments.len()).contains(&reached) {
+        if (1..=written).contains(&reached) {
             self.halt(t, bus);
             return Err(Fail::Late);
         }
@@ -216,6 +234,7 @@ impl Generator {
             return Err(Fail::ArmLate);
         }
         let (ring, lead) = (self.ring, self.lead);
+        // (`quiet` forced STEP low: nothing left to release)
         *self = Generator {
             ring,
             write: 0,
@@ -225,6 +244,7 @@ impl Generator {
             silent: false,
             silence_next: 0,
             lead,
+            release_in: 0,
         };
         Ok(())
     }
@@ -238,10 +258,15 @@ impl Generator {
         (started, (done / program::BURST_WORDS) as usize)
     }
 
-    fn put(&self, slot: usize, e: &Entry, bus: &mut impl Bus) {
-        let base = self.ring + (slot as u32) * program::BURST_WORDS * 4;
+    /// The address of word `i` of ring entry `slot`.
+    fn word(&self, slot: usize, i: u32) -> u32 {
+        self.ring + (slot as u32 * program::BURST_WORDS + i) * 4
+    }
+
+    /// Writes a whole entry, PSC included (the ring's first fill, silences).
+    fn put_whole(&self, slot: usize, e: &Entry, bus: &mut impl Bus) {
         for (i, w) in e.words().iter().enumerate() {
-            bus.write(base + 4 * i as u32, *w);
+            bus.write(self.word(slot, i as u32), *w);
         }
     }
 }
@@ -271,6 +296,21 @@ fn lead_holds(lead: u32, bus: &mut impl Bus) -> bool {
     let left = bus.read(program::S5NDTR);
     let updated = bus.read(program::TIM1 + program::SR) & program::UIF != 0;
     !updated && left == program::RING_WORDS - lead
+}
+
+/// Word of an entry that holds CCR1 (`Entry::words`: PSC, ARR, RCR, CCR1, CCR2).
+const CCR1_WORD: u32 = 3;
+
+/// Writes a segment's ARR, RCR, CCR1 and CCR2 into entry `slot` of the ring
+/// at `ring`. Its PSC word is 0 in every entry from the ring's first fill on
+/// (`put_whole`; nothing writes it otherwise), so it is not written again.
+#[inline(always)]
+fn put(ring: u32, slot: usize, e: &Entry, bus: &mut impl Bus) {
+    let base = ring + slot as u32 * program::BURST_WORDS * 4;
+    bus.write(base + 4, e.arr);
+    bus.write(base + 8, e.rcr);
+    bus.write(base + 12, e.ccr1);
+    bus.write(base + 16, e.ccr2);
 }
 
 #[cfg(test)]

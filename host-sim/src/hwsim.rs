@@ -130,11 +130,12 @@ impl Rig {
         self.ticks += 1;
     }
 
-    /// What the E-stop interrupt does at `cycle`: the halt program.
-    pub fn estop_at(&mut self, cycle: u64, pulse: u32) {
+    /// What the E-stop interrupt does at `cycle`: the halt program (its
+    /// pulse released by a later tick, as the firmware's tick does).
+    pub fn estop_at(&mut self, cycle: u64, timing: &StepTiming) {
         self.mcu.run_until(cycle);
         let mut bus = ModelBus { mcu: &mut self.mcu, access: self.isr.access as u64 };
-        let _ = apply(&prog::halt(pulse), &mut bus);
-        self.gen.halted_elsewhere();
+        let _ = apply(&prog::HALT, &mut bus);
+        self.gen.halted_elsewhere(timing);
     }
 }

@@ -61,20 +61,26 @@ pub struct OutputPins {
 /// The ENABLE polarity, for the panic handler (which has no other state).
 static ENABLE_ACTIVE_HIGH: core::sync::atomic::AtomicBool = core::sync::atomic::AtomicBool::new(false);
 
-/// The step output and the BLDC drive stopped at once, from any context
-/// (the E-stop's interrupt, the panic handler): TIM1's counter first, so
-/// no STEP rises after it; the BLDC's stop before the halt's wait for a
-/// STEP pulse (up to `pulse`, 100 µs); then the rest of the halt.
+/// The step output and the BLDC drive stopped at once, from the E-stop's
+/// interrupt: TIM1's counter first, so no STEP rises after it, then the
+/// BLDC's stop and the rest of the halt. A STEP pulse that was high is
+/// released by the tick once it has had its width (`stepgen`): nothing
+/// here waits.
 pub fn stop_actuators() {
     stop_step_timer();
     super::bldc::stop();
     halt_steps();
 }
 
-/// Everything off, from any context: no more steps, the BLDC drive's stop,
+/// Everything off, where nothing runs after (the panic and fault handlers):
+/// no more steps, the BLDC drive's stop, a high STEP pulse released after
+/// its width (the one wait, up to `pulse`, 100 µs: no tick comes to do it),
 /// ENABLE inactive.
 pub fn all_outputs_off() {
-    stop_actuators();
+    stop_step_timer();
+    super::bldc::stop();
+    let pulse = HALT_PULSE.load(core::sync::atomic::Ordering::Relaxed);
+    let _ = stepgen::program::apply(&stepgen::program::halt_and_wait(pulse), &mut Mmio);
     pac::GPIOB.bsrr().write(|w| w.set_br(X_STEP_PIN, true));
     let pins = OutputPins { enable_active_high: ENABLE_ACTIVE_HIGH.load(core::sync::atomic::Ordering::Relaxed) };
     pins.set_enable(false);
@@ -192,11 +198,11 @@ pub fn stop_step_timer() {
     }
 }
 
-/// Stops the step output from any context (E-stop, panic): no pulse rises
-/// after it, a high one ends at full width.
+/// Stops the step output from any context (E-stop, a late plan): no pulse
+/// rises after it; a high one is released at full width by a later tick
+/// (`Generator::halted_elsewhere`).
 pub fn halt_steps() {
-    let pulse = HALT_PULSE.load(core::sync::atomic::Ordering::Relaxed);
-    let _ = stepgen::program::apply(&stepgen::program::halt(pulse), &mut Mmio);
+    let _ = stepgen::program::apply(&stepgen::program::HALT, &mut Mmio);
 }
 
 /// RAM the DMA reads TIM1's segments from (only through `Mmio`).

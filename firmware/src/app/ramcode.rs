@@ -17,14 +17,13 @@ extern "C" {
 
 /// Copies the code and maps SRAM at 0. Runs once, from flash.
 pub fn map() {
-    // SAFETY: linker symbols: their addresses are the section's bounds
-    let (start, end, load) = unsafe {
-        (
-            core::ptr::addr_of!(__sramcode) as u32,
-            core::ptr::addr_of!(__eramcode) as u32,
-            core::ptr::addr_of!(__siramcode) as *const u32,
-        )
-    };
+    // (linker symbols: only their addresses mean anything, the section's
+    // bounds)
+    let (start, end, load) = (
+        core::ptr::addr_of!(__sramcode) as u32,
+        core::ptr::addr_of!(__eramcode) as u32,
+        core::ptr::addr_of!(__siramcode) as *const u32,
+    );
     let dst = sram_address(start) as *mut u32;
     for i in 0..((end - start) / 4) as usize {
         // SAFETY: the load image lies in flash and its copy in the first

@@ -34,6 +34,7 @@ async fn edge_pair(seen: &mut Option<EdgeRegs>) -> Option<(EdgeRegs, EdgeRegs, u
 pub async fn every_second() {
     let mut checked = false;
     let mut edge_seen = None;
+    let (mut tick_seen, mut plan_seen) = (Default::default(), Default::default());
     loop {
         Timer::after_millis(1000).await;
         // again once everything is up (USB, the self-test's timer and the
@@ -41,8 +42,13 @@ pub async fn every_second() {
         if !core::mem::replace(&mut checked, true) && !super::priorities::check() {
             defmt::error!("an interrupt reaches the tick's or its step plan's level: fix board::PRIORITIES");
         }
-        let (ticks, avg, worst) = tick::take_cost();
-        let (plan_avg, plan_worst) = tick::take_plan_cost();
+        let ends = |l: &polyturn_firmware::latency::Latency, seen: &mut polyturn_firmware::latency::Counts| {
+            let now = l.counts();
+            let d = now.since(seen);
+            *seen = now;
+            d
+        };
+        let (tick_end, plan_end) = (ends(&tick::TICK_END, &mut tick_seen), ends(&tick::PLAN_END, &mut plan_seen));
         // defmt-rtt holds the critical section for a whole line (80 µs,
         // `cs.rs`), which would hold off the self-test's TIM9 interrupt
         // past its index deadline (`quadgen`): no report while it runs
@@ -54,14 +60,18 @@ pub async fn every_second() {
             let mut line = polyturn_sync::console::Reply::new();
             snap.write(&mut line);
             let late = tick::steps_late();
+            // the bench's figure (bench.md): when the step plan ends, in
+            // cycles after its tick's instant, by sixteenths of the period
             info!(
-                "{} | tick {} cycles avg, {} worst ({} ticks), its step plan {} avg, {} worst, step segments late {}, NDTR lead {}",
+                "{} | {} ticks; the tick ends by {} cycles at worst, its step plan by {} (of {}), histogram {} per {} cycles, {} after the next tick; step segments late {}, NDTR lead {}",
                 line.as_str(),
-                avg,
-                worst,
-                ticks,
-                plan_avg,
-                plan_worst,
+                tick::ticks(),
+                tick_end.worst,
+                plan_end.worst,
+                tick::PERIOD,
+                plan_end.bins,
+                tick::PERIOD / polyturn_firmware::latency::BINS as u32,
+                plan_end.late,
                 late,
                 tick::ndtr_lead()
             );

@@ -19,6 +19,7 @@ use embassy_stm32::pac;
 use polyturn_firmware::bldcout::Out;
 use polyturn_firmware::board;
 use polyturn_firmware::edgetime::{self, read::Gate, watch::Watch};
+use polyturn_firmware::latency::Latency;
 use polyturn_firmware::stepgen::Generator;
 use polyturn_firmware::xsteps::XSteps;
 use polyturn_sync::{Config, Controller, DriveKind, TickInput, Timing};
@@ -52,7 +53,10 @@ const TICK_MASK: u8 = board::TICK_LEVEL << 4;
 /// only other user of `IO`) waits, and the E-stop, which never touches
 /// `IO`, does not. Only short copies inside. Raised through BASEPRI_MAX,
 /// which never lowers it, so taking it where more is masked unmasks
-/// nothing; restored on the way out.
+/// nothing; restored on the way out. Never inlined: each closure's copy is
+/// a function of this module, in SRAM with the tick (`memory.x`), so a
+/// section holding the tick off does not wait on the flash.
+#[inline(never)]
 fn locked<R>(f: impl FnOnce(&CriticalSection) -> R) -> R {
     let old = cortex_m::register::basepri::read();
     cortex_m::register::basepri_max::write(TICK_MASK);
@@ -66,9 +70,11 @@ fn locked<R>(f: impl FnOnce(&CriticalSection) -> R) -> R {
 }
 static TICKS: AtomicU32 = AtomicU32::new(0);
 static LAST_SEEN: AtomicU32 = AtomicU32::new(0);
-/// Tick cost in CPU cycles: running sum and worst, reset by `take_cost`.
-static COST_SUM: AtomicU32 = AtomicU32::new(0);
-static COST_WORST: AtomicU32 = AtomicU32::new(0);
+/// When the tick ends, in cycles from its instant (`latency`).
+pub static TICK_END: Latency = Latency::new();
+pub use plan::PLAN_END;
+/// TIM11's period in cycles: the tick's instant to the next.
+pub const PERIOD: u32 = TIMER_HZ / board::TICK_HZ;
 /// Ticks whose segments the DMA reached before they were written, or
 /// whose step plan was not made by the next tick (`plan::late`).
 static STEPS_LATE: AtomicU32 = AtomicU32::new(0);
@@ -110,10 +116,6 @@ pub fn start(config: Config, mut pins: OutputPins) {
     // STEP/DIR driven quietly from now on, the ring silent: before any tick
     steps.prepare(core.derived().steps.tick_len, &mut Mmio);
     drivers::set_halt_pulse(core.derived().steps.pulse);
-    // SAFETY: DWT is only used here, for the tick's cycle count.
-    let mut cp = unsafe { cortex_m::Peripherals::steal() };
-    cp.DCB.enable_trace();
-    cp.DWT.enable_cycle_counter();
     tick_timer();
     // the saved BLDC interface (its frame set up at boot), scaled to the
     // core's full speed, and its sense, before the first tick
@@ -169,7 +171,6 @@ fn tick_timer() {
 
 #[interrupt]
 fn TIM1_TRG_COM_TIM11() {
-    let start = cortex_m::peripheral::DWT::cycle_count();
     // first thing: stepgen's re-arm reads UIF to know the tick has not
     // ended under it (`program::arm`, its `Sync`)
     pac::TIM11.sr().write_value(pac::timer::regs::Sr1ch(0));
@@ -183,9 +184,15 @@ fn TIM1_TRG_COM_TIM11() {
     if run(unsafe { &CriticalSection::new() }) {
         TICKS.fetch_add(1, Ordering::Relaxed);
     }
-    let cost = cortex_m::peripheral::DWT::cycle_count().wrapping_sub(start);
-    COST_SUM.fetch_add(cost, Ordering::Relaxed);
-    COST_WORST.fetch_max(cost, Ordering::Relaxed);
+    ended(&TICK_END);
+}
+
+/// A handler's end in `l`: TIM11's count (cycles since the tick's instant)
+/// and whether its update flag says the next instant has passed.
+#[inline(always)]
+fn ended(l: &Latency) {
+    let (count, sr) = (pac::TIM11.cnt().read().cnt() as u32, pac::TIM11.sr().read().uif());
+    l.record(count, PERIOD, sr);
 }
 
 /// The tick's work on the shared state: inputs in, the core's control, its
@@ -282,7 +289,8 @@ fn heard_of_halts(io: &mut Io) {
     let now = halts();
     if now != io.halts_seen {
         io.halts_seen = now;
-        io.steps.halted_elsewhere();
+        let timing = io.core.derived().steps;
+        io.steps.halted_elsewhere(&timing);
     }
 }
 
@@ -433,16 +441,7 @@ pub fn ndtr_lead() -> u32 {
     NDTR_LEAD.load(Ordering::Relaxed)
 }
 
-/// The step plan's handler: (average cycles a tick, worst) since the last
-/// call.
-pub fn take_plan_cost() -> (u32, u32) {
-    plan::take_cost()
-}
-
-/// (ticks, average cycles, worst cycles) since the last call.
-pub fn take_cost() -> (u32, u32, u32) {
-    let ticks = TICKS.load(Ordering::Relaxed);
-    let sum = COST_SUM.swap(0, Ordering::Relaxed);
-    let worst = COST_WORST.swap(0, Ordering::Relaxed);
-    (ticks, sum / board::TICK_HZ, worst)
+/// Ticks run since boot.
+pub fn ticks() -> u32 {
+    TICKS.load(Ordering::Relaxed)
 }

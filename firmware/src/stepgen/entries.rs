@@ -83,43 +83,58 @@ impl Layout {
         Layout { prev: Prev::idle(dir) }
     }
 
-    /// The segments of one tick. `min_segment` is the shortest segment the
-    /// DMA can reload in time; the planner keeps every pulse and gap at
-    /// least that long (`STEP_FLOOR_NS`), and a shorter stretch before the
-    /// tick's start joins the first segment. Each step rises at
-    /// `plan.at(i)`; equal gaps in a row share one segment (its RCR).
-    pub fn tick(&mut self, plan: &StepPlan, t: &StepTiming, min_segment: u32) -> Segments {
-        let mut out = Segments::new();
+    /// The segments of one tick, each given to `emit` in order. `min_segment`
+    /// is the shortest segment the DMA can reload in time; the planner keeps
+    /// every pulse and gap at least that long (`STEP_FLOOR_NS`), and a
+    /// shorter stretch before the tick's start joins the first segment. Each
+    /// step rises at `plan.at(i)`; equal gaps in a row share one segment (its
+    /// RCR). Handed out one at a time, so the ring is written as they are
+    /// made (no list of them kept). Returns how many.
+    pub fn tick(&mut self, plan: &StepPlan, t: &StepTiming, min_segment: u32, mut emit: impl FnMut(Entry)) -> usize {
         let len = t.tick_len as i32;
         // DIR takes the plan's direction at the first segment of the tick:
         // at the end of the last pulse, when there was one (`Prev::after`)
         let dir = plan.dir;
         let mut at = self.prev.end;
+        let mut n = 0;
         if -at >= min_segment as i32 {
             // the rest of the time before this tick: its own segment, so
             // this tick's last segment starts no earlier than the tick
-            let _ = out.push(Entry::silent(-at as u32, dir));
+            emit(Entry::silent(-at as u32, dir));
+            n += 1;
             at = 0;
         }
         self.prev = self.prev.after(plan, t);
         if plan.count == 0 {
-            let _ = out.push(Entry::silent((len - at) as u32, dir));
-            return out;
+            emit(Entry::silent((len - at) as u32, dir));
+            return n + 1;
         }
+        // a run of equal gaps is held back until a different one ends it
         let first = plan.at(0) as i32;
-        let _ = out.push(Entry::pulses((first - at) as u32, t.pulse, 1, dir));
+        let mut run = Entry::pulses((first - at) as u32, t.pulse, 1, dir);
         let mut last = plan.at(0);
         for i in 1..plan.count as u32 {
             let gap = plan.at(i) - last;
             last += gap;
-            match out.last_mut() {
-                Some(e) if e.ccr1 != SILENT && e.arr + 1 == gap && e.rcr < 255 => e.rcr += 1,
-                _ => {
-                    // capacity holds every plan of the board's timing (test)
-                    let _ = out.push(Entry::pulses(gap - t.pulse, t.pulse, 1, dir));
-                }
+            if run.ccr1 != SILENT && run.arr + 1 == gap && run.rcr < 255 {
+                run.rcr += 1;
+            } else {
+                emit(run);
+                n += 1;
+                run = Entry::pulses(gap - t.pulse, t.pulse, 1, dir);
             }
         }
+        emit(run);
+        n + 1
+    }
+
+    /// `tick`'s segments as a list (tests, and a host that keeps them).
+    pub fn segments(&mut self, plan: &StepPlan, t: &StepTiming, min_segment: u32) -> Segments {
+        let mut out = Segments::new();
+        self.tick(plan, t, min_segment, |e| {
+            // capacity holds every plan of the board's timing (test)
+            let _ = out.push(e);
+        });
         out
     }
 }

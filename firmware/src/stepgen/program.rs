@@ -103,12 +103,29 @@ pub const STOP: Op = Op::Write(TIM1 + CR1, CR1_STOPPED);
 
 /// Stops the output at once without a runt: the counter stops first, so no
 /// pulse rises after it (§12.3.2: the counter counts only while CEN = 1,
-/// and OC1REF follows CNT against CCR1); a pulse that is high stays high
-/// for at least `pulse` cycles more, so the driver sees every pulse TIM2
-/// counted; then STEP is forced low (§12.4.7, OC1M = 100), DMA requests
-/// end and the stream stops.
-pub const fn halt(pulse: u32) -> [Op; 5] {
-    [STOP, Op::Delay(pulse), Op::Write(TIM1 + CCMR1, CCMR1_HALT), Op::Write(TIM1 + DIER, 0), Op::Write(S5CR, S5CR_RUN)]
+/// and OC1REF follows CNT against CCR1); DMA requests end and the stream
+/// stops. A pulse that was high stays high, the counter frozen under it:
+/// `RELEASE` forces STEP low once it has been high for its whole width
+/// (`release_ticks` later, or `halt_and_wait`), so the driver sees every
+/// pulse TIM2 counted and no handler waits for it.
+pub const HALT: [Op; 3] = [STOP, Op::Write(TIM1 + DIER, 0), Op::Write(S5CR, S5CR_RUN)];
+
+/// STEP forced low (§12.4.7, OC1M = 100), DIR kept: after `HALT`, once a
+/// pulse that was high has had its width.
+pub const RELEASE: Op = Op::Write(TIM1 + CCMR1, CCMR1_HALT);
+
+/// Whole ticks after a `HALT` made at any point of a tick of `tick_len`
+/// cycles at whose start `RELEASE` may come: a pulse that rose just before
+/// the halt has had `pulse` cycles by then (at least `ticks - 1` whole
+/// ticks pass).
+pub const fn release_ticks(pulse: u32, tick_len: u32) -> u32 {
+    pulse.div_ceil(tick_len) + 1
+}
+
+/// `HALT`, the wait for a high pulse's width, and `RELEASE`, all at once:
+/// where nothing comes later to release it (the panic and fault handlers).
+pub const fn halt_and_wait(pulse: u32) -> [Op; 5] {
+    [HALT[0], HALT[1], HALT[2], Op::Delay(pulse), RELEASE]
 }
 
 /// Cycles from reading TIM11's counter to the write of TIM1's landing, in

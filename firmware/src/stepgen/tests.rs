@@ -37,7 +37,7 @@ proptest! {
             let p = plan(pos, pos + dv, emitted, &prev, &T);
             prev = prev.after(&p, &T);
             let tick0 = k as i64 * T.tick_len as i64;
-            let segs = layout.tick(&p, &T, MIN_SEGMENT);
+            let segs = layout.segments(&p, &T, MIN_SEGMENT);
             let (got, end) = rises(&segs, timeline);
             let want: Vec<i64> = (0..p.count as u32).map(|i| tick0 + p.at(i) as i64).collect();
             prop_assert_eq!(got, want);
@@ -132,13 +132,33 @@ fn a_halted_generator_writes_nothing_until_it_re_arms() {
     assert!(g.armed());
     let n = bus.writes.len();
     g.tick(&StepPlan::default(), true, &T, &mut bus).unwrap();
-    let want = program::halt(T.pulse).map(|op| match op {
+    let want = program::HALT.map(|op| match op {
         Op::Write(a, v) => (a, v),
-        Op::Delay(c) => (u32::MAX, c),
         _ => unreachable!(),
     });
-    assert_eq!(&bus.writes[n..], &want);
+    assert_eq!(&bus.writes[n..], &want, "the halt, with no wait in it");
     assert!(!g.armed());
+}
+
+/// A halt leaves a high pulse high (the counter frozen under it) and the
+/// tick that comes after its whole width forces STEP low: no handler
+/// waits for it.
+#[test]
+fn a_halted_pulse_is_released_by_a_later_tick_not_waited_for() {
+    let t = StepTiming { pulse: T.tick_len + 1, ..T }; // a pulse longer than a tick
+    let mut g = Generator::new(0x2000_0000);
+    let mut bus = Script::default();
+    g.prepare(t.tick_len, &mut bus);
+    g.halted_elsewhere(&t);
+    let release = (program::TIM1 + program::CCMR1, program::CCMR1_HALT);
+    let ticks = program::release_ticks(t.pulse, t.tick_len);
+    assert_eq!(ticks, 3, "two whole ticks, and the one the halt fell in");
+    for k in 1..=ticks {
+        bus.writes.clear();
+        g.tick(&StepPlan::default(), true, &t, &mut bus).unwrap();
+        assert_eq!(bus.writes.contains(&release), k == ticks, "released at tick {k} of {ticks}: {:?}", bus.writes);
+        assert!(!bus.writes.iter().any(|w| w.0 == u32::MAX), "no tick waits");
+    }
 }
 
 #[test]
@@ -238,13 +258,15 @@ fn after_a_halt_each_tick_silences_a_share_and_the_ring_is_silent_before_it_re_a
     g.prepare(T.tick_len, &mut bus);
     bus.reads = vec![0, 0, 0, program::RING_WORDS, 0, program::RING_WORDS, 1, program::RING_WORDS];
     g.tick(&StepPlan::default(), false, &T, &mut bus).unwrap();
-    g.halted_elsewhere(); // the E-stop interrupt halted it
+    g.halted_elsewhere(&T); // the E-stop interrupt halted it
     let share = SILENCE_PER_TICK * program::BURST_WORDS as usize;
     let ticks = RING_ENTRIES / SILENCE_PER_TICK;
     let mut silenced = std::collections::BTreeSet::new();
     for k in 0..ticks {
         bus.writes.clear();
         g.tick(&StepPlan::default(), true, &T, &mut bus).unwrap();
+        // (the ring's words; the halted pulse's release is TIM1's)
+        bus.writes.retain(|w| (0x2000_0000..0x2002_0000).contains(&w.0));
         assert_eq!(bus.writes.len(), share, "tick {k}: one share, not the whole ring");
         silenced.extend(bus.writes.iter().map(|w| w.0));
     }
@@ -253,7 +275,7 @@ fn after_a_halt_each_tick_silences_a_share_and_the_ring_is_silent_before_it_re_a
     g.tick(&StepPlan::default(), true, &T, &mut bus).unwrap();
     assert!(bus.writes.is_empty(), "silent: nothing more to do");
     // released halfway through a silence: no arm until the ring is silent
-    g.halted_elsewhere();
+    g.halted_elsewhere(&T);
     g.tick(&StepPlan::default(), true, &T, &mut bus).unwrap();
     assert_eq!(g.tick(&StepPlan::default(), false, &T, &mut bus), Err(Fail::ArmLate));
     assert!(!g.armed());

@@ -134,7 +134,7 @@ pub fn lathe(
         let open = estop.is_some_and(|(a, b)| now >= a && now < b);
         if open && !halted {
             // the E-stop interrupt, somewhere inside the tick before
-            rig.estop_at(rig.tick_start(k) - TICK_LEN as u64 / 3, t.pulse);
+            rig.estop_at(rig.tick_start(k) - TICK_LEN as u64 / 3, &t);
             halted = true;
         }
         if !open && halted && !cleared {

@@ -108,20 +108,12 @@ pub(super) fn settle(io: &mut Io) {
     }
 }
 
-/// The handler's cost in CPU cycles: running sum and worst, reset by
-/// `take_cost` (the bench's log: `report`).
-static COST_SUM: AtomicU32 = AtomicU32::new(0);
-static COST_WORST: AtomicU32 = AtomicU32::new(0);
-
-/// (average cycles a tick, worst) since the last call.
-pub(super) fn take_cost() -> (u32, u32) {
-    let sum = COST_SUM.swap(0, Ordering::Relaxed);
-    (sum / board::TICK_HZ, COST_WORST.swap(0, Ordering::Relaxed))
-}
+/// When the plan ends, in cycles from its tick's instant (`latency`): what
+/// the bench's log prints (`report`).
+pub static PLAN_END: polyturn_firmware::latency::Latency = polyturn_firmware::latency::Latency::new();
 
 #[interrupt]
 fn USART2() {
-    let start = cortex_m::peripheral::DWT::cycle_count();
     if STATE.compare_exchange(OWED, MAKING, Ordering::Acquire, Ordering::Relaxed).is_err() {
         return; // none left, or made by a tick already (`settle`)
     }
@@ -135,9 +127,7 @@ fn USART2() {
         make(io);
     }
     STATE.store(IDLE, Ordering::Release);
-    let cost = cortex_m::peripheral::DWT::cycle_count().wrapping_sub(start);
-    COST_SUM.fetch_add(cost, Ordering::Relaxed);
-    COST_WORST.fetch_max(cost, Ordering::Relaxed);
+    super::ended(&PLAN_END);
 }
 
 /// The plan made and written. A halt since the tick (the E-stop's) leaves
