@@ -4,6 +4,7 @@
 //! the step-output tests use (`polyturn_host::hwsim::driver`).
 
 pub mod bldc;
+pub mod busy;
 pub mod edgecheck;
 pub mod estop;
 pub mod host;
@@ -48,6 +49,8 @@ pub enum Kind {
     /// `at_s` after engaging, the step plan a tick leaves is not made by the
     /// next tick (`planlate`)
     LatePlan { at_s: f64, how: planlate::How },
+    /// at the top step rate, the console busy all through (`busy`)
+    Busy,
 }
 
 pub struct Spec {
@@ -117,6 +120,8 @@ pub struct Outcome {
     pub plans_late: Option<u32>,
     /// a late-plan job's cause (`Kind::LatePlan`)
     pub late: Option<planlate::Late>,
+    /// the console's answers through a busy job (`Kind::Busy`)
+    pub answers: Option<busy::Answers>,
 }
 
 fn setup(s: &Spec) -> Setup {
@@ -136,6 +141,9 @@ pub fn scenario(s: &Spec) -> Scenario {
     let mut sc =
         Scenario::standard(setup(s), s.rpm, s.turns, s.ripple, s.start, 2400, 3200, DriveKind::Stepper, s.seed);
     sc.lathe.legs[0].hold_s = s.turns * 60.0 / s.rpm;
+    if s.kind == Kind::Busy {
+        busy::top_rate(&mut sc.core);
+    }
     sc
 }
 
@@ -168,8 +176,9 @@ pub fn run(image: &Rc<Image>, spec: &Spec) -> Result<Outcome, String> {
     }
     m.drive(GPIOB, ESTOP, Some(false));
     m.run(100 * MS);
-    if matches!(spec.kind, Kind::EStop { .. }) {
-        // the fault is cleared on the console: plug the USB host in
+    if matches!(spec.kind, Kind::EStop { .. } | Kind::Busy) {
+        // the fault is cleared on the console, or the console kept busy:
+        // plug the USB host in
         m = crate::usb::scenario::enumerate_on(m)?.0;
     }
     let cpr = sc.core.encoder_counts_per_rev;
@@ -208,8 +217,19 @@ pub fn run(image: &Rc<Image>, spec: &Spec) -> Result<Outcome, String> {
         Kind::LatePlan { at_s, how } => Some(planlate::cause(&mut m, at_s, how)),
         _ => None,
     };
+    let mut answers = (spec.kind == Kind::Busy).then(busy::Answers::default);
+    let mut k = 0;
     while !m.lathe.as_ref().is_some_and(|l| l.finished()) && m.chip().faults.is_empty() {
-        m.run(10 * MS);
+        match answers.as_mut() {
+            Some(a) => {
+                let t = m.chip().now;
+                busy::slice(&mut m, k, a);
+                let left = (t + 100 * MS).saturating_sub(m.chip().now).max(MS);
+                m.run(left);
+                k += 1;
+            }
+            None => m.run(10 * MS),
+        }
     }
     m.run(100 * MS);
     // compared up to STOP: the key task's disengage shows on no pin
@@ -229,6 +249,7 @@ pub fn run(image: &Rc<Image>, spec: &Spec) -> Result<Outcome, String> {
     o.plans_late = planlate::lates(&m);
     o.held = held.map(|h| h.judged(&mut m));
     o.late = late.map(|l| l.judged(&mut m));
+    o.answers = answers;
     Ok(o)
 }
 
@@ -303,5 +324,6 @@ fn outcome(m: &mut Machine, spec: &Spec, cfg: &Config, wall: Instant) -> Outcome
         plan: (c.probe.plan.average(), c.probe.plan.worst),
         plans_late: None,
         late: None,
+        answers: None,
     }
 }

@@ -88,6 +88,17 @@ pub const SPECS: &[Spec] = &[
     // handler held off for 100 µs mid-cut, or stalled inside for 50 µs
     Spec { name: "i plan held", kind: Kind::LatePlan { at_s: 1.0, how: HeldOff { us: 100 } }, ..HEXAGON },
     Spec { name: "j plan stall", kind: Kind::LatePlan { at_s: 1.0, how: Stalled { us: 50 } }, ..HEXAGON },
+    // (k): the hexagon's ratio at 240 000 steps/s (`max-rate` 250 000), engaged
+    // spinning, with the console answering status, phase nudges and gets
+    // all through
+    Spec {
+        name: "k top rate",
+        kind: Kind::Busy,
+        engage_after_ms: 400,
+        turns: 12.0,
+        start: Start::Spinning,
+        ..HEXAGON
+    },
 ];
 
 /// Runs the jobs whose name starts with `only` (all with ""), and judges them.
@@ -124,6 +135,7 @@ pub fn run_all(image: &Rc<Image>, r: &mut Report, only: &str) -> Result<u64, Str
         }
         lost_ticks(r, &o);
         late_plan(r, &o);
+        busy(r, &o);
     }
     Ok(total)
 }
@@ -225,6 +237,19 @@ fn late_plan(r: &mut Report, o: &Outcome) {
         l.lates, c.image, c.seen, l.clock_before, l.clock_after, l.led_code
     );
     r.line(ok, &format!("late plan {}", o.name), &text);
+}
+
+/// The console through a busy job: every line answered `ok`.
+fn busy(r: &mut Report, o: &Outcome) {
+    let Some(a) = &o.answers else { return };
+    let ok = a.sent > 0 && a.ok == a.sent;
+    let text = format!(
+        "{} of {} console lines answered ok while cutting at the top rate{}",
+        a.ok,
+        a.sent,
+        a.first_bad.as_ref().map_or(String::new(), |b| format!("; first not: {b}"))
+    );
+    r.line(ok, &format!("console {}", o.name), &text);
 }
 
 /// The image wrote its edge clock's first instant again (`edges::clock`).

@@ -49,10 +49,15 @@ impl Replay {
 
     /// A plan runs two ticks after the tick that made it (`steps::pipe`); the
     /// delay is counted from the handler's entry, which comes the interrupt's
-    /// entry latency (well under 100 cycles) after the tick's instant.
+    /// entry latency (well under 100 cycles) after the tick's instant. The
+    /// arm's copy of TIM11's count into TIM1's (`program::arm`'s `Sync`) adds
+    /// `SYNC_CYCLES` for the read-to-write distance it takes on silicon; here
+    /// both accesses of a block see one instant, so the steps come up to that
+    /// much later.
     pub fn delay_is_the_pipelines(&self) -> bool {
         let two = 2 * self.tick_len as i64;
-        (two - 100..=two).contains(&self.delay)
+        let sync = polyturn_firmware::stepgen::program::SYNC_CYCLES as i64;
+        (two - 100..=two + sync).contains(&self.delay)
     }
 }
 

@@ -3,7 +3,7 @@
 //! step plan's, not PRIMASK. defmt-rtt holds it while it encodes a whole
 //! log line (the emulator measured 7 657 instructions, 80 µs, two ticks),
 //! and embassy for its queues; neither may delay the tick, its plan or the
-//! E-stop, which touch nothing of theirs and never log (`.ci/qemu` checks
+//! E-stop, which touch nothing of theirs and never log (`.ci/callgraph` checks
 //! their call graphs). The state the tick shares (`tick::IO`) has its own
 //! lock, BASEPRI at the tick's level (`tick::locked`), held only for short
 //! copies; the E-stop, above the tick, is masked by neither.
@@ -25,7 +25,7 @@ critical_section::set_impl!(Basepri);
 // SAFETY: single core; BASEPRI masks every interrupt that takes this
 // section (all below the plan's level), and the tick, plan and E-stop
 // handlers, above it, never take it (checked on their call graphs in
-// .ci/qemu).
+// .ci/callgraph).
 unsafe impl critical_section::Impl for Basepri {
     unsafe fn acquire() -> critical_section::RawRestoreState {
         let old = cortex_m::register::basepri::read() as u32;

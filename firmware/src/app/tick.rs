@@ -179,7 +179,7 @@ fn TIM1_TRG_COM_TIM11() {
     // planning executor's interrupt) under `locked`, which masks this
     // handler, and the only interrupt above it (the E-stop) never opens it;
     // the plan, below it, opens it without a lock, and `run` does not if it
-    // pre-empted one (`plan::making`). (`.ci/qemu` checks no BASEPRI write is
+    // pre-empted one (`plan::making`). (`.ci/callgraph` checks no BASEPRI write is
     // reachable from here.)
     if run(unsafe { &CriticalSection::new() }) {
         TICKS.fetch_add(1, Ordering::Relaxed);
