@@ -92,6 +92,21 @@ pub struct Machine {
 
 impl Machine {
     pub fn new(image: Rc<Image>, params: Params, flash_init: &[(u32, Vec<u8>)]) -> Result<Machine, String> {
+        Machine::build(image, params, flash_init, true)
+    }
+
+    /// A machine for a bare-metal image (`bench`): without the hooks that
+    /// follow the firmware's own functions (`tape`).
+    pub fn bare(image: Rc<Image>) -> Result<Machine, String> {
+        Machine::build(image, Params::default(), &[], false)
+    }
+
+    fn build(
+        image: Rc<Image>,
+        params: Params,
+        flash_init: &[(u32, Vec<u8>)],
+        firmware: bool,
+    ) -> Result<Machine, String> {
         let mut flash = vec![0xFFu8; FLASH_SIZE as usize].into_boxed_slice(); // erased
         for (addr, data) in image.segments.iter().chain(flash_init) {
             let off = addr.wrapping_sub(FLASH_BASE) as usize;
@@ -147,6 +162,9 @@ impl Machine {
         }
         let mut m = Machine { uc, image, lathe: None, cpr: 2400, params, _flash: flash };
         m.hooks()?;
+        if firmware {
+            crate::tape::hooks(&mut m)?;
+        }
         m.boot();
         Ok(m)
     }
@@ -200,8 +218,7 @@ impl Machine {
             }))?;
         }
         self.divide_hooks()?;
-        crate::primask::hooks(self)?;
-        crate::tape::hooks(self)
+        crate::primask::hooks(self)
     }
 
     /// SDIV/UDIV take 2 to 12 cycles by their operands (`cycles::timing::divide`):

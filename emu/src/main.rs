@@ -1,6 +1,7 @@
 //! polyturn's firmware image on an emulated STM32F411 (`bash .ci/emu`).
 //!
 //! usage: polyturn-emu ELF [-v] [--only=usb | --only=jobs | --job=NAME | --pty [--lathe-rpm RPM]]
+//!        polyturn-emu --bench ELF [--cap-cycles=N] [--profile]
 //!
 //! Scenarios (each from reset, flash erased, so default settings):
 //! 1. boot and run 160 ms with the E-stop closed (PB14 driven low) and no drive
@@ -20,14 +21,18 @@
 //! the ROM bootloader (`dfu`), which is not emulated, it exits 3, or 1 if STEP
 //! or ENABLE was not safe when it asked for the reset before the jump.
 //!
+//! `--bench` instead runs a bare-metal benchmark image (not the firmware) and
+//! prints its timed part's cycles on both clocks (`bench`).
+//!
 //! The peripherals are `polyturn-stm32-model`'s: the project's one reading of the
 //! manual. Exits 1 if a check fails, 2 if the image cannot run (with why), 3
 //! when `--pty`'s image left for the ROM bootloader with its outputs safe.
 
+mod bench;
 mod checks;
 mod chip;
-mod cpu;
 mod clock;
+mod cpu;
 mod cycles;
 mod disasm;
 mod edges;
@@ -69,6 +74,9 @@ fn main() {
             std::process::exit(2);
         }
     };
+    if args.iter().any(|a| a == "--bench") {
+        std::process::exit(bench::cli(&image, &args));
+    }
     if args.iter().any(|a| a == "--pty") {
         let rpm = match lathe_rpm.map(|r| r.parse::<f64>()) {
             Some(Ok(r)) if r.is_finite() && r.abs() <= 3000.0 => Some(r),
