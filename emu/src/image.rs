@@ -31,6 +31,9 @@ pub struct Image {
     pub insns: Insns,
     /// every instruction, as the cycle clock times them (`cycles`)
     pub program: std::rc::Rc<crate::cycles::insn::Program>,
+    /// (address it runs at, address it is loaded at, length) of each segment
+    /// whose two differ (`.data`, and the code memory.x puts in SRAM)
+    pub moved: Vec<(u32, u32, u32)>,
 }
 
 /// Why an image cannot run, in one line.
@@ -44,11 +47,15 @@ pub fn load(path: &Path) -> Result<Image, String> {
             elf.architecture()
         ));
     }
-    let mut segments = Vec::new();
+    let (mut segments, mut moved) = (Vec::new(), Vec::new());
     for seg in elf.segments() {
         let bytes = seg.data().map_err(|e| e.to_string())?;
         if !bytes.is_empty() {
-            segments.push((load_address(&elf, &seg), bytes.to_vec()));
+            let (vma, lma) = (seg.address() as u32, load_address(&elf, &seg));
+            if vma != lma {
+                moved.push((vma, lma, bytes.len() as u32));
+            }
+            segments.push((lma, bytes.to_vec()));
         }
     }
     let (mut symbols, mut funcs) = (BTreeMap::new(), Vec::new());
@@ -74,7 +81,7 @@ pub fn load(path: &Path) -> Result<Image, String> {
     if let Some((addr, why)) = program.unknown().first() {
         return Err(format!("the cycle clock cannot time the instruction at {addr:#010x}: {why}"));
     }
-    Ok(Image { segments, symbols, funcs, vectors, insns, program: std::rc::Rc::new(program) })
+    Ok(Image { segments, symbols, funcs, vectors, insns, program: std::rc::Rc::new(program), moved })
 }
 
 /// A segment's physical (load) address: `object` gives the virtual one, so take
@@ -93,6 +100,12 @@ fn load_address(elf: &object::File, seg: &object::Segment) -> u32 {
 }
 
 impl Image {
+    /// Where the bytes that run at `addr` are loaded (the same address but
+    /// for a moved segment's).
+    pub fn load_address_of(&self, addr: u32) -> u32 {
+        self.moved.iter().find(|m| (m.0..m.0 + m.2).contains(&addr)).map_or(addr, |m| m.1 + (addr - m.0))
+    }
+
     /// Whether `addr` lies inside a function symbol's extent, not in the fill
     /// the linker puts between functions (lld's 0xd4d4 halfwords, which
     /// llvm-objdump shows as code).

@@ -170,8 +170,9 @@ pub fn run(image: &Rc<Image>, spec: &Spec) -> Result<Outcome, String> {
         m.chip().profile = Some(p);
     }
     // (no tape where the job stops the tick's flow: the replay follows one
-    // edge clock from the start, and a lost tick has it measured again)
-    if !matches!(spec.kind, Kind::EStop { .. } | Kind::LostTick { .. } | Kind::LatePlan { .. }) {
+    // edge clock from the start, and a lost tick has it measured again; nor
+    // where the console changes the phase, which the replay does not follow)
+    if !matches!(spec.kind, Kind::EStop { .. } | Kind::LostTick { .. } | Kind::LatePlan { .. } | Kind::Busy) {
         m.chip().tape = Some(crate::tape::Tape::default());
     }
     m.drive(GPIOB, ESTOP, Some(false));

@@ -88,14 +88,14 @@ pub const SPECS: &[Spec] = &[
     // handler held off for 100 µs mid-cut, or stalled inside for 50 µs
     Spec { name: "i plan held", kind: Kind::LatePlan { at_s: 1.0, how: HeldOff { us: 100 } }, ..HEXAGON },
     Spec { name: "j plan stall", kind: Kind::LatePlan { at_s: 1.0, how: Stalled { us: 50 } }, ..HEXAGON },
-    // (k): the hexagon's ratio at 240 000 steps/s (`max-rate` 250 000), engaged
+    // (l): the hexagon's ratio at 228 000 steps/s (`max-rate` 250 000), engaged
     // spinning, with the console answering status, phase nudges and gets
     // all through
     Spec {
-        name: "k top rate",
+        name: "l top rate",
         kind: Kind::Busy,
         engage_after_ms: 400,
-        turns: 12.0,
+        turns: 24.0,
         start: Start::Spinning,
         ..HEXAGON
     },
@@ -242,12 +242,14 @@ fn late_plan(r: &mut Report, o: &Outcome) {
 /// The console through a busy job: every line answered `ok`.
 fn busy(r: &mut Report, o: &Outcome) {
     let Some(a) = &o.answers else { return };
-    let ok = a.sent > 0 && a.ok == a.sent;
+    let ok = a.sent > 0 && a.ok == a.sent && a.synced > 0;
     let text = format!(
-        "{} of {} console lines answered ok while cutting at the top rate{}",
+        "{} of {} console lines answered ok while cutting at the top rate, synchronised in {} status replies{}; the last: {}",
         a.ok,
         a.sent,
-        a.first_bad.as_ref().map_or(String::new(), |b| format!("; first not: {b}"))
+        a.synced,
+        a.first_bad.as_ref().map_or(String::new(), |b| format!("; first not: {b}")),
+        a.last_status
     );
     r.line(ok, &format!("console {}", o.name), &text);
 }

@@ -30,6 +30,7 @@ fn real_image() -> Option<(Program, Image)> {
 
 /// The image's bytes at [addr, addr + len), from its loadable segments.
 fn bytes(image: &Image, addr: u32, len: u32) -> &[u8] {
+    let addr = image.load_address_of(addr);
     let (base, data) = image
         .segments
         .iter()

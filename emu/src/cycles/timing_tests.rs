@@ -116,15 +116,17 @@ fn multiples_doubles_and_loads_to_the_pc() {
 fn a_branch_costs_one_not_taken_and_its_refill_when_taken() {
     let b = insns("cmp r0, #0x1\nbne 0x8000200");
     assert_eq!(block_cost(&b), c(2, 2), "not taken (Table 3-1 note c)");
-    assert_eq!(refill(&b[1], 0x0800_0200, 2), c(1, 3), "taken, immediate target");
-    assert_eq!(refill(&b[1], 0x0800_0202, 4), c(2, 3), "a 32-bit target straddling two words");
-    assert_eq!(refill(&b[1], 0x0800_0204, 4), c(1, 3), "a word-aligned 32-bit target");
+    // (the model's one cycle more than the M3 TRM's "normally": CoreMark on
+    // this board, `refill`'s doc)
+    assert_eq!(refill(&b[1], 0x0800_0200, 2), c(2, 3), "taken, immediate target");
+    assert_eq!(refill(&b[1], 0x0800_0202, 4), c(3, 3), "a 32-bit target straddling two words");
+    assert_eq!(refill(&b[1], 0x0800_0204, 4), c(2, 3), "a word-aligned 32-bit target");
     assert_eq!(refill(&b[0], 0x0800_0200, 2), c(0, 0), "cmp writes no pc");
     let bx = insns("bx lr");
-    assert_eq!(refill(&bx[0], 0x0800_0200, 2), c(2, 3), "register target");
-    assert_eq!(refill(&bx[0], 0x0800_0202, 4), c(3, 3));
+    assert_eq!(refill(&bx[0], 0x0800_0200, 2), c(3, 3), "register target");
+    assert_eq!(refill(&bx[0], 0x0800_0202, 4), c(3, 3), "at most the bound's 3");
     let bl = insns("w:bl 0x8000200");
-    assert_eq!(cost("w:bl 0x8000200") + refill(&bl[0], 0x0800_0200, 2), c(2, 4));
+    assert_eq!(cost("w:bl 0x8000200") + refill(&bl[0], 0x0800_0200, 2), c(3, 4));
 }
 
 #[test]
