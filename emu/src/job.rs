@@ -317,7 +317,11 @@ fn outcome(m: &mut Machine, spec: &Spec, cfg: &Config, wall: Instant) -> Outcome
         plan_all: std::mem::take(&mut c.probe.plan.all),
         irq_off: c.primask.longest.bound,
         tick_lock: c.tickmask.ticking.bound,
-        tick_lock_at: image.func_at(c.tickmask.ticking.pc),
+        tick_lock_at: format!(
+            "{} called from {}",
+            image.func_at(c.tickmask.ticking.pc),
+            image.func_at(c.tickmask.ticking.caller)
+        ),
         replay: None,
         edges: None,
         ticks_lost: lost::Counted::default(),

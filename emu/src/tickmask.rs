@@ -40,11 +40,12 @@ pub fn change(uc: &mut Unicorn<Chip>, t: (u64, u64), addr: u32, primask: bool, b
     }
     let was = masks_tick(uc.reg_read(R::PRIMASK).unwrap_or(0) & 1 == 1, uc.reg_read(R::BASEPRI).unwrap_or(0) as u32);
     let now = masks_tick(primask, basepri);
+    let lr = uc.reg_read(R::LR).unwrap_or(0) as u32 & !1;
     let c = uc.get_data_mut();
     let tick_on = c.nvic.enabled[crate::svd::irq(polyturn_firmware::board::TICK_IRQ)];
     match (was, now) {
         (false, true) => {
-            c.tickmask.open(t, addr, tick_on);
+            c.tickmask.open(t, (addr, lr), tick_on);
             // the bound's cache is cold as the section starts: anything may
             // have run just before
             c.meter.cold();

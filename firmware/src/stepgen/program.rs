@@ -119,7 +119,8 @@ pub const RELEASE: Op = Op::Write(TIM1 + CCMR1, CCMR1_HALT);
 /// the halt has had `pulse` cycles by then (at least `ticks - 1` whole
 /// ticks pass).
 pub const fn release_ticks(pulse: u32, tick_len: u32) -> u32 {
-    pulse.div_ceil(tick_len) + 1
+    // (max(1): no division-by-zero panic path in the handlers)
+    pulse.div_ceil(if tick_len == 0 { 1 } else { tick_len }) + 1
 }
 
 /// `HALT`, the wait for a high pulse's width, and `RELEASE`, all at once:
