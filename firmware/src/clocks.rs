@@ -113,6 +113,10 @@ mod tests {
         assert_eq!(TIMING, Timing::FIRMWARE);
         assert_eq!(TIMING.tick_hz, crate::board::TICK_HZ);
         let cycles = Timing::FIRMWARE.step_timer_hz / Timing::FIRMWARE.tick_hz;
-        assert_eq!(cycles * Timing::FIRMWARE.tick_hz, Timing::FIRMWARE.step_timer_hz, "a whole number of cycles a tick");
+        assert_eq!(
+            cycles * Timing::FIRMWARE.tick_hz,
+            Timing::FIRMWARE.step_timer_hz,
+            "a whole number of cycles a tick"
+        );
     }
 }

@@ -5,11 +5,11 @@
 mod edge_board;
 
 use edge_board::{Board, ACCESS};
+use polyturn_firmware::board::TICK_HZ;
+use polyturn_firmware::clocks::CLOCKS;
 use polyturn_firmware::edgetime::{start, STAMPS_PER_TICK};
 use polyturn_firmware::regs::Bus;
 use polyturn_stm32_model::addr::{off, TIM11};
-use polyturn_firmware::board::TICK_HZ;
-use polyturn_firmware::clocks::CLOCKS;
 use polyturn_stm32_model::EncoderCapture;
 
 /// TIM11's cycles a tick (APB2's timer clock).

@@ -49,7 +49,8 @@ fn with_no_cutter_a_fast_lathe_is_no_overspeed() {
     static FLAT: [i32; 2] = [0, 0];
     let mut r = Rig::new(Config { drive: DriveKind::None, ..Config::default() });
     let cam = crate::cam::Cam::new(&FLAT, 2_400).unwrap();
-    let limits = crate::follower::Limits::from_rates(crate::cam_upload::X_MAX_RATE_HZ.into(), 1_000_000, TICK_HZ.into());
+    let limits =
+        crate::follower::Limits::from_rates(crate::cam_upload::X_MAX_RATE_HZ.into(), 1_000_000, TICK_HZ.into());
     r.c.set_x_axis(Some(XAxis::new(cam, limits))).unwrap();
     r.c.engage().unwrap();
     r.run(per_tick(4.0), 5_000);

@@ -28,7 +28,11 @@ fn synced_comes_once_within_half_a_step_not_at_half_a_step() {
     assert_eq!(r.c.state(), State::Engaging, "exactly half a step off: not yet");
     r.tick(0);
     assert_eq!(r.c.follower().velocity, 2 * a);
-    assert_eq!(r.c.state(), State::Synced, "closer than half a step, 2 × max-accel ≤ 4 × max-accel off the target's speed");
+    assert_eq!(
+        r.c.state(),
+        State::Synced,
+        "closer than half a step, 2 × max-accel ≤ 4 × max-accel off the target's speed"
+    );
 }
 
 /// A BLDC cutter engaged at rest on count 0 (the follower exactly on its
