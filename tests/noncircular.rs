@@ -24,7 +24,7 @@ fn octagon(cpr: u32, rpm: f64, ripple: f64, sabotage_period: i32) -> (f64, Vec<p
 #[test]
 fn an_octagon_turned_by_a_single_point_tool_on_the_cam_has_sharp_corners_within_microns() {
     // 2400 counts/rev: at the corners X moves 23 µm per lathe count, and
-    // the sub-count estimate leaves a few µm (3.9 measured)
+    // the sub-count estimate leaves a few µm (2.7 measured)
     let (dev, faults) = octagon(2400, 12.0, 0.02, 0);
     assert!(faults.is_empty(), "{faults:?}");
     assert!(dev < 5e-3, "section {:.2} um from the octagon", dev * 1e3);
