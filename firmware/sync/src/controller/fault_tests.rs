@@ -25,8 +25,9 @@ fn synced_at(counts_per_tick: f64) -> Rig {
 fn a_lathe_speeding_up_past_max_rate_while_engaged_trips_overspeed() {
     // 4 counts a tick is plausible (max-rpm 1500: 6 a tick at 20 kHz), but
     // 4 × 8/3 = 10.7 steps a tick is more than the motor's 10
-    assert!(4.0 * 8.0 / 3.0 > MAX_STEPS_PER_TICK);
     let mut r = Rig::new(Config::default());
+    let d = r.c.derived();
+    assert!((4 * 8) << 16 > 3 * d.limits.max_velocity && d.max_counts_per_tick >= 4);
     r.c.engage().unwrap();
     let mut tripped = None;
     for k in 0..5_000 {
