@@ -72,7 +72,7 @@ fn expected_mdeg(out: BldcOut) -> f64 {
 }
 
 fn first_fault_s(r: &SimResult) -> Option<(f64, Fault)> {
-    r.faults.first().map(|&(tick, f)| (tick as f64 / 25_000.0, f))
+    r.faults.first().map(|&(tick, f)| (seconds(tick), f))
 }
 
 /// A row of the table: counts, µm the flats move at the stock's radius

@@ -90,8 +90,9 @@ fn an_x_axis_on_the_compensation_cam_cuts_straight_flats() {
     let r = x_run(100.0, 1600.0, 200_000.0);
     assert!(r.faults.is_empty(), "{:?}", r.faults);
     let after = r.section.summary();
-    // Measured 7.1 µm with this 10^8 steps/s² axis (3.1 µm with a very stiff
-    // one): the linear table's kinks cost an acceleration-limited follower a
+    eprintln!("the compensated flats {:.1} um from straight", after.flat_deviation * 1e3);
+    // Measured 2.7 µm with this 10^8 steps/s² axis (2.4 µm with a very stiff
+    // one, 10^12): the linear table's kinks cost an acceleration-limited follower a
     // few ticks each, and the cutter's own phase error (≈ 0.6 step) moves the
     // tip along the steep part of the X profile. Goal 2 µm: not yet (README).
     assert!(after.flat_deviation.abs() < 0.010, "flats {} mm from straight", after.flat_deviation);

@@ -7,13 +7,14 @@ use polyturn_sync::{Controller, DriveKind, Fault, Refusal, TickInput, Timing};
 
 #[test]
 fn overspeed_refuses_to_engage_with_a_reason() {
-    // 4:1 at 1250 rpm needs 267 kHz > 200 kHz: refused while the lathe turns.
+    // 4:1 at 2 counts a tick (1000 rpm at 20 kHz) needs 213 kHz > 200 kHz:
+    // refused while the lathe turns.
     let cfg = polyturn_sync::Config::default().with("max-rpm", "900").unwrap().with("ratio", "4").unwrap();
     let mut ctl = Controller::new(cfg, Timing::FIRMWARE);
     ctl.start(0, 0, 0);
     let mut count = 0u16;
     for _ in 0..20_000u32 {
-        count = count.wrapping_add(2); // 2 counts per tick = 1250 rpm
+        count = count.wrapping_add(2);
         ctl.tick(&TickInput { lathe: count, ..TickInput::default() });
     }
     assert_eq!(ctl.engage(), Err(Refusal::Overspeed));
@@ -38,7 +39,7 @@ fn estop_stops_the_steps_at_once() {
     let stopped = simulate(&sc);
     assert_eq!(stopped.faults.first().map(|f| f.1), Some(Fault::EStop));
     let (tick, _) = stopped.faults[0];
-    assert_eq!(tick, (0.8 * 25_000.0f64).ceil() as u64, "latched on the tick the input opened");
+    assert_eq!(tick, (0.8 * TICK_HZ as f64).ceil() as u64, "latched on the tick the input opened");
     // Without the e-stop the motor would have kept stepping for 0.2 s more
     // (64 kHz): with it, no step after the fault's tick. Engaged at 0.1 s,
     // the cutter caught up (within half a turn) and ran at 64 kHz to 0.8 s.
@@ -52,7 +53,7 @@ fn estop_stops_the_steps_at_once() {
 #[test]
 fn an_encoder_glitch_is_flagged_as_implausible() {
     let mut sc = scenario(hexagon(), 300.0, 10.0, 0.0, Start::Spinning, DriveKind::Stepper);
-    sc.events.push(Event::Glitch(25_000, 400));
+    sc.events.push(Event::Glitch(TICK_HZ.into(), 400)); // a second in
     let r = simulate(&sc);
     assert_eq!(r.faults.first().map(|f| f.1), Some(Fault::EncoderImplausible), "{:?}", r.faults);
 }

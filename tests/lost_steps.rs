@@ -24,7 +24,7 @@ fn a_jam_in_the_cut_trips_lost_steps_within_two_milliseconds() {
         let r = simulate(&sc);
         let (tick, f) = *r.faults.first().unwrap_or_else(|| panic!("cpr {cpr}: no fault"));
         assert_eq!(f, Fault::LostSteps, "cpr {cpr}: {:?}", r.faults);
-        let after_ms = (tick as f64 / 25_000.0 - 1.5) * 1e3;
+        let after_ms = (seconds(tick) - 1.5) * 1e3;
         // 32 steps at 64 000 steps/s is 0.5 ms, plus a count and a tick
         assert!((0.0..=2.0).contains(&after_ms), "cpr {cpr}: {after_ms:.2} ms after the jam");
         eprintln!("cpr {cpr}: lost-steps {after_ms:.2} ms after the jam");
@@ -74,7 +74,7 @@ fn no_false_alarm_over_a_thousand_turns_of_every_cut() {
             assert!(worst > 0.0 && worst < 16.0, "{name}, cpr {cpr}: the shaft {worst:.2} steps from the books");
             eprintln!("{name}, cpr {cpr}: the shaft at most {worst:.2} steps from the steps sent");
             // the lathe's turns while synced: at least the thousand cut
-            let turns = r.synced_ticks as f64 / 25_000.0 * rpm / 60.0;
+            let turns = seconds(r.synced_ticks) * rpm / 60.0;
             assert!(turns >= 1000.0, "{name}: {turns:.0} turns synced");
         }
     }

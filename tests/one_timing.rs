@@ -2,7 +2,7 @@
 //! fake board and the page check settings with, and the sync core's tests
 //! use, are the board's own (`polyturn_firmware::clocks`, built from the
 //! PLL and bus dividers that `app::clocks` gives embassy). A second,
-//! hand-written clock anywhere in the sources fails here.
+//! hand-written clock or tick rate anywhere in the sources fails here.
 
 use polyturn_sync::Timing;
 use std::path::Path;
@@ -32,7 +32,7 @@ fn sources(dir: &Path, out: &mut Vec<std::path::PathBuf>) {
 }
 
 #[test]
-fn no_source_writes_a_clock_of_its_own() {
+fn no_source_writes_a_clock_or_a_tick_of_its_own() {
     let root = Path::new(env!("CARGO_MANIFEST_DIR"));
     let mut files = Vec::new();
     for d in ["firmware", "host-sim", "web", "fuzz", "tests"] {
@@ -50,13 +50,17 @@ fn no_source_writes_a_clock_of_its_own() {
                 .match_indices("100_000_000")
                 .any(|(i, _)| !line[..i].ends_with(|c: char| c.is_ascii_digit() || c == '_'));
             let own_clock = literal("step_timer_hz:") || literal("TIMER_HZ: u32 =") || hundred_mhz;
-            // the one Timing, and the tree it is checked against (its limits)
+            let own_tick =
+                literal("tick_hz:") || ["u32", "u64", "f64"].iter().any(|t| literal(&format!("TICK_HZ: {t} =")));
+            // the one Timing, the board's tick it is checked against, and
+            // the tree (its limits)
             let the_one = (f.ends_with("sync/src/derived.rs") && line.contains("pub const FIRMWARE"))
+                || (f.ends_with("firmware/src/board.rs") && line.starts_with("pub const TICK_HZ"))
                 || f.ends_with("firmware/src/clocks.rs");
-            if own_clock && !the_one && !f.ends_with("one_timing.rs") {
+            if (own_clock || own_tick) && !the_one && !f.ends_with("one_timing.rs") {
                 found.push(format!("{}:{}: {}", f.display(), n + 1, line.trim()));
             }
         }
     }
-    assert!(found.is_empty(), "a clock written by hand, not Timing::FIRMWARE:\n{}", found.join("\n"));
+    assert!(found.is_empty(), "a clock or tick written by hand, not Timing::FIRMWARE:\n{}", found.join("\n"));
 }

@@ -17,6 +17,11 @@ use polyturn_sync::{Config, Controller, Fault, TickInput, Timing};
 const TICK_HZ: u32 = Timing::FIRMWARE.tick_hz;
 const CYCLES_PER_TICK: u64 = (TIMER_HZ / TICK_HZ) as u64;
 
+/// The tick `ms` milliseconds into the run.
+const fn tick_at_ms(ms: u64) -> u64 {
+    ms * TICK_HZ as u64 / 1_000
+}
+
 /// What the jumpers and the board do wrong, if anything.
 #[derive(Clone, Copy, Default)]
 struct Bench {
@@ -191,24 +196,28 @@ fn an_index_written_late_fails_on_the_count_it_latched() {
 
 #[test]
 fn a_step_lost_between_the_plan_and_the_pin_fails_the_test() {
-    let (r, _) = run(Config::default(), Bench { lose_step: Some(100_000), ..Bench::default() });
+    let (r, _) = run(Config::default(), Bench { lose_step: Some(tick_at_ms(4_000)), ..Bench::default() });
     assert_eq!(r.verdict, Verdict::Fail(Failure::Fault(Fault::StepOutput)), "{r:?}");
 }
 
 #[test]
 fn a_generator_that_stops_is_a_failure_not_a_wait() {
-    let (r, _) = run(Config::default(), Bench { generator_dies: Some(60_000), ..Bench::default() });
+    // (in the first ramp)
+    let (r, _) = run(Config::default(), Bench { generator_dies: Some(tick_at_ms(2_400)), ..Bench::default() });
     assert_eq!(r.verdict, Verdict::Fail(Failure::Generator), "{r:?}");
 }
 
 #[test]
 fn books_that_stop_moving_end_it_two_seconds_past_the_plan() {
-    // (it dies in the second rest, so nothing else goes wrong meanwhile)
-    let (r, c) = run(Config::default(), Bench { generator_dies: Some(152_000), silently: true, ..Bench::default() });
+    // (it dies in the second rest, 6.0 to 6.6 s, so nothing else goes
+    // wrong meanwhile)
+    let dies = Bench { generator_dies: Some(tick_at_ms(6_080)), silently: true, ..Bench::default() };
+    let (r, c) = run(Config::default(), dies);
     assert_eq!(r.verdict, Verdict::Fail(Failure::Generator), "{r:?}");
-    // 11.2 s of plan + 2 s, at 25 kHz
+    // 11.2 s of plan + 2 s, within two milliseconds (the books come once a
+    // millisecond)
     let t = c.status().ticks;
-    assert!((13_200 * 25..13_200 * 25 + 50).contains(&t), "{t}");
+    assert!((tick_at_ms(13_200)..tick_at_ms(13_202)).contains(&t), "{t}");
 }
 
 #[test]

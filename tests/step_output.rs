@@ -6,7 +6,7 @@
 use polyturn_firmware::stepgen::entries::Entry;
 use polyturn_firmware::stepgen::program::{self as prog, apply, Bus, Op};
 use polyturn_firmware::stepgen::RING_ENTRIES;
-use polyturn_host::hwsim::scenarios::{lathe, ramp, rocking, steady, Outcome};
+use polyturn_host::hwsim::scenarios::{lathe, ramp, rocking, steady, Outcome, TIMING};
 use polyturn_host::hwsim::{driver::receive, Isr, TICK_LEN};
 use polyturn_stm32_model::{Mcu, NdtrReading, Params, PwmModeSwitch};
 use polyturn_sync::steps::Dir;
@@ -48,7 +48,7 @@ fn steps_land_within_two_cycles_of_the_ideal_train_from_10_hz_to_250_khz() {
     for (hz, p) in
         [10u64, 1_000, 7_777, 64_000, 123_457, 250_000].into_iter().flat_map(|h| both_ndtr_readings().map(|p| (h, p)))
     {
-        let ticks = (25_000 * 2 / hz).clamp(400, 25_000);
+        let ticks = (TIMING.tick_hz as u64 * 2 / hz).clamp(400, TIMING.tick_hz.into());
         let o = steady(hz * 1000, ticks, Isr::new((200, 2_000)), p);
         assert!(o.received.steps > 0, "{hz} Hz, {:?}: the output started", p.ndtr);
         assert_clean(&format!("{hz} Hz, {:?}", p.ndtr), &o);

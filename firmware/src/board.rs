@@ -164,7 +164,9 @@ pub const PINS: &[Pin] = &[
     pin("KEY_PHASE_MINUS", "PA15", "key input, pull-up, to GND when pressed", true, Mode::Input, Pull::Up),
 ];
 
-/// Control tick rate: 25 kHz (40 µs), above the 20 kHz floor of the design.
+/// Control tick rate: 20 kHz (50 µs), the floor of the design. The tick
+/// and its step plan must fit its period (4 800 cycles) on the emulator's
+/// bound of the cycles the STM32F411 spends (`emu`).
 pub const TICK_HZ: u32 = 20_000;
 /// System clock from the 25 MHz HSE crystal: 96 MHz, so USB gets exactly
 /// 48 MHz from the same PLL. Every timer runs at 96 MHz (`clocks`).
@@ -187,7 +189,7 @@ pub const TIMERS: &[(&str, &str)] = &[
     ),
     ("TIM9", "the bench self-test's quadrature generator (CH1 PA2, CH2 PA3)"),
     ("TIM10", "the BLDC drive's command on CH1: PWM mode 1, frame and pulse range by bldc-out (bldcout)"),
-    ("TIM11", "control tick, 25 kHz update interrupt below only the E-stop"),
+    ("TIM11", "control tick, 20 kHz update interrupt below only the E-stop"),
 ];
 
 /// Interrupt priorities, in one place (0 is the most urgent; the NVIC of

@@ -111,6 +111,12 @@ mod tests {
     #[test]
     fn the_timing_everyone_plans_with_is_the_boards() {
         assert_eq!(TIMING, Timing::FIRMWARE);
-        assert_eq!(Timing::FIRMWARE.step_timer_hz / Timing::FIRMWARE.tick_hz, 3_840, "cycles per tick");
+        assert_eq!(TIMING.tick_hz, crate::board::TICK_HZ);
+        let cycles = Timing::FIRMWARE.step_timer_hz / Timing::FIRMWARE.tick_hz;
+        assert_eq!(
+            cycles * Timing::FIRMWARE.tick_hz,
+            Timing::FIRMWARE.step_timer_hz,
+            "a whole number of cycles a tick"
+        );
     }
 }

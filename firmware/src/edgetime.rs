@@ -43,12 +43,12 @@ use crate::clocks::CLOCKS;
 pub const STAMP_HZ: u32 = 1_000_000;
 /// TIM5's kernel clock (APB1's timers, `clocks`).
 pub const TIM5_CLOCK_HZ: u32 = CLOCKS.apb1_timer_hz();
-/// Stamps per control tick: 40 at 25 kHz.
+/// Stamps per control tick: 50 at 20 kHz.
 pub const STAMPS_PER_TICK: u16 = (STAMP_HZ / TICK_HZ) as u16;
 
 // A tick is a whole number of stamps and TIM11's period a whole number of
-// TIM5 prescaler periods, so every tick's instant falls on a stamp: 3 840
-// cycles = 40 × 96.
+// TIM5 prescaler periods, so every tick's instant falls on a stamp: 4 800
+// cycles = 50 × 96 at 20 kHz.
 const _: () = {
     assert!(TIM5_CLOCK_HZ.is_multiple_of(STAMP_HZ));
     assert!(STAMP_HZ.is_multiple_of(TICK_HZ));

@@ -1,10 +1,10 @@
 //! X-axis steps on two plain GPIO pins, driven from the control tick: all
 //! the advanced timers are taken (TIM1 cutter steps, TIM2 their count), and
 //! a cross-slide needs far fewer steps than the cutter. A pulse is one tick
-//! high (40 µs), then at least one tick low; DIR changes only while STEP is
-//! low and a step never leaves in the tick DIR changed (≥ 40 µs setup). So
-//! at most one step per two ticks (10 kHz at the board's 20 kHz tick), the limit
-//! `fit_cam` enforces.
+//! high (50 µs at 20 kHz), then at least one tick low; DIR changes only
+//! while STEP is low and a step never leaves in the tick DIR changed (≥ a
+//! tick of setup). So at most one step per two ticks (10 kHz at the
+//! board's 20 kHz tick), the limit `fit_cam` enforces.
 //! The count of steps really emitted goes back to the core, which plans
 //! anything not yet emitted again (nothing is lost, only delayed a tick).
 

@@ -46,10 +46,10 @@ fn cam_upload(points: &[i32], period: u32) -> String {
         points: points.len() as u32,
         period_counts: period,
         counts_per_rev: 2400,
-        max_rate_hz: 12_000,
+        max_rate_hz: 9_600,
         max_accel: 1_600_000,
     };
-    let mut out = format!("cam begin {} {period} 2400 12000 1600000\n", points.len());
+    let mut out = format!("cam begin {} {period} 2400 9600 1600000\n", points.len());
     for (i, chunk) in points.chunks(8).enumerate() {
         let vals: Vec<String> = chunk.iter().map(|v| v.to_string()).collect();
         out += &format!("cam data {} {}\n", i * 8, vals.join(" "));
@@ -116,19 +116,19 @@ fn files() -> Vec<(String, Vec<u8>)> {
     );
     add(
         "corpus/cam_upload/seed-star",
-        b"cam begin 4 8 2400 12000 1600000\ncam data 0 0 8388607\ncam data 2 0 -100\ncam end *\ncam off\n",
+        b"cam begin 4 8 2400 9600 1600000\ncam data 0 0 8388607\ncam data 2 0 -100\ncam end *\ncam off\n",
     );
     add(
         "corpus/cam_upload/seed-other-cpr",
-        b"set cpr 4000\ncam begin 2 2 2400 12000 1\ncam data 0 1 2\ncam end *\nset cpr 2400\ncam end *\n",
+        b"set cpr 4000\ncam begin 2 2 2400 9600 1\ncam data 0 1 2\ncam end *\nset cpr 2400\ncam end *\n",
     );
 
-    // (1 count a tick is 625 rpm on the default 2400-count encoder)
+    // (1 count a tick is 500 rpm on the default 2400-count encoder at 20 kHz)
     // found a harness bug (it took a table for gone after `cam data 2`
     // with no values, which the upload accepts and keeps the table)
     add(
         "regressions/cam_upload/data-after-end",
-        b"cam begin 2 2 2400 12000 1\ncam data 0 1 2\ncam end *\ncam data 2\ncam end *\n",
+        b"cam begin 2 2 2400 9600 1\ncam data 0 1 2\ncam end *\ncam data 2\ncam end *\n",
     );
 
     add("corpus/tick/seed-run", b"set max-accel 50000000\nengage\ntick 400 1\nstatus\nset phase 12.5\ntick 200 1\nstop\ntick 300 1\ntick 3000 0\nsave\n");

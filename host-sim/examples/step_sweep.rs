@@ -1,7 +1,7 @@
 //! The sweep of the step output on the peripheral model, as a
 //! Markdown table: `cargo run --release -p polyturn-host --example step_sweep`
 //! (`-- --all` for four interrupt-latency ranges instead of one).
-use polyturn_host::hwsim::scenarios::{lathe, ramp, rocking, steady, Outcome};
+use polyturn_host::hwsim::scenarios::{lathe, ramp, rocking, steady, Outcome, TIMING};
 use polyturn_host::hwsim::steady_lathe::steady_lathe;
 use polyturn_host::hwsim::Isr;
 use polyturn_stm32_model::Params;
@@ -38,7 +38,9 @@ fn main() {
         let p = Params::default();
         let at = format!("ISR {}-{} cycles", lat.0, lat.1);
         for hz in [1, 10, 100, 1_000, 7_777, 10_000, 64_000, 123_457, 150_000, 250_000] {
-            let ticks = (25_000 * 3 / hz).clamp(500, 25_000 * 2);
+            // three steps' time, within 20 ms and 2 s
+            let tick_hz = u64::from(TIMING.tick_hz);
+            let ticks = (tick_hz * 3 / hz).clamp(tick_hz / 50, tick_hz * 2);
             row(&format!("steady {hz} steps/s, {at}"), &steady(hz * 1000, ticks, isr, p));
         }
         let o = lathe(config("2", "2300"), &ramp(2400.0, 2300.0, 1.0, 0.3), 2.6, isr, p, None);

@@ -9,7 +9,7 @@
 
 mod machine;
 
-pub use machine::Machine;
+pub use machine::{ticks_in_ms, Machine, TICK_HZ};
 use polyturn_firmware::line::{only_line_ends, route, Line, LineBuffer, Route, PACKET_MAX, TOO_LONG};
 use polyturn_sync::cam_upload::{CamUpload, Progress, TableRefusal};
 use polyturn_sync::console::{self, Action};
@@ -18,8 +18,8 @@ use polyturn_sync::{Config, Controller, Timing};
 use std::collections::VecDeque;
 use std::io::{ErrorKind, Read, Write};
 
-/// Control ticks (25 kHz) between two `watch` lines: the firmware's 10 Hz.
-const WATCH_TICKS: usize = 2_500;
+/// Control ticks between two `watch` lines: the firmware's 10 Hz.
+const WATCH_TICKS: usize = (Timing::FIRMWARE.tick_hz / 10) as usize;
 /// Replies waiting to be read, at most: the board blocks on a full USB
 /// buffer and takes no more input; this one stops taking input too.
 const OUT_MAX: usize = 64 * 1024;

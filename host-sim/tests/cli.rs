@@ -132,7 +132,7 @@ fn a_closed_pipe_ends_quietly_not_with_a_panic() {
     assert!(out.status.success());
 }
 
-const OCTAGON: &str = "cam --sides 8 --inscribed-radius 20 --x-max-speed 15 --x-max-accel 2000";
+const OCTAGON: &str = "cam --sides 8 --inscribed-radius 20 --x-max-speed 12 --x-max-accel 2000";
 
 #[test]
 fn cam_plans_sharp_corners_writes_the_table_and_rounds_when_too_fast() {
@@ -160,8 +160,8 @@ fn cam_plans_sharp_corners_writes_the_table_and_rounds_when_too_fast() {
 fn every_drawings_text_fits_within_its_width() {
     // the cam's title ran off its right edge from 10 sides on
     let drawings = [
-        "cam --sides 360 --m 127 --inscribed-radius 20 --x-max-speed 15 --x-max-accel 2000 --rpm 1 --svg -",
-        "cam --sides 12 --m 11 --inscribed-radius 20 --x-max-speed 15 --x-max-accel 2000 --rpm 1 --svg -",
+        "cam --sides 360 --m 127 --inscribed-radius 20 --x-max-speed 12 --x-max-accel 2000 --rpm 1 --svg -",
+        "cam --sides 12 --m 11 --inscribed-radius 20 --x-max-speed 12 --x-max-accel 2000 --rpm 1 --svg -",
         &format!("geometry {HEX} --svg -"),
         &format!("simulate {HEX} --rpm 600 --revolutions 2 --svg -"),
     ];
@@ -312,7 +312,7 @@ fn a_long_simulation_on_a_terminal_shows_it_is_alive_and_away_from_one_stays_qui
 
 #[test]
 fn cam_refuses_an_m_past_its_useful_range_at_once_saying_the_range() {
-    let axis = "--inscribed-radius 20 --rpm 12 --x-max-speed 15 --x-max-accel 2000";
+    let axis = "--inscribed-radius 20 --rpm 12 --x-max-speed 12 --x-max-accel 2000";
     let (code, _, err) = polyturn(&format!("cam --sides 7 {axis} --m 999"));
     assert_eq!(code, 2);
     assert!(

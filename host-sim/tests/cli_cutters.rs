@@ -77,7 +77,7 @@ fn a_figure_out_of_range_is_named_with_where_it_came_from_and_what_it_got() {
 
 #[test]
 fn the_cam_tables_encoder_takes_the_consoles_cpr_range() {
-    let cam = "cam --sides 8 --inscribed-radius 20 --rpm 12 --x-max-speed 15 --x-max-accel 2000";
+    let cam = "cam --sides 8 --inscribed-radius 20 --rpm 12 --x-max-speed 12 --x-max-accel 2000";
     let err = refused(&format!("{cam} --encoder-cpr 1048576"), "--encoder-cpr");
     assert!(err.contains("4..=1000000 counts per lathe rev, the console's `cpr`"), "{err}");
     let (code, _, err) = polyturn(&format!("{cam} --encoder-cpr 1000000"));

@@ -35,8 +35,8 @@ enum Board {
     /// closes the port when a command arrives, unanswered
     Hangup,
     /// the real console on a board whose time passes: it has been on
-    /// 0.2 s, and this many control ticks (25 kHz) pass before each line,
-    /// the lathe at rest
+    /// 0.2 s, and this many ms of control ticks pass before each line, the
+    /// lathe at rest
     Ticking(usize),
 }
 
@@ -80,13 +80,13 @@ fn fake(board: Board) -> Fake {
 
 fn serve(port: &mut TTYPort, board: Board, heard: &Mutex<Vec<String>>, stop: &AtomicBool) {
     let mut ctl = Controller::new(Config::default(), Timing::FIRMWARE);
-    let pass = |ctl: &mut Controller, ticks: usize| {
-        for _ in 0..ticks {
+    let pass = |ctl: &mut Controller, ms: usize| {
+        for _ in 0..ms * Timing::FIRMWARE.tick_hz as usize / 1_000 {
             ctl.tick(&TickInput::default());
         }
     };
     if let Board::Ticking(_) = board {
-        pass(&mut ctl, 5_000);
+        pass(&mut ctl, 200);
     }
     let (mut line, mut watching, mut buf) = (Vec::new(), false, [0u8; 64]);
     while !stop.load(Ordering::SeqCst) {
@@ -116,8 +116,8 @@ fn serve(port: &mut TTYPort, board: Board, heard: &Mutex<Vec<String>>, stop: &At
             let text = String::from_utf8_lossy(&std::mem::take(&mut line)).into_owned();
             heard.lock().unwrap().push(text.clone());
             let tag = text.split_once(' ').map_or("", |(t, _)| t);
-            if let Board::Ticking(ticks) = board {
-                pass(&mut ctl, ticks);
+            if let Board::Ticking(ms) = board {
+                pass(&mut ctl, ms);
             }
             let reply = match board {
                 Board::Hangup => {
@@ -183,7 +183,7 @@ fn the_binary_talks_to_the_real_console_with_tagged_lines() {
 /// of the board's time apart, the lathe at rest: the save goes.
 #[test]
 fn set_then_save_with_the_lathe_at_rest_is_saved() {
-    let f = fake(Board::Ticking(25));
+    let f = fake(Board::Ticking(1));
     let (code, out, err, _) = polyturn(&f.path, "set cpr 1000");
     assert_eq!((code, out.trim()), (0, "ok cpr=1000"), "{err}");
     let (code, out, err, _) = polyturn(&f.path, "save");
@@ -480,8 +480,9 @@ fn a_cam_table_the_board_would_refuse_is_refused_before_anything_is_sent() {
     std::fs::create_dir_all(&dir).unwrap();
     let table = |spm: &str, jump: i32| {
         let points: Vec<String> = (0..1024).map(|i| if i == 500 { jump.to_string() } else { "0".into() }).collect();
+        let rate = polyturn_sync::cam_upload::X_MAX_RATE_HZ;
         format!(
-            r#"{{"format":"polyturn-cam-1","counts_per_rev":2400,"period_counts":2400,"steps_per_mm":{spm},"max_rate_hz":12500,"max_accel":1000000,"points":[{}]}}"#,
+            r#"{{"format":"polyturn-cam-1","counts_per_rev":2400,"period_counts":2400,"steps_per_mm":{spm},"max_rate_hz":{rate},"max_accel":1000000,"points":[{}]}}"#,
             points.join(",")
         )
     };

@@ -18,7 +18,7 @@ fn words(s: &str) -> Vec<String> {
 
 const HEX: &str = "--cutter-radius 50 --stock-radius 10 --depth 1.5 --ratio 2 --edges 3 --direction same";
 const NO_DIR: &str = "--cutter-radius 50 --stock-radius 10 --depth 1.5 --ratio 2 --edges 3";
-const OCT: &str = "--sides 8 --inscribed-radius 20 --x-max-speed 15 --x-max-accel 2000";
+const OCT: &str = "--sides 8 --inscribed-radius 20 --x-max-speed 12 --x-max-accel 2000";
 
 /// (command line, the flag the error must name: `None` for a clean exit 0)
 fn cases() -> Vec<(String, Option<&'static str>)> {
@@ -99,7 +99,7 @@ fn cases() -> Vec<(String, Option<&'static str>)> {
         c("compensate --cutter-radius 50 --stock-radius 10 --depth 1.5 --ratio 2 --edges 3 --direction same --rpm 100 --x-max-speed 1e-308 --x-max-accel 100".into(), Some("--x-max-speed")),
         c(format!("cam {OCT} --rpm 12 --steps-per-mm 100001"), Some("--steps-per-mm")),
         // m past N cuts in m mod N's order, only slower and coarser
-        c("cam --sides 7 --inscribed-radius 20 --rpm 12 --x-max-speed 15 --x-max-accel 2000 --m 999".into(), Some("--m")),
+        c("cam --sides 7 --inscribed-radius 20 --rpm 12 --x-max-speed 12 --x-max-accel 2000 --m 999".into(), Some("--m")),
         c(format!("cam {OCT} --rpm 12 --m 11"), Some("--m")),
         c(format!("cam {OCT} --rpm -inf"), Some("--rpm")),
         c(format!("cam {OCT} --rpm 12 --x-max-accel -nan"), Some("--x-max-accel")),

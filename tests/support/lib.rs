@@ -4,6 +4,14 @@ use polyturn_host::geometry::{Direction, Setup};
 use polyturn_host::sim::{run, Scenario, SimResult, Start};
 use polyturn_sync::{DriveKind, Ratio};
 
+/// The control tick's rate, the board's (`polyturn_sync::Timing::FIRMWARE`).
+pub const TICK_HZ: u32 = polyturn_sync::Timing::FIRMWARE.tick_hz;
+
+/// Seconds from the start to tick `tick`.
+pub fn seconds(tick: u64) -> f64 {
+    tick as f64 / TICK_HZ as f64
+}
+
 /// R1 = 50, R2 = 10 mm, the reference cutter and stock.
 pub fn setup(ratio: &str, edges: u32, direction: Direction, depth: f64) -> Setup {
     Setup {

@@ -3,12 +3,12 @@
 //! (`polyturn_host::fakeboard`), time passing on a machine model between
 //! commands and while `watch` streams.
 
-use polyturn_host::fakeboard::{FakeDevice, Machine};
+use polyturn_host::fakeboard::{ticks_in_ms, FakeDevice, Machine};
 use std::io::Write;
 use wasm_bindgen::prelude::*;
 
-/// Control ticks (25 kHz) that pass before each command: 10 ms.
-const TICKS_PER_LINE: usize = 250;
+/// Control ticks that pass before each command: 10 ms.
+const TICKS_PER_LINE: usize = ticks_in_ms(10);
 
 #[wasm_bindgen]
 pub struct FakeBoard {
@@ -50,13 +50,13 @@ impl FakeBoard {
         self.dev.watch_line()
     }
 
-    /// The lathe's speed when it turns, in thousandths of a count per
-    /// control tick, and how many ticks pass before each command (the
-    /// encoder check needs 1.2 s of rest and a turn: 60 000 ticks).
-    pub fn set_machine(&mut self, counts_per_tick_x1000: i32, ticks_per_line: u32) {
+    /// The lathe's speed when it turns by hand, counts/s
+    /// (`Machine::turn_by_hand`), and the time that passes before each
+    /// command, ms (the encoder check needs 1.2 s of rest and a turn).
+    pub fn set_machine(&mut self, counts_per_s: u32, ms_per_line: u32) {
         if let Some(m) = &mut self.dev.machine {
-            m.counts_per_tick_x1000 = i64::from(counts_per_tick_x1000);
-            m.ticks_per_line = ticks_per_line as usize;
+            m.turn_by_hand(counts_per_s);
+            m.ticks_per_line = ticks_in_ms(u64::from(ms_per_line));
         }
     }
 

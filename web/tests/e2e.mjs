@@ -375,13 +375,13 @@ await test('the simulated board\'s lathe turns at the speed set, and engage sync
 });
 
 await test('the encoder check runs on the board and shows its figures', async () => {
-  await page.evaluate(() => window.testBoard.set_machine(300, 60000)); // 3.75 turns after 1.2 s at rest
+  await page.evaluate(() => window.testBoard.set_machine(7500, 2400)); // 3.75 turns after 1.2 s at rest
   await page.click('#check-start');
   await page.waitForFunction(() => document.querySelector('#check-result').textContent.startsWith('ok encoder check started'));
   await page.click('#check-stop');
   await page.waitForFunction(() => / moved=/.test(document.querySelector('#check-result').textContent), null, { timeout: 10000 });
   assert.match(await page.textContent('#check-result'), /moved=9000 backward=0 .*cpr=2400/);
-  await page.evaluate(() => window.testBoard.set_machine(0, 250));
+  await page.evaluate(() => window.testBoard.set_machine(0, 10));
 });
 
 await test('the guided setup sends the settings polyturn device setup derives', async () => {
@@ -421,7 +421,7 @@ await test('the guided setup sets a BLDC cutter from its drive, its encoder and 
 
 await test('a cam table from polyturn cam uploads through the console', async () => {
   const table = join(TMP, 'cam.json');
-  execFileSync(POLYTURN, ['cam', '--sides', '4', '--inscribed-radius', '10', '--rpm', '60', '--x-max-speed', '15', '--x-max-accel', '5000', '--encoder-counts', '2000', '--table', table]);
+  execFileSync(POLYTURN, ['cam', '--sides', '4', '--inscribed-radius', '10', '--rpm', '60', '--x-max-speed', '12', '--x-max-accel', '5000', '--encoder-counts', '2000', '--table', table]);
   await page.setInputFiles('#cam-file', table);
   await page.click('#cam-upload');
   await page.waitForFunction(() => /^(uploaded|error)/.test(document.querySelector('#cam-result').textContent), null, { timeout: 30000 });

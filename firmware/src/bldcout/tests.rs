@@ -1,7 +1,7 @@
 use super::*;
 
-/// The default full scale: 200 kHz at 25 kHz, Q16.
-const MAX: i64 = 524_288;
+/// The default full scale: max-rate 200 kHz, Q16 counts a tick.
+const MAX: i64 = (200_000 << 16) / crate::board::TICK_HZ as i64;
 
 fn out(name: &str) -> Out {
     Out::new(&Config::default().with("bldc-out", name).unwrap(), MAX)
@@ -55,14 +55,15 @@ fn the_scale_rounds_so_full_speed_is_full_scale_for_any_max_rate() {
 #[test]
 fn anything_but_a_running_drive_the_wired_way_gets_the_stop() {
     let o = out("esc50");
-    assert_eq!(o.command(true, 262_144, true), 1_500);
-    assert_eq!(o.command(false, 262_144, true), 1_000, "halted, disabled, another drive");
+    let half = (MAX / 2) as i32;
+    assert_eq!(o.command(true, half, true), 1_500);
+    assert_eq!(o.command(false, half, true), 1_000, "halted, disabled, another drive");
     // dir same: forward is positive; dir opposite: negative
-    assert_eq!(o.command(true, -262_144, true), 1_000);
-    assert_eq!(o.command(true, -262_144, false), 1_500);
-    assert_eq!(o.command(true, 262_144, false), 1_000);
+    assert_eq!(o.command(true, -half, true), 1_000);
+    assert_eq!(o.command(true, -half, false), 1_500);
+    assert_eq!(o.command(true, half, false), 1_000);
     assert_eq!(o.command(true, 0, true), 1_000);
-    assert_eq!(out("pwm").command(true, -262_144, true), 0, "a PWM's stop is no pulse");
+    assert_eq!(out("pwm").command(true, -half, true), 0, "a PWM's stop is no pulse");
 }
 
 #[test]

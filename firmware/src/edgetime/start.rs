@@ -4,10 +4,11 @@
 //! * the count in state (A, B) = (0, 0) (`low_low`), from TIM3's count and
 //!   the A and B pins read together;
 //! * the stamp of the first tick's instant (`start_tick`): TIM11 (PSC 0,
-//!   ARR 3 839, CNT 0) is started right after TIM5's count turns to a new
-//!   value S, so its first update, the first tick's instant, is 3 840
-//!   cycles = `STAMPS_PER_TICK` stamps later, at S + 40 (within the few
-//!   cycles between TIM5's step and the CEN write, a fraction of a stamp);
+//!   ARR a tick's cycles less one, CNT 0) is started right after TIM5's
+//!   count turns to a new value S, so its first update, the first tick's
+//!   instant, is a tick (`TICK_CYCLES`) = `STAMPS_PER_TICK` stamps later,
+//!   at S + `STAMPS_PER_TICK` (within the few cycles between TIM5's step
+//!   and the CEN write, a fraction of a stamp);
 //! * after ticks were lost (a flash erase stalls the CPU, and the core drops
 //!   its edge clock), the stamp of the next tick the core runs
 //!   (`next_instant`), with TIM11 running: both timers count the same
@@ -104,18 +105,19 @@ pub fn start_tick(bus: &mut impl Bus) -> Option<u16> {
     None
 }
 
-/// TIM11's and TIM5's cycles: a tick (3 840) and a stamp (96).
-const TICK_CYCLES: u32 = crate::clocks::CLOCKS.apb2_timer_hz() / crate::board::TICK_HZ;
-const STAMP_CYCLES: u32 = super::TIM5_CLOCK_HZ / super::STAMP_HZ;
+/// TIM11's and TIM5's cycles: a tick (4 800 at 20 kHz) and a stamp (96).
+pub(super) const TICK_CYCLES: u32 = crate::clocks::CLOCKS.apb2_timer_hz() / crate::board::TICK_HZ;
+pub(super) const STAMP_CYCLES: u32 = super::TIM5_CLOCK_HZ / super::STAMP_HZ;
 /// TIM11_SR.UIF (§14.5.3): an update the tick has not answered yet.
 const UIF: u32 = crate::regs::fields::sr::UIF.mask();
 
 /// The stamp of the instant of the next tick the core runs, TIM11 running
 /// (under the tick's lock: no tick comes in between). Right after TIM5
-/// steps to S, TIM11's count c says its next update is 3 840 − c cycles on,
-/// which rounds to a whole number of stamps (the updates trail TIM5's steps
-/// by the few cycles `start_tick` left, the reads by a few more): S plus
-/// that. If UIF is set, a tick is pending, for the update before: 40 less.
+/// steps to S, TIM11's count c says its next update is `TICK_CYCLES` − c
+/// cycles on, which rounds to a whole number of stamps (the updates trail
+/// TIM5's steps by the few cycles `start_tick` left, the reads by a few
+/// more): S plus that. If UIF is set, a tick is pending, for the update
+/// before: `STAMPS_PER_TICK` less.
 /// TIM11's count read on both sides of UIF, and TIM5's again, tell an
 /// update or a stamp that came in between: another try; `None` after
 /// `SYNC_TRIES`, or if TIM5 does not step.

@@ -1,6 +1,6 @@
 //! The start's measurements (`start`) against the scripted bus of `tests`.
 
-use super::start::{self, low_low, start_tick, PARITY_TRIES, TICK_REWIND, TICK_START};
+use super::start::{self, low_low, start_tick, PARITY_TRIES, STAMP_CYCLES, TICK_CYCLES, TICK_REWIND, TICK_START};
 use super::tests::{Script, CNT3, CNT5};
 use super::*;
 use polyturn_sync::edges::EdgeClock;
@@ -49,7 +49,8 @@ fn the_tick_starts_right_after_tim5_steps() {
     assert_eq!(bus.writes(), [TICK_START]);
     let cen = bus.log.iter().position(|l| l.0 == 'w').unwrap();
     assert_eq!(bus.log[cen - 1], ('r', CNT5, 8), "CEN written right after the step is seen");
-    assert_eq!(start::clock(0xFFF0, 1).first_instant, 0x0018, "S + 40, wrapping");
+    assert_eq!(start::clock(0xFFF0, 1).first_instant, 0xFFF0u16.wrapping_add(STAMPS_PER_TICK), "S + a tick, wrapping");
+    assert!(0xFFF0 + STAMPS_PER_TICK as u32 > 0xFFFF, "the sum wraps");
 }
 
 #[test]
@@ -73,25 +74,36 @@ fn a_stopped_tim5_still_starts_the_tick_untimed() {
 const CNT11: u32 = TIM11 + off::CNT;
 const SR11: u32 = TIM11 + off::SR;
 
+/// The stamp `cycles` of TIM11 from now falls on, after TIM5 stepped to
+/// `s`: a tick's cycles are a whole number of stamps, and a count 0.4 of a
+/// stamp past one (the update trails TIM5's step by a few cycles) rounds up.
+fn stamp_in(s: u16, cycles: u32) -> u16 {
+    s + ((cycles + STAMP_CYCLES / 2) / STAMP_CYCLES) as u16
+}
+
 #[test]
 fn the_next_instant_is_the_stamp_tim11s_count_says_its_update_falls_on() {
-    // TIM5 steps to 8 with TIM11 at 1 000: 2 840 cycles to go, 29.6 stamps
-    // (the update trails TIM5's step by a few cycles): 30, at 38
+    // TIM5 steps to 8 with TIM11 at 1 000: a tick less 1 000 cycles to go,
+    // (at 4 800 a tick: 3 800 cycles, 39.6 stamps: 40, at 48)
+    assert_eq!(TICK_CYCLES % STAMP_CYCLES, 0);
     let mut bus = Script::default().with(CNT5, &[7, 8]).with(CNT11, &[1_000, 1_003]).with(SR11, &[0]);
-    assert_eq!(start::next_instant(&mut bus), Some(38));
+    let at = stamp_in(8, TICK_CYCLES - 1_000);
+    assert_eq!(at, 8 + STAMPS_PER_TICK - 10, "1 000 cycles is 10.4 stamps");
+    assert_eq!(start::next_instant(&mut bus), Some(at));
     assert!(bus.writes().is_empty(), "TIM11 runs on untouched");
-    // a tick pending (UIF): its update, 40 stamps before, comes first
+    // a tick pending (UIF): its update, a tick's stamps before, comes first
     let mut pending = Script::default().with(CNT5, &[7, 8]).with(CNT11, &[1_000, 1_003]).with(SR11, &[1]);
-    assert_eq!(start::next_instant(&mut pending), Some(65_534));
+    assert_eq!(start::next_instant(&mut pending), Some(65_534), "8 less 10");
 }
 
 #[test]
 fn an_update_between_the_reads_is_measured_again() {
-    let reads = [3_830, 2, 100, 103];
+    let reads = [TICK_CYCLES - 10, 2, 100, 103];
     let mut bus = Script::default().with(CNT5, &[7, 8, 9, 10]).with(CNT11, &reads).with(SR11, &[1, 0]);
     // the first try saw TIM11 wrap around UIF; the second: TIM5 at 10,
-    // TIM11 at 100: 3 740 cycles, 39 stamps
-    assert_eq!(start::next_instant(&mut bus), Some(49));
+    // TIM11 at 100: a tick less 100 cycles, a stamp less
+    assert_eq!(start::next_instant(&mut bus), Some(stamp_in(10, TICK_CYCLES - 100)));
+    assert_eq!(stamp_in(10, TICK_CYCLES - 100), 10 + STAMPS_PER_TICK - 1);
     let mut stopped = Script::default().with(CNT5, &[3]);
     assert_eq!(start::next_instant(&mut stopped), None, "TIM5 still: no clock");
 }

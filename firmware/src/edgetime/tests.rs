@@ -121,5 +121,6 @@ fn a_and_b_are_the_pins_of_the_board() {
     let pin = |s: &str| crate::board::PINS.iter().find(|p| p.signal == s).unwrap().port_and_index();
     assert_eq!(pin("LATHE_A"), ('A', A_PIN as u8));
     assert_eq!(pin("LATHE_B"), ('A', B_PIN as u8));
-    assert_eq!(STAMPS_PER_TICK, 40);
+    // a tick is a whole number of stamps
+    assert_eq!(u32::from(STAMPS_PER_TICK) * TICK_HZ, STAMP_HZ);
 }

@@ -2,7 +2,7 @@ use super::*;
 
 const T: u64 = STAMPS_PER_TICK as u64;
 
-/// The board as a look finds it at real time `r` µs: instants every 40 µs
+/// The board as a look finds it at real time `r` µs: instants every tick
 /// from 0, each tick running `latency` µs after its instant, but the ticks
 /// of `dropped` never running: their update stays pending (UIF) until the
 /// next one's tick answers both. Returns what `next_instant` measures, `skew`
@@ -22,7 +22,7 @@ fn board(r: f64, latency: f64, dropped: &[u64], skew: i64, base: u32) -> (u16, u
 
 #[test]
 fn on_time_nothing_is_lost_wherever_in_a_tick_it_looks() {
-    for latency in [0.6, 3.0, 12.0, 39.0] {
+    for latency in [0.6, 3.0, 12.0, T as f64 - 1.0] {
         let (n0, k0) = board(0.3, latency, &[], 0, 500);
         let mut w = Watch::new(n0, k0);
         // a look every 0.7 µs over 2 000 ticks (the stamps wrap past 65 536)
@@ -36,7 +36,7 @@ fn on_time_nothing_is_lost_wherever_in_a_tick_it_looks() {
 
 #[test]
 fn a_dropped_tick_is_counted_once_at_the_next_look_after_it() {
-    for latency in [0.6, 12.0, 39.0] {
+    for latency in [0.6, 12.0, T as f64 - 1.0] {
         let mut w = Watch::new(board(0.0, latency, &[10], 0, 7).0, 7);
         let mut counted = 0;
         for ms_tenth in 1..(60 * T) {

@@ -16,6 +16,8 @@ use tim10::{out, Tim10, MAX, READINGS};
 
 /// Cycles a TIM10 write takes here (an APB2 write and the code around it).
 const GAP: u64 = 16;
+/// TIM10's cycles (96 MHz) a control tick.
+const TICK_CYCLES: u64 = tim10::HZ / polyturn_firmware::board::TICK_HZ as u64;
 /// Cycles from the E-stop's edge to its first TIM10 write: the exception
 /// entry (12) and TIM1's stop before it.
 const ENTRY: u64 = 20;
@@ -181,7 +183,7 @@ fn a_halt_cuts_the_pulse_at_once() {
 
 #[test]
 fn idle_ticks_leave_the_stop_pulses_whole() {
-    // after a halt, ticks every 40 µs commanding the stop, and halting
+    // after a halt, ticks commanding the stop, and halting
     // again, write nothing: every frame's stop pulse is a whole 1 000 µs
     // (writing the stop each tick would cut each one short)
     for r in READINGS {
@@ -190,13 +192,13 @@ fn idle_ticks_leave_the_stop_pulses_whole() {
         gate.halt(&mut b);
         b.after(frame(&o) - b.now % frame(&o)); // the next frame
         let mut highs = 0;
-        for tick in 0..(3 * frame(&o) / 3_840) {
+        for tick in 0..(3 * frame(&o) / TICK_CYCLES) {
             if tick % 2 == 0 {
                 gate.command(o.stop, gate.stops(), &mut b);
             } else {
                 gate.halt(&mut b);
             }
-            highs += (0..40).filter(|_| b.after(96)).count();
+            highs += (0..TICK_CYCLES / 96).filter(|_| b.after(96)).count();
         }
         assert!((2_997..=3_000).contains(&highs), "{r:?}: three whole stop pulses (to a µs each): {highs} µs");
     }

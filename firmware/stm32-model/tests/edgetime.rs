@@ -16,7 +16,8 @@ use polyturn_sync::edges::{boundary_half_counts, EdgeRegs};
 /// 12 000 counts/s (300 rpm at 2 400 counts): a count every 8 000 cycles,
 /// A rising every 32 000 cycles (333⅓ µs).
 const COUNT_CYCLES: u64 = 8_000;
-const TICK_CYCLES: u64 = 3_840;
+/// TIM11's cycles a tick (APB2's timer clock).
+const TICK_CYCLES: u64 = (polyturn_firmware::clocks::CLOCKS.apb2_timer_hz() / polyturn_firmware::board::TICK_HZ) as u64;
 
 /// A's last rise: its stamp and the counts either side of it.
 #[derive(Clone, Copy)]
@@ -34,7 +35,7 @@ fn tick(b: &mut Board, gate: &mut Gate, t: u64) -> (u16, Option<EdgeRegs>) {
     lathe(*gate, b)
 }
 
-/// 200 counts forward then 200 back, ticking every 40 µs in between: every
+/// 200 counts forward then 200 back, ticking every tick in between: every
 /// tick's pair is A's last rise.
 fn run(capture: EncoderCapture) -> Vec<Rise> {
     let mut b = Board::new(capture);

@@ -14,7 +14,7 @@ pub struct Timing {
 }
 
 impl Timing {
-    /// The board's: 25 kHz tick, 96 MHz timer clock. The firmware's clock
+    /// The board's: 20 kHz tick, 96 MHz timer clock. The firmware's clock
     /// tree (`polyturn_firmware::clocks`) fails to build unless it makes
     /// exactly this; the simulator, the fake board and the page use it.
     pub const FIRMWARE: Timing = Timing { tick_hz: 20_000, step_timer_hz: 96_000_000 };

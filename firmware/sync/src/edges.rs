@@ -34,7 +34,7 @@ pub struct EdgeClock {
     /// the stamp at the instant of the first tick the core runs after
     /// `Controller::start_edges`: a tick's instant is its timer's update
     pub first_instant: u16,
-    /// stamps per tick (40 at 1 MHz and 25 kHz): a whole number, so every
+    /// stamps per tick (50 at 1 MHz and 20 kHz): a whole number, so every
     /// instant falls on a stamp
     pub stamps_per_tick: u16,
     /// the parity of the count in state (A,B) = (0,0)

@@ -3,9 +3,9 @@
 //! measured count, clamped to ±1 count and snapped to 0 at rest, so the
 //! exact gear (not this filter) owns position and nothing can drift.
 //!
-//! Continuous equivalent: K1 = 2^−KP·f, K2 = 2^−KI·f². At f = 25 kHz:
-//! ω_n = 2^−5.5·f ≈ 550 rad/s, ζ ≈ 0.7; the acceleration error a/ω_n² is
-//! ≈ 0.06 count for 5 % once-per-rev ripple at 300 rpm on 2400 counts.
+//! Continuous equivalent: K1 = 2^−KP·f, K2 = 2^−KI·f². At f = 20 kHz:
+//! ω_n = 2^−5.5·f ≈ 440 rad/s, ζ ≈ 0.7; the acceleration error a/ω_n² is
+//! ≈ 0.1 count for 5 % once-per-rev ripple at 300 rpm on 2400 counts.
 
 use fixed::types::I32F32;
 
@@ -14,7 +14,7 @@ const KP: u32 = 4;
 /// Integral shift (K2·T² = 2^−11).
 const KI: u32 = 9;
 /// The shifts on a timed edge's measurement: K1·T = 2^−4, K2·T² = 2^−8,
-/// ω_n·T = 2^−4 (≈ 1 560 rad/s at 25 kHz), ζ = 0.5. Wider than the count's
+/// ω_n·T = 2^−4 (1 250 rad/s at 20 kHz), ζ = 0.5. Wider than the count's
 /// loop: the measurement's noise is the stamp's ±½ µs, not ±½ count. No
 /// wider: at 64 000 steps/s that ±½ µs is 3 % of a step's period, and the
 /// loop's filtering is what keeps the steps' spacing within 1 %
@@ -141,8 +141,11 @@ mod tests {
 
     #[test]
     fn five_percent_ripple_is_tracked_within_a_few_tenths() {
-        // 300 rpm, 2400 counts, 25 kHz: 0.48 counts per tick, ripple once per rev
-        let w = track(|k| 0.48 * (1.0 + 0.05 * (k * core::f64::consts::TAU / 5000.0).sin()), 60_000);
+        // 300 rpm, 2400 counts: 0.6 counts per tick at 20 kHz, ripple once
+        // per rev (4 000 ticks)
+        let hz = crate::Timing::FIRMWARE.tick_hz as f64;
+        let (v, rev) = (12_000.0 / hz, hz / 5.0);
+        let w = track(|k| v * (1.0 + 0.05 * (k * core::f64::consts::TAU / rev).sin()), 60_000);
         assert!(w < 0.3, "worst {w}");
     }
 

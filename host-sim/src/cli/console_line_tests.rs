@@ -5,12 +5,12 @@ use super::*;
 use crate::noncircular::path::Polygon;
 use crate::noncircular::plan::{plan, Axis, Outcome};
 
-/// `polyturn cam --sides 8 --inscribed-radius 20 --rpm 12 --x-max-speed 15
+/// `polyturn cam --sides 8 --inscribed-radius 20 --rpm 12 --x-max-speed 12
 /// --x-max-accel 2000`'s table, at 800 steps/mm.
 fn octagon() -> CamFile {
-    let axis = Axis { rpm: 12.0, max_speed: 15.0, max_accel: 2000.0 };
+    let axis = Axis { rpm: 12.0, max_speed: 12.0, max_accel: 2000.0 };
     let Outcome::Sharp(path, _) = plan(Polygon { sides: 8, apothem_mm: 20.0 }, 3, axis) else { panic!("sharp") };
-    crate::noncircular::table::build(&path, 2400, 800.0, (12_000, 1_600_000))
+    crate::noncircular::table::build(&path, 2400, 800.0, (9_600, 1_600_000))
 }
 
 fn checked(t: &CamFile) -> Result<CamFile, String> {
@@ -56,8 +56,10 @@ fn an_encoder_or_an_x_axis_the_board_refuses_is_refused_here() {
         e,
         "upload-cam: 't.json' is refused: counts_per_rev must be 4..=1000000 counts per lathe rev (the console's cpr; got 0)"
     );
-    for (rate, accel) in [(0, 1_000), (12_501, 1_000), (12_000, 0)] {
+    let top = polyturn_sync::cam_upload::X_MAX_RATE_HZ;
+    for (rate, accel) in [(0, 1_000), (top + 1, 1_000), (top, 0)] {
         let e = checked(&CamFile { max_rate_hz: rate, max_accel: accel, ..octagon() }).unwrap_err();
-        assert!(e.ends_with("cam max-rate must be 1..=12500 steps/s (one X step per two ticks), max-accel > 0"), "{e}");
+        let want = format!("cam max-rate must be 1..={top} steps/s (one X step per two ticks), max-accel > 0");
+        assert!(e.ends_with(&want), "{e}");
     }
 }

@@ -41,7 +41,7 @@ fn each_idea_has_one_documented_flag_on_every_command() {
 
 #[test]
 fn the_old_spellings_still_work_as_hidden_aliases() {
-    let cam = "cam --sides 8 --inscribed-radius 20 --x-max-speed 15 --x-max-accel 2000 --rpm 12";
+    let cam = "cam --sides 8 --inscribed-radius 20 --x-max-speed 12 --x-max-accel 2000 --rpm 12";
     assert_eq!(run(&format!("{cam} --encoder-counts 2000")), run(&format!("{cam} --encoder-cpr 2000")));
     assert!(run(&format!("{cam} --encoder-counts 4")).unwrap_err().starts_with("--encoder-cpr "));
     #[derive(Parser)]

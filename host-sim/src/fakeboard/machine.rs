@@ -12,8 +12,17 @@ use std::f64::consts::TAU;
 
 use crate::sim::lathe::{Lathe, LatheProfile, Leg};
 
-/// The control tick's rate (the firmware's 25 kHz).
-const TICK_HZ: f64 = 25_000.0;
+/// The control tick's rate (the firmware's).
+pub const TICK_HZ: u32 = polyturn_sync::Timing::FIRMWARE.tick_hz;
+
+/// Control ticks in `ms` milliseconds of the board.
+pub const fn ticks_in_ms(ms: u64) -> usize {
+    (ms * TICK_HZ as u64 / 1_000) as usize
+}
+
+/// The machinist's hand rests this long on the chuck before turning it for
+/// the encoder check.
+const HAND_RESTS_TICKS: usize = ticks_in_ms(1_200);
 
 /// How fast the spindle reaches a new set speed: a lathe's motor takes
 /// about a second to reach 600 rpm, so the sync core sees a ramp, not a jump.
@@ -28,8 +37,8 @@ struct Spindle {
     from_milli: i64,
 }
 
-/// TIM9 cycles per control tick (25 kHz).
-const CYCLES_PER_TICK: u64 = TIMER_HZ as u64 / 25_000;
+/// TIM9 cycles per control tick.
+const CYCLES_PER_TICK: u64 = (TIMER_HZ / TICK_HZ) as u64;
 
 /// The self-test's generator, jumpered to the lathe input: the
 /// controller's run it plays, the player, and TIM9's cycles so far.
@@ -42,13 +51,14 @@ struct Jumpered {
 pub struct Machine {
     /// control ticks that pass before each command line is handled
     pub ticks_per_line: usize,
-    /// lathe speed, counts per tick (hand turning: a fraction of one)
-    pub counts_per_tick_x1000: i64,
+    /// the hand's speed on the chuck, thousandths of a count a tick
+    /// (`turn_by_hand`)
+    counts_per_tick_x1000: i64,
     /// the encoder's real counts per turn (its index comes once a turn)
     pub cpr: i64,
     /// the machinist's hand on the chuck: before the line that ends an
-    /// encoder check, the lathe rests 1.2 s and then turns at
-    /// `counts_per_tick_x1000`; at any other time it rests
+    /// encoder check, the lathe rests 1.2 s and then turns at the hand's
+    /// speed (`turn_by_hand`); at any other time it rests
     pub turn_for_check: bool,
     /// with `turn_for_check`, the ticks before the line that ends the
     /// check, if more than `ticks_per_line`: the machinist's hand takes its
@@ -87,6 +97,13 @@ impl Machine {
         }
     }
 
+    /// The machinist's hand turns the lathe at `counts_per_s` (forward; 0
+    /// rests it), in whole thousandths of a count a control tick: a speed
+    /// between two is rounded down.
+    pub fn turn_by_hand(&mut self, counts_per_s: u32) {
+        self.counts_per_tick_x1000 = i64::from(counts_per_s) * 1_000 / i64::from(TICK_HZ);
+    }
+
     pub fn run(&mut self, ctl: &mut Controller, line: &str) {
         let checking = self.turn_for_check && line.contains("check-encoder stop");
         let n = if checking { self.ticks_per_line.max(self.check_ticks) } else { self.ticks_per_line };
@@ -118,7 +135,7 @@ impl Machine {
     /// when no speed is set (the lathe rests or turns by hand).
     fn spindle_tick(&mut self) -> Option<i64> {
         let s = self.spindle.as_mut()?;
-        s.lathe.advance(1.0 / TICK_HZ);
+        s.lathe.advance(1.0 / TICK_HZ as f64);
         let at = s.from_milli + (s.lathe.angle / TAU * self.cpr as f64 * 1000.0).round() as i64;
         let step = at - self.lathe_milli;
         if s.set_rpm == 0.0 && s.lathe.speed == 0.0 {
@@ -135,7 +152,7 @@ impl Machine {
     fn ticks(&mut self, ctl: &mut Controller, ticks: usize, checking: bool) {
         for i in 0..ticks {
             let before = self.lathe_milli / 1000;
-            let turning = !self.turn_for_check || (checking && i >= 30_000);
+            let turning = !self.turn_for_check || (checking && i >= HAND_RESTS_TICKS);
             if let Some(step) = self.spindle_tick() {
                 self.lathe_milli += step;
             } else if turning {
@@ -153,7 +170,7 @@ impl Machine {
             self.emitted = self.emitted.wrapping_add(self.pipe[self.t % 2]);
             self.pipe[self.t % 2] = out.plan.count;
             self.t += 1;
-            if self.t.is_multiple_of(25) {
+            if self.t.is_multiple_of(ticks_in_ms(1)) {
                 self.feed_books(ctl);
                 ctl.service();
             }

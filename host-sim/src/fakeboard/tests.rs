@@ -87,7 +87,7 @@ fn a_watch_ends_at_the_next_packet_and_a_packet_of_line_ends_does_not_end_it() {
 /// `status`'s fields as (name, value) after `ticks` pass on the machine.
 fn status_after(dev: &mut FakeDevice, seconds: f64) -> std::collections::HashMap<String, String> {
     let m = dev.machine.as_mut().unwrap();
-    m.pass(&mut dev.ctl, (seconds * 25_000.0) as usize);
+    m.pass(&mut dev.ctl, (seconds * TICK_HZ as f64) as usize);
     let line = replies(dev, b"status\n");
     line.split_whitespace().filter_map(|kv| kv.split_once('=')).map(|(k, v)| (k.into(), v.into())).collect()
 }
@@ -95,7 +95,7 @@ fn status_after(dev: &mut FakeDevice, seconds: f64) -> std::collections::HashMap
 #[test]
 fn a_lathe_set_turning_ramps_to_its_speed_and_the_cutter_syncs_to_it() {
     let mut dev = FakeDevice::new();
-    dev.machine = Some(Machine::new(250));
+    dev.machine = Some(Machine::new(ticks_in_ms(10)));
     dev.machine.as_mut().unwrap().set_lathe_rpm(600.0);
     let s = status_after(&mut dev, 0.5);
     let half: f64 = s["lathe_rpm"].parse().unwrap();

@@ -72,7 +72,7 @@ fn timing(config: &Config) -> StepTiming {
 pub fn steady(rate_millihz: u64, ticks: u64, isr: Isr, params: Params) -> Outcome {
     let t = timing(&Config::default());
     // the command at tick boundary j, Q16 steps (exact integer ramp)
-    let q = |j: u64| ((j as u128 * rate_millihz as u128 * 65_536) / (25_000 * 1_000)) as i64;
+    let q = |j: u64| ((j as u128 * rate_millihz as u128 * 65_536) / (TIMING.tick_hz as u128 * 1_000)) as i64;
     let mut rig = Rig::new(params, isr);
     let (mut books, mut ok) = (StepPipe::default(), true);
     books.start(0);
@@ -123,7 +123,7 @@ pub fn lathe(
     let mut latches = Latches::new(rig.tick_start(0));
     let _ = ctl.engage();
     let scale = ctl.derived().scale;
-    let ticks = (seconds * 25_000.0) as u64;
+    let ticks = (seconds * TIMING.tick_hz as f64) as u64;
     let (mut faults, mut last_state) = (Vec::new(), ctl.state());
     let mut target = Turns::default();
     let mut commanded = Turns::default();

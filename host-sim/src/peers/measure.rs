@@ -2,7 +2,7 @@
 //! after `sim::stepper`'s (it passes through the middle of each step at
 //! the step's instant, straight between two steps' middles, and sits on
 //! its step when the next is over 2 ms away), read at every polyturn tick
-//! (40 µs) against the exact gear. Read between ticks, a burst's peak can
+//! (50 µs) against the exact gear. Read between ticks, a burst's peak can
 //! fall between two readings: that flatters the bursty peers.
 //!
 //! The rotor follows every pulse: no stall is modelled (the simulator's

@@ -1,5 +1,5 @@
 //! One lathe trace for every controller: the simulator's lathe and
-//! encoder stepped every µs; polyturn's real core ticked every 40 µs with
+//! encoder stepped every µs; polyturn's real core ticked every tick with
 //! the count and the edge registers the board latches (as `sim::run`),
 //! Clough42 every 5 µs, nanoELS every loop pass, Didge at each edge's
 //! time (interpolated within the µs). Each leaves its step times.
@@ -13,8 +13,9 @@ use std::collections::VecDeque;
 use std::f64::consts::TAU;
 
 const DT: f64 = 1e-6;
-/// µs a polyturn tick (25 kHz) and its step timer's clock.
-const TICK_US: u64 = 40;
+/// µs a polyturn tick (50 at 20 kHz) and its step timer's clock.
+const TICK_US: u64 = 1_000_000 / Timing::FIRMWARE.tick_hz as u64;
+const _: () = assert!(1_000_000 % Timing::FIRMWARE.tick_hz == 0, "a tick is a whole number of µs");
 const TIMER_HZ: f64 = Timing::FIRMWARE.step_timer_hz as f64;
 
 /// A measuring instant (every polyturn tick).

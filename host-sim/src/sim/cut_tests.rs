@@ -36,7 +36,7 @@ fn a_perfect_cutter_cuts_the_ideal_section_at_any_speed() {
         };
         let revs = setup.pattern().1 as f64 + 0.5;
         for rpm in [60.0, 600.0, 1000.0, 2000.0] {
-            let dev = perfect_cut(&setup, rpm, 25_000.0, revs);
+            let dev = perfect_cut(&setup, rpm, polyturn_sync::Timing::FIRMWARE.tick_hz as f64, revs);
             assert!(dev < 1e-3, "{ratio} x {edges} {dir:?} at {rpm} rpm: {dev} mm");
         }
     }

@@ -122,11 +122,11 @@ mod tests {
 
     #[test]
     fn too_fast_a_command_stalls_the_rotor_but_the_pulses_count() {
-        // 4 steps per 40 µs tick is 100 kHz, ten times what it can follow.
+        // 4 steps per 50 µs tick is 80 kHz, eight times what it can follow.
         let mut s = Stepper::new(10_000.0, 1e12, 0.0, 0);
         let plan = StepPlan { count: 4, dir: Dir::Forward, first: 100, period: 900, ..StepPlan::default() };
         for k in 0..100 {
-            s.execute(&plan, k as f64 * 40e-6, 40e-6, 100e6, false);
+            s.execute(&plan, k as f64 * 50e-6, 50e-6, 100e6, false);
         }
         assert!(s.stalled);
         assert_eq!(s.pulses, 400);

@@ -3,7 +3,6 @@
 import { shared, setupFlags, fields, dl, fixed } from './polyturn.js';
 
 let worker;
-const TICK_HZ = 25000; // the sync core's control tick, as `polyturn simulate` runs it
 
 export function init() {
   const form = document.getElementById('sim-form');
@@ -49,6 +48,7 @@ function start(form) {
       return;
     }
     const r = JSON.parse(e.data.out);
+    const hz = r.tick_hz; // the control tick `polyturn simulate` ran, the board's
     status.textContent = `done: ${form.elements.revolutions.value} lathe turns at ${form.elements.rpm.value} rpm`;
     const el = document.getElementById('sim-figures');
     el.dataset.json = e.data.out;
@@ -59,8 +59,8 @@ function start(form) {
       ['worst while cutting', `${fixed(r.max_error_steps_cutting, 2)} steps`],
       ['worst section deviation', `${fixed(r.max_profile_deviation * 1000, 2)} µm`],
       ['final error at rest', `${r.final_error_steps} steps`],
-      ['faults', r.faults.length ? r.faults.map((f) => `${f.kind} at ${fixed(f.tick / TICK_HZ, 3)} s: ${f.reason}`).join('; ') : 'none'],
-      ['motor steps / encoder counts', `${r.steps_emitted} steps / ${r.encoder_counts} counts in ${fixed(r.ticks / TICK_HZ, 2)} s`],
+      ['faults', r.faults.length ? r.faults.map((f) => `${f.kind} at ${fixed(f.tick / hz, 3)} s: ${f.reason}`).join('; ') : 'none'],
+      ['motor steps / encoder counts', `${r.steps_emitted} steps / ${r.encoder_counts} counts in ${fixed(r.ticks / hz, 2)} s`],
     ]);
     document.getElementById('sim-svg').innerHTML = e.data.svg;
     document.getElementById('sim-explain').hidden = false;

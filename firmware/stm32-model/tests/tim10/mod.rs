@@ -11,8 +11,8 @@ use polyturn_stm32_model::PreloadClear;
 use polyturn_sync::Config;
 
 pub const HZ: u64 = 96_000_000;
-/// The core's default full scale, Q16 counts per tick.
-pub const MAX: i64 = 524_288;
+/// The core's default full scale (max-rate 200 kHz), Q16 counts per tick.
+pub const MAX: i64 = (200_000 << 16) / polyturn_firmware::board::TICK_HZ as i64;
 pub const READINGS: [PreloadClear; 2] = [PreloadClear::AtOnce, PreloadClear::Stays];
 
 pub struct Tim10 {

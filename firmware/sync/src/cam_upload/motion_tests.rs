@@ -6,13 +6,13 @@ use std::format;
 use std::vec::Vec;
 
 /// A header for `points` over one turn of a 2 400-count encoder, its X
-/// axis at the board's 12 500 steps/s and 10^6 steps/s².
+/// axis at the board's top rate (`X_MAX_RATE_HZ`) and 10^6 steps/s².
 fn header(points: usize) -> CamHeader {
     CamHeader {
         points: points as u32,
         period_counts: 2_400,
         counts_per_rev: 2_400,
-        max_rate_hz: 12_500,
+        max_rate_hz: X_MAX_RATE_HZ,
         max_accel: 1_000_000,
     }
 }
@@ -38,10 +38,10 @@ fn a_jump_between_neighbours_no_x_axis_can_make_is_refused_with_its_figures() {
     let e = check(&header(1024), &points).unwrap_err();
     let apart = (points[500] - points[499]).max(points[500] - points[501]) as u32;
     let needs_hz = ((apart as u64 - 1) * 1024).div_ceil(60);
-    assert_eq!(e, MotionError::Rate { apart, needs_hz, max_hz: 12_500 });
+    assert_eq!(e, MotionError::Rate { apart, needs_hz, max_hz: X_MAX_RATE_HZ });
     assert_eq!(
         format!("{e}"),
-        format!("cam table: neighbouring points {apart} steps apart need {needs_hz} X steps/s at 1 lathe rpm, beyond its max-rate 12500 steps/s (a table must be followed at 1 rpm or faster)")
+        format!("cam table: neighbouring points {apart} steps apart need {needs_hz} X steps/s at 1 lathe rpm, beyond its max-rate {X_MAX_RATE_HZ} steps/s (a table must be followed at 1 rpm or faster)")
     );
     assert_eq!(check_table(&header(1024), &points), Err(TableRefusal::Motion(e)));
     let leaked: &'static [i32] = Vec::leak(points);

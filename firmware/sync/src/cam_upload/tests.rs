@@ -9,10 +9,10 @@ fn lines(points: &[i32], crc_delta: u32) -> Vec<String> {
         points: points.len() as u32,
         period_counts: 900,
         counts_per_rev: 2400,
-        max_rate_hz: 12_000,
+        max_rate_hz: 9_600,
         max_accel: 1_600_000,
     };
-    let mut out = std::vec![format!("begin {} 900 2400 12000 1600000", points.len())];
+    let mut out = std::vec![format!("begin {} 900 2400 9600 1600000", points.len())];
     for (i, chunk) in points.chunks(8).enumerate() {
         let vals: Vec<String> = chunk.iter().map(|v| format!("{v}")).collect();
         out.push(format!("data {} {}", i * 8, vals.join(" ")));

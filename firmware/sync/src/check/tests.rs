@@ -3,8 +3,8 @@ use std::vec;
 use std::vec::Vec;
 
 const CPR: i64 = 2400;
-/// a 25 kHz tick: 25 ticks a millisecond
-const MS: u64 = 25;
+/// the board's ticks a millisecond
+const MS: u64 = crate::Timing::FIRMWARE.tick_hz as u64 / 1_000;
 
 /// A hand-turned lathe: position (counts) at each millisecond, and an
 /// index latched at every multiple of `cpr` the count crosses upward (the

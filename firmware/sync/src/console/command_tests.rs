@@ -11,6 +11,11 @@ fn ctl() -> Controller {
     c
 }
 
+/// The ticks in `ms` milliseconds.
+fn ms(ms: u32) -> u32 {
+    ms * Timing::FIRMWARE.tick_hz / 1_000
+}
+
 fn say(c: &mut Controller, line: &str) -> (std::string::String, Action) {
     let (r, a) = handle(line.as_bytes(), c);
     (r.as_str().into(), a)
@@ -132,13 +137,15 @@ fn watch_streams_the_status_line() {
 #[test]
 fn the_status_line_shows_the_measured_speeds() {
     let mut c = ctl();
-    // one count a tick: 625 rpm on 2400 counts at 25 kHz, the cutter at 2:1
+    // one count a tick on 2400 counts (500 rpm at 20 kHz), the cutter at 2:1
+    let lathe_rpm = Timing::FIRMWARE.tick_hz as f64 * 60.0 / 2_400.0;
     for t in 1..=5_000u32 {
         c.tick(&TickInput { lathe: t as u16, ..TickInput::default() });
     }
     let s = say(&mut c, "status").0;
     // idle: the cutter stands, whatever the lathe does
-    assert!(s.starts_with("ok state=idle fault=none lathe_rpm=625.0 cutter_rpm=0.0 phase_err_steps="), "{s}");
+    let idle = std::format!("ok state=idle fault=none lathe_rpm={lathe_rpm:.1} cutter_rpm=0.0 phase_err_steps=");
+    assert!(s.starts_with(&idle), "{s}");
     assert!(s.ends_with(" target=13333 cutter=0 indexed=no"), "5000 × 8/3 = 13333.3: {s}");
     c.engage().unwrap();
     // a step output that makes each plan's pulses two ticks on (`steps::pipe`)
@@ -151,7 +158,7 @@ fn the_status_line_shows_the_measured_speeds() {
     }
     let s = say(&mut c, "status").0;
     let rpm: f64 = s.split(" cutter_rpm=").nth(1).and_then(|r| r.split(' ').next()).unwrap().parse().unwrap();
-    assert!(s.starts_with("ok state=synced ") && (rpm - 1250.0).abs() <= 0.1, "synced at 2:1: {s}");
+    assert!(s.starts_with("ok state=synced ") && (rpm - 2.0 * lathe_rpm).abs() <= 0.1, "synced at 2:1: {s}");
 }
 
 #[test]
@@ -188,7 +195,7 @@ fn save_is_refused_while_the_lathe_turns() {
         ("error: stop the lathe first: its encoder counted 0 ms ago (at rest after 100 ms without a count): saving pauses the controller for up to 2 s".into(), Action::None)
     );
     // 40 ms later, what the board saw then
-    for _ in 0..1_000 {
+    for _ in 0..ms(40) {
         c.tick(&TickInput { lathe: 5_000, ..TickInput::default() });
     }
     assert!(say(&mut c, "save").0.starts_with("error: stop the lathe first: its encoder counted 40 ms ago (at"));
@@ -197,7 +204,7 @@ fn save_is_refused_while_the_lathe_turns() {
         "error: stop the lathe first: its encoder counted 40 ms ago (at rest after 100 ms without a count): jog only with the lathe at rest"
     );
     // 0.1 s without a count: at rest
-    for _ in 0..1_500 {
+    for _ in 0..ms(60) {
         c.tick(&TickInput { lathe: 5_000, ..TickInput::default() });
     }
     assert_eq!(say(&mut c, "save"), ("ok saving".into(), Action::Save));
@@ -211,7 +218,7 @@ fn a_set_with_the_lathe_at_rest_leaves_save_and_jog_free_to_go_at_once() {
     for t in 1..=100u16 {
         c.tick(&TickInput { lathe: t, ..TickInput::default() });
     }
-    for _ in 0..2_500 {
+    for _ in 0..ms(100) {
         c.tick(&TickInput { lathe: 100, ..TickInput::default() });
     }
     assert_eq!(say(&mut c, "set cpr 1000").0, "ok cpr=1000");

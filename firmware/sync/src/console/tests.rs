@@ -198,7 +198,8 @@ fn dfu_is_refused_while_an_encoder_check_or_a_self_test_runs() {
         ("error: a self-test is running: selftest stop first, then unplug its jumpers".into(), Action::None)
     );
     assert!(say(&mut c, "selftest stop").0.starts_with("ok"));
-    for _ in 0..25_000 {
+    // a second on
+    for _ in 0..crate::Timing::FIRMWARE.tick_hz {
         c.tick(&TickInput::default());
     }
     assert_eq!(say(&mut c, "dfu").1, Action::Dfu, "{}", say(&mut c, "status").0);

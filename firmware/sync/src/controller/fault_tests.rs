@@ -5,8 +5,14 @@ use super::rig::{per_tick, Rig};
 use super::*;
 use crate::config::Config;
 
-/// Default settings: 8/3 steps per count, max-rate 200 kHz = 8 steps a
-/// tick at 25 kHz, max-accel 400 000 steps/s² = 41/65536 step a tick².
+/// The control tick's rate.
+const TICK_HZ: u32 = crate::Timing::FIRMWARE.tick_hz;
+/// The default max-rate (200 kHz) in steps a tick: 10 at 20 kHz.
+const MAX_STEPS_PER_TICK: f64 = 200_000.0 / TICK_HZ as f64;
+
+/// Default settings: 8/3 steps per count, max-rate 200 kHz =
+/// `MAX_STEPS_PER_TICK`, max-accel 400 000 steps/s² = 65/65536 step a
+/// tick² at 20 kHz.
 fn synced_at(counts_per_tick: f64) -> Rig {
     let mut r = Rig::new(Config::default());
     r.run(per_tick(counts_per_tick), 5_000); // the speed estimate settles
@@ -17,9 +23,11 @@ fn synced_at(counts_per_tick: f64) -> Rig {
 
 #[test]
 fn a_lathe_speeding_up_past_max_rate_while_engaged_trips_overspeed() {
-    // 4 counts a tick is plausible (max-rpm 1500: 5 a tick), but 4 × 8/3 =
-    // 10.7 steps a tick is more than the motor's 8
+    // 4 counts a tick is plausible (max-rpm 1500: 6 a tick at 20 kHz), but
+    // 4 × 8/3 = 10.7 steps a tick is more than the motor's 10
     let mut r = Rig::new(Config::default());
+    let d = r.c.derived();
+    assert!((4 * 8) << 16 > 3 * d.limits.max_velocity && d.max_counts_per_tick >= 4);
     r.c.engage().unwrap();
     let mut tripped = None;
     for k in 0..5_000 {
@@ -31,7 +39,7 @@ fn a_lathe_speeding_up_past_max_rate_while_engaged_trips_overspeed() {
     }
     let (k, f) = tripped.expect("overspeed");
     assert_eq!(f, Fault::Overspeed);
-    // the estimate passes 3 counts a tick (8 steps) well before it settles
+    // the estimate passes 3.75 counts a tick (10 steps) well before it settles
     assert!(k < 2_000, "after {k} ticks");
 }
 
@@ -42,19 +50,24 @@ fn with_no_cutter_a_fast_lathe_is_no_overspeed() {
     static FLAT: [i32; 2] = [0, 0];
     let mut r = Rig::new(Config { drive: DriveKind::None, ..Config::default() });
     let cam = crate::cam::Cam::new(&FLAT, 2_400).unwrap();
-    r.c.set_x_axis(Some(XAxis::new(cam, crate::follower::Limits::from_rates(12_500, 1_000_000, 25_000)))).unwrap();
+    let limits =
+        crate::follower::Limits::from_rates(crate::cam_upload::X_MAX_RATE_HZ.into(), 1_000_000, TICK_HZ.into());
+    r.c.set_x_axis(Some(XAxis::new(cam, limits))).unwrap();
     r.c.engage().unwrap();
     r.run(per_tick(4.0), 5_000);
     assert_eq!(r.c.state(), State::Synced);
 }
 
-/// 2400 counts, ratio 1, 18 000 steps: 7.5 steps a count, so one count a
-/// tick needs exactly 15/16 of max-rate's 8 steps a tick.
+/// The motor steps a turn that make one count a tick need exactly 15/16 of
+/// max-rate (2400 counts, ratio 1): 22 500 at 20 kHz, 9.375 steps a count.
+const MARGIN_STEPS: u32 = 2_400 * 15 * (200_000 / TICK_HZ) / 16;
+
+/// 2400 counts, ratio 1, `steps` a turn; max-rpm is one count a tick.
 fn margin_config(steps: u32) -> Config {
     let c = Config {
         ratio: crate::Ratio::new(1, 1).unwrap(),
         motor_steps_per_rev: steps,
-        max_lathe_rpm: 600,
+        max_lathe_rpm: TICK_HZ * 60 / 2_400,
         ..Config::default()
     };
     assert_eq!(c.validate(), Ok(()));
@@ -63,18 +76,18 @@ fn margin_config(steps: u32) -> Config {
 
 #[test]
 fn engage_keeps_a_sixteenth_of_max_rate_in_hand() {
+    assert_eq!(MARGIN_STEPS as f64 / 2_400.0, MAX_STEPS_PER_TICK * 15.0 / 16.0, "a whole number of steps");
     // exactly 15/16 of max-rate: allowed
-    let mut r = Rig::new(margin_config(18_000));
+    let mut r = Rig::new(margin_config(MARGIN_STEPS));
     r.run(per_tick(1.0), 5_000);
     assert_eq!(r.c.engage(), Ok(()));
-    // a step per turn more (7.5004 steps a tick): refused, though the motor
-    // could still follow it
-    let mut r = Rig::new(margin_config(18_001));
+    // a step per turn more: refused, though the motor could still follow it
+    let mut r = Rig::new(margin_config(MARGIN_STEPS + 1));
     r.run(per_tick(1.0), 5_000);
     assert_eq!(r.c.engage(), Err(Refusal::Overspeed));
     // ...and engaged at rest, the same speed is no fault: the margin is for
     // engaging only
-    let mut r = Rig::new(margin_config(18_001));
+    let mut r = Rig::new(margin_config(MARGIN_STEPS + 1));
     r.c.engage().unwrap();
     r.run(per_tick(1.0), 5_000);
     assert!(matches!(r.c.state(), State::Engaging | State::Synced));
@@ -82,17 +95,18 @@ fn engage_keeps_a_sixteenth_of_max_rate_in_hand() {
 
 #[test]
 fn a_lathe_needing_exactly_max_rate_is_no_overspeed() {
-    // 2 steps a count; max-rpm 500 makes 3 counts the most a tick may
-    // bring (500 rpm is 0.8 a tick: +25 % and 2 counts of jitter), and
-    // max-rate 150 000 is 6 steps a tick: 3 counts a tick need all of it.
-    // (The speed estimate overshoots a step in speed, but the target's
-    // speed is taken at most at 3 counts a tick.)
-    for (rate, fault) in [(150_000, None), (149_999, Some(Fault::Overspeed))] {
+    // 2 steps a count; a max-rpm of 0.8 counts a tick (400 rpm at 20 kHz)
+    // makes 3 counts the most a tick may bring (+25 % and 2 counts of
+    // jitter), and a max-rate of 6 steps a tick (120 000 at 20 kHz): 3
+    // counts a tick need all of it. (The speed estimate overshoots a step
+    // in speed, but the target's speed is taken at most at 3 counts a tick.)
+    let six_a_tick = 6 * TICK_HZ;
+    for (rate, fault) in [(six_a_tick, None), (six_a_tick - 1, Some(Fault::Overspeed))] {
         let c = Config {
             ratio: crate::Ratio::new(1, 1).unwrap(),
             motor_steps_per_rev: 4_800,
             max_step_rate_hz: rate,
-            max_lathe_rpm: 500,
+            max_lathe_rpm: TICK_HZ / 50,
             ..Config::default()
         };
         assert_eq!(c.validate(), Ok(()));
@@ -108,15 +122,17 @@ fn a_lathe_needing_exactly_max_rate_is_no_overspeed() {
 
 #[test]
 fn engage_refuses_a_lathe_inside_the_margin_either_way() {
-    // 2.9 counts a tick is 7.73 steps: under max-rate, over 15/16 of it
+    // the counts a tick max-rate follows at 8/3 steps a count (3.75 at 20
+    // kHz); 96 % of that is under max-rate, over 15/16 of it
+    let most = MAX_STEPS_PER_TICK * 3.0 / 8.0;
     for dir in [1.0, -1.0] {
         let mut r = Rig::new(Config::default());
-        r.run(per_tick(2.9 * dir), 5_000);
+        r.run(per_tick(0.96 * most * dir), 5_000);
         assert_eq!(r.c.engage(), Err(Refusal::Overspeed), "{dir}");
     }
-    // 2.7 counts a tick is 7.2 steps: inside the margin
+    // 88 %: inside the margin
     let mut r = Rig::new(Config::default());
-    r.run(per_tick(2.7), 5_000);
+    r.run(per_tick(0.88 * most), 5_000);
     assert_eq!(r.c.engage(), Ok(()));
 }
 
@@ -124,7 +140,7 @@ fn engage_refuses_a_lathe_inside_the_margin_either_way() {
 fn a_ramped_fault_keeps_enable_and_ramps_the_cutter_down_at_max_accel() {
     let mut r = synced_at(0.5);
     let accel = r.c.derived().limits.max_accel;
-    assert_eq!(accel, 41, "400 000 steps/s² at 25 kHz, Q16");
+    assert_eq!(accel, (400_000u64 << 16) as i64 / (TICK_HZ as i64 * TICK_HZ as i64), "400 000 steps/s² a tick², Q16");
     r.c.trip(Fault::FollowingError);
     let mut v = r.c.follower().velocity;
     assert!(v > 10 * accel, "moving: {v}");

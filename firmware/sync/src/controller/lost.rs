@@ -20,8 +20,8 @@
 use super::{Controller, Fault};
 use crate::encoder::Extender;
 
-/// Ticks after ENABLE before the comparison starts: 10 ms at 25 kHz.
-pub const SETTLE_TICKS: u32 = 250;
+/// Ticks after ENABLE before the comparison starts: 10 ms of the board's.
+pub const SETTLE_TICKS: u32 = crate::Timing::FIRMWARE.tick_hz / 100;
 
 /// (No `start`: the first ticks are never energised, so the reference
 /// takes whatever the encoder first reads.)

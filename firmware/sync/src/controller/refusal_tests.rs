@@ -22,7 +22,7 @@ fn engage_with_no_cutter_and_no_cam_is_refused_and_enable_stays_off() {
     assert_eq!(r.c.state(), State::Idle);
     // with a cam table the X axis is something to drive
     static TABLE: [i32; 2] = [0, 0];
-    let x = XAxis::new(Cam::new(&TABLE, 2_400).unwrap(), Limits::from_rates(12_500, 1_000_000, 25_000));
+    let x = XAxis::new(Cam::new(&TABLE, 2_400).unwrap(), super::rig::x_limits(1_000_000));
     r.c.set_x_axis(Some(x)).unwrap();
     assert_eq!(r.c.engage(), Ok(()));
     r.until(0, 1_000, |c| c.state() == State::Synced);

@@ -94,6 +94,13 @@ impl Rig {
     }
 }
 
+/// The board's X axis (`cam_upload::X_MAX_RATE_HZ`, one step per two
+/// ticks) at `accel` steps/s², at the board's tick.
+pub(super) fn x_limits(accel: u64) -> crate::follower::Limits {
+    let tick_hz = Timing::FIRMWARE.tick_hz as u64;
+    crate::follower::Limits::from_rates(crate::cam_upload::X_MAX_RATE_HZ as u64, accel, tick_hz)
+}
+
 /// Q16 counts per tick.
 pub(super) const fn per_tick(counts: f64) -> i64 {
     (counts * 65536.0) as i64

@@ -63,7 +63,7 @@ fn x_rig(sense: Sense) -> Rig {
     static TABLE: [i32; 2] = [0, 1_200];
     let mut r = Rig::new(Config { sense, drive: DriveKind::None, ..Config::default() });
     let cam = crate::cam::Cam::new(&TABLE, 2_400).unwrap();
-    let limits = crate::follower::Limits::from_rates(50_000, 10_000_000, 25_000);
+    let limits = crate::follower::Limits::from_rates(50_000, 10_000_000, Timing::FIRMWARE.tick_hz as u64);
     r.c.set_x_axis(Some(XAxis::new(cam, limits))).unwrap();
     r
 }

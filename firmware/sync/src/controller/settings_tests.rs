@@ -5,7 +5,6 @@ use super::rig::{per_tick, Rig};
 use super::*;
 use crate::cam::Cam;
 use crate::config::Config;
-use crate::follower::Limits;
 
 fn install(r: &mut Rig, name: &str, value: &str) -> Result<(), Refusal> {
     let c = r.c.config().with(name, value).unwrap();
@@ -30,8 +29,7 @@ fn after_a_ramped_fault_has_stopped_the_settings_change_and_not_while_it_ramps()
 fn an_x_axis_stays_fitted_unless_cpr_changes() {
     let table: &'static [i32] = std::vec::Vec::leak(std::vec![0, 10]);
     let mut r = Rig::new(Config::default());
-    r.c.set_x_axis(Some(XAxis::new(Cam::new(table, 2_400).unwrap(), Limits::from_rates(12_500, 1_000_000, 25_000))))
-        .unwrap();
+    r.c.set_x_axis(Some(XAxis::new(Cam::new(table, 2_400).unwrap(), super::rig::x_limits(1_000_000)))).unwrap();
     install(&mut r, "steps", "1600").unwrap();
     assert!(r.c.x_axis().is_some(), "a motor setting keeps the cam");
     install(&mut r, "cpr", "4000").unwrap();

@@ -9,24 +9,30 @@ use crate::config::Config;
 
 #[test]
 fn synced_comes_once_within_half_a_step_not_at_half_a_step() {
-    // 670 steps a turn and a phase of 0.269°: 32 809 / 65536 step (half a
-    // step and 41). Synced at rest, then nudged: the follower starts at
-    // max-accel (41 a tick²), so after one tick it is exactly half a step
-    // short (32 768) at 41 a tick, after two 32 686 short at 82 a tick.
-    let c = Config { motor_steps_per_rev: 670, ..Config::default() };
+    // 668 steps a turn and a phase of 0.270°: 32 833 / 65536 step, half a
+    // step and max-accel (65 a tick² at 20 kHz). Synced at rest, then
+    // nudged: the follower starts at max-accel, so after one tick it is
+    // exactly half a step short (32 768) at 65 a tick, after two 32 638
+    // short at 130 a tick.
+    let c = Config { motor_steps_per_rev: 668, ..Config::default() };
     let mut r = Rig::new(c);
+    let a = r.c.derived().limits.max_accel;
     r.c.engage().unwrap();
     r.tick(0);
     assert_eq!(r.c.state(), State::Synced);
-    r.c.set_config(c.with("phase", "0.269").unwrap()).unwrap();
-    assert_eq!(r.c.derived().phase_offset_q16, 32_809);
+    r.c.set_config(c.with("phase", "0.270").unwrap()).unwrap();
+    assert_eq!(r.c.derived().phase_offset_q16, 32_768 + a, "half a step and max-accel");
     assert_eq!(r.c.state(), State::Engaging);
     r.tick(0);
-    assert_eq!(r.c.follower().velocity, 41);
+    assert_eq!(r.c.follower().velocity, a);
     assert_eq!(r.c.state(), State::Engaging, "exactly half a step off: not yet");
     r.tick(0);
-    assert_eq!(r.c.follower().velocity, 82);
-    assert_eq!(r.c.state(), State::Synced, "closer than half a step, 82 ≤ 4 × 41 off the target's speed");
+    assert_eq!(r.c.follower().velocity, 2 * a);
+    assert_eq!(
+        r.c.state(),
+        State::Synced,
+        "closer than half a step, 2 × max-accel ≤ 4 × max-accel off the target's speed"
+    );
 }
 
 /// A BLDC cutter engaged at rest on count 0 (the follower exactly on its
@@ -85,19 +91,20 @@ fn bldc_steady_mean_error() -> f64 {
     ctl.start(0, 0, 0);
     ctl.engage().unwrap();
     let (mut lathe_milli, mut cutter_q16, mut sum) = (0i64, 0i64, 0i64);
-    for k in 0..75_000i64 {
+    let hz = Timing::FIRMWARE.tick_hz as i64;
+    for k in 0..3 * hz {
         // 1 s from rest to 0.8 counts a tick, then 2 s steady
-        lathe_milli += (k * 800 / 25_000).min(800);
+        lathe_milli += (k * 800 / hz).min(800);
         let (lathe, cutter) = (lathe_milli / 1_000, cutter_q16 >> 16);
         let input = TickInput { lathe: lathe as u16, cutter: cutter as u16, ..TickInput::default() };
         cutter_q16 += ctl.tick(&input).speed_q16 as i64;
-        if k >= 50_000 {
+        if k >= 2 * hz {
             // 8/3 counts of the cutter a lathe count: in thirds of a count
             sum += 8 * lathe - 3 * cutter;
         }
         assert_eq!(ctl.fault(), None, "tick {k}");
     }
-    sum as f64 / 3.0 / 25_000.0
+    sum as f64 / 3.0 / hz as f64
 }
 
 #[test]

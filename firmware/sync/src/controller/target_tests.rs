@@ -15,7 +15,7 @@ fn at_rest_on(config: Config, count: i64) -> Rig {
     for _ in 0..count.abs() {
         r.tick(per_tick(dir as f64));
     }
-    r.run(0, 3_000); // 0.1 s without a count: at rest
+    r.run(0, (Timing::FIRMWARE.tick_hz / 8) as usize); // over 0.1 s without a count: at rest
     assert!(r.c.lathe_at_rest());
     assert_eq!(r.c.status().cutter_steps, 0);
     r
@@ -90,16 +90,19 @@ fn at_a_tie_the_target_is_half_a_step_below_the_rounded_steps() {
 
 #[test]
 fn a_jump_of_max_counts_per_tick_is_plausible_and_one_more_is_not() {
-    // max-rpm 1500 at 2400 counts is 2.4 counts a tick; with 25 % margin
-    // and 2 counts of jitter allowance, 5
+    // max-rpm 1500 at 2400 counts is 3 counts a tick at 20 kHz; with 25 %
+    // margin and 2 counts of jitter allowance, 6
     let mut r = Rig::new(Config::default());
-    r.tick(per_tick(5.0));
-    r.tick(per_tick(-5.0));
+    let most = r.c.derived().max_counts_per_tick as f64;
+    let tick_hz = Timing::FIRMWARE.tick_hz as f64;
+    assert_eq!(most, (1_500.0 * 2_400.0 / 60.0 / tick_hz * 1.25).ceil() + 2.0);
+    r.tick(per_tick(most));
+    r.tick(per_tick(-most));
     assert_eq!(r.c.fault(), None);
-    r.tick(per_tick(6.0));
+    r.tick(per_tick(most + 1.0));
     assert_eq!(r.c.fault(), Some(Fault::EncoderImplausible));
     let mut r = Rig::new(Config::default());
-    r.tick(per_tick(-6.0));
+    r.tick(per_tick(-most - 1.0));
     assert_eq!(r.c.fault(), Some(Fault::EncoderImplausible));
 }
 
@@ -128,8 +131,9 @@ fn the_lathe_is_at_rest_only_after_a_tenth_of_a_second_without_a_count() {
     assert!(r.c.lathe_at_rest(), "before the first tick nothing has moved");
     r.run(per_tick(0.5), 1_000);
     assert!(!r.c.lathe_at_rest(), "turning");
-    // 2500 ticks (0.1 s) without a count
-    r.run(0, 2_498);
+    // a tenth of a second's ticks without a count
+    let tenth = (Timing::FIRMWARE.tick_hz / 10) as usize;
+    r.run(0, tenth - 2);
     assert!(!r.c.lathe_at_rest());
     r.run(0, 2);
     assert!(r.c.lathe_at_rest());

@@ -182,15 +182,17 @@ fn a_jump_no_lathe_can_make_is_not_taken_as_speed() {
 
 #[test]
 fn a_cam_header_is_refused_for_each_limit_alone() {
-    use crate::cam_upload::CamHeader;
-    let ok = CamHeader { points: 4, period_counts: 2400, counts_per_rev: 2400, max_rate_hz: 12_500, max_accel: 1 };
+    use crate::cam_upload::{CamHeader, X_MAX_RATE_HZ};
+    let top = X_MAX_RATE_HZ;
+    assert_eq!(top, Timing::FIRMWARE.tick_hz / 2, "one X step per two ticks");
+    let ok = CamHeader { points: 4, period_counts: 2400, counts_per_rev: 2400, max_rate_hz: top, max_accel: 1 };
     let c = ctl();
-    assert_eq!(c.check_cam(&ok), Ok(()), "12 500 steps/s: one X step per two ticks at 25 kHz");
-    let rate = "cam max-rate must be 1..=12500 steps/s (one X step per two ticks), max-accel > 0";
+    assert_eq!(c.check_cam(&ok), Ok(()));
+    let rate = std::format!("cam max-rate must be 1..={top} steps/s (one X step per two ticks), max-accel > 0");
     for bad in
-        [CamHeader { max_rate_hz: 12_501, ..ok }, CamHeader { max_rate_hz: 0, ..ok }, CamHeader { max_accel: 0, ..ok }]
+        [CamHeader { max_rate_hz: top + 1, ..ok }, CamHeader { max_rate_hz: 0, ..ok }, CamHeader { max_accel: 0, ..ok }]
     {
-        assert_eq!(c.check_cam(&bad), Err(rate), "{bad:?}");
+        assert_eq!(c.check_cam(&bad), Err(rate.as_str()), "{bad:?}");
     }
     let other = CamHeader { counts_per_rev: 4000, ..ok };
     assert_eq!(c.check_cam(&other), Err("cam table made for another cpr: set cpr or remake the table"));

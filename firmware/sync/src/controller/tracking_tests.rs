@@ -42,9 +42,12 @@ fn at_a_steady_speed_the_steps_made_are_the_exact_gear_at_each_windows_end() {
 fn a_bldc_cutter_whose_encoder_stands_still_stalls_after_a_fifth_of_a_second() {
     let mut c = Controller::new(Config { drive: DriveKind::Bldc, ..Config::default() }, Timing::FIRMWARE);
     c.start(0, 0, 0);
-    c.jog(360_000).unwrap(); // a slow turn; the encoder never counts
-                             // stall_ticks is 5000 (0.2 s), counted once the command is a sixteenth
-                             // of max-rate or more (the phase loop's error grows it to that)
+    // a slow turn; the encoder never counts
+    c.jog(360_000).unwrap();
+    // a fifth of a second, counted once the command is a sixteenth of
+    // max-rate or more (the phase loop's error grows it to that)
+    let fifth = Timing::FIRMWARE.tick_hz / 5;
+    assert_eq!(c.derived().stall_ticks, fifth);
     let sixteenth = (c.derived().limits.max_velocity >> 4) as i32;
     let mut judged_from = None;
     for k in 1..40_000 {
@@ -55,7 +58,7 @@ fn a_bldc_cutter_whose_encoder_stands_still_stalls_after_a_fifth_of_a_second() {
         if c.fault().is_some() {
             assert_eq!(c.fault(), Some(Fault::Stall));
             let from = judged_from.expect("a stall with the command under a sixteenth");
-            assert_eq!(k - from, 5_000, "after {k} ticks");
+            assert_eq!(k - from, fifth, "after {k} ticks");
             assert!(out.enable && !out.halt, "a stall ramps down");
             return;
         }

@@ -2,11 +2,10 @@
 //! while the cutter is off, and its following error counts only once
 //! everything is synchronised.
 
-use super::rig::{per_tick, Rig};
+use super::rig::{per_tick, x_limits, Rig};
 use super::*;
 use crate::cam::Cam;
 use crate::config::Config;
-use crate::follower::Limits;
 
 /// A cam that holds X at `steps` whatever the lathe's angle.
 fn fixed_cam(steps: i32) -> Cam {
@@ -16,8 +15,8 @@ fn fixed_cam(steps: i32) -> Cam {
 
 fn with_x(config: Config, cam: Cam) -> Rig {
     let mut r = Rig::new(config);
-    // 12 500 steps/s (0.5 a tick), 1 000 000 steps/s²
-    let x = XAxis::new(cam, Limits::from_rates(12_500, 1_000_000, 25_000));
+    // the board's top rate (0.5 a tick), 1 000 000 steps/s²
+    let x = XAxis::new(cam, x_limits(1_000_000));
     r.c.set_x_axis(Some(x)).unwrap();
     r
 }
@@ -92,7 +91,7 @@ fn an_x_axis_exactly_ferror_behind_is_within_the_limit() {
     // pull, error/16, floors toward −∞): the lag is exactly ferror.
     for (cam, fault) in [(100, None), (99, Some(Fault::FollowingError))] {
         let mut r = Rig::new(Config::default());
-        let x = XAxis::new(fixed_cam(cam), Limits::from_rates(12_500, 50_000_000, 25_000));
+        let x = XAxis::new(fixed_cam(cam), x_limits(50_000_000));
         r.c.set_x_axis(Some(x)).unwrap();
         (r.x_emits, r.x_emitted) = (false, 164);
         r.tick(0);
@@ -111,7 +110,7 @@ fn an_x_axis_exactly_ferror_behind_is_within_the_limit() {
 /// and stops. Returns where the controller believed the X axis was once
 /// fitted, in steps, and the X pulses the run made.
 fn run_cam_once(r: &mut Rig, steps: i32) -> (i64, u16) {
-    r.c.set_x_axis(Some(XAxis::new(fixed_cam(steps), Limits::from_rates(12_500, 1_000_000, 25_000)))).unwrap();
+    r.c.set_x_axis(Some(XAxis::new(fixed_cam(steps), x_limits(1_000_000)))).unwrap();
     r.tick(0); // idle: the X command sits on the X steps counted
     let believed = r.c.x_axis().unwrap().position_q16() >> 16;
     let before = r.x_emitted;

@@ -1,18 +1,26 @@
 //! The BLDC speed loop: feed-forward plus PI on the cutter encoder's phase
 //! error, its output limit, anti-windup, standstill hold and stall check.
-//! Default settings with drive=bldc: max-rate 200 kHz is 8 counts a tick
-//! (524 288 in Q16), so the output limit (1½ × that) is 786 432; a stall
-//! is 5000 ticks (0.2 s) commanded to move with the encoder still.
+//! Default settings with drive=bldc: max-rate 200 kHz is `MAX_Q16` a
+//! tick (10 counts at 20 kHz, 655 360 in Q16), so the output limit is
+//! `UMAX` (1½ × that); a stall is `STALL` ticks (0.2 s) commanded to move
+//! with the encoder still.
 
 use super::*;
 use crate::config::{Config, DriveKind};
 use crate::derived::{Derived, Timing};
 
-const UMAX: i64 = 786_432;
+const TICK_HZ: i64 = Timing::FIRMWARE.tick_hz as i64;
+/// max-rate's default, Q16 counts a tick.
+const MAX_Q16: i64 = (200_000 << 16) / TICK_HZ;
+const UMAX: i64 = MAX_Q16 * 3 / 2;
+/// 0.2 s of ticks.
+const STALL: i64 = TICK_HZ / 5;
+/// The default `bldc-tau` (20 ms), in ticks: the feed-forward's lead.
+const TAU: i64 = TICK_HZ / 50;
 
 fn derived() -> Derived {
     let d = Derived::new(&Config { drive: DriveKind::Bldc, ..Config::default() }, Timing::FIRMWARE);
-    assert_eq!((d.limits.max_velocity, d.stall_ticks), (524_288, 5_000));
+    assert_eq!((d.limits.max_velocity, d.stall_ticks as i64, d.bldc.tau_ticks), (MAX_Q16, STALL, TAU));
     d
 }
 
@@ -81,21 +89,23 @@ fn a_command_against_the_wired_sense_is_0_winds_nothing_up_and_never_stalls() {
 
 #[test]
 fn the_gains_are_the_drives() {
-    // esc50, τ 20 ms (`gains`): the hold 251 ticks, the filter 256 (a
-    // frame is 500); Kv = 500 / 1 014 (126 / 256), τ' 335, ω_c = 32 768 /
-    // 842 = 38, Kp = 38 × 382 / 256 = 56; Ki 56 × 38 / 4 = 532
+    // esc50, τ 20 ms (`gains`) at 20 kHz: the hold 201 ticks, the filter
+    // 256 (a frame is 400); Kv = 400 / 914 (112 / 256), τ' 278, ω_c =
+    // 32 768 / 735 = 44, Kp = 44 × 368 / 256 = 63; Ki 63 × 44 / 4 = 693
+    assert_eq!(TICK_HZ, 20_000, "the figures below are the board's");
     let d = derived();
-    assert_eq!(d.bldc, BldcGains { kp_q16: 56, ki_q32: 532, tau_ticks: 500, kv_q8: 126, rate_shift: 8 });
+    let g = BldcGains { kp_q16: 63, ki_q32: 693, tau_ticks: 400, kv_q8: 112, rate_shift: 8 };
+    assert_eq!(d.bldc, g);
     let mut b = Bldc::default();
     b.command(&moving(0, 0), 0, &d);
     // a step of 100 counts: its rate is 1/256 of it at once
     let e = 100i64 << 16;
     let rate = e >> 8;
-    let want = ((e * 56) >> 16) + ((rate * 126) >> 8) + ((e * 532) >> 32);
+    let want = ((e * g.kp_q16) >> 16) + ((rate * g.kv_q8) >> 8) + ((e * g.ki_q32) >> 32);
     assert_eq!(b.command(&moving(e, 0), 0, &d).0 as i64, want);
     // held: the rate decays by 1/256 a tick, the integral grows
     let rate = rate - (rate >> 8);
-    let want = ((e * 56) >> 16) + ((rate * 126) >> 8) + ((2 * e * 532) >> 32);
+    let want = ((e * g.kp_q16) >> 16) + ((rate * g.kv_q8) >> 8) + ((2 * e * g.ki_q32) >> 32);
     assert_eq!(b.command(&moving(e, 0), 0, &d).0 as i64, want);
 }
 
@@ -105,12 +115,12 @@ fn a_change_of_speed_is_fed_forward_times_the_drives_lag_within_max_accel() {
     let a = d.limits.max_accel;
     let mut b = Bldc::default();
     assert_eq!(b.command(&moving(0, 0), 0, &d).0, 0);
-    // speeding up by half the limit: 500 ticks of it ahead
-    assert_eq!(b.command(&moving(0, a / 2), 0, &d).0 as i64, a / 2 + 500 * (a / 2));
+    // speeding up by half the limit: τ's ticks of it ahead
+    assert_eq!(b.command(&moving(0, a / 2), 0, &d).0 as i64, a / 2 + TAU * (a / 2));
     // steady: only the speed
     assert_eq!(b.command(&moving(0, a / 2), 0, &d).0 as i64, a / 2);
     // a jump (a start rate) counts as the limit, not as one tick's spike
-    assert_eq!(b.command(&moving(0, 100 * a), 0, &d).0 as i64, 100 * a + 500 * a);
+    assert_eq!(b.command(&moving(0, 100 * a), 0, &d).0 as i64, 100 * a + TAU * a);
     assert_eq!(b.command(&moving(0, 0), 0, &d).0 as i64, 0, "slowing to rest");
 }
 
@@ -119,7 +129,7 @@ fn the_command_is_limited_to_one_and_a_half_times_max_rate() {
     for sign in [1, -1] {
         let d = wired(derived(), sign);
         let mut b = Bldc::default();
-        let (u, _) = b.command(&moving(sign * (10_000 << 16), sign * 524_288), 0, &d);
+        let (u, _) = b.command(&moving(sign * (10_000 << 16), sign * MAX_Q16), 0, &d);
         assert_eq!(u as i64, sign * UMAX);
     }
 }
@@ -130,7 +140,7 @@ fn an_error_pushing_a_saturated_command_further_is_not_integrated() {
         let d = wired(stiff(), sign);
         let mut b = Bldc::default();
         for _ in 0..100 {
-            let (u, _) = b.command(&moving(sign * (100 << 16), sign * 524_288), 0, &d);
+            let (u, _) = b.command(&moving(sign * (100 << 16), sign * MAX_Q16), 0, &d);
             assert_eq!(u as i64, sign * UMAX);
         }
         assert_eq!(integral(&mut b, &d), 0, "no wind-up ({sign})");
@@ -149,8 +159,8 @@ fn an_error_pulling_a_saturated_command_back_is_integrated() {
     assert_eq!(integral(&mut b, &d), 391 * 1_024);
     // at full speed and a count ahead, the sum is over the limit, but the
     // error says slow down: the integral unwinds (by 65 536 >> 10 = 64)
-    b.command(&moving(0, 524_288), 0, &d);
-    let (u, _) = b.command(&moving(0, 524_288), 1 << 16, &d);
+    b.command(&moving(0, MAX_Q16), 0, &d);
+    let (u, _) = b.command(&moving(0, MAX_Q16), 1 << 16, &d);
     assert_eq!(u as i64, UMAX);
     assert_eq!(integral(&mut b, &d), 391 * 1_024 - 64);
 }
@@ -177,16 +187,17 @@ fn standing_on_the_commanded_count_the_command_is_zero_and_nothing_integrates() 
 #[test]
 fn a_cutter_still_for_more_than_stall_ticks_while_commanded_to_move_stalls() {
     let d = stiff();
-    // a sixteenth of max-rate (32 768) is enough to expect the encoder to move
+    // a sixteenth of max-rate is enough to expect the encoder to move
+    let v = MAX_Q16 / 16;
     let mut b = Bldc::default();
-    for k in 1..=5_000 {
-        assert_eq!(b.command(&moving(0, 32_768), 0, &d), (32_768, false), "tick {k}");
+    for k in 1..=STALL {
+        assert_eq!(b.command(&moving(0, v), 0, &d), (v as i32, false), "tick {k}");
     }
-    assert_eq!(b.command(&moving(0, 32_768), 0, &d), (32_768, true), "tick 5001");
+    assert_eq!(b.command(&moving(0, v), 0, &d), (v as i32, true), "tick {}", STALL + 1);
     // slower, it is not judged
     let mut b = Bldc::default();
-    for _ in 0..6_000 {
-        assert!(!b.command(&moving(0, 32_767), 0, &d).1);
+    for _ in 0..STALL + 1_000 {
+        assert!(!b.command(&moving(0, v - 1), 0, &d).1);
     }
 }
 
@@ -194,8 +205,9 @@ fn a_cutter_still_for_more_than_stall_ticks_while_commanded_to_move_stalls() {
 fn any_encoder_count_restarts_the_stall_check() {
     let d = stiff();
     let mut b = Bldc::default();
-    for k in 1..=12_000i64 {
-        let cutter = (k / 4_000) << 16; // a count every 4000 ticks
+    let every = STALL * 4 / 5;
+    for k in 1..=3 * every {
+        let cutter = (k / every) << 16; // a count every 4/5 of the stall's ticks
         assert!(!b.command(&moving(cutter, 100_000), cutter, &d).1, "tick {k}");
     }
 }
@@ -204,13 +216,14 @@ fn any_encoder_count_restarts_the_stall_check() {
 fn reset_clears_the_integral_and_the_stall_count() {
     let d = stiff();
     let mut b = Bldc::default();
-    for _ in 0..4_000 {
+    let most = STALL * 4 / 5;
+    for _ in 0..most {
         b.command(&moving(16 << 16, 100_000), 0, &d);
     }
     b.reset();
-    for k in 0..4_000 {
+    for k in 0..most {
         // (no phase error: nothing integrates)
-        assert!(!b.command(&moving(0, 100_000), 0, &d).1, "{k}: 4000 + 4000 ticks, but reset between");
+        assert!(!b.command(&moving(0, 100_000), 0, &d).1, "{k}: more than a stall's ticks, but reset between");
     }
     assert_eq!(integral(&mut b, &d), 0);
 }
@@ -238,5 +251,5 @@ fn after_a_reset_the_next_run_takes_no_rate_or_acceleration_from_the_last() {
     // (which would be a full deceleration, the command clamped to 0), and
     // no rate is left from the old error
     let v = a / 2;
-    assert_eq!(b.command(&moving(0, v), 0, &d).0 as i64, v + 500 * v);
+    assert_eq!(b.command(&moving(0, v), 0, &d).0 as i64, v + TAU * v);
 }

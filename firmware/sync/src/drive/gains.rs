@@ -106,28 +106,32 @@ mod tests {
     use super::*;
     use crate::config::BldcOut;
 
+    /// The board's tick: the figures below are worked out at 20 kHz.
+    const TICK_HZ: u32 = crate::Timing::FIRMWARE.tick_hz;
+
     fn gains(out: &str, tau_ms: &str) -> BldcGains {
+        assert_eq!(TICK_HZ, 20_000, "the figures are the board's");
         let c = Config::default().with("bldc-out", out).unwrap().with("bldc-tau", tau_ms).unwrap();
-        BldcGains::new(&c, 25_000)
+        BldcGains::new(&c, TICK_HZ)
     }
 
     #[test]
     fn a_spindle_driver_at_1_khz_with_2_ms() {
-        // τ 50 ticks; the hold 13 + 1, the filter 16 (a frame is 25
-        // ticks): T = 30; Kv = 50 / 60 (213 / 256); τ' = 12 800 / 469 =
-        // 27; Kp = 32 768 / 57 = 574 (ω_c = 219 rad/s), × 469 / 256 for
-        // the speed feedback = 1 051; Ki = 1 051 × 574 / 4 = 150 818 (the
+        // τ 40 ticks; the hold 10 + 1, the filter 16 (a frame is 20
+        // ticks): T = 27; Kv = 40 / 54 (189 / 256); τ' = 10 240 / 445 =
+        // 23; Kp = 32 768 / 50 = 655 (ω_c = 200 rad/s), × 445 / 256 for
+        // the speed feedback = 1 138; Ki = 1 138 × 655 / 4 = 186 347 (the
         // corner at ω_c / 4)
         let g = gains("pwm", "2");
-        assert_eq!(g, BldcGains { kp_q16: 1_051, ki_q32: 150_818, tau_ticks: 50, kv_q8: 213, rate_shift: 4 });
+        assert_eq!(g, BldcGains { kp_q16: 1_138, ki_q32: 186_347, tau_ticks: 40, kv_q8: 189, rate_shift: 4 });
     }
 
     #[test]
     fn an_esc_at_400_hz_on_a_79_ms_motor_gets_strong_speed_feedback() {
-        // τ 1 975; T = 33 + 32; Kv = 1 975 / 130 = 15.2; τ' = 121; ω_c =
-        // 32 768 / 186 = 176 a 65 536th, × 4 145 / 256 = 2 849
+        // τ 1 580; T = 26 + 32; Kv = 1 580 / 116 = 13.6; τ' = 108; ω_c =
+        // 32 768 / 166 = 197 a 65 536th, × 3 742 / 256 = 2 879
         let g = gains("esc400", "79");
-        assert_eq!((g.kv_q8, g.rate_shift, g.kp_q16), (3_889, 5, 176 * 4_145 / 256));
+        assert_eq!((g.kv_q8, g.rate_shift, g.kp_q16), (3_486, 5, 197 * 3_742 / 256));
     }
 
     #[test]
@@ -139,13 +143,15 @@ mod tests {
         // a slower spindle driver: more speed feedback (which then makes it
         // about as quick: the PI carries the 1 + Kv back)
         assert!(gains("pwm", "100").kv_q8 > pwm.kv_q8);
-        assert_eq!(gains("oneshot125", "1000").tau_ticks, 25_000);
-        // τ 25 000: Kv would be far past its ceiling of 32, and a count's
-        // step through an 8-tick filter times 32 a quarter of full speed:
-        // the filter lengthens to 32 ticks (an eighth)
+        assert_eq!(gains("oneshot125", "1000").tau_ticks, TICK_HZ as i64);
+        // τ a second of ticks: Kv would be far past its ceiling of 32, and a
+        // count's step through an 8-tick filter times 32 is 0.4 of full
+        // speed (max-rate, 10 counts a tick): the filter lengthens to 32
+        // ticks (0.1, within an eighth)
         let slow = gains("oneshot125", "1000");
         assert_eq!((slow.kv_q8, slow.rate_shift), (32 << 8, 5));
-        assert!((((65_536 >> slow.rate_shift) * slow.kv_q8) >> 8) <= 524_288 / 8);
+        let full_q16 = (200_000i64 << 16) / TICK_HZ as i64;
+        assert!((((65_536 >> slow.rate_shift) * slow.kv_q8) >> 8) <= full_q16 / 8);
     }
 
     #[test]
@@ -161,7 +167,7 @@ mod tests {
                 for max_step_rate_hz in [1, 1_000, 200_000, 250_000] {
                     for bldc_tau_ms in 1..=1_000 {
                         let c = Config { bldc_out, pwm_hz, max_step_rate_hz, bldc_tau_ms, ..Config::default() };
-                        let g = BldcGains::new(&c, 25_000);
+                        let g = BldcGains::new(&c, TICK_HZ);
                         (kp, ki) = (kp.max(g.kp_q16), ki.max(g.ki_q32));
                         assert!(g.kv_q8 as u64 <= KV_MAX_Q8);
                     }

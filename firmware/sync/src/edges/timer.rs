@@ -52,7 +52,7 @@ pub struct EdgeTimer {
     last_count: i64,
     /// the rises told last tick, and the changes were not followed
     changes_idle: bool,
-    /// Q16 ticks a stamp (1/40 at 1 MHz and 25 kHz)
+    /// Q16 ticks a stamp (1/50 at 1 MHz and 20 kHz)
     ticks_per_stamp_q16: i32,
 }
 
@@ -102,7 +102,7 @@ impl EdgeTimer {
     fn clock_for(&self, accel_min: i32, interval_min: i32) -> Clock {
         Clock {
             instant_q8: self.instant_q8,
-            // (40 at 25 kHz: bounded, so that no product can overflow)
+            // (50 at 20 kHz: bounded, so that no product can overflow)
             per_tick: (self.clock.stamps_per_tick as i32).min(64),
             ticks_per_stamp_q16: self.ticks_per_stamp_q16,
             accel_min,

@@ -4,12 +4,14 @@
 
 use super::checks::selftest;
 use super::tests::{session, FakeDevice};
-use crate::fakeboard::Machine;
+use crate::fakeboard::{ticks_in_ms, Machine};
 
-fn board(counts_per_tick_x1000: i64) -> super::session::Session<FakeDevice> {
+/// A board whose lathe input turns at `counts_per_s` (0: at rest), 1 s of
+/// it passing between lines.
+fn board(counts_per_s: u32) -> super::session::Session<FakeDevice> {
     let mut dev = FakeDevice::new();
-    let mut m = Machine::new(25_000); // 1 s of the board between lines
-    m.counts_per_tick_x1000 = counts_per_tick_x1000;
+    let mut m = Machine::new(ticks_in_ms(1_000));
+    m.turn_by_hand(counts_per_s);
     dev.machine = Some(m);
     session(dev)
 }
@@ -35,7 +37,7 @@ fn a_refusal_or_a_failure_is_an_error_with_the_boards_reason() {
     let e = selftest(&mut s, "selftest start 900").unwrap_err();
     assert!(e.0.contains("selftest start rpm: 1..=797"), "{}", e.0);
     // a lathe turning under the test: refused before it starts
-    let mut s = board(500);
+    let mut s = board(10_000);
     let e = selftest(&mut s, "selftest start").unwrap_err();
     assert!(e.0.contains("the lathe input is moving"), "{}", e.0);
     // an E-stop midway: a failure naming it (here the first line only

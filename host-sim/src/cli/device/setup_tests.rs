@@ -5,7 +5,7 @@
 use super::*;
 use crate::cli::device::prompt::Scripted;
 use crate::cli::device::tests::{session, FakeDevice};
-use crate::fakeboard::Machine;
+use crate::fakeboard::{ticks_in_ms, Machine};
 use clap::Parser;
 use polyturn_sync::Config;
 
@@ -113,17 +113,18 @@ fn missing_or_impossible_facts_change_nothing_on_the_board() {
 }
 
 /// A board whose 2 000-count lathe the machinist turns for the encoder
-/// check (and only then).
+/// check (and only then), at 2 500 counts/s.
 fn hand_turned() -> Session<FakeDevice> {
-    hand_turned_at(110_000)
+    hand_turned_at(4_400)
 }
 
-/// `hand_turned`, `ticks` of the board passing before each line (the
+/// `hand_turned`, `ms` of the board passing before each line (the
 /// check's hand still takes 4.4 s).
-fn hand_turned_at(ticks: usize) -> Session<FakeDevice> {
+fn hand_turned_at(ms: u64) -> Session<FakeDevice> {
     let mut dev = FakeDevice::new();
-    let mut m = Machine::new(ticks);
-    (m.counts_per_tick_x1000, m.cpr, m.turn_for_check, m.check_ticks) = (100, 2_000, true, 110_000);
+    let mut m = Machine::new(ticks_in_ms(ms));
+    m.turn_by_hand(2_500);
+    (m.cpr, m.turn_for_check, m.check_ticks) = (2_000, true, ticks_in_ms(4_400));
     dev.machine = Some(m);
     let mut s = session(dev);
     s.timeout = std::time::Duration::from_secs(30);
@@ -135,7 +136,7 @@ fn hand_turned_at(ticks: usize) -> Session<FakeDevice> {
 /// after `set dir`. The lathe has rested since the check: both go.
 #[test]
 fn the_interview_answered_at_once_jogs_and_saves() {
-    let mut s = hand_turned_at(1_000);
+    let mut s = hand_turned_at(40);
     let mut ask = Scripted::new(INTERVIEW);
     let out = run(&mut s, &args(""), &mut ask).unwrap_or_else(|e| panic!("{e:?} after {:?}", sent(&s)));
     let cmds = sent(&s);
@@ -150,7 +151,7 @@ fn the_interview_answered_at_once_jogs_and_saves() {
 #[test]
 fn the_non_interactive_setup_saves_at_once_after_its_settings() {
     let mut dev = FakeDevice::new();
-    dev.machine = Some(Machine::new(25));
+    dev.machine = Some(Machine::new(ticks_in_ms(1)));
     let mut s = session(dev);
     s.timeout = std::time::Duration::from_millis(10);
     let a = args("--non-interactive --encoder-lines 1000 --microsteps 8 --max-lathe-rpm 600");

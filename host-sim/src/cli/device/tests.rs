@@ -47,9 +47,9 @@ fn a_watch_ends_on_the_board_before_it_returns() {
 fn a_cam_table_uploads_through_the_real_console() {
     use crate::noncircular::path::Polygon;
     use crate::noncircular::plan::{plan, Axis, Outcome};
-    let axis = Axis { rpm: 12.0, max_speed: 15.0, max_accel: 2000.0 };
+    let axis = Axis { rpm: 12.0, max_speed: 12.0, max_accel: 2000.0 };
     let Outcome::Sharp(path, _) = plan(Polygon { sides: 8, apothem_mm: 20.0 }, 3, axis) else { panic!("sharp") };
-    let table = crate::noncircular::table::build(&path, 2400, 800.0, (12000, 1_600_000));
+    let table = crate::noncircular::table::build(&path, 2400, 800.0, (9_600, 1_600_000));
     for line in table.upload_lines() {
         assert!(line.len() <= COMMAND_MAX, "{} > {COMMAND_MAX}: {line}", line.len());
     }
@@ -74,7 +74,7 @@ fn the_board_refuses_a_table_its_x_axis_cannot_follow_with_the_figures() {
         counts_per_rev: 2400,
         period_counts: 2400,
         steps_per_mm: 800.0,
-        max_rate_hz: 12_500,
+        max_rate_hz: polyturn_sync::cam_upload::X_MAX_RATE_HZ,
         max_accel: 1_000_000,
         points,
     };
@@ -82,7 +82,7 @@ fn the_board_refuses_a_table_its_x_axis_cannot_follow_with_the_figures() {
     let e = upload(&mut s, &table).unwrap_err().0;
     assert_eq!(
         e,
-        "device: error: cam table: neighbouring points 100000 steps apart need 1706650 X steps/s at 1 lathe rpm, beyond its max-rate 12500 steps/s (a table must be followed at 1 rpm or faster)"
+        "device: error: cam table: neighbouring points 100000 steps apart need 1706650 X steps/s at 1 lathe rpm, beyond its max-rate 10000 steps/s (a table must be followed at 1 rpm or faster)"
     );
 }
 
@@ -92,7 +92,7 @@ fn the_board_refuses_a_table_its_x_axis_cannot_follow_with_the_figures() {
 fn a_table_not_saved_now_says_why() {
     let table = octagon_table();
     let mut dev = FakeDevice::new();
-    dev.machine = Some(crate::fakeboard::Machine::new(250));
+    dev.machine = Some(crate::fakeboard::Machine::new(crate::fakeboard::ticks_in_ms(10)));
     let mut s = session(dev);
     s.ask("engage").unwrap();
     let e = upload(&mut s, &table).unwrap_err().0;
@@ -113,9 +113,9 @@ fn a_table_not_saved_now_says_why() {
 fn octagon_table() -> crate::noncircular::table::CamFile {
     use crate::noncircular::path::Polygon;
     use crate::noncircular::plan::{plan, Axis, Outcome};
-    let axis = Axis { rpm: 12.0, max_speed: 15.0, max_accel: 2000.0 };
+    let axis = Axis { rpm: 12.0, max_speed: 12.0, max_accel: 2000.0 };
     let Outcome::Sharp(path, _) = plan(Polygon { sides: 8, apothem_mm: 20.0 }, 3, axis) else { panic!("sharp") };
-    crate::noncircular::table::build(&path, 2400, 800.0, (12000, 1_600_000))
+    crate::noncircular::table::build(&path, 2400, 800.0, (9_600, 1_600_000))
 }
 
 #[test]

@@ -1,5 +1,5 @@
-//! A long simulation shows that it is alive: 600 s of lathe time at 25 kHz
-//! is 15 million ticks, some seconds of work with nothing to see. On a
+//! A long simulation shows that it is alive: 600 s of lathe time at 20 kHz
+//! is 12 million ticks, some seconds of work with nothing to see. On a
 //! terminal, stderr gets one line, rewritten each second, and cleared at
 //! the end; piped or redirected, nothing (a log gets no carriage returns).
 

@@ -90,7 +90,10 @@ fn it_is_refused_without_a_cutter_with_an_odd_cpr_or_a_turning_lathe() {
     assert_eq!(reply(&mut c, "selftest start"), "error: cpr 1001: the self-test needs an even cpr, 4 or more");
     let mut c = ctl(Config::default());
     let cam = crate::cam::Cam::new(&[0, 100, 0, -100], 2400).unwrap();
-    let x = crate::controller::XAxis::new(cam, crate::follower::Limits::from_rates(1000, 10_000, 25_000));
+    let x = crate::controller::XAxis::new(
+        cam,
+        crate::follower::Limits::from_rates(1000, 10_000, crate::Timing::FIRMWARE.tick_hz as u64),
+    );
     c.set_x_axis(Some(x)).unwrap();
     assert!(reply(&mut c, "selftest start").starts_with("error: a cam table is fitted"));
     let mut c = ctl(Config::default());

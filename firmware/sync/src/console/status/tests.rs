@@ -5,8 +5,11 @@ use super::*;
 use crate::controller::Status;
 use crate::state::State;
 
-/// One count a tick at 25 kHz on 2400 counts a turn is 625 rpm; the
-/// cutter driven at 4 steps a tick on 3200 steps a turn is 1875 rpm.
+const TICK_HZ: u32 = crate::Timing::FIRMWARE.tick_hz;
+
+/// One count a tick at the board's 20 kHz on 2400 counts a turn is 500
+/// rpm; the cutter driven at 4 steps a tick on 3200 steps a turn is 1500
+/// rpm.
 fn snapshot(v_q32: i64, phase_error_q16: i64, fault: Option<Fault>) -> Snapshot {
     let state = fault.map_or(State::Synced, State::Fault);
     let cutter = if v_q32 < 0 { -(4 << 16) } else { 4 << 16 };
@@ -22,7 +25,7 @@ fn snapshot(v_q32: i64, phase_error_q16: i64, fault: Option<Fault>) -> Snapshot 
         ticks: 7,
     };
     let config = Config::default().with("max-rpm", "600").unwrap().with("ratio", "11/3").unwrap();
-    Snapshot { status, config, tick_hz: 25_000, fault, cam_points: None, lost_milli_steps: None }
+    Snapshot { status, config, tick_hz: TICK_HZ, fault, cam_points: None, lost_milli_steps: None }
 }
 
 fn line(s: &Snapshot) -> std::string::String {
@@ -36,7 +39,7 @@ fn a_synced_line_shows_every_field() {
     let s = snapshot(1 << 32, -(3 << 16) - (1 << 15), None);
     assert_eq!(
         line(&s),
-        "ok state=synced fault=none lathe_rpm=625.0 cutter_rpm=1875.0 phase_err_steps=-3.500 target=1234 cutter=-56 indexed=yes"
+        "ok state=synced fault=none lathe_rpm=500.0 cutter_rpm=1500.0 phase_err_steps=-3.500 target=1234 cutter=-56 indexed=yes"
     );
 }
 
@@ -45,7 +48,7 @@ fn a_lathe_turning_backwards_shows_negative_speeds_and_a_fault_its_reason() {
     let s = snapshot(-(1 << 32), 81_920, Some(Fault::Stall));
     assert_eq!(
         line(&s),
-        "ok state=fault fault=stall lathe_rpm=-625.0 cutter_rpm=-1875.0 phase_err_steps=1.250 target=1234 cutter=-56 \
+        "ok state=fault fault=stall lathe_rpm=-500.0 cutter_rpm=-1500.0 phase_err_steps=1.250 target=1234 cutter=-56 \
          indexed=no reason=\"cutter encoder not following: check motor and its encoder\""
     );
 }
@@ -66,7 +69,7 @@ fn the_idle_line_reads_as_the_manual_shows_it() {
     let s = Snapshot {
         status,
         config: Config::default(),
-        tick_hz: 25_000,
+        tick_hz: TICK_HZ,
         fault: None,
         cam_points: None,
         lost_milli_steps: None,
@@ -82,12 +85,13 @@ fn the_idle_line_reads_as_the_manual_shows_it() {
 
 #[test]
 fn under_one_unit_a_negative_value_keeps_its_sign() {
-    // 53/65536 count a tick backwards: −0.505 rpm, shown −0.5; the cutter
-    // at 1/256 step a tick backwards, −1.83 rpm: −1.8; −0.25 step
+    // 53/65536 count a tick backwards: −0.404 rpm at 20 kHz, shown −0.4;
+    // the cutter at 1/256 step a tick backwards, −1.46 rpm: −1.4 (tenths,
+    // toward 0); −0.25 step
     let mut s = snapshot(-53 << 16, -(1 << 14), None);
     s.status.cutter_velocity_q16 = -256;
     let l = line(&s);
-    assert!(l.contains(" lathe_rpm=-0.5 cutter_rpm=-1.8 phase_err_steps=-0.250 "), "{l}");
+    assert!(l.contains(" lathe_rpm=-0.4 cutter_rpm=-1.4 phase_err_steps=-0.250 "), "{l}");
 }
 
 #[test]
@@ -124,10 +128,10 @@ fn the_cutter_speed_is_the_speed_it_is_driven_at_not_the_lathes_times_the_ratio(
     let mut s = snapshot(1 << 32, 0, None);
     s.status.state = State::Idle;
     s.status.cutter_velocity_q16 = 0;
-    assert!(line(&s).contains(" lathe_rpm=625.0 cutter_rpm=0.0 "), "{}", line(&s));
+    assert!(line(&s).contains(" lathe_rpm=500.0 cutter_rpm=0.0 "), "{}", line(&s));
     // with dir=opposite the motor's steps count down while the lathe's count up
     s.status.cutter_velocity_q16 = -(4 << 16);
-    assert!(line(&s).contains(" lathe_rpm=625.0 cutter_rpm=-1875.0 "), "{}", line(&s));
+    assert!(line(&s).contains(" lathe_rpm=500.0 cutter_rpm=-1500.0 "), "{}", line(&s));
 }
 
 #[test]
