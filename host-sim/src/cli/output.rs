@@ -149,6 +149,15 @@ pub fn take_captured() -> Vec<(String, Vec<u8>)> {
     CAPTURED.with(|c| std::mem::take(&mut *c.borrow_mut()))
 }
 
+/// An output as a report names it: `-` is "stdout".
+pub fn named(path: &Path) -> String {
+    if path.as_os_str() == "-" {
+        "stdout".into()
+    } else {
+        shown(path)
+    }
+}
+
 /// A path as one line of an error (control characters escaped).
 fn shown(path: &Path) -> String {
     escaped(&path.display().to_string())

@@ -1,0 +1,80 @@
+//! A release image damaged on its way: cut short anywhere, grown by a few
+//! bytes, a byte of its vector table or anywhere else changed. Every such
+//! mutant is refused, whichever way it comes (.bin or .hex), and the
+//! firmware's own boot check (`polyturn_firmware::seal::verify`, on the
+//! model of the CRC unit) refuses the same flash contents.
+//!
+//! The image is the real one when `cargo fw` has built it (made as
+//! `polyturn image` makes it), else a synthetic one from the test kit.
+
+use super::image::{from_bytes, Format};
+use super::testkit::good;
+use super::{hex, Image, VECTOR_TABLE_BYTES};
+use proptest::prelude::*;
+use std::path::PathBuf;
+use std::sync::OnceLock;
+
+fn built_elf() -> PathBuf {
+    let target = std::env::var_os("CARGO_TARGET_DIR")
+        .map(PathBuf::from)
+        .unwrap_or_else(|| PathBuf::from(concat!(env!("CARGO_MANIFEST_DIR"), "/../target")));
+    target.join("thumbv7em-none-eabihf/fw/polyturn-firmware")
+}
+
+/// The release image's bytes (the `.bin` `polyturn image` writes).
+fn release() -> &'static Image {
+    static IMAGE: OnceLock<Image> = OnceLock::new();
+    IMAGE.get_or_init(|| match std::fs::read(built_elf()) {
+        Ok(elf) => from_bytes(&elf, Format::Elf, false).expect("the built firmware is an image"),
+        Err(_) => from_bytes(&good(70_001), Format::Bin, false).expect("the test kit's image"),
+    })
+}
+
+#[derive(Clone, Debug)]
+enum Mutant {
+    Cut(usize),
+    Append(Vec<u8>),
+    Flip { at: usize, xor: u8 },
+}
+
+fn mutant() -> impl Strategy<Value = Mutant> {
+    let len = release().bytes.len();
+    prop_oneof![
+        (1..len).prop_map(Mutant::Cut),
+        prop::collection::vec(any::<u8>(), 1..64).prop_map(Mutant::Append),
+        (0..VECTOR_TABLE_BYTES as usize, 1..=255u8).prop_map(|(at, xor)| Mutant::Flip { at, xor }),
+        (0..len, 1..=255u8).prop_map(|(at, xor)| Mutant::Flip { at, xor }),
+    ]
+}
+
+fn apply(m: &Mutant) -> Vec<u8> {
+    let mut b = release().bytes.clone();
+    match m {
+        Mutant::Cut(keep) => b.truncate(*keep),
+        Mutant::Append(more) => b.extend_from_slice(more),
+        Mutant::Flip { at, xor } => b[*at] ^= xor,
+    }
+    b
+}
+
+#[test]
+fn every_mutant_of_the_release_image_is_refused_as_bin_and_as_hex() {
+    let cfg = ProptestConfig { cases: 300, failure_persistence: None, ..ProptestConfig::default() };
+    proptest!(cfg, |(m in mutant())| {
+        let bytes = apply(&m);
+        let as_bin = from_bytes(&bytes, Format::Bin, false);
+        prop_assert!(as_bin.is_err(), "{m:?} passed as .bin: {:?}", as_bin.map(|i| i.version));
+        // the .hex of the damaged bytes, well-formed as a file
+        if let Ok(text) = hex::write(&Image { bytes, ..release().clone() }) {
+            prop_assert!(from_bytes(text.as_bytes(), Format::Hex, false).is_err(), "{m:?} passed as .hex");
+        }
+    });
+}
+
+#[test]
+fn the_whole_release_image_passes_as_bin_and_as_hex() {
+    let image = release();
+    assert_eq!(from_bytes(&image.bytes, Format::Bin, false).as_ref(), Ok(image));
+    let text = hex::write(image).unwrap();
+    assert_eq!(from_bytes(text.as_bytes(), Format::Hex, false).as_ref(), Ok(image));
+}
