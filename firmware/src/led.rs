@@ -58,12 +58,14 @@ pub fn lit(state: State, tick_running: bool, ms: u32, refused_at: Option<u32>) -
 /// three flashes of 600 ms, 400 ms apart, then 2 s dark, in a 5 s frame.
 /// Long where a fault's are short (150 ms), and in no state's rhythm.
 pub fn damaged(ms: u32) -> bool {
-    let t = ms % 5000;
+    let t = ms % DAMAGED_FRAME_MS;
     t < 3000 && t % 1000 < 600
 }
 
-/// The step, ms, at which the damaged image's loop sets the LEDs.
+/// The step, ms, at which the damaged image's loop sets the LEDs, and
+/// its frame.
 pub const DAMAGED_STEP_MS: u32 = 100;
+pub const DAMAGED_FRAME_MS: u32 = 5000;
 
 #[cfg(test)]
 mod tests {

@@ -43,6 +43,10 @@ pub const GPIOAEN: u32 = 1 << 0;
 pub const GPIOCEN: u32 = 1 << 2;
 pub const CRCEN: u32 = 1 << 12;
 
+/// The clock the check runs at: the HSI, which the MCU runs from after a
+/// reset (RM0383 §6.2.2), before embassy's init switches to the PLL.
+pub const HSI_HZ: u32 = 16_000_000;
+
 /// Why an image is not run.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Damage {
@@ -95,9 +99,19 @@ pub const GPIOC: u32 = 0x4002_0800;
 pub const MODER: u32 = 0x00;
 pub const BSRR: u32 = 0x18;
 
+/// The cycle counter, which times the damaged light whatever the loop
+/// around it costs: DCB_DEMCR.TRCENA (ARMv7-M ARM C1.6.5, bit 24) lets
+/// the DWT run, DWT_CTRL.CYCCNTENA (C1.8.7, bit 0) starts DWT_CYCCNT
+/// (C1.8.8), which counts CPU cycles.
+pub const DEMCR: u32 = 0xE000_EDFC;
+pub const TRCENA: u32 = 1 << 24;
+pub const DWT_CTRL: u32 = 0xE000_1000;
+pub const CYCCNTENA: u32 = 1;
+pub const DWT_CYCCNT: u32 = 0xE000_1004;
+
 /// Both LEDs made outputs (MODER 01, §8.4.1), unlit; every other pin as
-/// reset left it.
-pub fn led_setup(bus: &mut impl Bus) {
+/// reset left it; the cycle counter running. Returns its count.
+pub fn led_setup(bus: &mut impl Bus) -> u32 {
     let enabled = bus.read(RCC_AHB1ENR);
     bus.write(RCC_AHB1ENR, enabled | GPIOAEN | GPIOCEN);
     led_on(bus, false);
@@ -105,6 +119,23 @@ pub fn led_setup(bus: &mut impl Bus) {
         let moder = bus.read(port + MODER) & !(0b11 << (2 * pin));
         bus.write(port + MODER, moder | 0b01 << (2 * pin));
     }
+    for (reg, bit) in [(DEMCR, TRCENA), (DWT_CTRL, CYCCNTENA)] {
+        let v = bus.read(reg);
+        bus.write(reg, v | bit);
+    }
+    bus.read(DWT_CYCCNT)
+}
+
+/// Waits until `cycles` (below 2^31) have passed since the count `from`;
+/// returns `from + cycles`, the next step's start. Bounded: each read
+/// takes at least a cycle, so at most `cycles` reads.
+pub fn wait(bus: &mut impl Bus, from: u32, cycles: u32) -> u32 {
+    for _ in 0..cycles {
+        if bus.read(DWT_CYCCNT).wrapping_sub(from) >= cycles {
+            break;
+        }
+    }
+    from.wrapping_add(cycles)
 }
 
 /// Lights or darkens both LEDs (BSRR: bits 0-15 set, 16-31 reset, §8.4.7).

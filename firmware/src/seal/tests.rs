@@ -28,6 +28,11 @@ impl Bus for Rec {
         self.regs.insert(addr, v);
     }
     fn read(&mut self, addr: u32) -> u32 {
+        if addr == DWT_CYCCNT {
+            // a counter that runs 1000 cycles a read
+            let c = self.regs.entry(addr).or_insert(0);
+            *c = c.wrapping_add(1000);
+        }
         let v = if (FLASH_BASE..APP_END).contains(&addr) {
             self.flash.get(((addr - FLASH_BASE) / 4) as usize).copied().unwrap_or(u32::MAX)
         } else {
@@ -99,7 +104,9 @@ fn the_leds_become_outputs_unlit_and_nothing_else_changes() {
     let mut bus = Rec::default();
     bus.regs.insert(GPIOA + MODER, 0xA800_0000);
     bus.regs.insert(RCC_AHB1ENR, CRCEN);
-    led_setup(&mut bus);
+    let at = led_setup(&mut bus);
+    assert_eq!(at, 1000, "the counter's count, read after it was started");
+    assert_eq!((bus.regs[&DEMCR], bus.regs[&DWT_CTRL]), (TRCENA, CYCCNTENA));
     assert_eq!(bus.regs[&(GPIOA + MODER)], 0xA810_0000, "PA10 output, the SWD pins kept");
     assert_eq!(bus.regs[&(GPIOC + MODER)], 1 << 26, "PC13 output");
     assert_eq!(bus.regs[&RCC_AHB1ENR], CRCEN | GPIOAEN | GPIOCEN);
@@ -110,4 +117,29 @@ fn the_leds_become_outputs_unlit_and_nothing_else_changes() {
     bus.log.clear();
     led_on(&mut bus, true);
     assert_eq!(bus.log, vec![('w', GPIOC + BSRR, 1 << 29), ('w', GPIOA + BSRR, 1 << 10)]);
+}
+
+#[test]
+fn a_wait_ends_once_the_cycles_passed_and_the_next_step_starts_there() {
+    let mut bus = Rec::default();
+    bus.regs.insert(DWT_CYCCNT, u32::MAX - 2500);
+    let from = u32::MAX - 2500;
+    // reads give from+1000, +2000, +3000 (across the wrap): done at the third
+    assert_eq!(wait(&mut bus, from, 2500), 0xFFFF_FFFF - 2500 + 2500);
+    assert_eq!(bus.log.iter().filter(|a| a.1 == DWT_CYCCNT).count(), 3);
+    // a counter that never moves: at most `cycles` reads, then on
+    let mut stuck = Rec::default();
+    struct Still<'a>(&'a mut Rec);
+    impl Bus for Still<'_> {
+        fn write(&mut self, a: u32, v: u32) {
+            self.0.write(a, v)
+        }
+        fn read(&mut self, a: u32) -> u32 {
+            self.0.log.push(('r', a, 0));
+            0
+        }
+        fn delay(&mut self, _: u32) {}
+    }
+    assert_eq!(wait(&mut Still(&mut stuck), 0, 40), 40);
+    assert_eq!(stuck.log.len(), 40);
 }

@@ -8,6 +8,7 @@ use polyturn_firmware::regs::Bus;
 use polyturn_firmware::seal::*;
 use polyturn_stm32_model::chip::crc::{self, Crc};
 use polyturn_stm32_model::chip::gpio::{Port, OUTPUT};
+use polyturn_stm32_model::chip::nvic::Nvic;
 use polyturn_stm32_model::chip::rcc::Rcc;
 use stm32_metapac as pac;
 
@@ -20,17 +21,31 @@ struct Board {
     rcc: Rcc,
     gpioa: Port,
     gpioc: Port,
+    /// the core's system space (DEMCR, the DWT), and the cycles so far:
+    /// ten per access here
+    ppb: Nvic,
+    now: u64,
 }
 
 impl Board {
     fn new(flash: Vec<u8>) -> Board {
-        Board { flash, crc: Crc::default(), rcc: Rcc::default(), gpioa: Port::new('A'), gpioc: Port::new('C') }
+        Board {
+            flash,
+            crc: Crc::default(),
+            rcc: Rcc::default(),
+            gpioa: Port::new('A'),
+            gpioc: Port::new('C'),
+            ppb: Nvic::default(),
+            now: 0,
+        }
     }
 }
 
 impl Bus for Board {
     fn write(&mut self, addr: u32, value: u32) {
+        self.now += 10;
         match addr {
+            0xE000_0000.. => self.ppb.write(addr - 0xE000_0000, value, u32::MAX, self.now),
             0x4002_3000..0x4002_3400 => self.crc.write(addr - CRC_BASE, value, u32::MAX),
             0x4002_3800..0x4002_3C00 => self.rcc.write(addr - 0x4002_3800, value, u32::MAX),
             0x4002_0000..0x4002_0400 => drop(self.gpioa.write(addr - GPIOA, value, u32::MAX, 0)),
@@ -39,7 +54,9 @@ impl Bus for Board {
         }
     }
     fn read(&mut self, addr: u32) -> u32 {
+        self.now += 10;
         match addr {
+            0xE000_0000.. => self.ppb.read(addr - 0xE000_0000, self.now, &[], 0),
             FLASH_BASE..APP_END => {
                 let at = (addr - FLASH_BASE) as usize;
                 // beyond the bytes: erased flash (RM0383 §3.5.3)
@@ -98,6 +115,21 @@ fn the_damaged_images_leds_are_pc13_low_and_pa10_high_when_lit() {
 }
 
 #[test]
+fn the_damaged_lights_steps_are_timed_by_the_cycle_counter() {
+    let mut board = Board::new(Vec::new());
+    let start = led_setup(&mut board);
+    let mut at = start;
+    for _ in 0..3 {
+        at = wait(&mut board, at, 16_000);
+    }
+    assert_eq!(at, start + 48_000);
+    // the counter ran from when led_setup started it: past the steps, by
+    // less than one read
+    let now = board.ppb.read(0x1004, board.now, &[], 0);
+    assert!((48_000..48_000 + 20).contains(&now.wrapping_sub(start)), "{}", now.wrapping_sub(start));
+}
+
+#[test]
 fn the_seals_registers_and_bits_are_sts() {
     let a = |p: *mut u32| p as usize as u32;
     assert_eq!(a(pac::CRC.dr().as_ptr()), CRC_DR);
@@ -110,4 +142,7 @@ fn the_seals_registers_and_bits_are_sts() {
     assert_eq!(bits!(Ahb1enr, |r| r.set_crcen(true)), CRCEN);
     assert_eq!(bits!(Ahb1enr, |r| r.set_gpioaen(true)), GPIOAEN);
     assert_eq!(bits!(Ahb1enr, |r| r.set_gpiocen(true)), GPIOCEN);
+    // the core's registers: the model's addresses (ARMv7-M ARM C1.6.5, C1.8)
+    use polyturn_stm32_model::chip::nvic;
+    assert_eq!((DEMCR, DWT_CTRL, DWT_CYCCNT), (0xE000_0000 + nvic::DEMCR, 0xE000_0000 + nvic::DWT_CTRL, 0xE000_0000 + nvic::DWT_CYCCNT));
 }
