@@ -297,6 +297,45 @@ fn an_interrupted_write_leaves_no_temporary_behind() {
     }
 }
 
+/// `device upload-cam` on a FIFO no one writes, a device, a directory:
+/// refused at once, naming FILE, before any port is opened (a FIFO would
+/// wait for a writer for ever). Bounded here: a hang fails, it does not
+/// hold the test run.
+#[cfg(unix)]
+#[test]
+fn upload_cam_refuses_a_file_that_is_not_regular_at_once() {
+    let dir = scratch("upload-fifo");
+    let fifo = dir.join("table.json");
+    assert!(Command::new("mkfifo").arg(&fifo).status().unwrap().success());
+    for file in [fifo.display().to_string(), "/dev/zero".into(), dir.display().to_string()] {
+        let mut child = Command::new(env!("CARGO_BIN_EXE_polyturn"))
+            .args(["device", "upload-cam", &file, "--port", "/nonexistent/tty"])
+            .stdout(std::process::Stdio::piped())
+            .stderr(std::process::Stdio::piped())
+            .spawn()
+            .unwrap();
+        let mut status = None;
+        for _ in 0..2000 {
+            status = child.try_wait().unwrap();
+            if status.is_some() {
+                break;
+            }
+            std::thread::sleep(std::time::Duration::from_millis(10));
+        }
+        let Some(status) = status else {
+            let _ = child.kill();
+            panic!("upload-cam {file}: still waiting after 20 s");
+        };
+        let out = child.wait_with_output().unwrap();
+        let err = String::from_utf8(out.stderr).unwrap();
+        assert_eq!(status.code(), Some(2), "{file}: {err}");
+        assert_eq!(
+            err.trim_end(),
+            format!("error: FILE must be a regular file, the table `polyturn cam --table` writes (got '{file}': not a regular file)"),
+        );
+    }
+}
+
 #[cfg(target_os = "linux")]
 #[test]
 fn a_full_device_is_an_error_naming_the_flag_and_stays_a_device() {
