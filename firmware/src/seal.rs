@@ -53,7 +53,10 @@ pub enum Damage {
     /// the link's end is outside sectors 0-5 or not a word boundary
     /// (damaged code computed it)
     End(u32),
-    /// no seal where the image ends: cut short, or never sealed
+    /// erased flash where the seal belongs: never sealed (an ELF a probe
+    /// wrote), or cut short
+    Unsealed,
+    /// something else where the seal belongs: cut short, or grown
     NoSeal,
     /// a seal whose length is not where it lies
     Length { sealed: u32 },
@@ -69,6 +72,9 @@ pub fn verify(bus: &mut impl Bus, end: u32) -> Result<(), Damage> {
         return Err(Damage::End(end));
     }
     let (magic, length, sealed) = (bus.read(end), bus.read(end + 4), bus.read(end + 8));
+    if magic == ERASED {
+        return Err(Damage::Unsealed);
+    }
     if magic != MAGIC {
         return Err(Damage::NoSeal);
     }
@@ -90,6 +96,22 @@ pub fn verify(bus: &mut impl Bus, end: u32) -> Result<(), Damage> {
         return Err(Damage::Crc { sealed, computed });
     }
     Ok(())
+}
+
+/// An erased flash word (RM0383 §3.5.3: erasing sets every bit).
+const ERASED: u32 = 0xFFFF_FFFF;
+
+/// DHCSR (ARMv7-M ARM C1.6.2) and its C_DEBUGEN bit (0), set by a debugger
+/// that has enabled halting debug, as probe-rs does while attached.
+pub const DHCSR: u32 = 0xE000_EDF0;
+pub const C_DEBUGEN: u32 = 1;
+
+/// Whether an image refused for `damage` runs all the same: only an
+/// unsealed one (`cargo fw-run`: probe-rs writes the ELF, which has no
+/// seal, and erases around it) with the debugger that wrote it attached.
+/// On a board in use no debugger is attached, and nothing unsealed runs.
+pub fn probes_own(bus: &mut impl Bus, damage: Damage) -> bool {
+    damage == Damage::Unsealed && bus.read(DHCSR) & C_DEBUGEN != 0
 }
 
 /// The status LEDs: PC13 (active low) and PA10 (active high), `board.rs`.

@@ -80,6 +80,10 @@ fn each_damage_is_named() {
     // cut short: the seal's words read erased
     let mut bus = sealed(&words);
     bus.flash.truncate(5);
+    assert_eq!(verify(&mut bus, end), Err(Damage::Unsealed));
+    // grown or shifted: other bytes where the seal belongs
+    let mut bus = sealed(&words);
+    bus.flash[5] = 0x1234_5678;
     assert_eq!(verify(&mut bus, end), Err(Damage::NoSeal));
     let mut bus = sealed(&words);
     bus.flash.truncate(6);
@@ -96,7 +100,7 @@ fn an_end_outside_the_image_sectors_reads_nothing() {
         assert_eq!(verify(&mut bus, end), Err(Damage::End(end)), "{end:#x}");
         assert!(bus.log.is_empty(), "{end:#x}: {:?}", bus.log);
     }
-    assert_eq!(verify(&mut sealed(&[1, 2]), APP_END - 12), Err(Damage::NoSeal), "the last place a seal fits");
+    assert_eq!(verify(&mut sealed(&[1, 2]), APP_END - 12), Err(Damage::Unsealed), "the last place a seal fits");
 }
 
 #[test]
@@ -142,4 +146,16 @@ fn a_wait_ends_once_the_cycles_passed_and_the_next_step_starts_there() {
     }
     assert_eq!(wait(&mut Still(&mut stuck), 0, 40), 40);
     assert_eq!(stuck.log.len(), 40);
+}
+
+#[test]
+fn only_an_unsealed_image_with_a_debugger_attached_runs_unsealed() {
+    let mut bus = Rec::default();
+    for damage in [Damage::NoSeal, Damage::Length { sealed: 4 }, Damage::Crc { sealed: 1, computed: 2 }, Damage::End(0)] {
+        bus.regs.insert(DHCSR, C_DEBUGEN);
+        assert!(!probes_own(&mut bus, damage), "{damage:?}");
+    }
+    assert!(probes_own(&mut bus, Damage::Unsealed), "cargo fw-run");
+    bus.regs.insert(DHCSR, 0x0003_0000); // S_REGRDY, S_HALT: no C_DEBUGEN
+    assert!(!probes_own(&mut bus, Damage::Unsealed), "no debugger");
 }

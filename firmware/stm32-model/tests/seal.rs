@@ -115,6 +115,15 @@ fn the_damaged_images_leds_are_pc13_low_and_pa10_high_when_lit() {
 }
 
 #[test]
+fn an_image_cut_short_does_not_run_on_a_board_with_no_debugger() {
+    let len = 4096;
+    let mut board = Board::new(sealed(len)[..2000].to_vec());
+    let damage = verify(&mut board, FLASH_BASE + len as u32).unwrap_err();
+    assert_eq!(damage, Damage::Unsealed);
+    assert!(!probes_own(&mut board, damage), "DHCSR's C_DEBUGEN is clear");
+}
+
+#[test]
 fn the_damaged_lights_steps_are_timed_by_the_cycle_counter() {
     let mut board = Board::new(Vec::new());
     let start = led_setup(&mut board);
@@ -144,5 +153,7 @@ fn the_seals_registers_and_bits_are_sts() {
     assert_eq!(bits!(Ahb1enr, |r| r.set_gpiocen(true)), GPIOCEN);
     // the core's registers: the model's addresses (ARMv7-M ARM C1.6.5, C1.8)
     use polyturn_stm32_model::chip::nvic;
-    assert_eq!((DEMCR, DWT_CTRL, DWT_CYCCNT), (0xE000_0000 + nvic::DEMCR, 0xE000_0000 + nvic::DWT_CTRL, 0xE000_0000 + nvic::DWT_CYCCNT));
+    let ppb = |off: u32| 0xE000_0000 + off;
+    assert_eq!((DEMCR, DWT_CTRL, DWT_CYCCNT), (ppb(nvic::DEMCR), ppb(nvic::DWT_CTRL), ppb(nvic::DWT_CYCCNT)));
+    assert_eq!(DHCSR, ppb(nvic::DHCSR));
 }
