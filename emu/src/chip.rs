@@ -11,7 +11,9 @@ pub mod pins;
 mod usb;
 
 use crate::svd;
-use polyturn_stm32_model::chip::{crc::Crc, exti, gpio::Port, gptimer::GpTimer, iwdg::Iwdg, nvic::Nvic, otg::Otg, rcc, RegFile};
+use polyturn_stm32_model::chip::{
+    crc::Crc, exti, gpio::Port, gptimer::GpTimer, iwdg::Iwdg, nvic::Nvic, otg::Otg, rcc, RegFile,
+};
 use polyturn_stm32_model::flash::{EraseTime, Flash};
 use polyturn_stm32_model::{Mcu, Params};
 

@@ -111,9 +111,9 @@ mod tests {
         // every flash is longer than any fault's (150 ms) or blink's (500 ms)
         assert!(frame[..600].iter().all(|&l| l) && !frame[600]);
         // its steps land on the pattern's edges: the loop shows it exactly
-        assert!((0..5000).step_by(DAMAGED_STEP_MS as usize).all(|t| {
-            (t..t + DAMAGED_STEP_MS).all(|ms| damaged(ms) == damaged(t))
-        }));
+        assert!((0..5000)
+            .step_by(DAMAGED_STEP_MS as usize)
+            .all(|t| { (t..t + DAMAGED_STEP_MS).all(|ms| damaged(ms) == damaged(t)) }));
     }
 
     #[test]

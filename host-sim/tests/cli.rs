@@ -249,7 +249,10 @@ fn a_read_only_output_is_refused_and_a_hard_linked_one_written_through() {
         err.trim_end(),
         format!("error: --svg must name a file it may write (got '{}': read-only, mode 0444; chmod u+w it, or name another)", keep.display())
     );
-    assert_eq!((std::fs::read_to_string(&keep).unwrap().as_str(), std::fs::metadata(&keep).unwrap().mode() & 0o777), ("old", 0o444));
+    assert_eq!(
+        (std::fs::read_to_string(&keep).unwrap().as_str(), std::fs::metadata(&keep).unwrap().mode() & 0o777),
+        ("old", 0o444)
+    );
     // two names of one file: both see the new picture
     std::fs::write(dir.join("a.svg"), "old").unwrap();
     std::fs::hard_link(dir.join("a.svg"), dir.join("b.svg")).unwrap();

@@ -18,8 +18,7 @@ extern "C" {
 /// Where the link put the image's last byte, so where its seal lies.
 fn image_end() -> u32 {
     let at = |p: *const u32| p as usize as u32;
-    let (sidata, sdata, edata) =
-        (at(&raw const __sidata), at(&raw const __sdata), at(&raw const __edata));
+    let (sidata, sdata, edata) = (at(&raw const __sidata), at(&raw const __sdata), at(&raw const __edata));
     sidata.wrapping_add(edata.wrapping_sub(sdata))
 }
 

@@ -116,7 +116,8 @@ fn the_leds_become_outputs_unlit_and_nothing_else_changes() {
     assert_eq!(bus.regs[&RCC_AHB1ENR], CRCEN | GPIOAEN | GPIOCEN);
     // unlit before the pins drive: PC13 high (active low), PA10 low
     let first_moder = bus.log.iter().position(|a| a.0 == 'w' && a.1 % 0x400 == MODER).unwrap();
-    let lit_writes: Vec<_> = bus.log[..first_moder].iter().filter(|a| a.1 % 0x400 == BSRR).map(|a| (a.1, a.2)).collect();
+    let lit_writes: Vec<_> =
+        bus.log[..first_moder].iter().filter(|a| a.1 % 0x400 == BSRR).map(|a| (a.1, a.2)).collect();
     assert_eq!(lit_writes, vec![(GPIOC + BSRR, 1 << 13), (GPIOA + BSRR, 1 << 26)]);
     bus.log.clear();
     led_on(&mut bus, true);
@@ -151,7 +152,8 @@ fn a_wait_ends_once_the_cycles_passed_and_the_next_step_starts_there() {
 #[test]
 fn only_an_unsealed_image_with_a_debugger_attached_runs_unsealed() {
     let mut bus = Rec::default();
-    for damage in [Damage::NoSeal, Damage::Length { sealed: 4 }, Damage::Crc { sealed: 1, computed: 2 }, Damage::End(0)] {
+    for damage in [Damage::NoSeal, Damage::Length { sealed: 4 }, Damage::Crc { sealed: 1, computed: 2 }, Damage::End(0)]
+    {
         bus.regs.insert(DHCSR, C_DEBUGEN);
         assert!(!probes_own(&mut bus, damage), "{damage:?}");
     }

@@ -65,7 +65,10 @@ fn an_elf_that_fills_sector_5_has_no_room_for_its_seal() {
         ("must fit in sectors 0-5 with its seal, 1..=262144 bytes", "262156 bytes from 0x08000000")
     );
     let fits = unsealed(256 * 1024 - 12);
-    assert_eq!(from_bytes(&elf(&[(FLASH_BASE, FLASH_BASE, &fits, 0)]), Format::Elf, false).unwrap().bytes.len(), 262_144);
+    assert_eq!(
+        from_bytes(&elf(&[(FLASH_BASE, FLASH_BASE, &fits, 0)]), Format::Elf, false).unwrap().bytes.len(),
+        262_144
+    );
 }
 
 #[test]

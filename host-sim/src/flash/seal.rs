@@ -67,9 +67,9 @@ fn word_at_is(bytes: &[u8], at: usize, want: u32) -> bool {
 /// fits the bytes before it (grown), or no seal at all (cut short, or not
 /// made by `polyturn image`).
 fn no_seal(bytes: &[u8]) -> String {
-    let sealed_at = (0..bytes.len().saturating_sub(SEAL - 1)).step_by(4).find(|&at| {
-        word_at_is(bytes, at, MAGIC) && word_at_is(bytes, at + 4, at as u32) && bytes.len() >= at + SEAL
-    });
+    let sealed_at = (0..bytes.len().saturating_sub(SEAL - 1))
+        .step_by(4)
+        .find(|&at| word_at_is(bytes, at, MAGIC) && word_at_is(bytes, at + 4, at as u32) && bytes.len() >= at + SEAL);
     match sealed_at {
         Some(at) => format!("{} bytes after its seal (grown)", bytes.len() - at - SEAL),
         None => format!("no seal at its end, {} bytes (cut short, or not made by `polyturn image`)", bytes.len()),
@@ -92,7 +92,10 @@ mod tests {
         grown.extend_from_slice(&[0; 5]);
         assert_eq!(check(&grown).unwrap_err().found, "5 bytes after its seal (grown)");
         let cut = &b[..900];
-        assert_eq!(check(cut).unwrap_err().found, "no seal at its end, 900 bytes (cut short, or not made by `polyturn image`)");
+        assert_eq!(
+            check(cut).unwrap_err().found,
+            "no seal at its end, 900 bytes (cut short, or not made by `polyturn image`)"
+        );
         let mut changed = b.clone();
         changed[7] ^= 1;
         assert!(check(&changed).unwrap_err().found.ends_with("a byte changed"), "{:?}", check(&changed));

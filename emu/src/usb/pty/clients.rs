@@ -19,10 +19,17 @@ pub struct Seen {
     pub open: u32,
 }
 
+impl Clients {
+    /// No watch: always one client.
+    pub fn everyone() -> Clients {
+        Clients { fd: -1, open: 1 }
+    }
+}
+
 #[cfg(target_os = "linux")]
 impl Clients {
     pub fn watch(path: &str) -> Clients {
-        let Ok(c) = std::ffi::CString::new(path) else { return Clients { fd: -1, open: 1 } };
+        let Ok(c) = std::ffi::CString::new(path) else { return Clients::everyone() };
         // SAFETY: a fresh inotify fd (non-blocking) and a watch on a NUL-terminated path
         unsafe {
             let fd = libc::inotify_init1(libc::IN_NONBLOCK | libc::IN_CLOEXEC);
@@ -31,7 +38,7 @@ impl Clients {
                 if fd >= 0 {
                     libc::close(fd);
                 }
-                return Clients { fd: -1, open: 1 };
+                return Clients::everyone();
             }
             Clients { fd, open: 0 }
         }
@@ -50,7 +57,8 @@ impl Clients {
             }
             let mut at = 0;
             while at + 16 <= n as usize {
-                let word = |i: usize| u32::from_ne_bytes([buf[at + i], buf[at + i + 1], buf[at + i + 2], buf[at + i + 3]]);
+                let word =
+                    |i: usize| u32::from_ne_bytes([buf[at + i], buf[at + i + 1], buf[at + i + 2], buf[at + i + 3]]);
                 let (mask, len) = (word(4), word(12) as usize);
                 if mask & libc::IN_OPEN != 0 {
                     self.open += 1;
@@ -70,7 +78,7 @@ impl Clients {
 #[cfg(not(target_os = "linux"))]
 impl Clients {
     pub fn watch(_: &str) -> Clients {
-        Clients { fd: -1, open: 1 }
+        Clients::everyone()
     }
 
     pub fn seen(&mut self) -> Seen {

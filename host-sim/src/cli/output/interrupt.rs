@@ -65,9 +65,9 @@ impl Guard {
     pub fn add(&mut self, path: &Path) {
         let Ok(c) = CString::new(path.as_os_str().as_bytes()) else { return };
         let p = c.into_raw();
-        let free = TEMPS.iter().position(|s| {
-            s.compare_exchange(std::ptr::null_mut(), p, Ordering::SeqCst, Ordering::SeqCst).is_ok()
-        });
+        let free = TEMPS
+            .iter()
+            .position(|s| s.compare_exchange(std::ptr::null_mut(), p, Ordering::SeqCst, Ordering::SeqCst).is_ok());
         match free {
             Some(i) => self.mine.push(i),
             // SAFETY: `p` came from into_raw just above and was not stored

@@ -104,7 +104,8 @@ fn a_replaced_file_keeps_its_permissions() {
 /// What a directory holds besides `keep`: no temporary left, nothing new.
 #[cfg(unix)]
 fn only(d: &Path, names: &[&str]) {
-    let mut found: Vec<String> = std::fs::read_dir(d).unwrap().map(|e| e.unwrap().file_name().into_string().unwrap()).collect();
+    let mut found: Vec<String> =
+        std::fs::read_dir(d).unwrap().map(|e| e.unwrap().file_name().into_string().unwrap()).collect();
     found.sort();
     assert_eq!(found, names, "in {}", d.display());
 }
@@ -123,7 +124,10 @@ fn a_read_only_file_is_refused_and_nothing_is_written() {
     let e = o.write().unwrap_err();
     assert_eq!(
         e.0,
-        format!("--svg must name a file it may write (got '{}': read-only, mode 0444; chmod u+w it, or name another)", keep.display())
+        format!(
+            "--svg must name a file it may write (got '{}': read-only, mode 0444; chmod u+w it, or name another)",
+            keep.display()
+        )
     );
     assert_eq!(std::fs::read_to_string(&keep).unwrap(), "old");
     assert_eq!(std::fs::metadata(&keep).unwrap().permissions().mode() & 0o777, 0o444);
@@ -151,7 +155,10 @@ fn an_existing_file_is_written_through_keeping_its_links_owner_and_mode() {
     assert_eq!(std::fs::read_to_string(&f).unwrap(), "<svg/>");
     assert_eq!(std::fs::read_to_string(d.join("other-name.svg")).unwrap(), "<svg/>", "both links see the new text");
     let after = std::fs::metadata(&f).unwrap();
-    assert_eq!((after.ino(), after.nlink(), after.mode(), after.uid(), after.gid()), (before.ino(), 2, before.mode(), before.uid(), before.gid()));
+    assert_eq!(
+        (after.ino(), after.nlink(), after.mode(), after.uid(), after.gid()),
+        (before.ino(), 2, before.mode(), before.uid(), before.gid())
+    );
     if root {
         assert_eq!(after.uid(), 4321);
     }
