@@ -68,7 +68,7 @@ pub enum Damage {
 /// last byte) against the seal at `end`, with the CRC unit. The unit's
 /// clock is on only while it works (AHB1ENR as it was before, after).
 pub fn verify(bus: &mut impl Bus, end: u32) -> Result<(), Damage> {
-    if end % 4 != 0 || end <= FLASH_BASE || end > APP_END - SEAL_BYTES {
+    if !end.is_multiple_of(4) || end <= FLASH_BASE || end > APP_END - SEAL_BYTES {
         return Err(Damage::End(end));
     }
     let (magic, length, sealed) = (bus.read(end), bus.read(end + 4), bus.read(end + 8));
