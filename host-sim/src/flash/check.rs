@@ -28,7 +28,7 @@ pub fn image(base: u32, bytes: &[u8], any_image: bool) -> Result<Option<String>,
         None if any_image => Ok(None),
         None => Err(Refusal::new(
             format!("must be a polyturn image for the {CHIP}, marked 'polyturn-image:{CHIP}:VERSION' (--any-image writes another program)"),
-            "no polyturn-image marker",
+            "no polyturn-image marker: another program, or a polyturn image cut short",
         )),
     }
 }

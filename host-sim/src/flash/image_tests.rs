@@ -147,7 +147,11 @@ fn the_marker_names_the_chip_and_only_any_image_lets_none_through() {
     }
     let none = image_with(4096, SP, RESET, b"");
     let r = refused(&none, Format::Bin, false);
-    assert!(r.rule.contains("--any-image") && r.found == "no polyturn-image marker", "{r:?}");
+    assert!(
+        r.rule.contains("--any-image")
+            && r.found == "no polyturn-image marker: another program, or a polyturn image cut short",
+        "{r:?}"
+    );
     assert_eq!(from_bytes(&none, Format::Bin, true).unwrap().version, None);
     let unended = image_with(4096, SP, RESET, &[b"polyturn-image:stm32f411ce:".as_slice(), &[b'1'; 100]].concat());
     assert!(refused(&unended, Format::Bin, true).found.starts_with("a malformed marker at offset 0x200"));
