@@ -540,6 +540,40 @@ await test('a file that is no polyturn image is refused before any request', asy
   assert.match(e, /^notes\.bin /);
 });
 
+await test('an image cut short, grown or with a byte changed is refused before any request, as polyturn flash refuses it', async () => {
+  const r = await page.evaluate(async () => {
+    const w = await import('/pkg/polyturn_web.js');
+    const { functionalDescriptor } = await import('/js/flash.js');
+    const rom = new w.FakeDfu(0, 0);
+    const desc = functionalDescriptor(rom.configuration_descriptor());
+    const image = w.FakeDfu.sample_image(40000);
+    const plan = (bytes) => { try { w.flash_plan('polyturn.bin', bytes, rom.interface(), desc); return null; } catch (e) { return String(e); } };
+    // a fixed sequence of random mutants (xorshift32), as the host's property test makes them
+    let x = 46;
+    const rand = (n) => { x ^= x << 13; x >>>= 0; x ^= x >>> 17; x ^= x << 5; x >>>= 0; return x % n; };
+    const taken = [];
+    const seal = [];
+    for (let i = 0; i < 200; i++) {
+      let m;
+      let what;
+      switch (i % 4) {
+        case 0: { const keep = 1 + rand(image.length - 1); m = image.slice(0, keep); what = `cut to ${keep}`; break; }
+        case 1: { const more = 1 + rand(63); m = new Uint8Array(image.length + more); m.set(image); for (let j = image.length; j < m.length; j++) m[j] = rand(256); what = `${more} bytes appended`; break; }
+        case 2: { const at = rand(0x198); m = image.slice(); m[at] ^= 1 + rand(255); what = `vector-table byte ${at} changed`; break; }
+        default: { const at = rand(image.length); m = image.slice(); m[at] ^= 1 + rand(255); what = `byte ${at} changed`; }
+      }
+      const e = plan(m);
+      if (e === null) taken.push(what);
+      else if (/must end with the seal/.test(e)) seal.push(what);
+    }
+    return { whole: plan(image), taken, seal: seal.length, events: rom.events() };
+  });
+  assert.equal(r.whole, null, 'the whole image is taken');
+  assert.deepEqual(r.taken, [], 'every mutant refused');
+  assert.ok(r.seal >= 100, `${r.seal} of 200 refused by the seal (the others by the vector table or the marker)`);
+  assert.deepEqual(r.events, [], 'no request reached the bootloader');
+});
+
 await test('a port that echoes the command is never taken for the board, and the board behind it is heard', async () => {
   const got = await page.evaluate(async () => {
     const { Session } = await import('/js/serial.js');

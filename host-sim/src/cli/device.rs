@@ -225,10 +225,21 @@ pub fn watch<P: Read + Write>(s: &mut Session<P>, out: &mut impl Write) -> CliRe
 }
 
 /// Reads and checks a `polyturn cam --table` file (bounded in size),
-/// before the port is opened.
+/// before the port is opened. Only a regular file: a FIFO would wait for
+/// its writer, a device never end. Opened without blocking (a FIFO's open
+/// waits for a writer otherwise), then refused by what it is.
 fn read_table(file: &std::path::Path) -> CliResult<crate::noncircular::table::CamFile> {
     let name = escaped(&file.display().to_string());
-    let f = std::fs::File::open(file).map_err(|e| CliError(format!("upload-cam: cannot read '{name}': {e}")))?;
+    let mut open = std::fs::OpenOptions::new();
+    open.read(true);
+    #[cfg(unix)]
+    std::os::unix::fs::OpenOptionsExt::custom_flags(&mut open, libc::O_NONBLOCK);
+    let f = open.open(file).map_err(|e| CliError(format!("upload-cam: cannot read '{name}': {e}")))?;
+    if !f.metadata().is_ok_and(|m| m.is_file()) {
+        return Err(CliError(format!(
+            "FILE must be a regular file, the table `polyturn cam --table` writes (got '{name}': not a regular file)"
+        )));
+    }
     let mut text = String::new();
     f.take(CAM_FILE_MAX + 1)
         .read_to_string(&mut text)
