@@ -72,8 +72,10 @@ async function newContext() {
   return context;
 }
 const errors = [];
+const pages = [];
 async function open(context, url) {
   const page = await context.newPage();
+  pages.push(page);
   page.on('pageerror', (e) => errors.push(String(e)));
   await page.goto(url, { timeout: 60000 });
   await page.waitForSelector('body[data-ready=yes]', { timeout: 30000 });
@@ -91,6 +93,11 @@ async function setOne(page, name, value) {
   await page.fill(`#settings input[name=${name}]`, value);
   await page.click(`#settings button[data-name=${name}]`);
   await waitFor(page, (want) => document.querySelector('#settings-error').textContent === want, `ok ${name}=${value}`);
+  // and the form is read back (`get`) before the next step
+  await waitFor(page, ([sent, kv]) => {
+    const after = document.querySelector('#log').textContent.split(sent).at(-1);
+    return after.split('> get\n')[1]?.split('\n')[0].includes(kv);
+  }, [`> set ${name} ${value}\n`, ` ${name}=${value}`]);
 }
 
 const results = [];
@@ -103,6 +110,10 @@ async function scenario(name, f) {
   } catch (e) {
     results.push([name, 'FAILED']);
     console.log(`FAIL ${name}\n     ${String(e.stack ?? e).split('\n').slice(0, 16).join('\n     ')}`);
+    for (const p of pages.filter((p) => !p.isClosed())) {
+      const seen = await p.evaluate(() => [document.querySelector('#settings-error')?.textContent, document.querySelector('#relay-state')?.textContent, document.querySelector('#log')?.textContent.split('\n').slice(-12).join(' | ')]).catch(() => []);
+      console.log(`     a page: ${seen.join(' || ')}`);
+    }
   }
 }
 
@@ -141,6 +152,8 @@ await scenario('through the relay with WebSerial off: status, set ratio 11/3, a 
   const s = await state(first);
   assert.equal(s.fault, 'none');
   assert.match(await first.textContent('#connect-relay'), new RegExp(`Connected through polyturn web \\(${pty}\\)`));
+  // 11/3 at the default max-rpm 1500 would overspeed the motor: refused
+  await setOne(first, 'max-rpm', '1000');
   await setOne(first, 'ratio', '11/3');
   await first.fill('#settings input[name=cpr]', '0');
   await waitFor(first, () => document.querySelector('#settings-error').textContent.startsWith('error: cpr'));
