@@ -368,6 +368,16 @@ await test('the simulated board\'s lathe turns at the speed set, and engage sync
   assert.ok(Math.abs(b.phase_err_steps) < 5, `in sync: ${b.phase_err_steps} steps`);
   await page.waitForTimeout(1500); // the phase plot fills
   await view('device', ['#status', '#settings', '#phase-plot', '#sim-lathe-rpm']);
+  // the chart's scale is the synced error's, not the engage transient's
+  const plot = await page.$eval('#phase-plot', (el) => ({ ...el.dataset, markers: el.querySelectorAll('.clipped').length, text: el.textContent }));
+  assert.equal(plot.steadyFrom, 'synced');
+  assert.ok(Number(plot.span) <= 5 && Number(plot.span) >= Math.abs(b.phase_err_steps), `the scale ±${plot.span} steps for ${b.phase_err_steps} synced`);
+  assert.ok(Math.abs(Number(plot.worst)) > Number(plot.span) && plot.markers > 0, `the transient (up to ${plot.worst}) drawn past the scale with markers: ${JSON.stringify(plot)}`);
+  // µm at the work: the arc of one step at the page's stock radius R2
+  const r2 = await page.evaluate(async () => (await import('/js/polyturn.js')).shared.setup.stockRadius);
+  const steps = Number(await page.inputValue('#settings input[name=steps]'));
+  close(Number(plot.umStep), (1000 * r2 * 2 * Math.PI) / (steps * ratio), 'µm at the work per step');
+  assert.ok(plot.text.includes(`µm at R2 ${r2} mm`), plot.text);
   await page.click('#stop');
   await page.fill('#sim-lathe-rpm', '0');
   await page.dispatchEvent('#sim-lathe-rpm', 'change');

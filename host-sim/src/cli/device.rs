@@ -145,9 +145,7 @@ pub fn run(a: DeviceArgs) -> CliResult<String> {
         DeviceCommand::UploadCam { file } => Some(read_table(file)?),
         _ => None,
     };
-    let path = a.port.clone().or_else(find_port).ok_or_else(|| {
-        CliError::flag("port", "not given and no polyturn console found (looked for /dev/ttyACM*): connect the board by USB, or give --port PATH")
-    })?;
+    let path = a.port.clone().or_else(find_port).ok_or_else(|| CliError::flag("port", NO_PORT))?;
     let serial = serialport::new(&path, 115_200)
         .timeout(Duration::from_millis(50))
         .open()
@@ -261,6 +259,36 @@ pub fn upload<P: Read + Write>(s: &mut Session<P>, table: &crate::noncircular::t
 }
 
 /// The first USB CDC-ACM port, as Linux and macOS name them.
+/// What a missing `--port` gets, where the board was looked for.
+#[cfg(not(windows))]
+const NO_PORT: &str =
+    "not given and no polyturn console found (looked for /dev/ttyACM*): connect the board by USB, or give --port PATH";
+#[cfg(windows)]
+const NO_PORT: &str = "not given and no polyturn console found (looked for USB 16c0:27dd among the COM ports): connect the board by USB, or give --port COM5 (its number in Device Manager, Ports)";
+
+/// The polyturn console's USB IDs (firmware/src/app/usb.rs).
+const CONSOLE_USB: (u16, u16) = (0x16c0, 0x27dd);
+
+/// Windows names ports COMn: the console is the one with its USB IDs
+/// (SetupAPI, through serialport's `available_ports`).
+#[cfg(windows)]
+fn find_port() -> Option<String> {
+    first_console(serialport::available_ports().ok()?)
+}
+
+/// The first port that is the polyturn console by its USB IDs.
+#[cfg_attr(not(windows), allow(dead_code))]
+fn first_console(ports: Vec<serialport::SerialPortInfo>) -> Option<String> {
+    let mut found: Vec<String> = ports
+        .into_iter()
+        .filter(|p| matches!(&p.port_type, serialport::SerialPortType::UsbPort(u) if (u.vid, u.pid) == CONSOLE_USB))
+        .map(|p| p.port_name)
+        .collect();
+    found.sort();
+    found.into_iter().next()
+}
+
+#[cfg(not(windows))]
 fn find_port() -> Option<String> {
     let mut found: Vec<String> = std::fs::read_dir("/dev")
         .ok()?
