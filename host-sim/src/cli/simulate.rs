@@ -6,7 +6,7 @@ mod alive;
 mod refused;
 
 use super::cutters::{refuse_others, For};
-use super::errors::{escaped, CliError, CliResult};
+use super::errors::{CliError, CliResult};
 use super::geometry::SetupArgs;
 use super::output::Outputs;
 use super::values::{bldc_out, drive, out_file, pwm_hz, rpm, setting, whole, whole32, within};
