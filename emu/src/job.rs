@@ -5,6 +5,7 @@
 
 pub mod bldc;
 pub mod busy;
+pub mod damaged;
 pub mod edgecheck;
 pub mod estop;
 pub mod host;

@@ -18,6 +18,7 @@ pub mod line;
 pub mod quadgen;
 pub mod ramcode;
 pub mod regs;
+pub mod seal;
 pub mod stepgen;
 pub mod store;
 pub mod xsteps;
