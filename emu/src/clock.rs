@@ -124,14 +124,7 @@ impl Block {
         if from == Fetch::Sram {
             body.bound += insns.iter().map(beats).sum::<u32>();
         }
-        Block {
-            body,
-            starts,
-            reads,
-            first: insns.first().copied(),
-            last: insns.last().copied(),
-            end: addr + size,
-        }
+        Block { body, starts, reads, first: insns.first().copied(), last: insns.last().copied(), end: addr + size }
     }
 }
 
@@ -238,10 +231,7 @@ impl Meter {
     /// Cycles from the start of the block at `block` to its instruction at
     /// `addr` (static: its flash waits are not split between instructions).
     pub fn offset(&self, block: (u32, u32), addr: u32) -> Cost {
-        self.blocks
-            .get(&block)
-            .and_then(|b| b.starts.iter().find(|s| s.0 == addr).map(|s| s.1))
-            .unwrap_or_default()
+        self.blocks.get(&block).and_then(|b| b.starts.iter().find(|s| s.0 == addr).map(|s| s.1)).unwrap_or_default()
     }
 
     /// An exception taken: its entry's cost, with its vector's read at

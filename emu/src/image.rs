@@ -28,8 +28,9 @@ pub struct Image {
     /// `polyturn image` makes it from the ELF (every PT_LOAD segment's file
     /// bytes at its LMA, so .data's initial values too, then the seal)
     pub segments: Vec<(u32, Vec<u8>)>,
-    /// where the release image's seal lies (`polyturn_firmware::seal`)
-    pub seal_at: u32,
+    /// where the release image's seal lies (`polyturn_firmware::seal`); none
+    /// for a bare benchmark image (`load_bare`)
+    pub seal_at: Option<u32>,
     pub symbols: BTreeMap<String, u32>,
     funcs: Vec<(u32, u32, String)>,
     pub vectors: Vec<u32>,
@@ -38,11 +39,22 @@ pub struct Image {
     pub program: std::rc::Rc<crate::cycles::insn::Program>,
     /// (address it runs at, address it is loaded at, length) of each segment
     /// whose two differ (`.data`, and the code memory.x puts in SRAM)
+    #[cfg_attr(not(test), allow(dead_code))]
     pub moved: Vec<(u32, u32, u32)>,
 }
 
 /// Why an image cannot run, in one line.
 pub fn load(path: &Path) -> Result<Image, String> {
+    load_as(path, true)
+}
+
+/// A bare-metal image that is no polyturn image (`--bench`): its PT_LOAD
+/// segments' file bytes at their load addresses, unsealed.
+pub fn load_bare(path: &Path) -> Result<Image, String> {
+    load_as(path, false)
+}
+
+fn load_as(path: &Path, polyturn: bool) -> Result<Image, String> {
     let data = std::fs::read(path).map_err(|e| format!("cannot read the image '{}': {e}", path.display()))?;
     let elf = object::File::parse(&*data).map_err(|e| format!("'{}' is not an ELF: {e}", path.display()))?;
     if elf.architecture() != object::Architecture::Arm {
@@ -52,17 +64,22 @@ pub fn load(path: &Path) -> Result<Image, String> {
             elf.architecture()
         ));
     }
-    let release = polyturn_host::flash::image::from_bytes(&data, Format::Elf, false)
-        .map_err(|r| format!("'{}' is no polyturn image: {} ({})", path.display(), r.rule, r.found))?;
-    let seal_at = FLASH_BASE + release.bytes.len() as u32 - polyturn_firmware::seal::SEAL_BYTES;
-    let segments = vec![(release.base, release.bytes)];
-    let mut moved = Vec::new();
+    let (mut segments, mut moved, mut seal_at) = (Vec::new(), Vec::new(), None);
     for seg in elf.segments() {
-        let len = seg.data().map_err(|e| e.to_string())?.len() as u32;
+        let bytes = seg.data().map_err(|e| e.to_string())?;
         let (vma, lma) = (seg.address() as u32, load_address(&elf, &seg));
-        if len > 0 && vma != lma {
-            moved.push((vma, lma, len));
+        if !bytes.is_empty() && vma != lma {
+            moved.push((vma, lma, bytes.len() as u32));
         }
+        if !bytes.is_empty() && !polyturn {
+            segments.push((lma, bytes.to_vec()));
+        }
+    }
+    if polyturn {
+        let release = polyturn_host::flash::image::from_bytes(&data, Format::Elf, false)
+            .map_err(|r| format!("'{}' is no polyturn image: {} ({})", path.display(), r.rule, r.found))?;
+        seal_at = Some(FLASH_BASE + release.bytes.len() as u32 - polyturn_firmware::seal::SEAL_BYTES);
+        segments.push((release.base, release.bytes));
     }
     let (mut symbols, mut funcs) = (BTreeMap::new(), Vec::new());
     for s in elf.symbols() {
@@ -116,6 +133,7 @@ pub fn reseal(flash: &mut [u8], seal_at: u32) {
 impl Image {
     /// Where the bytes that run at `addr` are loaded (the same address but
     /// for a moved segment's).
+    #[cfg(test)]
     pub fn load_address_of(&self, addr: u32) -> u32 {
         self.moved.iter().find(|m| (m.0..m.0 + m.2).contains(&addr)).map_or(addr, |m| m.1 + (addr - m.0))
     }

@@ -98,11 +98,11 @@ pub struct Outcome {
     pub misses: [(u64, u64); 2],
     pub tick_all: Vec<(u64, u64)>,
     pub plan_all: Vec<(u64, u64)>,
-    /// the longest interrupts-off (PRIMASK) section in thread mode, instructions:
+    /// the longest interrupts-off (PRIMASK) section in thread mode, cycles on the bound:
     /// what can delay the E-stop
     pub irq_off: u64,
     /// the longest thread-mode section holding off the running tick (its lock),
-    /// instructions
+    /// cycles on the bound
     pub tick_lock: u64,
     /// where it began (the function)
     pub tick_lock_at: String,
@@ -156,6 +156,40 @@ pub(crate) fn press(m: &mut Machine, pin: u8) {
     m.run(40 * MS);
 }
 
+/// `POLYTURN_EMU_PROFILE`: the run profiled by function, within
+/// `POLYTURN_EMU_PROFILE_FROM_MS`..`_TO_MS` of MCU time when given.
+fn profile_from_env(m: &mut Machine) {
+    if std::env::var_os("POLYTURN_EMU_PROFILE").is_none() {
+        return;
+    }
+    let ms = |v: &str| std::env::var(v).ok().and_then(|s| s.parse::<f64>().ok()).map(|t| (t * 96e3) as u64);
+    let window = ms("POLYTURN_EMU_PROFILE_FROM_MS").unwrap_or(0)..ms("POLYTURN_EMU_PROFILE_TO_MS").unwrap_or(u64::MAX);
+    let mut p = crate::clock::profile::Profile::default();
+    p.window = window;
+    m.chip().profile = Some(p);
+}
+
+/// Runs until the lathe's profile ends or a fault stops the run; with
+/// `busy`, the console kept busy every 100 ms (`busy::slice`), its answers
+/// returned.
+fn until_the_lathe_stops(m: &mut Machine, busy: bool) -> Option<busy::Answers> {
+    let mut answers = busy.then(busy::Answers::default);
+    let mut k = 0;
+    while !m.lathe.as_ref().is_some_and(|l| l.finished()) && m.chip().faults.is_empty() {
+        match answers.as_mut() {
+            Some(a) => {
+                let t = m.chip().now;
+                busy::slice(m, k, a);
+                let left = (t + 100 * MS).saturating_sub(m.chip().now).max(MS);
+                m.run(left);
+                k += 1;
+            }
+            None => m.run(10 * MS),
+        }
+    }
+    answers
+}
+
 pub fn run(image: &Rc<Image>, spec: &Spec) -> Result<Outcome, String> {
     let params = Params { ndtr: spec.ndtr, encoder_capture: spec.capture, ..Params::default() };
     let wall = Instant::now();
@@ -163,13 +197,7 @@ pub fn run(image: &Rc<Image>, spec: &Spec) -> Result<Outcome, String> {
     let flash = settings::saved(&sc.core)?;
     let mut m = Machine::new(image.clone(), params, &flash)?;
     m.cpr = sc.core.encoder_counts_per_rev;
-    if std::env::var_os("POLYTURN_EMU_PROFILE").is_some() {
-        let ms = |v: &str| std::env::var(v).ok().and_then(|s| s.parse::<f64>().ok()).map(|t| (t * 96e3) as u64);
-        let window = ms("POLYTURN_EMU_PROFILE_FROM_MS").unwrap_or(0)..ms("POLYTURN_EMU_PROFILE_TO_MS").unwrap_or(u64::MAX);
-        let mut p = crate::clock::profile::Profile::default();
-        p.window = window;
-        m.chip().profile = Some(p);
-    }
+    profile_from_env(&mut m);
     // (no tape where the job stops the tick's flow: the replay follows one
     // edge clock from the start, and a lost tick has it measured again; nor
     // where the console changes the phase, which the replay does not follow)
@@ -219,20 +247,7 @@ pub fn run(image: &Rc<Image>, spec: &Spec) -> Result<Outcome, String> {
         Kind::LatePlan { at_s, how } => Some(planlate::cause(&mut m, at_s, how)),
         _ => None,
     };
-    let mut answers = (spec.kind == Kind::Busy).then(busy::Answers::default);
-    let mut k = 0;
-    while !m.lathe.as_ref().is_some_and(|l| l.finished()) && m.chip().faults.is_empty() {
-        match answers.as_mut() {
-            Some(a) => {
-                let t = m.chip().now;
-                busy::slice(&mut m, k, a);
-                let left = (t + 100 * MS).saturating_sub(m.chip().now).max(MS);
-                m.run(left);
-                k += 1;
-            }
-            None => m.run(10 * MS),
-        }
-    }
+    let answers = until_the_lathe_stops(&mut m, spec.kind == Kind::Busy);
     m.run(100 * MS);
     // compared up to STOP: the key task's disengage shows on no pin
     let until = m.chip().now;

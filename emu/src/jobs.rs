@@ -91,14 +91,7 @@ pub const SPECS: &[Spec] = &[
     // (l): the hexagon's ratio at 228 000 steps/s (`max-rate` 250 000), engaged
     // spinning, with the console answering status, phase nudges and gets
     // all through
-    Spec {
-        name: "l top rate",
-        kind: Kind::Busy,
-        engage_after_ms: 400,
-        turns: 24.0,
-        start: Start::Spinning,
-        ..HEXAGON
-    },
+    Spec { name: "l top rate", kind: Kind::Busy, engage_after_ms: 400, turns: 24.0, start: Start::Spinning, ..HEXAGON },
 ];
 
 /// Runs the jobs whose name starts with `only` (all with ""), and judges them.
@@ -136,6 +129,7 @@ pub fn run_all(image: &Rc<Image>, r: &mut Report, only: &str) -> Result<u64, Str
         lost_ticks(r, &o);
         late_plan(r, &o);
         busy(r, &o);
+        budget(r, &o);
     }
     Ok(total)
 }
@@ -172,7 +166,15 @@ fn show(o: &Outcome) {
             a.sort_by_key(|r| std::cmp::Reverse(r.1));
             a.iter().take(8).map(|r| format!("{}@{:.1}ms", r.1, r.0 as f64 / 96e3)).collect()
         };
-        println!("  {what} bound p50 {} p90 {} p99 {} p99.9 {} max {}; top {}", q(0.5), q(0.9), q(0.99), q(0.999), q(1.0), top.join(" "));
+        println!(
+            "  {what} bound p50 {} p90 {} p99 {} p99.9 {} max {}; top {}",
+            q(0.5),
+            q(0.9),
+            q(0.99),
+            q(0.999),
+            q(1.0),
+            top.join(" ")
+        );
     }
 }
 
@@ -252,6 +254,29 @@ fn busy(r: &mut Report, o: &Outcome) {
         a.last_status
     );
     r.line(ok, &format!("console {}", o.name), &text);
+}
+
+/// A tick period in CPU cycles at 96 MHz.
+const TICK_CYCLES: u64 = 96_000_000 / polyturn_firmware::board::TICK_HZ as u64;
+/// The goal: the worst tick, the worst plan and the longest section holding
+/// the tick off, together, within 75 % of a tick on the bound.
+const GOAL_PERCENT: u64 = 75;
+/// What is checked until the goal is met: the same sum may not grow past
+/// what the jobs measure today (docs/src/performance.md, "The tick's
+/// budget"), so that a change that costs the tick more fails here.
+const CEILING_PERCENT: u64 = 155;
+
+/// The tick's budget on the bound, printed against the goal and checked
+/// against the ceiling.
+fn budget(r: &mut Report, o: &Outcome) {
+    let sum = o.tick_bound.1 + o.plan_bound.1 + o.tick_lock;
+    let percent = sum * 100 / TICK_CYCLES;
+    let goal = if percent <= GOAL_PERCENT { "met" } else { "not met" };
+    let text = format!(
+        "worst tick {} + worst plan {} + longest hold-off {} = {sum} cycles on the bound, {percent} % of a tick ({TICK_CYCLES}); goal {GOAL_PERCENT} %: {goal}; ceiling {CEILING_PERCENT} %",
+        o.tick_bound.1, o.plan_bound.1, o.tick_lock
+    );
+    r.line(percent <= CEILING_PERCENT, &format!("budget {}", o.name), &text);
 }
 
 /// The image wrote its edge clock's first instant again (`edges::clock`).

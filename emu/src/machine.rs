@@ -26,6 +26,7 @@ use unicorn_engine::{Arch, HookType, Mode, Prot, RegisterARM, Unicorn};
 const SLICE: u64 = 20_000;
 const NOP: [u8; 2] = [0x00, 0xBF];
 
+#[cfg(test)]
 /// Thumb instructions in `code`: a halfword whose top five bits are 0b11101,
 /// 0b11110 or 0b11111 starts a 32-bit instruction (ARMv7-M ARM A5.1).
 pub fn insn_count(code: &[u8]) -> u64 {
@@ -123,13 +124,17 @@ impl Machine {
         // unicorn has none of them; time still passes through the loop around them
         for a in image.insns.wfe.iter().chain(&image.insns.sev).chain(&image.insns.wfi) {
             let Some(o) = a.checked_sub(FLASH_BASE).map(|o| o as usize) else {
-                return Err(format!("a wait for event at {a:#010x}, outside the flash: the emulator makes those NOPs only there"));
+                return Err(format!(
+                    "a wait for event at {a:#010x}, outside the flash: the emulator makes those NOPs only there"
+                ));
             };
             flash[o..o + 2].copy_from_slice(&NOP);
         }
         // the image checks its own bytes at boot (`seal`): sealed again over the
         // NOPs, as if the image had been flashed so
-        crate::image::reseal(&mut flash, image.seal_at);
+        if let Some(at) = image.seal_at {
+            crate::image::reseal(&mut flash, at);
+        }
         // what was flashed besides (settings), or over it (a damaged image)
         for segment in flash_init {
             put(&mut flash, segment)?;

@@ -67,14 +67,16 @@ fn main() {
     };
     // a model's "not modelled" panic becomes a fault of the run, reported once
     std::panic::set_hook(Box::new(|_| {}));
-    let image = match image::load(std::path::Path::new(elf)) {
+    let bench = args.iter().any(|a| a == "--bench");
+    let load = if bench { image::load_bare } else { image::load };
+    let image = match load(std::path::Path::new(elf)) {
         Ok(i) => Rc::new(i),
         Err(e) => {
             eprintln!("emu: {e}");
             std::process::exit(2);
         }
     };
-    if args.iter().any(|a| a == "--bench") {
+    if bench {
         std::process::exit(bench::cli(&image, &args));
     }
     if args.iter().any(|a| a == "--pty") {
@@ -110,7 +112,7 @@ fn main() {
         }
     }
     println!(
-        "emulated {total} instructions ({:.1} ms of MCU time) in {:.1} s wall; {} check(s) failed",
+        "emulated {total} cycles ({:.1} ms of MCU time) in {:.1} s wall; {} check(s) failed",
         total as f64 / 96e3,
         wall.elapsed().as_secs_f64(),
         r.failed

@@ -6,7 +6,7 @@ use std::path::PathBuf;
 
 fn fixture() -> Rc<Image> {
     let path = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("tests/fixtures/bench-loop.elf");
-    Rc::new(crate::image::load(&path).expect("the bench test image loads"))
+    Rc::new(crate::image::load_bare(&path).expect("the bench test image loads"))
 }
 
 #[test]

@@ -165,6 +165,7 @@ impl Program {
         &self.insns[lo..hi.max(lo)]
     }
 
+    #[cfg(test)]
     pub fn at(&self, addr: u32) -> Option<&Insn> {
         let find = |a: u32| self.insns.binary_search_by_key(&a, |i| i.addr).ok().map(|k| &self.insns[k]);
         find(addr).or_else(|| (addr < FLASH_BASE).then(|| find(FLASH_BASE + addr)).flatten())

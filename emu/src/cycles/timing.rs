@@ -253,7 +253,10 @@ pub fn divide(dividend: u32, divisor: u32, signed: bool) -> Cost {
 /// halfword aligned word load or store adds one extra cycle ... A byte-aligned
 /// word load or store adds two extra cycles"; "A STR or STRH cannot delay the
 /// processor because of the write buffer": the model spares stores, the bound
-/// does not. `bytes` is the access's size (1, 2 or 4).
+/// does not. `bytes` is the access's size (1, 2 or 4). Not charged by the
+/// meter yet: it does not see data addresses (docs/src/emulator.md, "What is
+/// not modelled").
+#[cfg_attr(not(test), allow(dead_code))]
 pub fn unaligned(addr: u32, bytes: u32, store: bool) -> Cost {
     let extra = match bytes {
         2 => addr & 1,

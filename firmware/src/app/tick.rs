@@ -1,4 +1,4 @@
-//! The control tick: TIM11's update interrupt at 25 kHz, below only the
+//! The control tick: TIM11's update interrupt at 20 kHz, below only the
 //! E-stop (`board::PRIORITIES`). Reads the counters, runs the core's
 //! control, applies its output, and leaves the step plan to a handler one
 //! level below (`plan`). The core is shared with lower priorities under its

@@ -77,7 +77,7 @@ impl Follower {
         // (relative > 0) == (error > 0), as one test of the sign bits: for
         // every v but i64::MIN, v > 0 exactly when v − 1 ≥ 0, and both are
         // far inside ±2^63 here. Two 64-bit compares cost the tick 11
-        // instructions more on average (`.ci/qemu`).
+        // instructions more on average (counted on an emulated Cortex-M4).
         if relative != 0 && (relative.wrapping_sub(1) ^ error.wrapping_sub(1)) >= 0 {
             // Q16 units on both sides: v² and 2·a·e both carry 2^32. With
             // r < 2^31 and |e| ≤ 2^40, a < 2^20 neither product overflows, so

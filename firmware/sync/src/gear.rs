@@ -88,7 +88,7 @@ impl Gear {
     /// the remainder reaches den or falls below −den (at most |`delta`|
     /// of them, as 0 ≤ r2 < den2): no division. Taking the counts one at
     /// a time cost the tick about 30 instructions more on average
-    /// (`.ci/qemu`).
+    /// (counted on an emulated Cortex-M4).
     ///
     /// For |`delta`| · 2·den and |`delta`| · steps per count under 2^62:
     /// a tick's counts (at most 16 000, the plausibility check's bound)

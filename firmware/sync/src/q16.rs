@@ -2,7 +2,7 @@
 //! counts) with 16 fraction bits in an `i64`, so sums and differences are
 //! plain integer adds and a tick's arithmetic stays in 64 bits. Written
 //! here rather than taken from the `fixed` crate: a `fixed` product widens
-//! to 128 bits, which cost the tick 24 to 26 instructions in `.ci/qemu`, and the
+//! to 128 bits, which cost the tick 24 to 26 instructions on an emulated Cortex-M4, and the
 //! values cross the core's interfaces as plain `i64` (docs/src/fixed-point.md).
 
 /// One half, in Q16.
@@ -33,7 +33,7 @@ pub const fn mul(a: i64, b: i64) -> i64 {
 /// `clamp` (which asserts min ≤ max): the control tick has no reachable
 /// panic. Inside is one unsigned compare (x + limit ≤ 2·limit), the common
 /// case: on the Cortex-M4 two signed 64-bit selects cost the tick about
-/// 14 instructions a call against 7 (`.ci/qemu`).
+/// 14 instructions a call against 7 (counted on an emulated Cortex-M4).
 #[inline(always)]
 pub fn bound(x: i64, limit: i64) -> i64 {
     if !beyond(x, limit) {

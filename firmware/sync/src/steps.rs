@@ -118,7 +118,7 @@ impl Prev {
 /// committed) so far; `prev` where the last steps left the output.
 /// Uses 32-bit divisions only (UDIV on Cortex-M4). Inlined: out of line,
 /// its call and its 64-bit arguments on the stack cost the tick 6
-/// instructions more (`.ci/qemu`).
+/// instructions more (counted on an emulated Cortex-M4).
 #[inline(always)]
 pub fn plan(from: i64, to: i64, emitted: i64, prev: &Prev, t: &StepTiming) -> StepPlan {
     let whole = crate::q16::round(to);

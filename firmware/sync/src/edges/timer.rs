@@ -115,7 +115,7 @@ impl EdgeTimer {
     /// stamp s holds the edges of [s, s + 1) µs).
     /// (Inlined: every tick calls it. Out of line, as the compiler left
     /// it, it cost the tick 11 instructions more on average when this was
-    /// made, and 41 on the code as it stands now: `.ci/qemu`.)
+    /// made, and 41 on the code as it stands now: counted on an emulated Cortex-M4.)
     #[inline(always)]
     fn follow_rises(&mut self, regs: Option<EdgeRegs>, lathe: &Extender) {
         let Some(r) = regs.filter(|r| packed(r) != self.last_regs) else {

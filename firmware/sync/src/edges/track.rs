@@ -73,7 +73,7 @@ impl Track {
     /// the last interval's mean speed lags a starting lathe by a·T/2.
     /// (Inlined where the compiler will: kept out of line, a tick with a
     /// new rise cost 18 instructions more, though the average tick 3
-    /// fewer; `#[inline(always)]` cost both more: `.ci/qemu`.)
+    /// fewer; `#[inline(always)]` cost both more: counted on an emulated Cortex-M4.)
     #[inline]
     pub fn observe(&mut self, half: i64, stamp_q8: u32, clock: Clock) {
         let since = clock.instant_q8.wrapping_sub(stamp_q8) & super::timer::WRAP_Q8;
