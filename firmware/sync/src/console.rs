@@ -10,6 +10,8 @@ use core::fmt::Write;
 
 mod checks;
 pub mod number;
+// the self-test's commands, with the rest of the self-test (`crate::selftest`)
+#[path = "selftest/console.rs"]
 mod selftest;
 mod status;
 
@@ -218,14 +220,10 @@ pub fn apply_prepared(cmd: Command<'_>, pre: Option<Prepared>, ctl: &mut Control
             Err(r) => Outcome::Error(r.describe()),
         },
         Command::SelfTest(op) => selftest::apply(op, pre.and_then(|p| p.selftest.map(|s| (p.generation, s))), ctl),
-        // as `engage`, `jog` and `selftest`: a hand turns the chuck, or the
-        // self-test's generator plays into the lathe input
-        Command::Dfu if ctl.encoder_check_running() => Outcome::Error(Refusal::Checking.describe()),
-        Command::Dfu if ctl.selftest_running() => Outcome::Error(Refusal::SelfTesting.describe()),
-        Command::Dfu if ctl.state() != crate::state::State::Idle => {
-            Outcome::Error("stop first (and clear any fault): dfu restarts the board into its ROM bootloader")
-        }
-        Command::Dfu => Outcome::Dfu,
+        Command::Dfu => match ctl.admit(crate::controller::Asked::Dfu) {
+            Ok(()) => Outcome::Dfu,
+            Err(r) => Outcome::Error(r.describe()),
+        },
     }
 }
 

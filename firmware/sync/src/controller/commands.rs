@@ -78,15 +78,7 @@ impl Controller {
 
     /// Starts synchronising (from rest or while the lathe turns).
     pub fn engage(&mut self) -> Result<(), Refusal> {
-        match self.state {
-            State::Fault(_) => return Err(Refusal::Faulted),
-            State::Engaging | State::Synced => return Err(Refusal::Busy),
-            State::Jogging => return Err(Refusal::Moving),
-            State::Idle | State::Disengaging => {}
-        }
-        if self.encoder_check_running() {
-            return Err(Refusal::Checking);
-        }
+        self.admit(super::activity::Asked::Engage)?;
         // with no cutter and no X axis, engaging would move nothing yet
         // report `synced` and assert ENABLE
         if self.config.drive == crate::config::DriveKind::None && self.x.is_none() {
@@ -107,7 +99,7 @@ impl Controller {
     /// Ramps the cutter down and goes idle.
     pub fn disengage(&mut self) {
         if matches!(self.state, State::Engaging | State::Synced | State::Jogging) {
-            self.jog = None;
+            self.end_jog();
             self.state = State::Disengaging;
             info!("disengaging");
         }

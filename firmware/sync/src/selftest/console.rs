@@ -1,4 +1,5 @@
-//! `selftest [start [rpm]|stop]`: the bench self-test.
+//! `selftest [start [rpm]|stop]`: the bench self-test's console commands
+//! (`console::selftest`, kept here with the rest of the self-test).
 //! One reply line of `name=value` figures; a failed test is reported as
 //! such (`ok selftest fail ...`: the command worked, the board did not).
 
@@ -177,4 +178,5 @@ fn write_failure(f: Failure, out: &mut Reply) -> core::fmt::Result {
 }
 
 #[cfg(test)]
+#[path = "console_tests.rs"]
 mod tests;
