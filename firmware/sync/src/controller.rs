@@ -97,6 +97,12 @@ pub enum Refusal {
     NothingToDrive,
     /// jog refused: the cutter is engaged or ramping down
     Engaged,
+    /// dividing: the cutter stays off, the chuck is turned by hand
+    Dividing,
+    /// divide refused: the cutter is engaged or ramping down
+    CutterOn,
+    /// divide refused: the number of divisions out of range
+    DivideRange,
     /// dfu refused: the cutter is not idle, or a fault is latched
     DfuNotIdle,
 }
@@ -123,6 +129,9 @@ impl Refusal {
                 "drive=none and no cam table: nothing to engage (set drive stepper or bldc, or upload a cam table)"
             }
             Refusal::Engaged => "stop first: the cutter is engaged or ramping down (jog only while idle)",
+            Refusal::Dividing => "dividing (the chuck is turned by hand, the cutter stays off): divide stop first",
+            Refusal::CutterOn => "stop first: the cutter is engaged or ramping down (divide only while idle)",
+            Refusal::DivideRange => crate::config::table::DIVIDE_REFUSAL,
             Refusal::DfuNotIdle => "stop first (and clear any fault): dfu restarts the board into its ROM bootloader",
         }
     }
@@ -162,7 +171,7 @@ pub struct Controller {
     /// for the encoder check (kept by the tick: one add, one copy)
     index_seen: u32,
     last_index: i64,
-    /// the jog, encoder check or self-test running (`activity`)
+    /// the jog, encoder check, self-test or dividing running (`activity`)
     activity: activity::Activity,
     /// the last self-test's run, once it has ended
     selftest_last: Option<selftest::Run>,
@@ -505,6 +514,9 @@ pub mod activity;
 mod activity_tests;
 mod checks;
 mod commands;
+mod divide;
+#[cfg(test)]
+mod divide_tests;
 #[cfg(test)]
 mod edge_tests;
 #[cfg(test)]
@@ -541,7 +553,7 @@ mod tracking_tests;
 mod turns_tests;
 #[cfg(test)]
 mod x_axis_tests;
-pub use activity::Asked;
+pub use activity::{Asked, Divide};
 pub use commands::{check_table, prepare_cam, PreparedConfig, Status};
 pub use jog::JogPlan;
 pub use stall::Stall;

@@ -1,12 +1,13 @@
 //! What the controller does besides following the lathe: one activity at
 //! a time, and the one rule of which may start while another runs. Every
 //! refusal of a start (`engage`, `jog`, `check-encoder start`, `selftest
-//! start`, `dfu`) takes its reason from `Controller::admit`.
+//! start`, `divide`, `dfu`) takes its reason from `Controller::admit`.
 //!
 //! Why they exclude each other:
 //! * a jog turns the cutter: nothing else starts until it ends;
-//! * the encoder check has the chuck turned by hand: no cutter may move
-//!   then;
+//! * the encoder check and dividing have the chuck turned by hand: no
+//!   cutter may move then (but a jog asked for while dividing, with the
+//!   lathe at rest, which the machinist sees and stops);
 //! * the self-test's generator plays into the lathe input through jumper
 //!   wires: no hand on the chuck, no other use of the count.
 
@@ -15,6 +16,14 @@ use super::selftest::Run;
 use super::{Controller, Refusal};
 use crate::check::EncoderCheck;
 use crate::state::State;
+
+/// Dividing a turn (`divide N`): the cutter stays off; `status` shows the
+/// spindle against the divisions (`crate::angle`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Divide {
+    /// equal divisions of one turn of the spindle
+    pub divisions: u32,
+}
 
 /// The activity running, if any.
 #[derive(Clone, Copy, Debug)]
@@ -25,6 +34,7 @@ pub(super) enum Activity {
     /// only while the test runs: its last figures are kept apart
     /// (`Controller::selftest_last`)
     SelfTest(Run),
+    Divide(Divide),
 }
 
 /// What a command asks to start.
@@ -34,6 +44,7 @@ pub enum Asked {
     Jog,
     Check,
     SelfTest,
+    Divide,
     /// the restart into the ROM bootloader (`dfu`)
     Dfu,
 }
@@ -48,6 +59,9 @@ impl Activity {
             (Activity::Check(_), Asked::Check) => Ok(()),
             (Activity::Check(_), _) => Err(Refusal::Checking),
             (Activity::SelfTest(_), _) => Err(Refusal::SelfTesting),
+            // a new number of divisions; a jog, the lathe at rest
+            (Activity::Divide(_), Asked::Divide | Asked::Jog) => Ok(()),
+            (Activity::Divide(_), _) => Err(Refusal::Dividing),
         }
     }
 }
@@ -63,6 +77,7 @@ fn state_admits(state: State, asked: Asked) -> Result<(), Refusal> {
         (Asked::Jog, _) => Err(Refusal::Engaged),
         (Asked::Check, _) => Err(Refusal::CutterRunning),
         (Asked::SelfTest, _) => Err(Refusal::NotIdle),
+        (Asked::Divide, _) => Err(Refusal::CutterOn),
     }
 }
 
@@ -78,10 +93,11 @@ impl Controller {
         state_admits(self.state, asked)
     }
 
-    /// A jog ends (done, stopped, knocked or faulted).
+    /// A jog ends (done, stopped, knocked or faulted): back to dividing if
+    /// it was asked for while dividing, else to nothing.
     pub(super) fn end_jog(&mut self) {
-        if let Activity::Jog(_) = self.activity {
-            self.activity = Activity::None;
+        if let Activity::Jog(j) = self.activity {
+            self.activity = j.dividing.map_or(Activity::None, Activity::Divide);
         }
     }
 }

@@ -27,6 +27,11 @@ pub struct Status {
     pub target_steps: i64,
     pub lathe_counts: i64,
     pub indexed: bool,
+    /// the count latched at the first index seen: the spindle's angle is
+    /// from it (`crate::angle`), else from the count at the start
+    pub index_counts: Option<i64>,
+    /// while dividing (`divide N`), the divisions of a turn
+    pub divisions: Option<u32>,
     pub ticks: u64,
 }
 
@@ -65,6 +70,8 @@ impl Controller {
             target_steps: self.gear.steps(),
             lathe_counts: self.lathe.position(),
             indexed: self.index.reference().is_some(),
+            index_counts: self.index.reference(),
+            divisions: self.dividing(),
             ticks: self.ticks,
         }
     }

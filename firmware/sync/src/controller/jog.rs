@@ -4,7 +4,7 @@
 //! shows here, before any metal is cut). The move is the follower's: the
 //! same step output and limits as a cut, at a walking pace.
 
-use super::activity::{Activity, Asked};
+use super::activity::{Activity, Asked, Divide};
 use super::{Controller, Refusal};
 use crate::config::DriveKind;
 use crate::follower::{Follower, Limits};
@@ -24,6 +24,8 @@ pub(super) struct Jog {
     deadline: u64,
     /// the lathe's count at the start: a jog ends if the lathe turns
     lathe: i64,
+    /// dividing when it was asked for: dividing again once it ends
+    pub(super) dividing: Option<Divide>,
 }
 
 /// Counts the lathe may move during a jog (a knock on the chuck) before
@@ -71,7 +73,8 @@ impl Controller {
         let ticks = steps.unsigned_abs() * tick_hz / rate_hz as u64;
         let deadline = self.ticks + 2 * ticks + tick_hz;
         let target = start + crate::q16::from_steps(steps);
-        self.activity = Activity::Jog(Jog { target, limits, deadline, lathe: self.lathe.position() });
+        let dividing = self.divide();
+        self.activity = Activity::Jog(Jog { target, limits, deadline, lathe: self.lathe.position(), dividing });
         self.state = State::Jogging;
         Ok(JogPlan { steps, rate_hz })
     }

@@ -6,7 +6,7 @@
 use super::status::Milli;
 use super::{Command, Outcome, Reply};
 use crate::controller::selftest::SelfTestRefusal;
-use crate::controller::Controller;
+use crate::controller::{Controller, Refusal};
 use crate::selftest::{Failure, Kind, Plan, Report, Verdict};
 use core::fmt::Write;
 
@@ -96,6 +96,7 @@ pub(super) fn write_refused(r: SelfTestRefusal, out: &mut Reply) {
                 "error: an encoder check is running: check-encoder stop first, then wire the self-test's jumpers"
             )
         }
+        SelfTestRefusal::Dividing => write!(out, "error: {}", Refusal::Dividing.describe()),
     };
 }
 

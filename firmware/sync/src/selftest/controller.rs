@@ -32,6 +32,8 @@ pub enum SelfTestRefusal {
     },
     /// an encoder check runs: the chuck is being turned by hand
     Checking,
+    /// dividing: the chuck is being turned by hand
+    Dividing,
 }
 
 impl SelfTestRefusal {
@@ -40,6 +42,7 @@ impl SelfTestRefusal {
     fn from_rule(r: Refusal) -> SelfTestRefusal {
         match r {
             Refusal::Checking => SelfTestRefusal::Checking,
+            Refusal::Dividing => SelfTestRefusal::Dividing,
             _ => SelfTestRefusal::NotIdle,
         }
     }
