@@ -46,7 +46,7 @@ impl Angle {
 
     /// In degrees, to the encoder's resolution (`decimals`).
     pub fn degrees(&self) -> Fixed {
-        Fixed::degrees(self.counts as i128, 1, self.cpr)
+        Fixed::degrees(self.counts as i64, 1, self.cpr)
     }
 }
 
@@ -94,18 +94,18 @@ impl Division {
 
     /// The division's angle from the origin, degrees.
     pub fn at_degrees(&self) -> Fixed {
-        let n = self.divisions as i128;
-        Fixed { num: self.number as i128 * 360, den: n, decimals: decimals(self.cpr) }
+        let n = self.divisions as i64;
+        Fixed { num: self.number as i64 * 360, den: n, decimals: decimals(self.cpr) }
     }
 
     /// How far to turn to it, degrees (positive: the way the count goes up).
     pub fn to_degrees(&self) -> Fixed {
-        Fixed::degrees(self.to_scaled as i128, self.divisions as i128, self.cpr)
+        Fixed::degrees(self.to_scaled, self.divisions as i64, self.cpr)
     }
 
     /// How far to turn to it, counts, in hundredths.
     pub fn to_counts(&self) -> Fixed {
-        Fixed { num: self.to_scaled as i128, den: self.divisions as i128, decimals: 2 }
+        Fixed { num: self.to_scaled, den: self.divisions as i64, decimals: 2 }
     }
 
     /// Within `TOLERANCE_COUNTS` of it.
@@ -115,28 +115,30 @@ impl Division {
 }
 
 /// A fraction written with a fixed number of decimals, rounded half away
-/// from zero; no sign when it rounds to zero.
+/// from zero; no sign when it rounds to zero. Within 64 bits (no 128-bit
+/// division or formatting in the image): a numerator is at most a turn's
+/// counts × 360 (3.6e8 at the largest cpr), × 2 × 10^4 for its decimals.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct Fixed {
-    num: i128,
-    den: i128,
+    num: i64,
+    den: i64,
     decimals: u32,
 }
 
 impl Fixed {
     /// `counts / per` counts of an encoder of `cpr`, in degrees to its
     /// resolution.
-    fn degrees(counts: i128, per: i128, cpr: u32) -> Fixed {
-        Fixed { num: counts * 360, den: per * cpr.max(1) as i128, decimals: decimals(cpr) }
+    fn degrees(counts: i64, per: i64, cpr: u32) -> Fixed {
+        Fixed { num: counts * 360, den: per * cpr.max(1) as i64, decimals: decimals(cpr) }
     }
 }
 
 impl fmt::Display for Fixed {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        let unit = 10i128.pow(self.decimals);
-        let den = self.den.max(1);
+        let unit = 10u64.pow(self.decimals);
+        let den = self.den.max(1) as u64;
         // |num| · 10^d rounded half away from zero, in units of the last digit
-        let units = (2 * self.num.abs() * unit + den) / (2 * den);
+        let units = (2 * self.num.unsigned_abs() * unit + den) / (2 * den);
         let sign = if self.num < 0 && units != 0 { "-" } else { "" };
         let (whole, frac) = (units / unit, units % unit);
         match self.decimals {

@@ -80,7 +80,7 @@ fn one_division_is_the_origin_from_either_side() {
 
 #[test]
 fn a_fixed_rounds_half_away_from_zero_and_has_no_sign_at_zero() {
-    let f = |num: i128, den: i128, decimals: u32| text(Fixed { num, den, decimals });
+    let f = |num: i64, den: i64, decimals: u32| text(Fixed { num, den, decimals });
     assert_eq!([f(1, 2, 0), f(-1, 2, 0), f(1, 3, 0), f(-1, 3, 0)], ["1", "-1", "0", "0"]);
     assert_eq!([f(4, 1000, 2), f(-4, 1000, 2), f(-5, 1000, 2), f(-1, 1, 2)], ["0.00", "0.00", "-0.01", "-1.00"]);
     assert_eq!(f(-360_000, 7, 3), "-51428.571");

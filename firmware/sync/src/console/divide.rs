@@ -9,7 +9,7 @@ use super::status::Snapshot;
 use super::{Command, Outcome, Reply};
 use crate::angle::{Angle, Division};
 use crate::config::table::DIVIDE_REFUSAL;
-use crate::controller::Controller;
+use crate::controller::{Controller, Refusal};
 use core::fmt::Write;
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -31,17 +31,21 @@ pub(super) fn parse(arg: Option<&str>) -> Command<'static> {
     })
 }
 
+// (out of line, as the readout's writer: the firmware's console task would
+// carry a copy of each where it is called)
+#[inline(never)]
 pub(super) fn apply(op: DivideOp, ctl: &mut Controller) -> Outcome {
-    match op {
+    let readout = match op {
         // whatever is wrong with the number, the range says what is right
-        DivideOp::Start(None) => Outcome::Error(DIVIDE_REFUSAL),
-        DivideOp::Start(Some(n)) => match ctl.start_divide(n) {
-            Ok(()) => Outcome::Divide(Snapshot::of(ctl)),
-            Err(r) => Outcome::Error(r.describe()),
-        },
-        DivideOp::Report if ctl.dividing().is_some() => Outcome::Divide(Snapshot::of(ctl)),
-        DivideOp::Stop if ctl.stop_divide().is_some() => Outcome::Text("ok divide ended"),
-        DivideOp::Report | DivideOp::Stop => Outcome::Error(NOT_DIVIDING),
+        DivideOp::Start(None) => Err(DIVIDE_REFUSAL),
+        DivideOp::Start(Some(n)) => ctl.start_divide(n).map_err(Refusal::describe),
+        DivideOp::Report => ctl.dividing().map(|_| ()).ok_or(NOT_DIVIDING),
+        DivideOp::Stop if ctl.stop_divide().is_some() => return Outcome::Text("ok divide ended"),
+        DivideOp::Stop => Err(NOT_DIVIDING),
+    };
+    match readout {
+        Ok(()) => Outcome::Divide(Snapshot::of(ctl)),
+        Err(why) => Outcome::Error(why),
     }
 }
 
@@ -74,6 +78,7 @@ pub(super) fn write_division(s: &Snapshot, out: &mut Reply) {
 }
 
 /// `ok divide=.. division=.. ... angle_deg=.. angle_from=..`
+#[inline(never)]
 pub(super) fn write_readout(s: &Snapshot, out: &mut Reply) {
     let _ = out.push_str("ok");
     write_division(s, out);

@@ -94,7 +94,9 @@ impl Controller {
     }
 
     /// A jog ends (done, stopped, knocked or faulted): back to dividing if
-    /// it was asked for while dividing, else to nothing.
+    /// it was asked for while dividing, else to nothing. Out of line: the
+    /// tick's faults call it, and a jog's end is once a jog.
+    #[inline(never)]
     pub(super) fn end_jog(&mut self) {
         if let Activity::Jog(j) = self.activity {
             self.activity = j.dividing.map_or(Activity::None, Activity::Divide);

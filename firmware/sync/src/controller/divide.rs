@@ -44,11 +44,4 @@ impl Controller {
             _ => None,
         }
     }
-
-    /// The lathe count the spindle's angle is measured from: the count
-    /// latched at the first index pulse seen, if one has been; else none
-    /// (the angle is then from the count at the board's start, 0).
-    pub fn index_count(&self) -> Option<i64> {
-        self.index.reference()
-    }
 }

@@ -101,7 +101,8 @@ impl Controller {
     /// The running self-test.
     fn selftest_run(&self) -> Option<Run> {
         match self.activity {
-            Activity::SelfTest(r) if r.test.running() => Some(r),
+            // (only while it runs: its end ends the activity, `end_selftest`)
+            Activity::SelfTest(r) => Some(r),
             _ => None,
         }
     }
