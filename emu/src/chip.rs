@@ -11,7 +11,9 @@ pub mod pins;
 mod usb;
 
 use crate::svd;
-use polyturn_stm32_model::chip::{exti, gpio::Port, gptimer::GpTimer, iwdg::Iwdg, nvic::Nvic, otg::Otg, rcc, RegFile};
+use polyturn_stm32_model::chip::{
+    crc::Crc, exti, gpio::Port, gptimer::GpTimer, iwdg::Iwdg, nvic::Nvic, otg::Otg, rcc, RegFile,
+};
 use polyturn_stm32_model::flash::{EraseTime, Flash};
 use polyturn_stm32_model::{Mcu, Params};
 
@@ -38,6 +40,7 @@ pub enum Periph {
     Gpio(usize),
     Gp(usize),
     Iwdg,
+    Crc,
     Usb,
     Ppb,
 }
@@ -56,6 +59,8 @@ pub struct Chip {
     /// TIM3, TIM4, TIM5, TIM10
     pub gp: [GpTimer; 4],
     pub iwdg: Iwdg,
+    /// the CRC unit, with which the image checks itself at boot (`seal`)
+    pub crc: Crc,
     pub usb: Otg,
     /// the emulated USB host on the cable, when a scenario plugs one in
     pub host: Option<Box<crate::usb::host::Host>>,
@@ -128,6 +133,7 @@ impl Chip {
             (svd::base("SYSCFG"), 0x400, Periph::Syscfg),
             (svd::base("EXTI"), 0x400, Periph::Exti),
             (svd::base("IWDG"), 0x400, Periph::Iwdg),
+            (svd::base("CRC"), 0x400, Periph::Crc),
             (svd::base("USB_OTG_FS"), 0x4_0000, Periph::Usb),
             (0xE000_0000, 0x10_0000, Periph::Ppb),
         ];
@@ -154,6 +160,7 @@ impl Chip {
             gpio: [Port::new('A'), Port::new('B'), Port::new('C')],
             gp,
             iwdg: Iwdg::default(),
+            crc: Crc::default(),
             usb: Otg::default(),
             host: None,
             nvic: Nvic::default(),

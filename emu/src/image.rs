@@ -1,8 +1,10 @@
-//! The firmware image: loadable segments, symbols, the vector table and the
-//! addresses of the instructions the harness treats specially, all read from the
-//! ELF on every run (nothing about the code is typed in here).
+//! The firmware image: what is flashed (the release image `polyturn image`
+//! makes from the ELF, sealed), symbols, the vector table and the addresses of
+//! the instructions the harness treats specially, all read from the ELF on
+//! every run (nothing about the code is typed in here).
 
-use object::{Object, ObjectSection, ObjectSegment, ObjectSymbol, SymbolKind};
+use object::{Object, ObjectSection, ObjectSymbol, SymbolKind};
+use polyturn_host::flash::image::Format;
 use std::collections::BTreeMap;
 use std::path::Path;
 
@@ -22,9 +24,12 @@ pub struct Insns {
 }
 
 pub struct Image {
-    /// (load address, bytes) of each PT_LOAD segment with file contents: .data's
-    /// initial values sit in flash at their LMA and cortex-m-rt copies them
+    /// (load address, bytes) of what is flashed: the release image as
+    /// `polyturn image` makes it from the ELF (every PT_LOAD segment's file
+    /// bytes at its LMA, so .data's initial values too, then the seal)
     pub segments: Vec<(u32, Vec<u8>)>,
+    /// where the release image's seal lies (`polyturn_firmware::seal`)
+    pub seal_at: u32,
     pub symbols: BTreeMap<String, u32>,
     funcs: Vec<(u32, u32, String)>,
     pub vectors: Vec<u32>,
@@ -42,13 +47,10 @@ pub fn load(path: &Path) -> Result<Image, String> {
             elf.architecture()
         ));
     }
-    let mut segments = Vec::new();
-    for seg in elf.segments() {
-        let bytes = seg.data().map_err(|e| e.to_string())?;
-        if !bytes.is_empty() {
-            segments.push((load_address(&elf, &seg), bytes.to_vec()));
-        }
-    }
+    let release = polyturn_host::flash::image::from_bytes(&data, Format::Elf, false)
+        .map_err(|r| format!("'{}' is no polyturn image: {} ({})", path.display(), r.rule, r.found))?;
+    let seal_at = FLASH_BASE + release.bytes.len() as u32 - polyturn_firmware::seal::SEAL_BYTES;
+    let segments = vec![(release.base, release.bytes)];
     let (mut symbols, mut funcs) = (BTreeMap::new(), Vec::new());
     for s in elf.symbols() {
         let Ok(name) = s.name() else { continue };
@@ -67,22 +69,15 @@ pub fn load(path: &Path) -> Result<Image, String> {
     let raw = vt.data().map_err(|e| e.to_string())?;
     let vectors = raw.chunks_exact(4).map(|w| u32::from_le_bytes([w[0], w[1], w[2], w[3]])).collect();
     let insns = crate::disasm::scan(path)?;
-    Ok(Image { segments, symbols, funcs, vectors, insns })
+    Ok(Image { segments, seal_at, symbols, funcs, vectors, insns })
 }
 
-/// A segment's physical (load) address: `object` gives the virtual one, so take
-/// p_paddr from the program header.
-fn load_address(elf: &object::File, seg: &object::Segment) -> u32 {
-    use object::read::elf::ProgramHeader;
-    if let object::File::Elf32(f) = elf {
-        let (off, _) = seg.file_range();
-        for ph in f.elf_program_headers() {
-            if ph.p_offset(f.endian()) as u64 == off && ph.p_filesz(f.endian()) > 0 {
-                return ph.p_paddr(f.endian());
-            }
-        }
-    }
-    seg.address() as u32
+/// Seals `flash` (from FLASH_BASE) again for its bytes before `seal_at`, as
+/// `polyturn image` seals (the CRC unit's CRC of the words, RM0383 §4).
+pub fn reseal(flash: &mut [u8], seal_at: u32) {
+    let at = (seal_at - FLASH_BASE) as usize;
+    let crc = polyturn_host::flash::seal::crc_of(&flash[..at]);
+    flash[at + 8..at + 12].copy_from_slice(&crc.to_le_bytes());
 }
 
 impl Image {

@@ -4,6 +4,7 @@
 //! the step-output tests use (`polyturn_host::hwsim::driver`).
 
 pub mod bldc;
+pub mod damaged;
 pub mod divide;
 pub mod edgecheck;
 pub mod estop;

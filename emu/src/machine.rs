@@ -90,18 +90,29 @@ pub struct Machine {
 impl Machine {
     pub fn new(image: Rc<Image>, params: Params, flash_init: &[(u32, Vec<u8>)]) -> Result<Machine, String> {
         let mut flash = vec![0xFFu8; FLASH_SIZE as usize].into_boxed_slice(); // erased
-        for (addr, data) in image.segments.iter().chain(flash_init) {
+        let put = |flash: &mut [u8], (addr, data): &(u32, Vec<u8>)| {
             let off = addr.wrapping_sub(FLASH_BASE) as usize;
             if off + data.len() > flash.len() {
                 return Err(format!("a segment at {addr:#010x} lies outside the flash"));
             }
             flash[off..off + data.len()].copy_from_slice(data);
+            Ok(())
+        };
+        for segment in &image.segments {
+            put(&mut flash, segment)?;
         }
         // WFE, WFI and SEV are NOPs here: ARMv7-M ARM B1.5.18 lets WFE be a NOP, and
         // unicorn has none of them; time still passes through the loop around them
         for a in image.insns.wfe.iter().chain(&image.insns.sev).chain(&image.insns.wfi) {
             let o = (a - FLASH_BASE) as usize;
             flash[o..o + 2].copy_from_slice(&NOP);
+        }
+        // the image checks its own bytes at boot (`seal`): sealed again over the
+        // NOPs, as if the image had been flashed so
+        crate::image::reseal(&mut flash, image.seal_at);
+        // what was flashed besides (settings), or over it (a damaged image)
+        for segment in flash_init {
+            put(&mut flash, segment)?;
         }
         let mut chip = Chip::new(params);
         chip.code = flash.to_vec();

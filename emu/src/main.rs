@@ -10,7 +10,7 @@
 //! 3. USB (`usb::scenario`): the emulated host enumerates the console, sends
 //!    `status` and `set cpr 0` and reads the replies. `--only=usb` runs just this.
 //! 4. the jobs (`jobs`): `--only=jobs` runs just these, `--job=c` just those
-//!    whose name begins so.
+//!    whose name begins so; (k) `job::damaged`: a damaged image does not run.
 //!
 //! `--pty` instead boots, enumerates and serves the console on a pseudo-terminal
 //! whose path it prints (`usb::pty`); with `--lathe-rpm RPM` the lathe turns at
@@ -97,6 +97,9 @@ fn main() {
         total += jobs::run_all(&image, &mut r, job.unwrap_or("")).unwrap_or_else(exit);
         if job.is_none_or(|j| "h bldc".starts_with(j)) {
             total += job::bldc::run(&image, &mut r).unwrap_or_else(exit);
+        }
+        if job.is_none_or(|j| "k damaged".starts_with(j)) {
+            total += job::damaged::run(&image, &mut r).unwrap_or_else(exit);
         }
         if job.is_none_or(|j| "divide".starts_with(j)) {
             total += job::divide::run(&image, &mut r).unwrap_or_else(exit);

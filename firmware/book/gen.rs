@@ -4,7 +4,7 @@
 //! `firmware/tests/book.rs` fails when the committed files differ.
 
 use polyturn_firmware::board::{Mode, Pull, PINS};
-use polyturn_firmware::led::{fault_code, lit, REFUSED_MS};
+use polyturn_firmware::led::{damaged, fault_code, lit, DAMAGED_FRAME_MS, REFUSED_MS};
 use polyturn_sync::config::NAMES;
 use polyturn_sync::console::handle;
 use polyturn_sync::{Config, Controller, Fault, State, Timing};
@@ -103,7 +103,21 @@ fn led_states() -> String {
         "| a key press refused | {flicker} for {} s, then the state's own light |",
         REFUSED_MS as f64 / 1000.0
     );
+    let _ = writeln!(s, "| (no console: the image in flash is damaged and does not run) | {} |", damaged_light());
     s
+}
+
+/// The damaged image's light in words, from `led::damaged`.
+fn damaged_light() -> String {
+    let on: Vec<bool> = (0..DAMAGED_FRAME_MS).map(damaged).collect();
+    let flashes = on.windows(2).filter(|w| !w[0] && w[1]).count() + on[0] as usize;
+    let lit_ms = on.iter().take_while(|&&l| l).count();
+    let dark_ms = on.iter().rev().take_while(|&&l| !l).count();
+    format!(
+        "{flashes} flashes of {lit_ms} ms, then {} s dark, every {} s: flash it again (Flashing, \"A damaged image does not run\")",
+        dark_ms as f64 / 1000.0,
+        DAMAGED_FRAME_MS / 1000
+    )
 }
 
 /// Flashes in the first 3 s frame of a fault's light.

@@ -10,6 +10,7 @@
 //! | steady on | synchronised |
 //! | N short flashes, then a pause (every 3 s) | fault N (`fault_code`) |
 //! | flicker, 10 Hz, for 1.5 s | a key press was refused (ENGAGE while faulted or too fast); then the state's own light |
+//! | three long flashes, then 2.4 s dark (every 5 s) | the image in flash is damaged: it does not run (`damaged`, `seal`) |
 
 use polyturn_sync::{Fault, State};
 
@@ -53,6 +54,19 @@ pub fn lit(state: State, tick_running: bool, ms: u32, refused_at: Option<u32>) -
     }
 }
 
+/// The light of a damaged image (`seal::verify` refused it), at `ms`:
+/// three flashes of 600 ms, 400 ms apart, then 2.4 s dark: a 5 s frame.
+/// Long where a fault's are short (150 ms), and in no state's rhythm.
+pub fn damaged(ms: u32) -> bool {
+    let t = ms % DAMAGED_FRAME_MS;
+    t < 3000 && t % 1000 < 600
+}
+
+/// The step, ms, at which the damaged image's loop sets the LEDs, and
+/// its frame.
+pub const DAMAGED_STEP_MS: u32 = 100;
+pub const DAMAGED_FRAME_MS: u32 = 5000;
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -85,6 +99,21 @@ mod tests {
         assert!(pattern(State::Synced, 10, 3000).iter().all(|&l| l));
         assert!((0..2000).all(|ms| !lit(State::Synced, false, ms, None)));
         assert_eq!(flashes(State::Jogging), 6);
+    }
+
+    #[test]
+    fn a_damaged_image_shows_three_long_flashes_unlike_any_other_light() {
+        let frame: Vec<bool> = (0..5000).map(damaged).collect();
+        let rises = frame.windows(2).filter(|w| !w[0] && w[1]).count() + frame[0] as usize;
+        assert_eq!(rises, 3);
+        assert_eq!(frame.iter().filter(|&&l| l).count(), 1800, "three flashes of 600 ms");
+        assert!(frame[2600..].iter().all(|&l| !l), "2.4 s dark after the third");
+        // every flash is longer than any fault's (150 ms) or blink's (500 ms)
+        assert!(frame[..600].iter().all(|&l| l) && !frame[600]);
+        // its steps land on the pattern's edges: the loop shows it exactly
+        assert!((0..5000)
+            .step_by(DAMAGED_STEP_MS as usize)
+            .all(|t| { (t..t + DAMAGED_STEP_MS).all(|ms| damaged(ms) == damaged(t)) }));
     }
 
     #[test]

@@ -16,6 +16,7 @@ pub mod led;
 pub mod line;
 pub mod quadgen;
 pub mod regs;
+pub mod seal;
 pub mod stepgen;
 pub mod store;
 pub mod xsteps;

@@ -16,6 +16,7 @@ pub mod elf;
 pub mod hex;
 pub mod image;
 pub mod plan;
+pub mod seal;
 #[cfg(feature = "device")]
 pub mod usb;
 
@@ -25,6 +26,8 @@ mod dfuse_tests;
 pub mod fake;
 #[cfg(test)]
 mod image_tests;
+#[cfg(test)]
+mod mutants_tests;
 #[cfg(any(test, feature = "fakes"))]
 pub mod testkit;
 

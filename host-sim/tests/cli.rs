@@ -235,6 +235,110 @@ fn an_output_fifo_is_written_into_not_replaced() {
     assert!(reader.join().unwrap().starts_with("<svg"));
 }
 
+#[cfg(unix)]
+#[test]
+fn a_read_only_output_is_refused_and_a_hard_linked_one_written_through() {
+    use std::os::unix::fs::{MetadataExt, PermissionsExt};
+    let dir = scratch("readonly");
+    let keep = dir.join("keep.svg");
+    std::fs::write(&keep, "old").unwrap();
+    std::fs::set_permissions(&keep, std::fs::Permissions::from_mode(0o444)).unwrap();
+    let (code, out, err) = polyturn(&format!("demo --svg {}", keep.display()));
+    assert_eq!(code, 2, "{out}");
+    assert_eq!(
+        err.trim_end(),
+        format!("error: --svg must name a file it may write (got '{}': read-only, mode 0444; chmod u+w it, or name another)", keep.display())
+    );
+    assert_eq!(
+        (std::fs::read_to_string(&keep).unwrap().as_str(), std::fs::metadata(&keep).unwrap().mode() & 0o777),
+        ("old", 0o444)
+    );
+    // two names of one file: both see the new picture
+    std::fs::write(dir.join("a.svg"), "old").unwrap();
+    std::fs::hard_link(dir.join("a.svg"), dir.join("b.svg")).unwrap();
+    let (code, _, err) = polyturn(&format!("demo --svg {}", dir.join("a.svg").display()));
+    assert_eq!(code, 0, "{err}");
+    for name in ["a.svg", "b.svg"] {
+        assert!(std::fs::read_to_string(dir.join(name)).unwrap().starts_with("<svg"), "{name}");
+    }
+    assert_eq!(std::fs::metadata(dir.join("b.svg")).unwrap().nlink(), 2);
+}
+
+/// Ctrl-C (SIGINT) or SIGTERM while an output FIFO waits for its reader:
+/// the command dies of the signal, and the table it had staged is gone.
+#[cfg(unix)]
+#[test]
+fn an_interrupted_write_leaves_no_temporary_behind() {
+    use std::os::unix::process::ExitStatusExt;
+    for (sig, name) in [(libc::SIGINT, "int"), (libc::SIGTERM, "term")] {
+        let dir = scratch(&format!("interrupted-{name}"));
+        let fifo = dir.join("pipe.svg");
+        assert!(Command::new("mkfifo").arg(&fifo).status().unwrap().success());
+        let line = format!("{OCTAGON} --rpm 12 --table {} --svg {}", dir.join("t.json").display(), fifo.display());
+        let mut child = Command::new(env!("CARGO_BIN_EXE_polyturn"))
+            .args(line.split_whitespace())
+            .stdout(std::process::Stdio::null())
+            .stderr(std::process::Stdio::null())
+            .spawn()
+            .unwrap();
+        let tmp = dir.join(format!(".t.json.polyturn-{}.tmp", child.id()));
+        // the table is staged before the FIFO is opened; the FIFO then waits
+        // (10 s) for a reader that never comes
+        for _ in 0..1000 {
+            if tmp.exists() {
+                break;
+            }
+            std::thread::sleep(std::time::Duration::from_millis(10));
+        }
+        assert!(tmp.exists(), "{name}: the table was never staged");
+        // SAFETY: a signal to our own child
+        assert_eq!(unsafe { libc::kill(child.id() as libc::pid_t, sig) }, 0);
+        let status = child.wait().unwrap();
+        assert_eq!(status.signal(), Some(sig), "{name}: {status:?}");
+        let left: Vec<_> = std::fs::read_dir(&dir).unwrap().map(|e| e.unwrap().file_name()).collect();
+        assert_eq!(left, vec![std::ffi::OsString::from("pipe.svg")], "{name}");
+    }
+}
+
+/// `device upload-cam` on a FIFO no one writes, a device, a directory:
+/// refused at once, naming FILE, before any port is opened (a FIFO would
+/// wait for a writer for ever). Bounded here: a hang fails, it does not
+/// hold the test run.
+#[cfg(unix)]
+#[test]
+fn upload_cam_refuses_a_file_that_is_not_regular_at_once() {
+    let dir = scratch("upload-fifo");
+    let fifo = dir.join("table.json");
+    assert!(Command::new("mkfifo").arg(&fifo).status().unwrap().success());
+    for file in [fifo.display().to_string(), "/dev/zero".into(), dir.display().to_string()] {
+        let mut child = Command::new(env!("CARGO_BIN_EXE_polyturn"))
+            .args(["device", "upload-cam", &file, "--port", "/nonexistent/tty"])
+            .stdout(std::process::Stdio::piped())
+            .stderr(std::process::Stdio::piped())
+            .spawn()
+            .unwrap();
+        let mut status = None;
+        for _ in 0..2000 {
+            status = child.try_wait().unwrap();
+            if status.is_some() {
+                break;
+            }
+            std::thread::sleep(std::time::Duration::from_millis(10));
+        }
+        let Some(status) = status else {
+            let _ = child.kill();
+            panic!("upload-cam {file}: still waiting after 20 s");
+        };
+        let out = child.wait_with_output().unwrap();
+        let err = String::from_utf8(out.stderr).unwrap();
+        assert_eq!(status.code(), Some(2), "{file}: {err}");
+        assert_eq!(
+            err.trim_end(),
+            format!("error: FILE must be a regular file, the table `polyturn cam --table` writes (got '{file}': not a regular file)"),
+        );
+    }
+}
+
 #[cfg(target_os = "linux")]
 #[test]
 fn a_full_device_is_an_error_naming_the_flag_and_stays_a_device() {

@@ -113,7 +113,7 @@ mod tests {
         let rom = FakeDfu::new(0, 0);
         let config = rom.configuration_descriptor();
         let p = plan_image("polyturn.bin", &good(5000), &rom.interface(), &config[config.len() - 9..]).unwrap();
-        assert_eq!((p.image_len, p.bytes.len(), p.transfer), (5000, 6144, 2048));
+        assert_eq!((p.image_len, p.bytes.len(), p.transfer), (5012, 6144, 2048), "5000 bytes and the seal");
         assert_eq!(p.pages, vec![0x0800_0000]);
         assert_eq!(p.version.as_deref(), Some(polyturn_host::cli::VERSION));
     }

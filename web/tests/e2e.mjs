@@ -369,6 +369,16 @@ await test('the simulated board\'s lathe turns at the speed set, and engage sync
   assert.ok(Math.abs(b.phase_err_steps) < 5, `in sync: ${b.phase_err_steps} steps`);
   await page.waitForTimeout(1500); // the phase plot fills
   await view('device', ['#status', '#settings', '#phase-plot', '#sim-lathe-rpm']);
+  // the chart's scale is the synced error's, not the engage transient's
+  const plot = await page.$eval('#phase-plot', (el) => ({ ...el.dataset, markers: el.querySelectorAll('.clipped').length, text: el.textContent }));
+  assert.equal(plot.steadyFrom, 'synced');
+  assert.ok(Number(plot.span) <= 5 && Number(plot.span) >= Math.abs(b.phase_err_steps), `the scale ±${plot.span} steps for ${b.phase_err_steps} synced`);
+  assert.ok(Math.abs(Number(plot.worst)) > Number(plot.span) && plot.markers > 0, `the transient (up to ${plot.worst}) drawn past the scale with markers: ${JSON.stringify(plot)}`);
+  // µm at the work: the arc of one step at the page's stock radius R2
+  const r2 = await page.evaluate(async () => (await import('/js/polyturn.js')).shared.setup.stockRadius);
+  const steps = Number(await page.inputValue('#settings input[name=steps]'));
+  close(Number(plot.umStep), (1000 * r2 * 2 * Math.PI) / (steps * ratio), 'µm at the work per step');
+  assert.ok(plot.text.includes(`µm at R2 ${r2} mm`), plot.text);
   await page.click('#stop');
   await page.fill('#sim-lathe-rpm', '0');
   await page.dispatchEvent('#sim-lathe-rpm', 'change');
@@ -594,6 +604,40 @@ await test('a file that is no polyturn image is refused before any request', asy
     try { w.flash_plan('notes.bin', new TextEncoder().encode('hello'), new w.FakeDfu(0, 0).interface(), new Uint8Array()); return 'taken'; } catch (err) { return String(err); }
   });
   assert.match(e, /^notes\.bin /);
+});
+
+await test('an image cut short, grown or with a byte changed is refused before any request, as polyturn flash refuses it', async () => {
+  const r = await page.evaluate(async () => {
+    const w = await import('/pkg/polyturn_web.js');
+    const { functionalDescriptor } = await import('/js/flash.js');
+    const rom = new w.FakeDfu(0, 0);
+    const desc = functionalDescriptor(rom.configuration_descriptor());
+    const image = w.FakeDfu.sample_image(40000);
+    const plan = (bytes) => { try { w.flash_plan('polyturn.bin', bytes, rom.interface(), desc); return null; } catch (e) { return String(e); } };
+    // a fixed sequence of random mutants (xorshift32), as the host's property test makes them
+    let x = 46;
+    const rand = (n) => { x ^= x << 13; x >>>= 0; x ^= x >>> 17; x ^= x << 5; x >>>= 0; return x % n; };
+    const taken = [];
+    const seal = [];
+    for (let i = 0; i < 200; i++) {
+      let m;
+      let what;
+      switch (i % 4) {
+        case 0: { const keep = 1 + rand(image.length - 1); m = image.slice(0, keep); what = `cut to ${keep}`; break; }
+        case 1: { const more = 1 + rand(63); m = new Uint8Array(image.length + more); m.set(image); for (let j = image.length; j < m.length; j++) m[j] = rand(256); what = `${more} bytes appended`; break; }
+        case 2: { const at = rand(0x198); m = image.slice(); m[at] ^= 1 + rand(255); what = `vector-table byte ${at} changed`; break; }
+        default: { const at = rand(image.length); m = image.slice(); m[at] ^= 1 + rand(255); what = `byte ${at} changed`; }
+      }
+      const e = plan(m);
+      if (e === null) taken.push(what);
+      else if (/must end with the seal/.test(e)) seal.push(what);
+    }
+    return { whole: plan(image), taken, seal: seal.length, events: rom.events() };
+  });
+  assert.equal(r.whole, null, 'the whole image is taken');
+  assert.deepEqual(r.taken, [], 'every mutant refused');
+  assert.ok(r.seal >= 100, `${r.seal} of 200 refused by the seal (the others by the vector table or the marker)`);
+  assert.deepEqual(r.events, [], 'no request reached the bootloader');
 });
 
 await test('a port that echoes the command is never taken for the board, and the board behind it is heard', async () => {

@@ -65,6 +65,7 @@ impl Chip {
             Periph::Gpio(i) => self.gpio[i].read(off),
             Periph::Gp(i) => self.gp[i].read(off),
             Periph::Iwdg => self.iwdg.read(off),
+            Periph::Crc => self.crc.read(off),
             Periph::Usb => self.usb_read(off),
             Periph::Ppb => self.nvic.read(off, self.blk, &self.active, self.active.last().copied().unwrap_or(0) as u32),
         };
@@ -111,6 +112,11 @@ impl Chip {
             }
             Periph::Gp(i) => self.gp[i].write(off, v, m),
             Periph::Iwdg => self.iwdg.write(off, v, m, self.blk),
+            Periph::Crc => {
+                if let Err(e) = caught(|| self.crc.write(off, v, m)) {
+                    self.fault(e);
+                }
+            }
             Periph::Usb => self.usb_write(off, v, m),
             Periph::Ppb => self.nvic.write(off, v, m, self.blk),
         }

@@ -9,9 +9,16 @@
 //! The board resets as silicon does, keeping its flash: when the image asks
 //! (SCB AIRCR.SYSRESETREQ), when the watchdog runs out, or on SIGUSR1 (the
 //! NRST button); one line on stderr says why, the machine boots again,
-//! enumerates again, and the same pty serves on. The lathe keeps turning. If
-//! the image jumps to ST's ROM bootloader (after `dfu`), which is not here,
-//! serving ends: [`Stop::Bootloader`].
+//! enumerates again (a second line says so), and the same pty serves on.
+//! A real board drops off USB at a reset: what the client wrote that the
+//! board had not taken, before or during the reset, is dropped, never
+//! executed by the rebooted image. The lathe keeps turning. If the image
+//! jumps to ST's ROM bootloader (after `dfu`), which is not here, serving
+//! ends: [`Stop::Bootloader`].
+//!
+//! Clients come and go (each `polyturn device` opens the terminal and
+//! closes it): a new client never reads what an earlier one left unread,
+//! and output while nobody has the terminal open is dropped.
 
 use super::scenario;
 use crate::chip::pins::Outputs;
@@ -24,11 +31,14 @@ use std::rc::Rc;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::Duration;
 
+mod clients;
+
 /// The pty's controller side (non-blocking) and its terminal side, kept open so
-/// reads do not fail while no client has it open.
+/// reads do not fail while no client has it open; who else has it open.
 struct Pty {
     master: libc::c_int,
     slave: libc::c_int,
+    clients: clients::Clients,
 }
 
 impl Drop for Pty {
@@ -50,8 +60,9 @@ fn open() -> Result<(Pty, String), String> {
     if r != 0 {
         return Err(format!("openpty: {}", std::io::Error::last_os_error()));
     }
-    let pty = Pty { master, slave }; // closed on every return from here
-                                     // SAFETY: `name` is a valid buffer of the length passed; the fds are ours
+    // closed on every return from here
+    let mut pty = Pty { master, slave, clients: clients::Clients::everyone() };
+    // SAFETY: `name` is a valid buffer of the length passed; the fds are ours
     unsafe {
         if libc::ttyname_r(slave, name.as_mut_ptr(), name.len()) != 0 {
             return Err("ttyname_r failed".into());
@@ -64,7 +75,8 @@ fn open() -> Result<(Pty, String), String> {
         let fl = libc::fcntl(master, libc::F_GETFL);
         libc::fcntl(master, libc::F_SETFL, fl | libc::O_NONBLOCK);
     }
-    let path = name.iter().take_while(|&&c| c != 0).map(|&c| c as u8 as char).collect();
+    let path: String = name.iter().take_while(|&&c| c != 0).map(|&c| c as u8 as char).collect();
+    pty.clients = clients::Clients::watch(&path);
     Ok((pty, path))
 }
 
@@ -76,15 +88,61 @@ impl Pty {
         n.max(0) as usize
     }
 
-    /// Writes all of `data`, waiting while the pty's buffer is full.
+    /// The device's output, to whoever has the terminal open now. What a
+    /// client left unread is dropped when it leaves (the last one) or
+    /// another arrives, so a new client finds nothing of an earlier one's
+    /// (a real board's port has no such past: the host's driver reads a
+    /// CDC port only while it is open); with no client the output goes
+    /// nowhere. A drop of anything is said on stderr.
+    fn deliver(&mut self, data: &[u8]) {
+        let seen = self.clients.seen();
+        if seen.arrived || seen.emptied {
+            let mut unread: libc::c_int = 0;
+            // SAFETY: our own terminal fd: how much it holds, then drop it
+            unsafe {
+                libc::ioctl(self.slave, libc::FIONREAD, &mut unread);
+                libc::tcflush(self.slave, libc::TCIFLUSH);
+            }
+            if unread > 0 {
+                eprintln!("emu: {unread} bytes a client of the console left unread were dropped");
+            }
+        }
+        if seen.open > 0 {
+            self.write(data);
+        }
+    }
+
+    /// Drops what the host wrote and the board has not taken: the board's
+    /// reset takes it off the bus, and what was on its way is lost. Returns
+    /// how many bytes.
+    fn drop_input(&self) -> usize {
+        let mut buf = [0u8; 256];
+        let mut dropped = 0;
+        // bounded: a client writing without end gets 1 MiB dropped a call
+        for _ in 0..4096 {
+            let n = self.read(&mut buf);
+            if n == 0 {
+                break;
+            }
+            dropped += n;
+        }
+        dropped
+    }
+
+    /// Writes all of `data`, waiting while the pty's buffer is full, at most
+    /// a second without progress (a client that never reads): the rest is
+    /// dropped, as a full host buffer drops it.
     fn write(&self, mut data: &[u8]) {
-        while !data.is_empty() {
+        let mut idle_ms = 0;
+        while !data.is_empty() && idle_ms < 1000 {
             // SAFETY: writes at most data.len() bytes from data
             let n = unsafe { libc::write(self.master, data.as_ptr().cast(), data.len()) };
             if n > 0 {
                 data = &data[n as usize..];
+                idle_ms = 0;
             } else {
                 std::thread::sleep(Duration::from_millis(1));
+                idle_ms += 1;
             }
         }
     }
@@ -136,7 +194,7 @@ fn bridge(image: &Rc<Image>, lathe_rpm: Option<f64>) -> Result<std::convert::Inf
         m.lathe = Some(turning(rpm, m.cpr, now));
         eprintln!("emu: the lathe turns at {rpm} rpm");
     }
-    let (pty, path) = open()?;
+    let (mut pty, path) = open()?;
     // SAFETY: the handler only stores to an atomic, which is async-signal-safe
     unsafe { libc::signal(libc::SIGUSR1, on_usr1 as extern "C" fn(libc::c_int) as libc::sighandler_t) };
     println!("{path}");
@@ -144,6 +202,20 @@ fn bridge(image: &Rc<Image>, lathe_rpm: Option<f64>) -> Result<std::convert::Inf
     let mut buf = [0u8; 256];
     let mut pending: Vec<u8> = Vec::new();
     loop {
+        // a reset first, before the host's next bytes are taken: they never
+        // reach the board that reset
+        let why = if NRST.swap(false, Ordering::SeqCst) { Some(Reset::Pin) } else { m.reset_due() };
+        if let Some(why) = why {
+            // the outputs as the image left them when it asked: `dfu` turns them off first
+            let at_request = (why == Reset::Software).then(|| m.chip().outputs());
+            m = reboot(m, &why, at_request)?;
+            // the board left the bus: what the host had not delivered is lost
+            let dropped = pending.len() + pty.drop_input();
+            pending.clear();
+            let t = m.chip().now as f64 / crate::MS as f64;
+            eprintln!("emu: enumerated again at {t:.1} ms emulated; {dropped} bytes the host had not delivered before the reset were dropped");
+            continue;
+        }
         if pending.is_empty() {
             let n = pty.read(&mut buf);
             pending.extend_from_slice(&buf[..n]);
@@ -153,18 +225,12 @@ fn bridge(image: &Rc<Image>, lathe_rpm: Option<f64>) -> Result<std::convert::Inf
         }
         m.run(crate::MS);
         let out = scenario::host(&mut m).received();
-        pty.write(&out);
+        pty.deliver(&out);
         if let Some(e) = scenario::host(&mut m).error() {
             return Err(e.to_string().into());
         }
         if !m.chip().faults.is_empty() {
             return Err(crate::checks::faults(&mut m).into());
-        }
-        let why = if NRST.swap(false, Ordering::SeqCst) { Some(Reset::Pin) } else { m.reset_due() };
-        if let Some(why) = why {
-            // the outputs as the image left them when it asked: `dfu` turns them off first
-            let at_request = (why == Reset::Software).then(|| m.chip().outputs());
-            m = reboot(m, &why, at_request)?;
         }
     }
 }
@@ -232,6 +298,60 @@ mod tests {
         run(&mut reset, tenth);
         assert!(straight.count > 2300, "{}", straight.count);
         assert!((straight.count - reset.count).abs() <= 1, "{} and {}", straight.count, reset.count);
+    }
+
+    fn client(path: &str) -> std::fs::File {
+        use std::os::unix::fs::OpenOptionsExt;
+        std::fs::OpenOptions::new().read(true).write(true).custom_flags(libc::O_NONBLOCK).open(path).unwrap()
+    }
+
+    /// What a client reads, once `at_least` bytes came (a pty passes bytes on
+    /// through the kernel's buffer a moment later), or after a second.
+    fn read_some(term: &mut std::fs::File, at_least: usize) -> Vec<u8> {
+        let mut got = Vec::new();
+        let mut buf = [0u8; 256];
+        for _ in 0..200 {
+            while let Ok(n @ 1..) = term.read(&mut buf) {
+                got.extend_from_slice(&buf[..n]);
+            }
+            if got.len() >= at_least {
+                break;
+            }
+            std::thread::sleep(std::time::Duration::from_millis(5));
+        }
+        got
+    }
+
+    #[test]
+    fn a_new_client_sees_none_of_the_old_ones_lines() {
+        let (mut pty, path) = super::open().expect("openpty");
+        let a = client(&path);
+        // the old client's reply, never read, and a line after it left
+        pty.deliver(b"#71 ok cpr=2400\r\n");
+        drop(a);
+        pty.deliver(b"ok state=idle\r\n");
+        let mut b = client(&path);
+        pty.deliver(b"#72 ok edges=3\r\n");
+        // the old lines would come first
+        assert_eq!(String::from_utf8(read_some(&mut b, 16)).unwrap(), "#72 ok edges=3\r\n");
+    }
+
+    #[test]
+    fn what_the_host_wrote_before_a_reset_is_dropped() {
+        let (pty, path) = super::open().expect("openpty");
+        let mut term = client(&path);
+        term.write_all(b"#61 set edges 5\r\n#62 save\r\n").unwrap();
+        let mut dropped = 0;
+        for _ in 0..200 {
+            dropped += pty.drop_input();
+            if dropped >= 27 {
+                break;
+            }
+            std::thread::sleep(std::time::Duration::from_millis(5));
+        }
+        assert_eq!(dropped, 27);
+        let mut buf = [0u8; 64];
+        assert_eq!(pty.read(&mut buf), 0, "nothing left for the rebooted board");
     }
 
     #[test]

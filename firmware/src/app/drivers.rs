@@ -159,10 +159,11 @@ pub struct Mmio;
 impl Bus for Mmio {
     fn write(&mut self, addr: u32, value: u32) {
         // SAFETY: the register programs (`stepgen::program`, `flashprog`,
-        // `quadgen::program`, `edgetime`, `bldcout`) name only TIM1, TIM2,
-        // TIM3, TIM5, TIM9, TIM10, TIM11, DMA2, FLASH, GPIOA_BSRR and
-        // GPIOA_IDR registers
-        // (RM0383 §2.3) and the RING below, all word-aligned.
+        // `quadgen::program`, `edgetime`, `bldcout`, `seal`) name only
+        // TIM1, TIM2, TIM3, TIM5, TIM9, TIM10, TIM11, DMA2, FLASH, CRC,
+        // RCC_AHB1ENR, GPIOA/GPIOC MODER and BSRR, GPIOA_IDR registers
+        // (RM0383 §2.3), DEMCR and the DWT's CTRL and CYCCNT (PM0214 §4.1), the flash's image (read) and the RING below, all
+        // word-aligned.
         unsafe { (addr as *mut u32).write_volatile(value) }
     }
     fn read(&mut self, addr: u32) -> u32 {

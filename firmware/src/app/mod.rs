@@ -15,6 +15,7 @@ mod keys;
 mod priorities;
 mod report;
 mod safety;
+mod seal;
 mod selftest;
 mod service;
 mod settings;
@@ -143,6 +144,8 @@ fn clocks() -> embassy_stm32::Config {
 async fn main(spawner: Spawner) {
     // to the ROM bootloader if `dfu` asked, before anything is set up
     dfu::boot_check();
+    // a damaged image stops here, every output as reset left it
+    seal::boot_check();
     // before embassy enables its timer's interrupt, and any of ours (the
     // NVIC needs no clock)
     priorities::apply();

@@ -159,9 +159,7 @@ pub fn run(a: DeviceArgs) -> CliResult<String> {
         DeviceCommand::UploadCam { file } => Some(read_table(file)?),
         _ => None,
     };
-    let path = a.port.clone().or_else(find_port).ok_or_else(|| {
-        CliError::flag("port", "not given and no polyturn console found (looked for /dev/ttyACM*): connect the board by USB, or give --port PATH")
-    })?;
+    let path = a.port.clone().or_else(find_port).ok_or_else(|| CliError::flag("port", NO_PORT))?;
     let serial = serialport::new(&path, 115_200)
         .timeout(Duration::from_millis(50))
         .open()
@@ -261,10 +259,21 @@ fn next_status<P: Read + Write>(s: &mut Session<P>, stop: &AtomicBool) -> CliRes
 }
 
 /// Reads and checks a `polyturn cam --table` file (bounded in size),
-/// before the port is opened.
+/// before the port is opened. Only a regular file: a FIFO would wait for
+/// its writer, a device never end. Opened without blocking (a FIFO's open
+/// waits for a writer otherwise), then refused by what it is.
 fn read_table(file: &std::path::Path) -> CliResult<crate::noncircular::table::CamFile> {
     let name = escaped(&file.display().to_string());
-    let f = std::fs::File::open(file).map_err(|e| CliError(format!("upload-cam: cannot read '{name}': {e}")))?;
+    let mut open = std::fs::OpenOptions::new();
+    open.read(true);
+    #[cfg(unix)]
+    std::os::unix::fs::OpenOptionsExt::custom_flags(&mut open, libc::O_NONBLOCK);
+    let f = open.open(file).map_err(|e| CliError(format!("upload-cam: cannot read '{name}': {e}")))?;
+    if !f.metadata().is_ok_and(|m| m.is_file()) {
+        return Err(CliError(format!(
+            "FILE must be a regular file, the table `polyturn cam --table` writes (got '{name}': not a regular file)"
+        )));
+    }
     let mut text = String::new();
     f.take(CAM_FILE_MAX + 1)
         .read_to_string(&mut text)
@@ -286,6 +295,36 @@ pub fn upload<P: Read + Write>(s: &mut Session<P>, table: &crate::noncircular::t
 }
 
 /// The first USB CDC-ACM port, as Linux and macOS name them.
+/// What a missing `--port` gets, where the board was looked for.
+#[cfg(not(windows))]
+const NO_PORT: &str =
+    "not given and no polyturn console found (looked for /dev/ttyACM*): connect the board by USB, or give --port PATH";
+#[cfg(windows)]
+const NO_PORT: &str = "not given and no polyturn console found (looked for USB 16c0:27dd among the COM ports): connect the board by USB, or give --port COM5 (its number in Device Manager, Ports)";
+
+/// The polyturn console's USB IDs (firmware/src/app/usb.rs).
+const CONSOLE_USB: (u16, u16) = (0x16c0, 0x27dd);
+
+/// Windows names ports COMn: the console is the one with its USB IDs
+/// (SetupAPI, through serialport's `available_ports`).
+#[cfg(windows)]
+fn find_port() -> Option<String> {
+    first_console(serialport::available_ports().ok()?)
+}
+
+/// The first port that is the polyturn console by its USB IDs.
+#[cfg_attr(not(windows), allow(dead_code))]
+fn first_console(ports: Vec<serialport::SerialPortInfo>) -> Option<String> {
+    let mut found: Vec<String> = ports
+        .into_iter()
+        .filter(|p| matches!(&p.port_type, serialport::SerialPortType::UsbPort(u) if (u.vid, u.pid) == CONSOLE_USB))
+        .map(|p| p.port_name)
+        .collect();
+    found.sort();
+    found.into_iter().next()
+}
+
+#[cfg(not(windows))]
 fn find_port() -> Option<String> {
     let mut found: Vec<String> = std::fs::read_dir("/dev")
         .ok()?

@@ -115,7 +115,7 @@ mod tests {
 
     #[test]
     fn a_flash_reports_what_was_written_and_that_the_board_restarted() {
-        let image = from_bytes(&good(10_000), Format::Bin, false).unwrap();
+        let image = from_bytes(&good(10_000 - 12), Format::Bin, false).unwrap();
         let out = write(&FakeRom::new(Faults::default()), &image, &quick(), &mut |_| {}).unwrap();
         assert!(out.starts_with("flashed polyturn 0.1.0 for the stm32f411ce: 10000 bytes"), "{out}");
         assert!(out.ends_with("10000 bytes written and verified, 1 sectors erased; sectors 6-7 (settings, cam tables) untouched; the board restarted into the new firmware"), "{out}");
@@ -123,7 +123,7 @@ mod tests {
 
     #[test]
     fn a_bad_read_back_is_one_line_naming_the_address() {
-        let image = from_bytes(&good(10_000), Format::Bin, false).unwrap();
+        let image = from_bytes(&good(10_000 - 12), Format::Bin, false).unwrap();
         let rom = FakeRom::new(Faults { stuck_low: Some((0x0800_2000, 0xFF)), ..Faults::default() });
         let e = write(&rom, &image, &quick(), &mut |_| {}).unwrap_err();
         assert!(e.0.starts_with("flash: verify failed at 0x08002000: wrote 0x"), "{}", e.0);

@@ -3,7 +3,7 @@
 //! flash` checks what it writes; both files or neither.
 
 use super::errors::{escaped, CliError, CliResult};
-use super::output::Outputs;
+use super::output::{named, Outputs};
 use super::values::out_file;
 use crate::flash::image::{self, Format};
 use crate::flash::{hex, last_sector, CHIP};
@@ -54,7 +54,12 @@ pub fn run(a: ImageArgs) -> CliResult<String> {
             .to_string(),
         ));
     }
-    Ok(written.report(format!("{}\nwrote {} and {}", summary(&image), shown(&a.bin), shown(&a.hex))))
+    Ok(written.report(format!("{}\n{}", summary(&image), wrote(&a.bin, &a.hex))))
+}
+
+/// "wrote BIN and HEX", `-` named "stdout".
+fn wrote(bin: &Path, hex: &Path) -> String {
+    format!("wrote {} and {}", named(bin), named(hex))
 }
 
 /// Reads and checks an image file; a refusal names the argument:
@@ -102,7 +107,7 @@ fn shown(path: &Path) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::flash::testkit::{elf, good};
+    use crate::flash::testkit::{elf, good, unsealed};
     use crate::flash::FLASH_BASE;
 
     fn dir(tag: &str) -> PathBuf {
@@ -118,12 +123,12 @@ mod tests {
     #[test]
     fn the_release_files_load_back_to_the_elf_image() {
         let d = dir("ok");
-        let bytes = good(70_000);
-        std::fs::write(d.join("fw"), elf(&[(FLASH_BASE, FLASH_BASE, &bytes, 0)])).unwrap();
+        std::fs::write(d.join("fw"), elf(&[(FLASH_BASE, FLASH_BASE, &unsealed(70_000), 0)])).unwrap();
         let p = |n: &str| d.join(n).display().to_string();
         let out = run_line(&format!("image {} --bin {} --hex {}", p("fw"), p("fw.bin"), p("fw.hex"))).unwrap();
-        assert!(out.starts_with("polyturn 0.1.0 for the stm32f411ce: 70000 bytes (68.4 KiB) at 0x08000000..0x08011170, sectors 0-4, sha256 "), "{out}");
-        assert_eq!(std::fs::read(p("fw.bin")).unwrap(), bytes);
+        assert!(out.starts_with("polyturn 0.1.0 for the stm32f411ce: 70012 bytes (68.4 KiB) at 0x08000000..0x0801117c, sectors 0-4, sha256 "), "{out}");
+        // the .bin is the ELF's bytes and the seal that `flash` and the board check
+        assert_eq!(std::fs::read(p("fw.bin")).unwrap(), good(70_000));
         let from_hex = load("FILE", &d.join("fw.hex"), false, None).unwrap();
         assert_eq!(from_hex, load("FILE", &d.join("fw.bin"), false, None).unwrap());
         assert!(out.contains(&from_hex.sha256));
@@ -131,7 +136,14 @@ mod tests {
             &run_line(&format!("image {} --bin {} --hex {} --json", p("fw"), p("b"), p("h"))).unwrap(),
         )
         .unwrap();
-        assert_eq!((json["bytes"].as_u64(), json["sectors"][1].as_u64()), (Some(70_000), Some(4)));
+        assert_eq!((json["bytes"].as_u64(), json["sectors"][1].as_u64()), (Some(70_012), Some(4)));
+    }
+
+    #[test]
+    fn the_report_names_a_dash_stdout_as_demo_does() {
+        assert_eq!(wrote(Path::new("-"), Path::new("o.hex")), "wrote stdout and o.hex");
+        assert_eq!(wrote(Path::new("o.bin"), Path::new("-")), "wrote o.bin and stdout");
+        assert_eq!(wrote(Path::new("a\nb"), Path::new("./-")), "wrote a\\nb and ./-");
     }
 
     #[test]
@@ -139,7 +151,7 @@ mod tests {
         let d = dir("refused");
         let p = |n: &str| d.join(n).display().to_string();
         std::fs::write(d.join("fw.bin"), good(4096)).unwrap();
-        std::fs::write(d.join("other"), elf(&[(FLASH_BASE, FLASH_BASE, &good(4096)[..100], 0)])).unwrap();
+        std::fs::write(d.join("other"), elf(&[(FLASH_BASE, FLASH_BASE, &unsealed(4096)[..100], 0)])).unwrap();
         for (input, why) in [("fw.bin", "ELF must be the firmware ELF"), ("other", "ELF must have a reset address")] {
             let e = run_line(&format!("image {} --bin {} --hex {}", p(input), p("o.bin"), p("o.hex"))).unwrap_err();
             assert!(e.0.starts_with(why), "{}", e.0);
@@ -148,7 +160,7 @@ mod tests {
         let e = run_line(&format!("image {} --bin {} --hex {}", p("fw.bin"), p("x"), p("x"))).unwrap_err();
         assert!(e.0.starts_with("ELF must be the firmware ELF"), "{}", e.0);
         // a good ELF, the .hex unwritable: no .bin either
-        std::fs::write(d.join("fw"), elf(&[(FLASH_BASE, FLASH_BASE, &good(4096), 0)])).unwrap();
+        std::fs::write(d.join("fw"), elf(&[(FLASH_BASE, FLASH_BASE, &unsealed(4096), 0)])).unwrap();
         let e = run_line(&format!("image {} --bin {} --hex /nonexistent-dir/o.hex", p("fw"), p("o.bin"))).unwrap_err();
         assert!(e.0.starts_with("--hex could not write '/nonexistent-dir/o.hex'"), "{}", e.0);
         assert!(!d.join("o.bin").exists());
@@ -158,7 +170,7 @@ mod tests {
     #[test]
     fn the_release_files_never_overwrite_the_elf_however_it_is_spelt() {
         let d = dir("self");
-        let file = elf(&[(FLASH_BASE, FLASH_BASE, &good(4096), 0)]);
+        let file = elf(&[(FLASH_BASE, FLASH_BASE, &unsealed(4096), 0)]);
         std::fs::write(d.join("fw"), &file).unwrap();
         std::fs::hard_link(d.join("fw"), d.join("hard")).unwrap();
         let _ = std::os::unix::fs::symlink("fw", d.join("soft"));

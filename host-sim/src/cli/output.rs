@@ -1,16 +1,31 @@
 //! Files a command writes: all of them or none. Every output is rendered
 //! first; then each regular file is written to a temporary file beside
-//! its target, the devices, FIFOs and stdout (`-`) are written directly,
-//! and only when all were written are the temporaries renamed into place.
-//! A refused command, a missing directory or a full disk leaves every
-//! regular file as it was. Text and binary files (a firmware .bin) alike.
+//! its target (`staged.rs`: a read-only file, or one we may not open for
+//! writing, is refused here), the devices, FIFOs and stdout (`-`) are
+//! written directly (`stream.rs`: a FIFO with no reader times out), and
+//! only when all were written are the files put in place: a new one by
+//! renaming its temporary, an existing one written through, as the
+//! shell's `>` writes it (its owner, mode and hard links kept). A refused
+//! command, a missing directory or a full disk leaves every regular file
+//! as it was; Ctrl-C or SIGTERM meanwhile leaves no temporary
+//! (`interrupt.rs`). Text and binary files (a firmware .bin) alike.
 
+#[cfg(unix)]
+mod interrupt;
+#[cfg(not(target_family = "wasm"))]
+mod staged;
+#[cfg(not(target_family = "wasm"))]
+mod stream;
 mod target;
 
 use super::errors::{escaped, CliError, CliResult};
 use std::io::Write;
 use std::path::{Path, PathBuf};
 use target::{classify, identity, identity_of, Identity, Target};
+
+/// How long a FIFO output may wait for a reader to open it, and a reader
+/// may leave its bytes untaken, before the command gives up.
+pub const FIFO_WAIT: std::time::Duration = std::time::Duration::from_secs(10);
 
 /// One file to write: the flag and path that named it, where it goes.
 struct Output {
@@ -75,35 +90,46 @@ impl Outputs {
         Ok(())
     }
 
-    /// Writes every file, or (for regular files) none.
+    /// Writes every file, or (for regular files) none; a FIFO waits at most
+    /// [`FIFO_WAIT`] for its reader.
     #[cfg(not(target_family = "wasm"))]
     pub fn write(self) -> CliResult<Written> {
-        let mut staged: Vec<(PathBuf, &Path)> = Vec::new();
-        let fail = |o: &Output, staged: &[(PathBuf, &Path)], e: std::io::Error| {
-            unstage(staged);
-            CliError::flag(o.flag, format!("could not write '{}': {e}", shown(&o.given)))
+        self.write_within(FIFO_WAIT)
+    }
+
+    /// The same, a FIFO waiting at most `wait` for its reader (and for room).
+    #[cfg(not(target_family = "wasm"))]
+    pub fn write_within(self, wait: std::time::Duration) -> CliResult<Written> {
+        #[cfg(unix)]
+        let mut guard = interrupt::Guard::new();
+        let mut staged: Vec<staged::Staged> = Vec::new();
+        let fail = |o: &Output, staged: &[staged::Staged], why: String| {
+            staged::unstage(staged);
+            CliError::flag(o.flag, why)
         };
+        let could_not = |o: &Output, e: std::io::Error| format!("could not write '{}': {e}", shown(&o.given));
         for o in &self.files {
             if let Target::File(path) = &o.target {
-                let tmp = temporary(path);
-                if let Err(e) = std::fs::write(&tmp, &o.bytes).and_then(|()| keep_mode(path, &tmp)) {
-                    let _ = std::fs::remove_file(&tmp);
-                    return Err(fail(o, &staged, e));
+                #[cfg(unix)]
+                guard.add(&staged::temporary(path));
+                match staged::stage(path, &o.bytes) {
+                    Ok(s) => staged.push(s),
+                    Err(why) => return Err(fail(o, &staged, why.shown(&shown(&o.given)))),
                 }
-                staged.push((tmp, path));
             }
         }
-        // a device or a pipe cannot be staged: written before any rename,
-        // so that its failure (a full /dev/full) still leaves the files be
+        // a device or a pipe cannot be staged: written before any file is
+        // put in place, so that its failure (a full /dev/full, a FIFO no one
+        // reads) still leaves the files be
         for o in &self.files {
-            if let Err(e) = stream(&o.target, &o.bytes) {
-                return Err(fail(o, &staged, e));
+            if let Err(e) = unstaged(&o.target, &o.bytes, wait) {
+                return Err(fail(o, &staged, could_not(o, e)));
             }
         }
         let regular = self.files.iter().filter(|o| matches!(o.target, Target::File(_)));
-        for (i, ((tmp, path), o)) in staged.iter().zip(regular).enumerate() {
-            if let Err(e) = std::fs::rename(tmp, path) {
-                return Err(fail(o, &staged[i..], e));
+        for (i, (s, o)) in staged.iter().zip(regular).enumerate() {
+            if let Err(e) = s.commit(&o.bytes) {
+                return Err(fail(o, &staged[i..], could_not(o, e)));
             }
         }
         Ok(Written { to_stdout: self.files.iter().any(|o| o.target == Target::Stdout) })
@@ -112,7 +138,7 @@ impl Outputs {
 
 /// Writes a device, FIFO or stdout target; nothing for a regular file.
 #[cfg(not(target_family = "wasm"))]
-fn stream(target: &Target, bytes: &[u8]) -> std::io::Result<()> {
+fn unstaged(target: &Target, bytes: &[u8], wait: std::time::Duration) -> std::io::Result<()> {
     match target {
         Target::File(_) => Ok(()),
         Target::Stdout => {
@@ -120,11 +146,7 @@ fn stream(target: &Target, bytes: &[u8]) -> std::io::Result<()> {
             out.write_all(bytes)?;
             out.flush()
         }
-        Target::Stream(path) => {
-            let mut f = std::fs::OpenOptions::new().write(true).open(path)?;
-            f.write_all(bytes)?;
-            f.flush()
-        }
+        Target::Stream(path) => stream::write(path, bytes, wait),
     }
 }
 
@@ -149,34 +171,18 @@ pub fn take_captured() -> Vec<(String, Vec<u8>)> {
     CAPTURED.with(|c| std::mem::take(&mut *c.borrow_mut()))
 }
 
+/// An output as a report names it: `-` is "stdout".
+pub fn named(path: &Path) -> String {
+    if path.as_os_str() == "-" {
+        "stdout".into()
+    } else {
+        shown(path)
+    }
+}
+
 /// A path as one line of an error (control characters escaped).
 fn shown(path: &Path) -> String {
     escaped(&path.display().to_string())
-}
-
-#[cfg(not(target_family = "wasm"))]
-fn unstage(staged: &[(PathBuf, &Path)]) {
-    for (tmp, _) in staged {
-        let _ = std::fs::remove_file(tmp);
-    }
-}
-
-/// `dir/.name.polyturn-PID.tmp`: same directory, so the rename is atomic.
-#[cfg(not(target_family = "wasm"))]
-/// The file replaced keeps its permissions (a 0600 file stays private):
-/// the rename brings the temporary's, so it gets the old file's first.
-#[cfg(not(target_family = "wasm"))]
-fn keep_mode(path: &Path, tmp: &Path) -> std::io::Result<()> {
-    match std::fs::metadata(path) {
-        Ok(m) => std::fs::set_permissions(tmp, m.permissions()),
-        Err(_) => Ok(()), // a new file: the umask's
-    }
-}
-
-#[cfg(not(target_family = "wasm"))]
-fn temporary(path: &Path) -> PathBuf {
-    let name = path.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
-    path.with_file_name(format!(".{name}.polyturn-{}.tmp", std::process::id()))
 }
 
 #[cfg(test)]

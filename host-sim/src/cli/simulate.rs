@@ -191,7 +191,7 @@ pub fn demo(a: DemoArgs) -> CliResult<String> {
     if a.json {
         return Ok(written.report(report::json(&sc, &r).to_string()));
     }
-    let path = if a.svg.as_os_str() == "-" { "stdout".into() } else { escaped(&a.svg.display().to_string()) };
+    let path = super::output::named(&a.svg);
     Ok(written.report(format!(
         "polyturn demo: a hexagon from 2:1 x 3 edges at 600 rpm (2 % speed ripple), simulated end to end\n{}\nwrote {path}",
         report::human(&sc, &r)

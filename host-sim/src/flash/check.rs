@@ -1,30 +1,53 @@
 //! What an image must be before it is flashed: a Cortex-M vector table
 //! that can start (PM0214 §2.3.4: word 0 the initial SP, word 1 the reset
-//! handler with bit 0 set for Thumb), and a polyturn marker naming this
-//! chip, so that a file for another board, or no firmware at all, is
-//! refused before the bootloader erases anything.
+//! handler with bit 0 set for Thumb), a polyturn marker naming this
+//! chip, and the seal that says the image is whole (`seal.rs`), so that a
+//! file for another board, no firmware at all, or an image cut short or
+//! altered, is refused before the bootloader erases anything.
 
-use super::Refusal;
-use super::{CHIP, MARKER, RAM_END, RAM_START, VECTOR_TABLE_BYTES};
+use super::{seal, Refusal};
+use super::{APP_END, CHIP, FLASH_BASE, IMAGE_MAX_BYTES, MARKER, RAM_END, RAM_START, VECTOR_TABLE_BYTES};
 
 /// A marker's chip and version are short: a longer one is no marker.
 const MARKER_TEXT_MAX: usize = 80;
 
 /// Checks an image placed at `base`; the version its marker gives (`None`
-/// when `any_image` lets an image without a marker through).
+/// when `any_image` lets an image without a marker through). A polyturn
+/// image must be sealed (an unmarked one has no seal to check).
 pub fn image(base: u32, bytes: &[u8], any_image: bool) -> Result<Option<String>, Refusal> {
     vectors(base, bytes)?;
     match markers(bytes)? {
         Some((chip, _)) if chip != CHIP => {
             Err(Refusal::new(format!("must be a polyturn image for the {CHIP}"), format!("made for the {chip}")))
         }
-        Some((_, version)) => Ok(Some(version)),
+        Some((_, version)) => {
+            seal::check(bytes)?;
+            fits(base, bytes)?;
+            Ok(Some(version))
+        }
         None if any_image => Ok(None),
         None => Err(Refusal::new(
             format!("must be a polyturn image for the {CHIP}, marked 'polyturn-image:{CHIP}:VERSION' (--any-image writes another program)"),
-            "no polyturn-image marker",
+            "no polyturn-image marker: another program, or a polyturn image cut short",
         )),
     }
+}
+
+/// Whether the image carries a well-formed polyturn marker (an ELF's
+/// image is then sealed as `polyturn image` seals it).
+pub fn marked(bytes: &[u8]) -> bool {
+    matches!(markers(bytes), Ok(Some(_)))
+}
+
+/// Sealed, the image still ends in sector 5 (the seal may take it past
+/// the ELF's last byte).
+fn fits(base: u32, bytes: &[u8]) -> Result<(), Refusal> {
+    let end = u64::from(base) + bytes.len() as u64;
+    if base != FLASH_BASE || end > u64::from(APP_END) {
+        let rule = format!("must fit in sectors 0-5 with its seal, 1..={IMAGE_MAX_BYTES} bytes");
+        return Err(Refusal::new(rule, format!("{} bytes from 0x{base:08x}", bytes.len())));
+    }
+    Ok(())
 }
 
 /// The initial stack pointer in RAM and word-aligned; the reset handler

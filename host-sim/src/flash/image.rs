@@ -3,7 +3,7 @@
 //! read from a `.bin`, an Intel `.hex` or an ELF, and checked (`check.rs`)
 //! before any USB request is sent.
 
-use super::{check, elf, hex, Canvas, Image, Refusal, FLASH_BASE};
+use super::{check, elf, hex, seal, Canvas, Image, Refusal, FLASH_BASE};
 use sha2::{Digest, Sha256};
 use std::io::Read;
 use std::path::Path;
@@ -27,8 +27,11 @@ pub fn load(path: &Path, any_image: bool) -> Result<Image, Refusal> {
     from_bytes(&bytes, format, any_image)
 }
 
+/// The image a file holds, checked. An ELF with the polyturn marker is
+/// sealed here, as `polyturn image` seals it (`seal.rs`): flashing the ELF
+/// writes the same bytes as its release `.bin`.
 pub fn from_bytes(file: &[u8], format: Format, any_image: bool) -> Result<Image, Refusal> {
-    let (base, bytes) = match format {
+    let (base, mut bytes) = match format {
         Format::Bin => {
             let mut c = Canvas::new();
             c.place(FLASH_BASE, file, "the data")?;
@@ -37,6 +40,9 @@ pub fn from_bytes(file: &[u8], format: Format, any_image: bool) -> Result<Image,
         Format::Hex => hex::parse(file)?,
         Format::Elf => elf::parse(file)?,
     };
+    if format == Format::Elf && check::marked(&bytes) {
+        seal::seal(&mut bytes);
+    }
     let version = check::image(base, &bytes, any_image)?;
     let sha256 = Sha256::digest(&bytes).iter().map(|b| format!("{b:02x}")).collect();
     Ok(Image { base, bytes, version, sha256 })

@@ -1,7 +1,7 @@
 //! The image checks: what is flashed, and every way a file is refused.
 
 use super::image::{format_of, from_bytes, load, read_bounded, Format, FILE_MAX_BYTES};
-use super::testkit::{elf, elf_for, good, image_with, record, RESET, SP};
+use super::testkit::{elf, elf_for, good, image_with, record, unsealed, RESET, SP};
 use super::Refusal;
 use super::{hex, FLASH_BASE};
 use std::path::Path;
@@ -31,30 +31,60 @@ fn a_good_image_loads_from_bin_hex_and_elf_alike() {
     assert_eq!(from_bin.bytes, bytes);
     assert_eq!(from_bin.sha256.len(), 64);
     let from_hex = from_bytes(hex_of(&[(FLASH_BASE, &bytes)]).as_bytes(), Format::Hex, false).unwrap();
-    // .data: run address in RAM, stored in flash after the rest (LMA)
-    let file =
-        elf(&[(FLASH_BASE, FLASH_BASE, &bytes[..1000], 0), (FLASH_BASE + 1000, 0x2000_0000, &bytes[1000..], 64)]);
+    // .data: run address in RAM, stored in flash after the rest (LMA); the
+    // ELF's image is sealed as the .bin is
+    let raw = unsealed(3000);
+    let file = elf(&[(FLASH_BASE, FLASH_BASE, &raw[..1000], 0), (FLASH_BASE + 1000, 0x2000_0000, &raw[1000..], 64)]);
     let from_elf = from_bytes(&file, Format::Elf, false).unwrap();
     assert_eq!((&from_hex, &from_elf), (&from_bin, &from_bin));
-    let mut other = bytes.clone();
+    let mut other = raw.clone();
     other[2999] ^= 1;
-    assert_ne!(from_bytes(&other, Format::Bin, false).unwrap().sha256, from_bin.sha256);
+    let other = from_bytes(&elf(&[(FLASH_BASE, FLASH_BASE, &other, 0)]), Format::Elf, false).unwrap();
+    assert_ne!(other.sha256, from_bin.sha256);
+}
+
+#[test]
+fn an_unmarked_image_is_neither_sealed_nor_asked_for_a_seal() {
+    let raw = image_with(4096, SP, RESET, b"");
+    let from_elf = from_bytes(&elf(&[(FLASH_BASE, FLASH_BASE, &raw, 0)]), Format::Elf, true).unwrap();
+    assert_eq!((from_elf.bytes, from_elf.version), (raw.clone(), None));
+    assert!(from_bytes(&raw, Format::Bin, true).is_ok());
+    // marked, it must be sealed, --any-image or not
+    for any in [false, true] {
+        let r = refused(&unsealed(4096), Format::Bin, any);
+        assert!(r.rule.starts_with("must end with the seal `polyturn image` writes"), "{r:?}");
+    }
+}
+
+#[test]
+fn an_elf_that_fills_sector_5_has_no_room_for_its_seal() {
+    let full = unsealed(256 * 1024);
+    let r = refused(&elf(&[(FLASH_BASE, FLASH_BASE, &full, 0)]), Format::Elf, false);
+    assert_eq!(
+        (r.rule.as_str(), r.found.as_str()),
+        ("must fit in sectors 0-5 with its seal, 1..=262144 bytes", "262156 bytes from 0x08000000")
+    );
+    let fits = unsealed(256 * 1024 - 12);
+    assert_eq!(
+        from_bytes(&elf(&[(FLASH_BASE, FLASH_BASE, &fits, 0)]), Format::Elf, false).unwrap().bytes.len(),
+        262_144
+    );
 }
 
 #[test]
 fn gaps_are_erased_flash_and_bss_is_not_flashed() {
-    let bytes = good(1024);
+    let bytes = unsealed(1024);
     let file =
         elf(&[(FLASH_BASE, FLASH_BASE, &bytes[..768], 0), (FLASH_BASE + 900, FLASH_BASE + 900, &bytes[900..], 0)]);
     let image = from_bytes(&file, Format::Elf, false).unwrap();
-    assert_eq!((&image.bytes[..768], &image.bytes[900..]), (&bytes[..768], &bytes[900..]));
+    assert_eq!((&image.bytes[..768], &image.bytes[900..1024]), (&bytes[..768], &bytes[900..]));
     assert!(image.bytes[768..900].iter().all(|&b| b == 0xFF));
-    assert_eq!(image.bytes.len(), 1024);
+    assert_eq!(image.bytes.len(), 1024 + 12, "and its seal");
 }
 
 #[test]
 fn the_hex_written_loads_back_to_the_same_bytes() {
-    for len in [8 + 0x200 + 40, 65_536 + 17, 256 * 1024] {
+    for len in [8 + 0x200 + 40, 65_536 + 17, 256 * 1024 - 12] {
         let image = from_bytes(&good(len), Format::Bin, false).unwrap();
         let text = hex::write(&image).unwrap();
         assert!(text.ends_with(":00000001FF\n") && text.starts_with(":020000040800F2\n"), "{len}");
@@ -66,7 +96,7 @@ fn the_hex_written_loads_back_to_the_same_bytes() {
 fn sizes_and_addresses_outside_sectors_0_to_5_are_refused_with_the_range() {
     let r = refused(&[], Format::Bin, true);
     assert!(r.rule.contains("must not be empty (1..=262144 bytes)"), "{r:?}");
-    let r = refused(&good(256 * 1024 + 4), Format::Bin, false);
+    let r = refused(&unsealed(256 * 1024 + 4), Format::Bin, false);
     assert!(r.rule.contains("1..=262144 bytes") && r.rule.contains("sectors 6-7"), "{r:?}");
     assert_eq!(r.found, "the data reaches 0x08040004, 262148 bytes");
     let bytes = good(1024);
@@ -89,7 +119,7 @@ fn sizes_and_addresses_outside_sectors_0_to_5_are_refused_with_the_range() {
 #[test]
 fn a_vector_table_that_cannot_start_is_refused() {
     let cases: [(Vec<u8>, &str); 7] = [
-        (good(6), "6 bytes"),
+        (unsealed(6), "6 bytes"),
         (image_with(4096, 0x2003_0000, RESET, b""), "stack pointer 0x20030000"),
         (image_with(4096, 0x2000_0000, RESET, b""), "stack pointer 0x20000000"),
         (image_with(4096, 0x2001_fffe, RESET, b""), "stack pointer 0x2001fffe"),
@@ -117,7 +147,11 @@ fn the_marker_names_the_chip_and_only_any_image_lets_none_through() {
     }
     let none = image_with(4096, SP, RESET, b"");
     let r = refused(&none, Format::Bin, false);
-    assert!(r.rule.contains("--any-image") && r.found == "no polyturn-image marker", "{r:?}");
+    assert!(
+        r.rule.contains("--any-image")
+            && r.found == "no polyturn-image marker: another program, or a polyturn image cut short",
+        "{r:?}"
+    );
     assert_eq!(from_bytes(&none, Format::Bin, true).unwrap().version, None);
     let unended = image_with(4096, SP, RESET, &[b"polyturn-image:stm32f411ce:".as_slice(), &[b'1'; 100]].concat());
     assert!(refused(&unended, Format::Bin, true).found.starts_with("a malformed marker at offset 0x200"));
@@ -128,7 +162,7 @@ fn the_marker_names_the_chip_and_only_any_image_lets_none_through() {
 
 #[test]
 fn malformed_or_overlapping_hex_is_refused_naming_the_line() {
-    let bytes = good(64);
+    let bytes = unsealed(64);
     let ok = hex_of(&[(FLASH_BASE, &bytes)]);
     let bad_sum = ok.replacen(":10000000", ":10000001", 1);
     let cases = [
@@ -227,7 +261,8 @@ fn a_reset_address_inside_the_vector_table_is_refused() {
 
 #[test]
 fn a_hex_start_address_must_be_the_reset_vector_and_lines_must_be_bare_records() {
-    let bytes = good(1024);
+    // 1024 bytes with the seal: 64 records
+    let bytes = good(1012);
     let ok = hex_of(&[(FLASH_BASE, &bytes)]);
     let eof = ":00000001FF";
     let start = |a: u32| record(5, 0, &a.to_be_bytes());

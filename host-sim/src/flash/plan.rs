@@ -86,10 +86,11 @@ mod tests {
 
     #[test]
     fn the_web_plan_pads_to_whole_transfers_and_erases_the_pages_the_image_covers() {
-        let image = crate::flash::image::from_bytes(&good(40 * 1024 + 1), Format::Bin, false).unwrap();
+        let image = crate::flash::image::from_bytes(&good(40 * 1024 + 4), Format::Bin, false).unwrap();
+        assert_eq!(image.bytes.len(), 40 * 1024 + 16, "with its seal");
         let p = plan_for_web(INTERFACE, &rom_descriptor(), &image).unwrap();
         assert_eq!(p.bytes.len(), 42 * 1024, "41 KiB rounds up to 21 transfers of 2 KiB");
-        assert!(p.bytes[40 * 1024 + 1..].iter().all(|&b| b == 0xFF));
+        assert!(p.bytes[40 * 1024 + 16..].iter().all(|&b| b == 0xFF));
         assert_eq!(p.pages, vec![0x0800_0000, 0x0800_4000, 0x0800_8000], "three 16 KiB sectors");
     }
 

@@ -1,8 +1,8 @@
 //! Images for tests, built here rather than taken from a firmware build: a
-//! vector table that starts, code-like bytes, a marker; and a minimal ELF32
-//! (header and program headers only, as the checks read them).
+//! vector table that starts, code-like bytes, a marker, the seal; and a
+//! minimal ELF32 (header and program headers only, as the checks read them).
 
-use super::FLASH_BASE;
+use super::{seal, FLASH_BASE};
 
 pub const GOOD_MARKER: &[u8] = b"polyturn-image:stm32f411ce:0.1.0\0";
 /// Reset handler at 0x08000198 (Thumb: odd), where cortex-m-rt puts it.
@@ -24,8 +24,17 @@ pub fn image_with(len: usize, sp: u32, reset: u32, marker: &[u8]) -> Vec<u8> {
     b
 }
 
-pub fn good(len: usize) -> Vec<u8> {
+/// A polyturn image as an ELF holds it (`len` bytes, marked, no seal).
+pub fn unsealed(len: usize) -> Vec<u8> {
     image_with(len, SP, RESET, GOOD_MARKER)
+}
+
+/// A release image: `unsealed(len)` padded to a word and sealed, as
+/// `polyturn image` writes it (`len` rounded up to 4, plus 12 bytes).
+pub fn good(len: usize) -> Vec<u8> {
+    let mut b = unsealed(len);
+    seal::seal(&mut b);
+    b
 }
 
 /// An ELF32 for ARM, little-endian, with PT_LOAD segments (paddr, vaddr,

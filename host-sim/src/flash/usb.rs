@@ -45,6 +45,8 @@ pub fn open(wait: Duration) -> Result<DfuNusb, String> {
         }
         std::thread::sleep(LOOK_EVERY.min(deadline - now));
     };
+    #[cfg(windows)]
+    windows_driver(info.driver())?;
     let device = info.open().wait().map_err(open_error)?;
     let (interface, alt) = flash_alt(&device)?;
     let claimed = device.claim_interface(interface).wait().map_err(open_error)?;
@@ -61,6 +63,8 @@ fn open_error(e: nusb::Error) -> String {
         nusb::ErrorKind::Busy => {
             "the STM32 bootloader is in use by another program (dfu-util, STM32CubeProgrammer?)".into()
         }
+        // Windows: nusb opens only what WinUSB drives
+        nusb::ErrorKind::Unsupported if cfg!(windows) => no_winusb(None),
         _ => format!("cannot open the STM32 bootloader: {e}"),
     }
 }
@@ -68,6 +72,28 @@ fn open_error(e: nusb::Error) -> String {
 fn no_permission() -> String {
     format!(
         "no permission to open the STM32 bootloader (USB {VID:04x}:{PID:04x}): install the udev rule of docs/src/flashing.md (\"Let your PC reach the board\"), the release bundle's 70-polyturn.rules: SUBSYSTEM==\"usb\", ATTRS{{idVendor}}==\"0483\", ATTRS{{idProduct}}==\"df11\", TAG+=\"uaccess\" in /etc/udev/rules.d/70-polyturn.rules, then `sudo udevadm control --reload-rules` and replug"
+    )
+}
+
+/// On Windows, nusb reaches a device only through WinUSB (nusb's
+/// `claim_interface` refuses any other driver), and Windows does not bind
+/// WinUSB to the ROM bootloader by itself (ST's own tools bind their
+/// STTub30 driver instead): it must be bound once by hand. `driver` is the
+/// one Windows bound, if any.
+pub fn windows_driver(driver: Option<&str>) -> Result<(), String> {
+    match driver {
+        Some(d) if d.eq_ignore_ascii_case("winusb") => Ok(()),
+        other => Err(no_winusb(other)),
+    }
+}
+
+fn no_winusb(driver: Option<&str>) -> String {
+    let bound = match driver {
+        Some(d) => format!("Windows drives it with '{}'", crate::cli::errors::escaped(d)),
+        None => "Windows has no usable driver for it".into(),
+    };
+    format!(
+        "the STM32 bootloader (USB {VID:04x}:{PID:04x}) is there, but {bound}, and polyturn flash needs WinUSB: bind it once with Zadig (Options > List All Devices, choose \"STM32 BOOTLOADER\", WinUSB, Install Driver or Replace Driver), as docs/src/flashing.md says (\"Let your PC reach the board\"), then run polyturn flash again"
     )
 }
 
@@ -153,6 +179,17 @@ mod tests {
             let e = check_layout(other).unwrap_err();
             assert!(e.contains("another chip") && !e.contains('\n'), "{other}: {e}");
         }
+    }
+
+    #[test]
+    fn on_windows_only_winusb_reaches_the_bootloader_and_anything_else_says_how_to_bind_it() {
+        assert_eq!(windows_driver(Some("WinUSB")), Ok(()));
+        for other in [None, Some("usbccgp"), Some("STTub30"), Some("libusbK")] {
+            let e = windows_driver(other).unwrap_err();
+            assert!(e.starts_with("the STM32 bootloader (USB 0483:df11) is there, but "), "{e}");
+            assert!(e.contains("needs WinUSB: bind it once with Zadig") && e.contains("docs/src/flashing.md"), "{e}");
+        }
+        assert!(windows_driver(Some("STTub30")).unwrap_err().contains("Windows drives it with 'STTub30'"));
     }
 
     #[test]

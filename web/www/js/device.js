@@ -1,18 +1,25 @@
-// Device: the board's console over WebSerial (Chromium): status and the
-// live phase error, the settings form checked by the sync core's own `set`
-// (WebAssembly) before anything is sent, engage/stop/save, the encoder
-// check, dividing (`divide.js`), the guided setup, and a cam table upload.
-import { load, dl } from './polyturn.js';
+// Device: the board's console over WebSerial (Chromium), or relayed by
+// `polyturn web --board PORT` in any browser (relayport.js): status and
+// the live phase error, the settings form checked by the sync core's own
+// `set` (WebAssembly) before anything is sent, engage/stop/save, the
+// encoder check, dividing (`divide.js`), the guided setup, and a cam table
+// upload.
+import { load, dl, shared } from './polyturn.js';
 import { showDivide } from './divide.js';
 import { Session, pairs } from './serial.js';
 import { fakeSerialPort } from './fakeport.js';
+import { relayPort, relayed } from './relayport.js';
+import { draw, umPerStep } from './phaseplot.js';
 
-const SAVE_WAIT_MS = 5000; // a sector erase (DS10314 t_ERASE128KB) and more
+// a sector erase takes up to 2 s (DS10314 t_ERASE128KB); `polyturn device`
+// waits 10 s for it (FLASH_WAIT), and so does the page
+const SAVE_WAIT_MS = 10000;
 const PLOT_POINTS = 300; // 30 s of watch at 10 Hz
 let session = null;
 let settings = '';
 let fields = null; // each setting's unit, range and choices, from the console (setting_fields)
-const phase = [];
+let relay = null; // the relayed board's port, when connected through polyturn web
+const phase = []; // {v: phase error in steps, state}
 
 const $ = (id) => document.getElementById(id);
 
@@ -20,10 +27,18 @@ export function init() {
   const supported = 'serial' in navigator;
   $('serial-support').textContent = supported
     ? 'Connect the board by USB and choose its port (polyturn console).'
-    : 'This browser has no WebSerial: use Chromium, Chrome or Edge for the device panel (or `polyturn device`).';
+    : 'This browser has no WebSerial: use Chromium, Chrome or Edge, or serve the page with the board from the machine it is plugged into (`polyturn web --board PORT`): then any browser has it.';
   $('connect').disabled = !supported;
   $('connect').addEventListener('click', () => connect(() => navigator.serial.requestPort()));
   $('simulated').addEventListener('click', () => connect(fakeSerialPort));
+  $('connect-relay').addEventListener('click', () => connect(() => relayPort({ onControl: controlChanged, onNotice: (why) => log(`relay: ${why}`) })));
+  $('take-control').addEventListener('click', () => relay?.take());
+  $('read-settings').addEventListener('click', () => refreshSettings().then(watch, () => {}));
+  relayed().then((yes) => {
+    if (!yes) return;
+    $('connect-relay').hidden = false;
+    $('serial-support').textContent = 'This page was served with the board: connect through polyturn web (any browser).';
+  });
   $('engage').addEventListener('click', () => command('engage'));
   $('stop').addEventListener('click', () => command('stop'));
   $('clear').addEventListener('click', () => command('clear'));
@@ -42,18 +57,73 @@ async function connect(choose) {
     const port = await choose();
     session = await Session.open(port);
     session.onLine = onStatus;
-    session.onClose = () => log('the port closed');
-    for (const b of document.querySelectorAll('#device button, #guided button')) b.disabled = false;
+    session.onClose = () => closed(port);
     const simulated = !!port.getInfo?.().simulated;
+    relay = port.getInfo?.().relay ? port : null;
+    for (const b of ['connect', 'simulated', 'connect-relay']) $(b).disabled = true;
+    if (relay) {
+      $('connect-relay').textContent = `Connected through polyturn web (${relay.name})`;
+      controlChanged(relay.control);
+      return;
+    }
+    commands(true);
     $('connect').textContent = simulated ? 'Connected to the simulated board' : 'Connected';
     if (simulated) simulatedLathe(port.board);
-    $('connect').disabled = true;
-    $('simulated').disabled = true;
     await refreshSettings();
     await watch();
   } catch (e) {
     log(`connect: ${e.message ?? e}`);
+    if (!session) $('connect-relay').disabled = false;
   }
+}
+
+// The buttons that send to the board.
+function commands(on) {
+  const keep = ['connect', 'simulated', 'connect-relay', 'take-control'];
+  for (const b of document.querySelectorAll('#device button, #guided button')) if (!keep.includes(b.id)) b.disabled = !on;
+}
+
+// The relay's word on who has control: this page sends, or watches.
+let inControl = false;
+async function controlChanged(c) {
+  if (!session || !relay || !c) return;
+  const was = inControl;
+  inControl = c.yours;
+  const state = $('relay-state');
+  state.hidden = false;
+  state.textContent = c.yours ? 'This page has control of the board.'
+    : c.free ? 'Nobody has control of the board: take it to send commands.'
+      : 'Another page has control of the board; this one watches its status.';
+  $('take-control').hidden = c.yours;
+  $('take-control').disabled = !c.free;
+  commands(c.yours);
+  if (c.yours && !was) {
+    try { await refreshSettings(); } catch { /* shown in the log */ }
+    await watch();
+  }
+}
+
+// The port closed: through the relay, the board went away (or polyturn
+// web stopped); what waited for a reply has failed and nothing is sent
+// again. Reconnect opens it anew.
+function closed(port) {
+  log('the port closed');
+  session = null;
+  commands(false);
+  if (!port.getInfo?.().relay) {
+    $('connect').textContent = 'Connect (WebSerial)';
+    $('connect').disabled = !('serial' in navigator);
+    return;
+  }
+  relay = null;
+  inControl = false;
+  const state = $('relay-state');
+  state.hidden = false;
+  const why = port.goneWhy || 'the board went away';
+  state.textContent = `${why[0].toUpperCase()}${why.slice(1)}. Reconnect when it is back.`;
+  $('take-control').hidden = true;
+  $('connect-relay').textContent = 'Reconnect';
+  $('connect-relay').disabled = false;
 }
 
 // The simulated board's lathe: a speed the machinist sets, as on the
@@ -138,31 +208,21 @@ function onStatus(line) {
   $('status').dataset.state = s.state;
   $('status').dataset.json = JSON.stringify(s);
   showDivide(s);
-  phase.push(Number(s.phase_err_steps));
+  phase.push({ v: Number(s.phase_err_steps), state: s.state });
   if (phase.length > PLOT_POINTS) phase.shift();
   plot();
 }
 
-// The phase error over the last 30 s, axes labelled in steps and seconds.
+// The phase error over the last 30 s (phaseplot.js), with µm at the
+// stock's radius from the board's steps and ratio and the page's R2.
 function plot() {
+  const set = pairs(settings);
+  const r2 = Number(shared.setup.stockRadius);
+  const umStep = umPerStep(set.steps, set.ratio, r2);
+  const d = draw(phase, PLOT_POINTS, { umStep, r2 });
   const svg = $('phase-plot');
-  const span = Math.max(0.5, ...phase.map(Math.abs));
-  // room on the left for the widest label (11 px type: about 6.5 px a
-  // character), so +9999.04 is not cut off at the edge
-  const [w, h, bottom] = [420, 180, 30];
-  const left = Math.max(50, 24 + 6.5 * `+${span.toFixed(2)}`.length);
-  const x = (i) => left + ((w - left - 10) * i) / (PLOT_POINTS - 1);
-  const y = (v) => (h - bottom) / 2 - ((h - bottom) / 2 - 8) * (v / span);
-  const pts = phase.map((v, i) => `${x(i + PLOT_POINTS - phase.length).toFixed(1)},${y(v).toFixed(1)}`).join(' ');
-  svg.innerHTML = `<line x1="${left}" y1="${y(0)}" x2="${w - 10}" y2="${y(0)}" stroke="#999"/>
-    <line x1="${left}" y1="8" x2="${left}" y2="${h - bottom}" stroke="#333"/>
-    <text x="${left - 4}" y="${y(span) + 4}" text-anchor="end" font-size="11">+${span.toFixed(2)}</text>
-    <text x="${left - 4}" y="${y(-span) + 4}" text-anchor="end" font-size="11">-${span.toFixed(2)}</text>
-    <text x="${left - 4}" y="${y(0) + 4}" text-anchor="end" font-size="11">0</text>
-    <text x="14" y="${(h - bottom) / 2}" font-size="11" transform="rotate(-90 14 ${(h - bottom) / 2})" text-anchor="middle">phase error, steps</text>
-    <text x="${left}" y="${h - 8}" font-size="11">−30 s</text><text x="${w - 10}" y="${h - 8}" font-size="11" text-anchor="end">now</text>
-    <text x="${(w + left) / 2}" y="${h - 8}" font-size="11" text-anchor="middle">time</text>
-    <polyline fill="none" stroke="#c33" stroke-width="1.5" points="${pts}"/>`;
+  svg.innerHTML = d.svg;
+  Object.assign(svg.dataset, { span: d.span, clipped: d.clipped, worst: d.worst, steadyFrom: d.steadyFrom, umStep: umStep ?? '' });
 }
 
 // One row per `get` key: its name, a field (a select when the console

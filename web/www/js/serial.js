@@ -21,6 +21,8 @@ export class Session {
 
   static async open(port) {
     const s = new Session(port);
+    // a port may ask for longer (the relay: a network hop on top)
+    s.timeoutMs = port.getInfo?.().timeoutMs ?? TIMEOUT_MS;
     await port.open({ baudRate: 115200 });
     s.reader = port.readable.getReader();
     s.writer = port.writable.getWriter();
@@ -83,7 +85,7 @@ export class Session {
 
   // Sends one command; resolves to the reply (`ok ...`), rejects with the
   // board's `error: ...` or a timeout. Commands go one at a time.
-  ask(command, timeoutMs = TIMEOUT_MS) {
+  ask(command, timeoutMs = this.timeoutMs ?? TIMEOUT_MS) {
     const run = () => this.send(command, timeoutMs);
     const p = this.queue.then(run, run);
     this.queue = p.catch(() => {});

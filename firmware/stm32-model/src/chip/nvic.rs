@@ -19,6 +19,9 @@ pub const STIR: u32 = 0xEF00;
 pub const DWT_CTRL: u32 = 0x1000;
 pub const DWT_CYCCNT: u32 = 0x1004;
 pub const DEMCR: u32 = 0xEDFC;
+/// DHCSR (C1.6.2): reads 0, no debugger attached (C_DEBUGEN clear), as on a
+/// board in use; writes are the debugger's (DBGKEY) and are not modelled.
+pub const DHCSR: u32 = 0xEDF0;
 /// The F411's vector table has 16 + 86 entries (RM0383 §10.1.3 table 37).
 pub const NIRQ: usize = 86;
 
@@ -222,6 +225,11 @@ mod tests {
         assert_eq!(n.best_pending(), Some(16 + 7));
         n.write(ICER, 1 << 7, u32::MAX, 0);
         assert_eq!(n.best_pending(), Some(16 + 3), "a disabled IRQ is not taken");
+    }
+
+    #[test]
+    fn no_debugger_is_attached_c1_6_2() {
+        assert_eq!(Nvic::default().read(DHCSR, 0, &[], 0) & 1, 0, "C_DEBUGEN clear");
     }
 
     #[test]

@@ -273,3 +273,26 @@ fn a_jog_out_of_the_consoles_range_is_refused_before_sending_whatever_the_port_s
     }
     assert!(s.io.received.is_empty());
 }
+
+#[test]
+fn the_console_is_found_among_the_ports_by_its_usb_ids() {
+    use serialport::{SerialPortInfo, SerialPortType, UsbPortInfo};
+    let usb = |name: &str, vid, pid| SerialPortInfo {
+        port_name: name.into(),
+        port_type: SerialPortType::UsbPort(UsbPortInfo {
+            vid,
+            pid,
+            serial_number: None,
+            manufacturer: None,
+            product: None,
+        }),
+    };
+    let ports = vec![
+        usb("COM3", 0x0403, 0x6001), // an FTDI adapter
+        SerialPortInfo { port_name: "COM1".into(), port_type: SerialPortType::Unknown },
+        usb("COM7", 0x16c0, 0x27dd),
+        usb("COM5", 0x16c0, 0x27dd),
+    ];
+    assert_eq!(super::first_console(ports), Some("COM5".into()));
+    assert_eq!(super::first_console(vec![usb("COM3", 0x0403, 0x6001)]), None);
+}

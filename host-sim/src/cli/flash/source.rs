@@ -73,7 +73,7 @@ mod tests {
     use crate::flash::testkit::good;
     use std::sync::LazyLock;
 
-    static BYTES: LazyLock<Vec<u8>> = LazyLock::new(|| good(10_000));
+    static BYTES: LazyLock<Vec<u8>> = LazyLock::new(|| good(10_000 - 12));
 
     fn carried() -> Firmware {
         Firmware { name: "polyturn-0.1.0-stm32f411ce.bin", bytes: &BYTES }

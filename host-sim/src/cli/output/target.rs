@@ -37,6 +37,10 @@ pub fn classify(path: &Path) -> Result<Target, String> {
     if path.as_os_str() == "-" {
         return Ok(Target::Stdout);
     }
+    #[cfg(windows)]
+    if is_windows_device(path) {
+        return Ok(Target::Stream(path.to_path_buf()));
+    }
     let dir = || "must name a file, not a directory".to_string();
     // the kernel follows every link here, /dev/stdout's magic one too
     match std::fs::metadata(path) {
@@ -50,6 +54,18 @@ pub fn classify(path: &Path) -> Result<Target, String> {
         // not made yet (or not reachable: the write will say why)
         Err(_) => resolve(path).and_then(|end| end.file_name().map(|_| Target::File(end.clone())).ok_or_else(dir)),
     }
+}
+
+/// Windows' reserved device names (NUL, CON, COM1, ...), alone or as
+/// `\\.\NAME`: they name a device, not a file, and a
+/// rename over one fails; written in place, as /dev/null is on Linux.
+#[cfg_attr(not(windows), allow(dead_code))]
+pub fn is_windows_device(path: &Path) -> bool {
+    let text = path.to_string_lossy();
+    let name = text.strip_prefix(r"\\.\").unwrap_or(&text).to_ascii_uppercase();
+    let numbered =
+        |p: &str| name.strip_prefix(p).is_some_and(|n| n.len() == 1 && matches!(n.as_bytes()[0], b'1'..=b'9'));
+    matches!(name.as_str(), "NUL" | "CON" | "PRN" | "AUX") || numbered("COM") || numbered("LPT")
 }
 
 #[cfg(unix)]
@@ -108,6 +124,12 @@ pub fn identity_of(path: &Path) -> Identity {
         use std::os::unix::fs::MetadataExt;
         return Identity::Node(m.dev(), m.ino());
     }
+    // elsewhere an existing file is its real path (on Windows the case and
+    // the short names as the file system has them)
+    #[cfg(not(unix))]
+    if let Ok(real) = path.canonicalize() {
+        return Identity::Path(real);
+    }
     let parent = path.parent().filter(|d| !d.as_os_str().is_empty()).unwrap_or(Path::new("."));
     let name = path.file_name().unwrap_or_default();
     Identity::Path(parent.canonicalize().map(|d| d.join(name)).unwrap_or_else(|_| path.to_path_buf()))
@@ -138,6 +160,16 @@ mod tests {
         assert!(classify(&d.join("to-dir")).unwrap_err().contains("not a directory"));
         symlink("loop", d.join("loop")).unwrap();
         assert!(classify(&d.join("loop")).unwrap_err().contains("more than 40 links"));
+    }
+
+    #[test]
+    fn windows_device_names_are_devices_in_any_case_and_nothing_else_is() {
+        for dev in ["NUL", "nul", "CON", r"\\.\NUL", "COM1", "lpt9", "Aux"] {
+            assert!(is_windows_device(Path::new(dev)), "{dev}");
+        }
+        for file in ["NUL.svg", "COM10", "COM0", "CONSOLE", r"C:\NUL\x.svg", "nul/x", "", "-"] {
+            assert!(!is_windows_device(Path::new(file)), "{file}");
+        }
     }
 
     #[test]

@@ -100,3 +100,83 @@ fn a_replaced_file_keeps_its_permissions() {
     assert_eq!(std::fs::read_to_string(&private).unwrap(), "<svg/>");
     assert_eq!(std::fs::metadata(&private).unwrap().permissions().mode() & 0o777, 0o600);
 }
+
+/// What a directory holds besides `keep`: no temporary left, nothing new.
+#[cfg(unix)]
+fn only(d: &Path, names: &[&str]) {
+    let mut found: Vec<String> =
+        std::fs::read_dir(d).unwrap().map(|e| e.unwrap().file_name().into_string().unwrap()).collect();
+    found.sort();
+    assert_eq!(found, names, "in {}", d.display());
+}
+
+#[cfg(unix)]
+#[test]
+fn a_read_only_file_is_refused_and_nothing_is_written() {
+    use std::os::unix::fs::PermissionsExt;
+    let d = dir("readonly");
+    let keep = d.join("keep.svg");
+    std::fs::write(&keep, "old").unwrap();
+    std::fs::set_permissions(&keep, std::fs::Permissions::from_mode(0o444)).unwrap();
+    let mut o = Outputs::default();
+    o.add("table", &d.join("t.json"), "{}".into()).unwrap();
+    o.add("svg", &keep, "<svg/>".into()).unwrap();
+    let e = o.write().unwrap_err();
+    assert_eq!(
+        e.0,
+        format!(
+            "--svg must name a file it may write (got '{}': read-only, mode 0444; chmod u+w it, or name another)",
+            keep.display()
+        )
+    );
+    assert_eq!(std::fs::read_to_string(&keep).unwrap(), "old");
+    assert_eq!(std::fs::metadata(&keep).unwrap().permissions().mode() & 0o777, 0o444);
+    only(&d, &["keep.svg"]);
+}
+
+#[cfg(unix)]
+#[test]
+fn an_existing_file_is_written_through_keeping_its_links_owner_and_mode() {
+    use std::os::unix::fs::{MetadataExt, PermissionsExt};
+    let d = dir("through");
+    let f = d.join("f.svg");
+    std::fs::write(&f, "old text, longer than the new").unwrap();
+    std::fs::hard_link(&f, d.join("other-name.svg")).unwrap();
+    std::fs::set_permissions(&f, std::fs::Permissions::from_mode(0o640)).unwrap();
+    // as root: another owner, which a replaced file would lose
+    let root = unsafe { libc::geteuid() } == 0;
+    if root {
+        std::os::unix::fs::chown(&f, Some(4321), Some(4321)).unwrap();
+    }
+    let before = std::fs::metadata(&f).unwrap();
+    let mut o = Outputs::default();
+    o.add("svg", &f, "<svg/>".into()).unwrap();
+    o.write().unwrap();
+    assert_eq!(std::fs::read_to_string(&f).unwrap(), "<svg/>");
+    assert_eq!(std::fs::read_to_string(d.join("other-name.svg")).unwrap(), "<svg/>", "both links see the new text");
+    let after = std::fs::metadata(&f).unwrap();
+    assert_eq!(
+        (after.ino(), after.nlink(), after.mode(), after.uid(), after.gid()),
+        (before.ino(), 2, before.mode(), before.uid(), before.gid())
+    );
+    if root {
+        assert_eq!(after.uid(), 4321);
+    }
+    only(&d, &["f.svg", "other-name.svg"]);
+}
+
+#[cfg(unix)]
+#[test]
+fn a_fifo_with_no_reader_times_out_naming_the_flag_and_writes_nothing() {
+    let d = dir("fifo-alone");
+    let fifo = d.join("pipe.svg");
+    assert!(std::process::Command::new("mkfifo").arg(&fifo).status().unwrap().success());
+    std::fs::write(d.join("t.json"), "old").unwrap();
+    let mut o = Outputs::default();
+    o.add("table", &d.join("t.json"), "new".into()).unwrap();
+    o.add("svg", &fifo, "<svg/>".into()).unwrap();
+    let e = o.write_within(std::time::Duration::from_millis(200)).unwrap_err();
+    assert_eq!(e.0, format!("--svg could not write '{}': no reader opened the FIFO within 0.2 s", fifo.display()));
+    assert_eq!(std::fs::read_to_string(d.join("t.json")).unwrap(), "old");
+    only(&d, &["pipe.svg", "t.json"]);
+}

@@ -1,10 +1,16 @@
 //! The accept loop and one connection's life: at most `connections` at
 //! once, each on its own thread (a 503 past that, answered by the accept
 //! loop itself), one request each (`Connection: close`), with one deadline
-//! for the whole head and another for the whole reply.
+//! for the whole head and another for the whole reply. Every request is
+//! first let in or refused by the site's `Access` (a 401 beyond
+//! loopback without the token); `/relay` becomes the page's WebSocket to
+//! the board when one is relayed (`socket.rs`), with no reply deadline.
 
+use super::access::{Granted, UNAUTHORIZED};
+use super::files::NOT_FOUND;
 use super::request::{self, Method, Request, NOT_ALLOWED};
 use super::site::{Body, Site};
+use super::socket;
 use super::timed::Timed;
 use std::io::{self, Read, Write};
 use std::net::{Shutdown, TcpListener, TcpStream};
@@ -63,7 +69,12 @@ impl Drop for Slot {
 /// Hands the connection to a new thread; Err gives it back when there is
 /// no place or no thread for it. (The stream goes over a channel so that
 /// a failed spawn does not take it down unanswered.)
-fn start(stream: TcpStream, site: &Arc<Site>, limits: Limits, open: &Arc<AtomicUsize>) -> Result<(), TcpStream> {
+pub(super) fn start(
+    stream: TcpStream,
+    site: &Arc<Site>,
+    limits: Limits,
+    open: &Arc<AtomicUsize>,
+) -> Result<(), TcpStream> {
     let Some(slot) = Slot::take(open, limits.connections) else { return Err(stream) };
     let accepted = Instant::now();
     let site = Arc::clone(site);
@@ -71,7 +82,7 @@ fn start(stream: TcpStream, site: &Arc<Site>, limits: Limits, open: &Arc<AtomicU
     let spawned = std::thread::Builder::new().name("polyturn-web".into()).spawn(move || {
         let _slot = slot;
         if let Ok(stream) = rx.recv() {
-            connection(&site, &stream, limits, accepted);
+            connection(&site, stream, limits, accepted);
         }
     });
     match spawned {
@@ -88,25 +99,53 @@ fn busy(stream: &TcpStream) {
     let _ = stream.shutdown(Shutdown::Write);
 }
 
-fn connection(site: &Site, stream: &TcpStream, limits: Limits, accepted: Instant) {
-    let request = request::read(&mut Timed { stream, end: accepted + limits.head });
-    let out = &mut Timed { stream, end: Instant::now() + limits.reply };
+fn connection(site: &Site, stream: TcpStream, limits: Limits, accepted: Instant) {
+    let request = request::read(&mut Timed { stream: &stream, end: accepted + limits.head });
+    let out = &mut Timed { stream: &stream, end: Instant::now() + limits.reply };
     let replied = match request {
-        Ok(r) => answer(out, site, &r),
+        Ok(r) => match site.access.check(&r) {
+            Ok(_) if is_relay(&r.target) => match relay(site, &r) {
+                Ok(accept) => return upgrade(site, stream, &accept),
+                Err(status) => refuse(out, status, r.method == Method::Get),
+            },
+            Ok(granted) => answer(out, site, &r, &granted),
+            Err(status) => refuse(out, status, r.method == Method::Get),
+        },
         Err(Some(status)) => refuse(out, status, true),
         Err(None) => return,
     };
     // a reply cut short by its deadline is over: nothing to protect
     if replied.is_ok() {
-        linger(stream);
+        linger(&stream);
     }
 }
 
-fn answer(out: &mut impl Write, site: &Site, r: &Request) -> io::Result<()> {
+fn is_relay(target: &str) -> bool {
+    target.split(['?', '#']).next() == Some("/relay")
+}
+
+/// The handshake's accept key if `r` may have the relay; Err is the
+/// status line of the refusal.
+fn relay(site: &Site, r: &Request) -> Result<String, &'static str> {
+    if site.relay.is_none() {
+        return Err(NOT_FOUND);
+    }
+    site.access.check_relay(r)?;
+    socket::accept_key(r)
+}
+
+fn upgrade(site: &Site, stream: TcpStream, accept: &str) {
+    if let Some(relay) = &site.relay {
+        socket::serve(stream, accept, relay);
+    }
+}
+
+fn answer(out: &mut impl Write, site: &Site, r: &Request, granted: &Granted) -> io::Result<()> {
     let with_body = r.method == Method::Get;
     match site.find(&r.target) {
         Ok(found) => {
-            head(out, "200 OK", found.kind, found.len, &site.header())?;
+            let extra = format!("{}{}", site.header(), granted.set_cookie.as_deref().unwrap_or_default());
+            head(out, "200 OK", found.kind, found.len, &extra)?;
             if with_body {
                 match found.body {
                     // streamed, never read whole; Content-Length bytes at most
@@ -124,10 +163,15 @@ fn answer(out: &mut impl Write, site: &Site, r: &Request) -> io::Result<()> {
 
 /// A refusal: its status line, also as a plain-text body unless for HEAD.
 fn refuse(out: &mut impl Write, status: &str, with_body: bool) -> io::Result<()> {
-    let text = format!("{status}\n");
+    let text = match status {
+        UNAUTHORIZED => format!("{status}: open the address polyturn web printed when it started, with its ?token=\n"),
+        _ => format!("{status}\n"),
+    };
     let extra = match status {
         NOT_ALLOWED => "Allow: GET, HEAD\r\n",
         BUSY => "Retry-After: 1\r\n",
+        // RFC 9110 §11.6.1: a 401 names a scheme the server takes
+        UNAUTHORIZED => "WWW-Authenticate: Bearer realm=\"polyturn web\"\r\n",
         _ => "",
     };
     head(out, status, "text/plain; charset=utf-8", text.len() as u64, extra)?;

@@ -23,7 +23,7 @@ fn a_client_that_never_reads_its_reply_gives_its_place_back_at_the_reply_deadlin
     let listener = TcpListener::bind("127.0.0.1:0").unwrap();
     let addr = listener.local_addr().unwrap();
     let open = Arc::new(AtomicUsize::new(0));
-    let site = Arc::new(Site { page: Page::Folder(root.clone()), firmware: None });
+    let site = Arc::new(Site::new(Page::Folder(root.clone()), None));
     let mut stalled = TcpStream::connect(addr).unwrap();
     stalled.write_all(b"GET /big.wasm HTTP/1.1\r\n\r\n").unwrap();
     let started = Instant::now();
@@ -55,7 +55,7 @@ fn get(site: &Arc<Site>, target: &str) -> String {
 #[test]
 fn a_carried_page_and_firmware_are_served_with_their_length_and_type() {
     let fw = Firmware { name: "polyturn-9.9.9-stm32f411ce.bin", bytes: b"the image" };
-    let site = Arc::new(Site { page: Page::Carried(&[("pkg/a.wasm", b"\0asm-bytes")]), firmware: Some(fw) });
+    let site = Arc::new(Site::new(Page::Carried(&[("pkg/a.wasm", b"\0asm-bytes")]), Some(fw)));
     let wasm = get(&site, "/pkg/a.wasm");
     assert!(wasm.starts_with("HTTP/1.1 200 OK\r\nContent-Type: application/wasm\r\nContent-Length: 10\r\n"), "{wasm}");
     assert!(wasm.ends_with("\r\n\r\n\0asm-bytes"), "{wasm}");
@@ -64,6 +64,6 @@ fn a_carried_page_and_firmware_are_served_with_their_length_and_type() {
     let image = get(&site, "/firmware/polyturn-9.9.9-stm32f411ce.bin");
     assert!(image.starts_with("HTTP/1.1 200 OK\r\n") && image.ends_with("\r\n\r\nthe image"), "{image}");
     assert!(get(&site, "/index.html").starts_with("HTTP/1.1 404 Not Found\r\n"));
-    let without = Arc::new(Site { page: Page::Carried(&[("pkg/a.wasm", b"\0asm-bytes")]), firmware: None });
+    let without = Arc::new(Site::new(Page::Carried(&[("pkg/a.wasm", b"\0asm-bytes")]), None));
     assert!(!get(&without, "/pkg/a.wasm").contains("X-Polyturn-Firmware"));
 }

@@ -5,9 +5,12 @@
 //! `files::relative`'s rules.
 
 use super::super::carried::{self, Firmware};
+use super::access::Access;
 use super::files::{self, content_type, NOT_FOUND};
+use super::relay::Relay;
 use std::fs::File;
 use std::path::{Path, PathBuf};
+use std::sync::Arc;
 
 pub enum Page {
     /// A canonical folder: its files are judged on disk (files::find).
@@ -19,6 +22,10 @@ pub enum Page {
 pub struct Site {
     pub page: Page,
     pub firmware: Option<Firmware>,
+    /// Who is let in (a token beyond loopback).
+    pub access: Access,
+    /// The board's console, when served with one (`--board`).
+    pub relay: Option<Arc<Relay>>,
 }
 
 pub enum Body {
@@ -34,6 +41,11 @@ pub struct Found {
 }
 
 impl Site {
+    /// The page and image alone, for this machine only (no token, no board).
+    pub fn new(page: Page, firmware: Option<Firmware>) -> Site {
+        Site { page, firmware, access: Access::default(), relay: None }
+    }
+
     /// What `target` (`/path?query`) names; Err is the refusal's status line.
     pub fn find(&self, target: &str) -> Result<Found, &'static str> {
         let name = name(&files::relative(target)?);
@@ -49,8 +61,12 @@ impl Site {
     /// Where the carried image is, for the page's Flash view: a header on
     /// every reply rather than a file to probe, as a 404 from a static
     /// host would be an error in the browser's console.
+    /// So too whether the board is relayed (`X-Polyturn-Board`), for the
+    /// Device view.
     pub fn header(&self) -> String {
-        self.firmware.map(|fw| format!("X-Polyturn-Firmware: {}\r\n", fw.url_path())).unwrap_or_default()
+        let firmware = self.firmware.map(|fw| format!("X-Polyturn-Firmware: {}\r\n", fw.url_path()));
+        let board = self.relay.as_ref().map(|_| "X-Polyturn-Board: relay\r\n");
+        format!("{}{}", firmware.unwrap_or_default(), board.unwrap_or_default())
     }
 }
 
@@ -73,7 +89,7 @@ mod tests {
     const FW: Firmware = Firmware { name: "polyturn-9.9.9-stm32f411ce.bin", bytes: b"image" };
 
     fn carried_site() -> Site {
-        Site { page: Page::Carried(PAGE), firmware: Some(FW) }
+        Site::new(Page::Carried(PAGE), Some(FW))
     }
 
     fn body(site: &Site, target: &str) -> Result<(&'static [u8], &'static str), &'static str> {
@@ -97,7 +113,7 @@ mod tests {
             assert_eq!(body(&site, absent).err(), Some(NOT_FOUND), "{absent}");
         }
         assert_eq!(body(&site, "/a%zz").err(), Some(super::super::request::BAD_REQUEST));
-        let without = Site { page: Page::Carried(PAGE), firmware: None };
+        let without = Site::new(Page::Carried(PAGE), None);
         assert_eq!(body(&without, "/firmware/polyturn-9.9.9-stm32f411ce.bin").err(), Some(NOT_FOUND));
     }
 
@@ -106,7 +122,7 @@ mod tests {
         let d = std::env::temp_dir().join(format!("polyturn-web-site-{}", std::process::id()));
         std::fs::create_dir_all(&d).unwrap();
         std::fs::write(d.join("index.html"), b"on disk").unwrap();
-        let site = Site { page: Page::Folder(std::fs::canonicalize(&d).unwrap()), firmware: Some(FW) };
+        let site = Site::new(Page::Folder(std::fs::canonicalize(&d).unwrap()), Some(FW));
         let index = site.find("/").map(|f| (matches!(f.body, Body::File(_)), f.len));
         let fw = body(&site, &format!("/{}", FW.url_path()));
         let _ = std::fs::remove_dir_all(&d);
