@@ -6,6 +6,7 @@
 pub mod bldc;
 pub mod busy;
 pub mod damaged;
+pub mod divide;
 pub mod edgecheck;
 pub mod estop;
 pub mod host;

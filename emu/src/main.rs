@@ -110,6 +110,9 @@ fn main() {
         if job.is_none_or(|j| "k damaged".starts_with(j)) {
             total += job::damaged::run(&image, &mut r).unwrap_or_else(exit);
         }
+        if job.is_none_or(|j| "divide".starts_with(j)) {
+            total += job::divide::run(&image, &mut r).unwrap_or_else(exit);
+        }
     }
     println!(
         "emulated {total} cycles ({:.1} ms of MCU time) in {:.1} s wall; {} check(s) failed",

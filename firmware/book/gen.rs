@@ -154,7 +154,7 @@ fn console_help() -> String {
     s.push_str(
         "The board's own words, replies to the lines typed (`>`) on a board with the default settings:\n\n```text\n",
     );
-    for line in ["help", "set", "jog", "check-encoder now", "selftest go", "bogus"] {
+    for line in ["help", "set", "jog", "check-encoder now", "selftest go", "divide 0", "bogus"] {
         let _ = writeln!(s, "> {line}\n{}", say(&mut c, line));
     }
     s.push_str("```\n");

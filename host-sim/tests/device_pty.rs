@@ -337,6 +337,53 @@ fn a_jog_the_console_would_refuse_is_refused_before_anything_is_sent() {
 }
 
 #[test]
+fn a_number_of_divisions_the_console_would_refuse_is_refused_before_anything_is_sent() {
+    for n in ["0", "1e9", "six", "-6", "3601", "6.5"] {
+        let (code, out, err, heard) = run_against(Board::Odd("ok divide=6"), &format!("divide {n}"));
+        assert_eq!(code, 2, "{n}: {out}");
+        assert!(err.contains("1..=3600 divisions of a turn, at most cpr/4"), "{n}: {err}");
+        assert!(heard.is_empty(), "{n}: sent {heard:?}");
+    }
+}
+
+/// `polyturn device divide 6` on the real console: the readout, a line
+/// each status line (stdout is a pipe here), until Ctrl-C, which ends the
+/// watch and the dividing on the board.
+#[test]
+fn divide_shows_the_readout_until_ctrl_c_then_stops_dividing_on_the_board() {
+    let f = fake(Board::Real);
+    let mut child = {
+        let _g = spawning();
+        Command::new(env!("CARGO_BIN_EXE_polyturn"))
+            .args(["device", "--port", &f.path, "divide", "6"])
+            .stdout(Stdio::piped())
+            .spawn()
+            .unwrap()
+    };
+    let mut first = [0u8; 256];
+    let n = child.stdout.as_mut().unwrap().read(&mut first).unwrap();
+    let shown = String::from_utf8_lossy(&first[..n]).into_owned();
+    assert!(
+        shown.starts_with("division 0 of 6 (0.0°): turn 0.0° (0.00 counts): WITHIN ±1 count | spindle 0.0°"),
+        "{shown}"
+    );
+    std::thread::sleep(Duration::from_millis(200));
+    let pid = child.id().to_string();
+    let killed = {
+        let _g = spawning();
+        Command::new("kill").args(["-INT", &pid]).status().unwrap()
+    };
+    assert!(killed.success());
+    let out = child.wait_with_output().unwrap();
+    assert!(out.status.success(), "{out:?}");
+    assert!(String::from_utf8_lossy(&out.stdout).trim_end().ends_with("ok divide ended"), "{out:?}");
+    let heard = f.heard.lock().unwrap().clone();
+    let last: Vec<&str> = heard.iter().rev().take(2).map(|l| l.split_once(' ').map_or("", |(_, c)| c)).collect();
+    assert_eq!(last, ["divide stop", "status"], "{heard:?}");
+    assert!(heard[0].ends_with(" divide 6"), "{heard:?}");
+}
+
+#[test]
 fn negative_numbers_on_nested_commands_are_refused_naming_their_flag_and_range() {
     for (args, says) in [
         ("selftest --rpm -1", "--rpm"),

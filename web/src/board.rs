@@ -68,6 +68,16 @@ impl FakeBoard {
         }
     }
 
+    /// The machinist turns the chuck by hand by `degrees` (either way), at
+    /// a hand's pace, as the board's time passes (`Machine::turn_by_hand`):
+    /// to the nearest count of the simulated lathe's encoder.
+    pub fn turn_by_hand(&mut self, degrees: f64) {
+        if let Some(m) = &mut self.dev.machine {
+            let counts = (degrees.clamp(-36_000.0, 36_000.0) * m.cpr as f64 / 360.0).round() as i64;
+            m.turn_by_hand(counts);
+        }
+    }
+
     /// Every command line the board received, in order.
     pub fn received(&self) -> Vec<String> {
         self.dev.received.clone()
@@ -101,6 +111,24 @@ mod tests {
         };
         let lines: Vec<f64> = (0..15).map(|_| rpm(b.watch_line())).collect();
         assert!(lines[0] > 0.0 && (lines[14] - 300.0).abs() < 1.0, "{lines:?}");
+    }
+
+    #[test]
+    fn a_hand_turns_the_chuck_by_degrees_and_the_board_reads_its_angle() {
+        let mut b = FakeBoard::new();
+        b.turn_by_hand(60.75); // 405 counts: past the index at count 5, to 60 degrees from it
+        b.write(b"watch\n");
+        b.read();
+        let angle = |line: Vec<u8>| {
+            String::from_utf8(line)
+                .unwrap()
+                .split_whitespace()
+                .find_map(|kv| kv.strip_prefix("angle_deg=").map(String::from))
+                .unwrap()
+        };
+        let lines: Vec<String> = (0..10).map(|_| angle(b.watch_line())).collect();
+        assert_eq!(lines[9], "60.0", "{lines:?}");
+        assert_ne!(lines[0], "60.0", "at a hand's pace: {lines:?}");
     }
 
     #[test]

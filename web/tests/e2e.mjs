@@ -58,12 +58,13 @@ async function test(name, f) {
   }
 }
 // A view as a machinist sees it at 1280 x 900: screenshotted (saved with
-// SCREENSHOTS=dir), its title whole, nothing wider than the window, each
-// of its main elements shown with a real size, and every line of text in
-// its drawings inside the drawing (measured by the browser, not guessed).
-async function view(name, mains) {
-  await page.evaluate(() => window.scrollTo(0, 0));
-  const png = await page.screenshot({ fullPage: false, ...(SHOTS ? { path: join(SHOTS, `web-${name}.png`) } : {}) });
+// SCREENSHOTS=dir as web-<shot>.png, from its top or scrolled to `at`), its
+// title whole, nothing wider than the window, each of its main elements
+// shown with a real size, and every line of text in its drawings inside
+// the drawing (measured by the browser, not guessed).
+async function view(name, mains, { shot = name, at = null } = {}) {
+  await page.evaluate((at) => (at ? document.querySelector(at).scrollIntoView() : window.scrollTo(0, 0)), at);
+  const png = await page.screenshot({ fullPage: false, ...(SHOTS ? { path: join(SHOTS, `web-${shot}.png`) } : {}) });
   assert.ok(png.length > 20000, `the ${name} screenshot is near blank (${png.length} bytes)`);
   const r = await page.evaluate(({ name, mains }) => {
     const box = (el) => { const b = el.getBoundingClientRect(); return { x: b.x, y: b.y, w: b.width, h: b.height, right: b.right }; };
@@ -392,6 +393,61 @@ await test('the encoder check runs on the board and shows its figures', async ()
   await page.waitForFunction(() => / moved=/.test(document.querySelector('#check-result').textContent), null, { timeout: 10000 });
   assert.match(await page.textContent('#check-result'), /moved=9000 backward=0 .*cpr=2400/);
   await page.evaluate(() => window.testBoard.set_machine(0, 10));
+});
+
+await test('the dividing view: numbers refused with the range, then the hand-turned spindle read against the divisions, large, on a dial, green within a count', async () => {
+  for (const bad of ['0', '1e9', 'six']) {
+    await page.fill('#divide-n', bad);
+    await page.evaluate(() => { document.querySelector('#divide-error').textContent = ''; });
+    await page.click('#divide-start');
+    await page.waitForFunction((bad) => document.querySelector('#divide-error').textContent.length > 0
+      && window.testBoard.received().some((l) => l.endsWith(` divide ${bad}`)), bad);
+    assert.equal(await page.textContent('#divide-error'), 'error: divide 1..=3600 divisions of a turn, at most cpr/4 (4 counts or more apart)', bad);
+    assert.equal(await page.isVisible('#divide-view'), false, `${bad}: no dividing`);
+  }
+  await page.fill('#divide-n', '6');
+  await page.click('#divide-start');
+  await page.waitForSelector('#divide-view:not([hidden])', { timeout: 5000 });
+  assert.equal(await page.textContent('#divide-error'), '');
+  // to the next division but one: the way to the nearest, and 400 counts (0.15 degree each) more
+  const s = await statusNow();
+  const next = (Number(s.division) + 1) % 6;
+  await page.fill('#sim-hand-deg', String(((Number(s.to_counts) + 400) * 0.15).toFixed(2)));
+  await page.click('#sim-hand');
+  await page.waitForFunction((next) => { const s = JSON.parse(document.querySelector('#status').dataset.json);
+    return s.division === String(next) && s.within === 'yes' && s.to_counts === '0.00'; }, next, { timeout: 10000 });
+  assert.equal(await page.textContent('#divide-division'), `Division ${next} of 6 at ${(next * 60).toFixed(1)}°`);
+  assert.equal(await page.textContent('#divide-to'), '0.0°');
+  assert.equal(await page.textContent('#divide-counts'), '0.00 counts to turn · within ±1 count');
+  assert.equal(await page.textContent('#divide-angle'), `spindle ${(next * 60).toFixed(1)}° from the index`);
+  const looks = () => page.evaluate(() => {
+    const to = getComputedStyle(document.querySelector('#divide-to'));
+    const dial = document.querySelector('#divide-dial').getBoundingClientRect();
+    const mark = document.querySelector('#divide-dial line.division');
+    return { px: parseFloat(to.fontSize), colour: to.color, dial: [dial.width, dial.height], ticks: document.querySelectorAll('#divide-dial line').length,
+      mark: [mark.getAttribute('x2'), mark.getAttribute('y2')], within: document.querySelector('#divide-view').dataset.within };
+  });
+  const on = await looks();
+  // large: 120 px digits (3 cm on a 96 dpi screen), a dial 320 px across
+  assert.ok(on.px >= 96 && on.dial[0] >= 300 && on.dial[1] >= 300, JSON.stringify(on));
+  assert.equal(on.colour, 'rgb(0, 119, 0)', 'green within a count');
+  assert.equal(on.ticks, 7, 'six divisions and the spindle');
+  const rim = (deg) => [160 + 156 * Math.sin(deg * Math.PI / 180), 160 - 156 * Math.cos(deg * Math.PI / 180)].map((v) => v.toFixed(1));
+  assert.deepEqual(on.mark, rim(next * 60), 'the division marked where it is on the dial');
+  await view('device', ['#divide-dial', '#divide-to', '#divide-division'], { shot: 'device-dividing', at: '#dividing' });
+  // 20 degrees back: not there, the way to it forward, not green
+  await page.fill('#sim-hand-deg', '-20');
+  await page.click('#sim-hand');
+  await page.waitForFunction(() => document.querySelector('#divide-view').dataset.within === 'no' && document.querySelector('#divide-to').textContent === '+20.0°', null, { timeout: 10000 });
+  assert.equal(await page.textContent('#divide-counts'), '+133.00 counts to turn · not there');
+  assert.notEqual((await looks()).colour, 'rgb(0, 119, 0)');
+  // the cutter stays off: engage is refused with the reason, nothing changes
+  await page.click('#engage');
+  await page.waitForFunction(() => /error: dividing \(the chuck is turned by hand, the cutter stays off\): divide stop first/.test(document.querySelector('#log').textContent));
+  assert.equal((await statusNow()).state, 'idle');
+  await page.click('#divide-stop');
+  await page.waitForSelector('#divide-view', { state: 'hidden', timeout: 5000 });
+  assert.ok((await received()).some((l) => / divide stop$/.test(l)));
 });
 
 await test('the guided setup sends the settings polyturn device setup derives', async () => {

@@ -9,14 +9,19 @@ use crate::derived::Timing;
 use core::fmt::Write;
 
 mod checks;
+mod divide;
 pub mod number;
+// the self-test's commands, with the rest of the self-test (`crate::selftest`)
+#[path = "selftest/console.rs"]
 mod selftest;
 mod status;
 
+pub use divide::DivideOp;
 pub use selftest::SelfTestOp;
 
-/// Longest reply line.
-pub const REPLY_LEN: usize = 384;
+/// Longest reply line: with its tag (`#`, `tag::TAG_DIGITS` digits and a
+/// space) within the 512 bytes `polyturn device` takes as a line.
+pub const REPLY_LEN: usize = 512 - (tag::TAG_DIGITS + 2);
 pub type Reply = heapless::String<REPLY_LEN>;
 
 /// What the firmware must do besides sending the reply.
@@ -35,7 +40,7 @@ pub enum Action {
 
 pub use status::{cam_wait, write_status as status_line, CamWait, LatheSeen, Snapshot};
 
-pub const HELP: &str = "ok commands: get [name] | set <name> <value> | engage | stop | status | watch | save | defaults | clear | cam begin|data|end|off | check-encoder [start|stop] | jog <deg> | selftest [start [rpm]|stop] | dfu | help; names: cpr steps ratio dir edges max-rate max-accel ferror phase drive dir-setup pulse enable max-rpm cutter-cpr lost-steps start-rate bldc-out pwm-hz bldc-tau";
+pub const HELP: &str = "ok commands: get [name] | set <name> <value> | engage | stop | status | watch | save | defaults | clear | cam begin|data|end|off | check-encoder [start|stop] | jog <deg> | selftest [start [rpm]|stop] | divide <divisions>|stop | dfu | help; names: cpr steps ratio dir edges max-rate max-accel ferror phase drive dir-setup pulse enable max-rpm cutter-cpr lost-steps start-rate bldc-out pwm-hz bldc-tau";
 
 /// A parsed command line (no controller needed: parse outside any lock).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -57,6 +62,8 @@ pub enum Command<'a> {
     Jog(i32),
     /// `selftest start [rpm]|stop`, or the figures so far
     SelfTest(SelfTestOp),
+    /// `divide <divisions>|stop`, or the readout
+    Divide(DivideOp),
     Dfu,
     Bad(&'static str),
 }
@@ -80,6 +87,8 @@ pub enum Outcome {
     SelfTestStarted(u32, u32, u32),
     SelfTestRefused(crate::controller::selftest::SelfTestRefusal),
     SelfTest(crate::selftest::Report),
+    /// the dividing readout
+    Divide(Snapshot),
     Dfu,
     /// `save` or `jog` refused with the lathe turning: what the board saw,
     /// and what waits for the lathe to stop
@@ -114,6 +123,8 @@ pub fn parse(line: &[u8]) -> Command<'_> {
         ("jog", ..) => Command::Bad(checks::JOG_USAGE),
         ("selftest", op, rpm, None) => selftest::parse(op, rpm),
         ("selftest", ..) => Command::Bad(selftest::USAGE),
+        ("divide", n, None, _) => divide::parse(n),
+        ("divide", ..) => Command::Bad(divide::USAGE),
         ("dfu", None, ..) => Command::Dfu,
         ("", ..) => Command::Bad("empty line (try help)"),
         _ => Command::Bad("unknown command or wrong arguments (try help)"),
@@ -218,14 +229,11 @@ pub fn apply_prepared(cmd: Command<'_>, pre: Option<Prepared>, ctl: &mut Control
             Err(r) => Outcome::Error(r.describe()),
         },
         Command::SelfTest(op) => selftest::apply(op, pre.and_then(|p| p.selftest.map(|s| (p.generation, s))), ctl),
-        // as `engage`, `jog` and `selftest`: a hand turns the chuck, or the
-        // self-test's generator plays into the lathe input
-        Command::Dfu if ctl.encoder_check_running() => Outcome::Error(Refusal::Checking.describe()),
-        Command::Dfu if ctl.selftest_running() => Outcome::Error(Refusal::SelfTesting.describe()),
-        Command::Dfu if ctl.state() != crate::state::State::Idle => {
-            Outcome::Error("stop first (and clear any fault): dfu restarts the board into its ROM bootloader")
-        }
-        Command::Dfu => Outcome::Dfu,
+        Command::Divide(op) => divide::apply(op, ctl),
+        Command::Dfu => match ctl.admit(crate::controller::Asked::Dfu) {
+            Ok(()) => Outcome::Dfu,
+            Err(r) => Outcome::Error(r.describe()),
+        },
     }
 }
 
@@ -254,6 +262,7 @@ fn action(outcome: &Outcome) -> Action {
         | Outcome::SelfTestStarted(..)
         | Outcome::SelfTestRefused(_)
         | Outcome::SelfTest(_)
+        | Outcome::Divide(_)
         | Outcome::LatheTurning(..) => Action::None,
     }
 }
@@ -287,6 +296,7 @@ fn write_reply(outcome: &Outcome, out: &mut Reply) {
         Outcome::SelfTestStarted(rpm, cpr, ms) => selftest::write_started(*rpm, *cpr, *ms, out),
         Outcome::SelfTestRefused(r) => selftest::write_refused(*r, out),
         Outcome::SelfTest(r) => selftest::write_report(r, out),
+        Outcome::Divide(s) => divide::write_readout(s, out),
         Outcome::Dfu => {
             let _ = out.push_str(checks::DFU_REPLY);
         }

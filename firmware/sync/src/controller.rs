@@ -97,6 +97,14 @@ pub enum Refusal {
     NothingToDrive,
     /// jog refused: the cutter is engaged or ramping down
     Engaged,
+    /// dividing: the cutter stays off, the chuck is turned by hand
+    Dividing,
+    /// divide refused: the cutter is engaged or ramping down
+    CutterOn,
+    /// divide refused: the number of divisions out of range
+    DivideRange,
+    /// dfu refused: the cutter is not idle, or a fault is latched
+    DfuNotIdle,
 }
 
 impl Refusal {
@@ -121,6 +129,10 @@ impl Refusal {
                 "drive=none and no cam table: nothing to engage (set drive stepper or bldc, or upload a cam table)"
             }
             Refusal::Engaged => "stop first: the cutter is engaged or ramping down (jog only while idle)",
+            Refusal::Dividing => "dividing (the chuck is turned by hand, the cutter stays off): divide stop first",
+            Refusal::CutterOn => "stop first: the cutter is engaged or ramping down (divide only while idle)",
+            Refusal::DivideRange => crate::config::table::DIVIDE_REFUSAL,
+            Refusal::DfuNotIdle => "stop first (and clear any fault): dfu restarts the board into its ROM bootloader",
         }
     }
 }
@@ -159,9 +171,10 @@ pub struct Controller {
     /// for the encoder check (kept by the tick: one add, one copy)
     index_seen: u32,
     last_index: i64,
-    check: Option<crate::check::EncoderCheck>,
-    jog: Option<jog::Jog>,
-    selftest: Option<selftest::Run>,
+    /// the jog, encoder check, self-test or dividing running (`activity`)
+    activity: activity::Activity,
+    /// the last self-test's run, once it has ended
+    selftest_last: Option<selftest::Run>,
     /// the shaft encoder against the books (`lost`)
     lost: lost::LostSteps,
     /// the lathe's edge times, once the board has said how they line up
@@ -198,9 +211,8 @@ impl Controller {
             config_generation: 0,
             index_seen: 0,
             last_index: 0,
-            check: None,
-            jog: None,
-            selftest: None,
+            activity: activity::Activity::None,
+            selftest_last: None,
             lost: lost::LostSteps::default(),
             edges: None,
             plan_due: false,
@@ -492,11 +504,19 @@ impl Controller {
         // (no log here: the tick calls this, and logging is not for the
         // tick; the firmware's service task logs every change of state)
         self.state = State::Fault(f);
+        // a jog ends with its state
+        self.end_jog();
     }
 }
 
+pub mod activity;
+#[cfg(test)]
+mod activity_tests;
 mod checks;
 mod commands;
+mod divide;
+#[cfg(test)]
+mod divide_tests;
 #[cfg(test)]
 mod edge_tests;
 #[cfg(test)]
@@ -511,6 +531,8 @@ mod lost_tests;
 mod refusal_tests;
 #[cfg(test)]
 mod rig;
+// the self-test's hooks, with the rest of the self-test (`crate::selftest`)
+#[path = "selftest/controller.rs"]
 pub mod selftest;
 #[cfg(test)]
 mod sense_tests;
@@ -531,6 +553,7 @@ mod tracking_tests;
 mod turns_tests;
 #[cfg(test)]
 mod x_axis_tests;
+pub use activity::{Asked, Divide};
 pub use commands::{check_table, prepare_cam, PreparedConfig, Status};
 pub use jog::JogPlan;
 pub use stall::Stall;

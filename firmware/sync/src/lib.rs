@@ -9,6 +9,7 @@ extern crate std;
 #[macro_use]
 mod fmt;
 
+pub mod angle;
 pub mod cam;
 pub mod cam_upload;
 pub mod check;

@@ -18,6 +18,7 @@ pub const CAM_FILE_MAX: u64 = 1 << 20;
 /// are at most `console::REPLY_LEN` plus the tag); anything longer is not
 /// a polyturn.
 pub const REPLY_MAX: usize = 512;
+const _: () = assert!(polyturn_sync::console::REPLY_LEN + TAG_DIGITS + 2 <= REPLY_MAX);
 
 /// The board's replies start `ok` (alone or with a space) or `error: `;
 /// no command does, so neither an echo nor garbage passes for one. The

@@ -3,6 +3,9 @@
 //! with the same tag back (`session.rs`).
 
 pub mod checks;
+pub mod divide;
+#[cfg(test)]
+mod divide_tests;
 pub use super::figures;
 pub mod prompt;
 #[cfg(test)]
@@ -15,8 +18,9 @@ mod tests;
 
 use super::errors::{escaped, CliError, CliResult};
 use super::values::within;
+use polyturn_sync::config::table::DIVIDE;
 use session::{ok_or_device_error, Session, Wait};
-use std::io::{Read, Write};
+use std::io::{IsTerminal, Read, Write};
 use std::path::PathBuf;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::{Duration, Instant};
@@ -103,6 +107,15 @@ pub enum DeviceCommand {
         #[arg(long, value_name = "RPM", allow_hyphen_values = true, value_parser = crate::cli::values::whole32(1, 100_000))]
         rpm: Option<u32>,
     },
+    /// Dividing: turn the chuck by hand to N equal divisions of a turn,
+    /// with a live readout of the nearest division and how far to turn to
+    /// it (large digits, green within a count) until Ctrl-C; the cutter
+    /// stays off
+    Divide {
+        /// divisions of a turn
+        #[arg(allow_hyphen_values = true, value_parser = crate::cli::values::setting(DIVIDE))]
+        divisions: u32,
+    },
     /// Restart the board into its ROM USB bootloader, for `polyturn flash`
     Dfu,
     /// The guided setup: encoder, motor, driver, lathe; checks; save
@@ -126,6 +139,7 @@ impl DeviceCommand {
             DeviceCommand::ConsoleHelp => "help".into(),
             DeviceCommand::Dfu => "dfu".into(),
             DeviceCommand::Jog { degrees } => format!("jog {degrees}"),
+            DeviceCommand::Divide { divisions } => format!("divide {divisions}"),
             DeviceCommand::Selftest { rpm: None } => "selftest start".into(),
             DeviceCommand::Selftest { rpm: Some(r) } => format!("selftest start {r}"),
             DeviceCommand::UploadCam { .. } | DeviceCommand::CheckEncoder { .. } | DeviceCommand::Setup(_) => {
@@ -156,6 +170,11 @@ pub fn run(a: DeviceArgs) -> CliResult<String> {
         (DeviceCommand::Save, Some(l)) => ok_or_device_error(s.ask_within(&l, FLASH_WAIT.max(s.timeout))?),
         (DeviceCommand::Jog { degrees }, _) => checks::jog(&mut s, degrees),
         (DeviceCommand::Selftest { .. }, Some(l)) => checks::selftest(&mut s, &l),
+        (DeviceCommand::Divide { .. }, Some(l)) => {
+            let _ = ctrlc::set_handler(|| INTERRUPTED.store(true, Ordering::SeqCst));
+            let look = if std::io::stdout().is_terminal() { divide::Look::Big } else { divide::Look::Plain };
+            divide::divide(&mut s, &l, &mut std::io::stdout().lock(), &INTERRUPTED, look)
+        }
         (DeviceCommand::Dfu, Some(l)) => Ok(format!(
             "{}
 now: polyturn flash FILE",
@@ -189,37 +208,54 @@ static INTERRUPTED: AtomicBool = AtomicBool::new(false);
 /// so the board is back to one reply per command when we return.
 pub fn watch<P: Read + Write>(s: &mut Session<P>, out: &mut impl Write) -> CliResult<String> {
     let _ = ctrlc::set_handler(|| INTERRUPTED.store(true, Ordering::SeqCst));
-    let first = s.ask("watch")?;
-    let mut line = first;
+    stream(s, out, &INTERRUPTED, escaped)?;
+    Ok(String::new())
+}
+
+/// The board's status lines (`watch`), each written as `show` makes it,
+/// until `stop` is set or the reader goes away; then the watch is ended
+/// on the board (a tagged `status`, answered).
+pub fn stream<P: Read + Write>(
+    s: &mut Session<P>,
+    out: &mut impl Write,
+    stop: &AtomicBool,
+    mut show: impl FnMut(&str) -> String,
+) -> CliResult<()> {
+    let mut line = s.ask("watch")?;
     loop {
-        if writeln!(out, "{}", escaped(&line)).and_then(|_| out.flush()).is_err() {
+        if writeln!(out, "{}", show(&line)).and_then(|_| out.flush()).is_err() {
             break; // the reader went away (a closed pipe)
         }
-        // wait for the next status line in short slices, to see Ctrl-C
-        let deadline = Instant::now() + s.timeout;
-        line = loop {
-            if INTERRUPTED.load(Ordering::SeqCst) {
-                break String::new();
-            }
-            match s.read_line(Instant::now() + Duration::from_millis(100)) {
-                Ok(l) if l.starts_with("ok state=") => break l,
-                Ok(_) if Instant::now() < deadline => continue,
-                Err(Wait::Timeout) if Instant::now() < deadline => continue,
-                Ok(_) | Err(Wait::Timeout) => {
-                    return Err(
-                        s.port_error(format!("the watch stopped: no status within {:.1} s", s.timeout.as_secs_f64()))
-                    )
-                }
-                Err(Wait::Closed(why)) => return Err(s.closed("watch", &why)),
-                Err(Wait::Failed(e)) => return Err(e),
-            }
-        };
-        if line.is_empty() {
-            break;
+        match next_status(s, stop)? {
+            Some(l) => line = l,
+            None => break,
         }
     }
     s.ask("status")?;
-    Ok(String::new())
+    Ok(())
+}
+
+/// The next status line of a watch, waited for in short slices to see
+/// `stop`; None once it is set.
+fn next_status<P: Read + Write>(s: &mut Session<P>, stop: &AtomicBool) -> CliResult<Option<String>> {
+    let deadline = Instant::now() + s.timeout;
+    loop {
+        if stop.load(Ordering::SeqCst) {
+            return Ok(None);
+        }
+        match s.read_line(Instant::now() + Duration::from_millis(100)) {
+            Ok(l) if l.starts_with("ok state=") => return Ok(Some(l)),
+            Ok(_) if Instant::now() < deadline => continue,
+            Err(Wait::Timeout) if Instant::now() < deadline => continue,
+            Ok(_) | Err(Wait::Timeout) => {
+                return Err(
+                    s.port_error(format!("the watch stopped: no status within {:.1} s", s.timeout.as_secs_f64()))
+                )
+            }
+            Err(Wait::Closed(why)) => return Err(s.closed("watch", &why)),
+            Err(Wait::Failed(e)) => return Err(e),
+        }
+    }
 }
 
 /// Reads and checks a `polyturn cam --table` file (bounded in size),

@@ -37,6 +37,9 @@ struct Spindle {
     from_milli: i64,
 }
 
+/// A hand turning the chuck: a turn in about 2 s.
+const HAND_TURN_S: f64 = 2.0;
+
 /// TIM9 cycles per control tick.
 const CYCLES_PER_TICK: u64 = (TIMER_HZ / TICK_HZ) as u64;
 
@@ -65,6 +68,9 @@ pub struct Machine {
     /// time on the chuck, and quick answers elsewhere
     pub check_ticks: usize,
     lathe_milli: i64,
+    /// thousandths of a count the hand has still to turn the chuck by
+    /// (`turn_by_hand`)
+    hand_milli: i64,
     /// counts the self-test's generator made, and the index it latched
     played: i64,
     played_index: Option<u16>,
@@ -86,6 +92,7 @@ impl Machine {
             turn_for_check: false,
             check_ticks: 0,
             lathe_milli: 0,
+            hand_milli: 0,
             played: 0,
             played_index: None,
             jumpered: None,
@@ -126,6 +133,22 @@ impl Machine {
             Some(Spindle { lathe: Lathe::new(profile, 1), set_rpm: rpm.max(0.0), from_milli: self.lathe_milli });
     }
 
+    /// The machinist turns the chuck by hand by `counts` (either way), at a
+    /// hand's pace, as time passes on the board (`run`, `pass`); a turn
+    /// asked for before the last has ended adds to it.
+    pub fn turn_by_hand(&mut self, counts: i64) {
+        self.hand_milli += counts * 1000;
+    }
+
+    /// The hand's next tick: thousandths of a count it turns the chuck by;
+    /// None once it has turned by all it was asked.
+    fn hand_tick(&mut self) -> Option<i64> {
+        let pace = (self.cpr as f64 * 1000.0 / (HAND_TURN_S * f64::from(TICK_HZ))) as i64;
+        let step = self.hand_milli.clamp(-pace, pace);
+        self.hand_milli -= step;
+        (step != 0).then_some(step)
+    }
+
     /// The lathe's speed now, rpm (0 when no speed is set).
     pub fn lathe_rpm(&self) -> f64 {
         self.spindle.as_ref().map_or(0.0, |s| s.lathe.speed / TAU * 60.0)
@@ -153,7 +176,7 @@ impl Machine {
         for i in 0..ticks {
             let before = self.lathe_milli / 1000;
             let turning = !self.turn_for_check || (checking && i >= HAND_RESTS_TICKS);
-            if let Some(step) = self.spindle_tick() {
+            if let Some(step) = self.spindle_tick().or_else(|| self.hand_tick()) {
                 self.lathe_milli += step;
             } else if turning {
                 self.lathe_milli += self.counts_per_tick_x1000;

@@ -121,3 +121,29 @@ fn a_lathe_set_turning_ramps_to_its_speed_and_the_cutter_syncs_to_it() {
     assert_eq!((s["state"].as_str(), s["lathe_rpm"].as_str()), ("idle", "0.0"), "{s:?}");
     assert_eq!(dev.machine.as_ref().unwrap().lathe_rpm(), 0.0);
 }
+
+fn field<'a>(line: &'a str, name: &str) -> &'a str {
+    line.split_whitespace().find_map(|kv| kv.strip_prefix(name).and_then(|v| v.strip_prefix('='))).unwrap_or("?")
+}
+
+/// The machinist's hand on the chuck: it turns by what it is asked, at a
+/// hand's pace, either way, and the board sees it through its encoder
+/// and its index (at count 5 of each turn).
+#[test]
+fn a_hand_turns_the_chuck_by_an_angle_either_way_and_the_board_reads_it() {
+    let mut dev = FakeDevice::new();
+    dev.machine = Some(Machine::new(TICK_HZ as usize)); // 1 s of the board before each line
+    dev.machine.as_mut().unwrap().turn_by_hand(405);
+    let status = replies(&mut dev, b"status\n");
+    assert_eq!((field(&status, "angle_deg"), field(&status, "angle_from")), ("60.0", "index"), "{status}");
+    assert_eq!(field(&status, "fault"), "none");
+    dev.machine.as_mut().unwrap().turn_by_hand(-810);
+    let status = replies(&mut dev, b"status\n");
+    // back 405 counts past the index at 5: 2400 - 410 from it
+    assert_eq!(field(&status, "angle_deg"), "298.5", "{status}");
+    // a turn takes the hand about 2 s: half a second turns 600 counts
+    dev.machine.as_mut().unwrap().ticks_per_line = TICK_HZ as usize / 2;
+    dev.machine.as_mut().unwrap().turn_by_hand(1_200);
+    let status = replies(&mut dev, b"status\n");
+    assert_eq!(field(&status, "angle_deg"), "28.5", "{status}");
+}

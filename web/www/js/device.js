@@ -2,8 +2,10 @@
 // `polyturn web --board PORT` in any browser (relayport.js): status and
 // the live phase error, the settings form checked by the sync core's own
 // `set` (WebAssembly) before anything is sent, engage/stop/save, the
-// encoder check, the guided setup, and a cam table upload.
+// encoder check, dividing (`divide.js`), the guided setup, and a cam table
+// upload.
 import { load, dl, shared } from './polyturn.js';
+import { showDivide } from './divide.js';
 import { Session, pairs } from './serial.js';
 import { fakeSerialPort } from './fakeport.js';
 import { relayPort, relayed } from './relayport.js';
@@ -43,6 +45,8 @@ export function init() {
   $('save').addEventListener('click', () => command('save', SAVE_WAIT_MS));
   $('check-start').addEventListener('click', () => command('check-encoder start', undefined, 'check-result'));
   $('check-stop').addEventListener('click', () => command('check-encoder stop', 5000, 'check-result'));
+  $('divide-start').addEventListener('click', () => divide(`divide ${$('divide-n').value.trim()}`));
+  $('divide-stop').addEventListener('click', () => divide('divide stop'));
   $('guided').addEventListener('submit', (e) => { e.preventDefault(); guided(); });
   $('guided').elements.cutter.addEventListener('change', showCutterFields);
   $('cam-upload').addEventListener('click', uploadCam);
@@ -133,6 +137,11 @@ function simulatedLathe(board) {
     board.set_lathe_rpm(rpm);
     log(`(the simulated lathe set to ${rpm} rpm)`);
   });
+  $('sim-hand').addEventListener('click', () => {
+    const deg = Math.min(Math.max(Number($('sim-hand-deg').value) || 0, -3600), 3600);
+    board.turn_by_hand(deg);
+    log(`(a hand turns the simulated chuck by ${deg} degrees)`);
+  });
 }
 
 function log(text) {
@@ -164,6 +173,17 @@ async function watch() {
   try { await session.ask('watch'); } catch { /* the next command shows why */ }
 }
 
+// `divide N` or `divide stop`: the readout follows in the status lines;
+// a refusal is shown in the board's words.
+async function divide(cmd) {
+  try {
+    await ask(cmd);
+    $('divide-error').textContent = '';
+  } catch (e) {
+    $('divide-error').textContent = e.message;
+  }
+}
+
 async function command(cmd, wait, target) {
   const out = target ? $(target) : null;
   try {
@@ -183,9 +203,11 @@ function onStatus(line) {
     ['lathe', `${s.lathe_rpm} rpm`], ['cutter', `${s.cutter_rpm} rpm`],
     ['phase error', `${s.phase_err_steps} steps`], ['target / cutter', `${s.target} / ${s.cutter} steps`],
     ['index seen', s.indexed],
+    ['spindle', `${s.angle_deg}° from ${s.angle_from === 'index' ? 'the index' : 'the start (no index yet)'}`],
   ]);
   $('status').dataset.state = s.state;
   $('status').dataset.json = JSON.stringify(s);
+  showDivide(s);
   phase.push({ v: Number(s.phase_err_steps), state: s.state });
   if (phase.length > PLOT_POINTS) phase.shift();
   plot();

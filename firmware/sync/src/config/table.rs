@@ -67,6 +67,23 @@ pub const PWM_HZ: Span = span!(
 );
 pub const BLDC_TAU: Span = span!("bldc-tau", 1, 1000, " ms (the drive's time to 63 % of a speed step)");
 
+/// A span and its refusal in full (`name lo..=hi rest`), from one set of
+/// literals: for a command's number, which the console refuses as a whole.
+macro_rules! span_and_refusal {
+    ($name:literal, $lo:literal, $hi:literal, $rest:literal) => {
+        (span!($name, $lo, $hi, $rest), concat!($name, " ", $lo, "..=", $hi, $rest))
+    };
+}
+
+/// `divide N`'s number of divisions: a command's range, not a setting
+/// (nothing is saved). The cpr/4 bound keeps each division's tolerance
+/// (± one count) clear of the next (`Controller::start_divide`).
+const DIVIDE_AND_REFUSAL: (Span, &str) =
+    span_and_refusal!("divide", 1, 3600, " divisions of a turn, at most cpr/4 (4 counts or more apart)");
+pub const DIVIDE: Span = DIVIDE_AND_REFUSAL.0;
+/// `divide`'s refusal: the range, whatever was wrong with the number
+pub const DIVIDE_REFUSAL: &str = DIVIDE_AND_REFUSAL.1;
+
 pub const RATIO: &str =
     "an integer, p/q, p:q or a decimal like 2.5, numerator and denominator 1..=1000 after reduction";
 pub const DIR: &str = "same or opposite";

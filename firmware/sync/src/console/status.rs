@@ -61,6 +61,8 @@ impl Snapshot {
             s.cutter_steps,
             if s.indexed { "yes" } else { "no" },
         );
+        super::divide::write_angle(self, out);
+        super::divide::write_division(self, out);
         if let Some(n) = self.cam_points {
             let _ = write!(out, " cam={n}");
         }

@@ -1,9 +1,9 @@
 //! The encoder check's hooks in the controller: the tick keeps the index
 //! count and latch (`on_index`), `service` samples them at low priority.
 
+use super::activity::{Activity, Asked};
 use super::{Controller, Refusal};
 use crate::check::{EncoderCheck, EncoderReport, Sample};
-use crate::state::State;
 
 /// The check's hands-off window: the first second.
 pub const STILL_SECONDS: u64 = 1;
@@ -23,37 +23,37 @@ impl Controller {
     /// the cutter engaged, jogging or in a self-test (whose generator, not
     /// the encoder, drives the count), nor with a fault latched.
     pub fn start_encoder_check(&mut self) -> Result<(), Refusal> {
-        match self.state {
-            State::Fault(_) => return Err(Refusal::Faulted),
-            State::Jogging => return Err(Refusal::Moving),
-            _ if self.selftest_running() => return Err(Refusal::SelfTesting),
-            State::Engaging | State::Synced | State::Disengaging => return Err(Refusal::CutterRunning),
-            State::Idle => {}
-        }
+        self.admit(Asked::Check)?;
         let still = STILL_SECONDS * self.timing.tick_hz as u64;
-        self.check = Some(EncoderCheck::new(self.check_sample(), still, self.d.max_counts_per_tick as i64));
+        let check = EncoderCheck::new(self.check_sample(), still, self.d.max_counts_per_tick as i64);
+        self.activity = Activity::Check(check);
         Ok(())
     }
 
     /// True while an encoder check runs (`engage` waits for its end).
     pub fn encoder_check_running(&self) -> bool {
-        self.check.is_some()
+        matches!(self.activity, Activity::Check(_))
     }
 
     /// The figures so far, if a check runs.
     pub fn encoder_check(&self) -> Option<EncoderReport> {
-        self.check.as_ref().map(EncoderCheck::report)
+        match &self.activity {
+            Activity::Check(c) => Some(c.report()),
+            _ => None,
+        }
     }
 
     /// Ends the check, with its last figures.
     pub fn stop_encoder_check(&mut self) -> Option<EncoderReport> {
-        self.check.take().map(|c| c.report())
+        let report = self.encoder_check()?;
+        self.activity = Activity::None;
+        Some(report)
     }
 
     /// Feeds the check (from `service`).
     pub(super) fn sample_check(&mut self) {
         let s = self.check_sample();
-        if let Some(c) = &mut self.check {
+        if let Activity::Check(c) = &mut self.activity {
             c.sample(s);
         }
     }

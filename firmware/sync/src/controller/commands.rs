@@ -27,6 +27,11 @@ pub struct Status {
     pub target_steps: i64,
     pub lathe_counts: i64,
     pub indexed: bool,
+    /// the count latched at the first index seen: the spindle's angle is
+    /// from it (`crate::angle`), else from the count at the start
+    pub index_counts: Option<i64>,
+    /// while dividing (`divide N`), the divisions of a turn
+    pub divisions: Option<u32>,
     pub ticks: u64,
 }
 
@@ -65,6 +70,8 @@ impl Controller {
             target_steps: self.gear.steps(),
             lathe_counts: self.lathe.position(),
             indexed: self.index.reference().is_some(),
+            index_counts: self.index.reference(),
+            divisions: self.dividing(),
             ticks: self.ticks,
         }
     }
@@ -81,15 +88,7 @@ impl Controller {
     /// entry by its symbol (emu/src/tape.rs).
     #[inline(never)]
     pub fn engage(&mut self) -> Result<(), Refusal> {
-        match self.state {
-            State::Fault(_) => return Err(Refusal::Faulted),
-            State::Engaging | State::Synced => return Err(Refusal::Busy),
-            State::Jogging => return Err(Refusal::Moving),
-            State::Idle | State::Disengaging => {}
-        }
-        if self.encoder_check_running() {
-            return Err(Refusal::Checking);
-        }
+        self.admit(super::activity::Asked::Engage)?;
         // with no cutter and no X axis, engaging would move nothing yet
         // report `synced` and assert ENABLE
         if self.config.drive == crate::config::DriveKind::None && self.x.is_none() {
@@ -111,7 +110,7 @@ impl Controller {
     #[inline(never)]
     pub fn disengage(&mut self) {
         if matches!(self.state, State::Engaging | State::Synced | State::Jogging) {
-            self.jog = None;
+            self.end_jog();
             self.state = State::Disengaging;
             info!("disengaging");
         }

@@ -4,6 +4,7 @@
 //! shows here, before any metal is cut). The move is the follower's: the
 //! same step output and limits as a cut, at a walking pace.
 
+use super::activity::{Activity, Asked, Divide};
 use super::{Controller, Refusal};
 use crate::config::DriveKind;
 use crate::follower::{Follower, Limits};
@@ -23,6 +24,8 @@ pub(super) struct Jog {
     deadline: u64,
     /// the lathe's count at the start: a jog ends if the lathe turns
     lathe: i64,
+    /// dividing when it was asked for: dividing again once it ends
+    pub(super) dividing: Option<Divide>,
 }
 
 /// Counts the lathe may move during a jog (a knock on the chuck) before
@@ -43,16 +46,7 @@ impl Controller {
     /// the gear turns it when the lathe counts up (so `dir` decides it,
     /// as it will when cutting). Low priority: divides.
     pub fn jog(&mut self, mdeg: i32) -> Result<JogPlan, Refusal> {
-        match self.state {
-            State::Fault(_) => return Err(Refusal::Faulted),
-            State::Jogging => return Err(Refusal::Moving),
-            State::Engaging | State::Synced | State::Disengaging => return Err(Refusal::Engaged),
-            State::Idle => {}
-        }
-        // the check has the chuck turned by hand: no cutter may move then
-        if self.encoder_check_running() {
-            return Err(Refusal::Checking);
-        }
+        self.admit(Asked::Jog)?;
         if self.config.drive == DriveKind::None {
             return Err(Refusal::NoCutter);
         }
@@ -79,7 +73,8 @@ impl Controller {
         let ticks = steps.unsigned_abs() * tick_hz / rate_hz as u64;
         let deadline = self.ticks + 2 * ticks + tick_hz;
         let target = start + crate::q16::from_steps(steps);
-        self.jog = Some(Jog { target, limits, deadline, lathe: self.lathe.position() });
+        let dividing = self.divide();
+        self.activity = Activity::Jog(Jog { target, limits, deadline, lathe: self.lathe.position(), dividing });
         self.state = State::Jogging;
         Ok(JogPlan { steps, rate_hz })
     }
@@ -88,14 +83,14 @@ impl Controller {
     /// once the commanded position is there and (stepper) every step of it
     /// has been emitted.
     pub(super) fn step_jog(&mut self, cutter: i64) {
-        let Some(j) = self.jog else {
+        let Activity::Jog(j) = self.activity else {
             self.state = State::Idle;
             return;
         };
         // the lathe started, or the jog overran its time: stop (ramped)
         let knocked = (self.lathe.position() - j.lathe).abs() > JOG_LATHE_SLACK;
         if knocked || self.ticks > j.deadline {
-            self.jog = None;
+            self.end_jog();
             self.state = State::Disengaging;
             return self.follower.ramp_down(&self.d.limits);
         }
@@ -106,7 +101,7 @@ impl Controller {
             self.follower = Follower { position: j.target, velocity: 0 };
             let emitted = self.config.drive != DriveKind::Stepper || cutter == j.target;
             if emitted {
-                self.jog = None;
+                self.end_jog();
                 self.state = State::Idle;
             }
         }

@@ -22,6 +22,8 @@ fn snapshot(v_q32: i64, phase_error_q16: i64, fault: Option<Fault>) -> Snapshot 
         target_steps: 1234,
         lathe_counts: 99,
         indexed: fault.is_none(),
+        index_counts: fault.is_none().then_some(-1),
+        divisions: None,
         ticks: 7,
     };
     let config = Config::default().with("max-rpm", "600").unwrap().with("ratio", "11/3").unwrap();
@@ -39,7 +41,8 @@ fn a_synced_line_shows_every_field() {
     let s = snapshot(1 << 32, -(3 << 16) - (1 << 15), None);
     assert_eq!(
         line(&s),
-        "ok state=synced fault=none lathe_rpm=500.0 cutter_rpm=1500.0 phase_err_steps=-3.500 target=1234 cutter=-56 indexed=yes"
+        "ok state=synced fault=none lathe_rpm=500.0 cutter_rpm=1500.0 phase_err_steps=-3.500 target=1234 cutter=-56 indexed=yes \
+         angle_deg=15.0 angle_from=index"
     );
 }
 
@@ -49,7 +52,7 @@ fn a_lathe_turning_backwards_shows_negative_speeds_and_a_fault_its_reason() {
     assert_eq!(
         line(&s),
         "ok state=fault fault=stall lathe_rpm=-500.0 cutter_rpm=-1500.0 phase_err_steps=1.250 target=1234 cutter=-56 \
-         indexed=no reason=\"cutter encoder not following: check motor and its encoder\""
+         indexed=no angle_deg=14.9 angle_from=start reason=\"cutter encoder not following: check motor and its encoder\""
     );
 }
 
@@ -64,6 +67,8 @@ fn the_idle_line_reads_as_the_manual_shows_it() {
         target_steps: 0,
         lathe_counts: 0,
         indexed: false,
+        index_counts: None,
+        divisions: None,
         ticks: 0,
     };
     let s = Snapshot {
@@ -76,11 +81,12 @@ fn the_idle_line_reads_as_the_manual_shows_it() {
     };
     assert_eq!(
         line(&s),
-        "ok state=idle fault=none lathe_rpm=0.0 cutter_rpm=0.0 phase_err_steps=0.000 target=0 cutter=0 indexed=no"
+        "ok state=idle fault=none lathe_rpm=0.0 cutter_rpm=0.0 phase_err_steps=0.000 target=0 cutter=0 indexed=no \
+         angle_deg=0.0 angle_from=start"
     );
     // a fitted cam table says so, by its points
     let s = Snapshot { cam_points: Some(250), ..s };
-    assert!(line(&s).ends_with(" indexed=no cam=250"), "{}", line(&s));
+    assert!(line(&s).ends_with(" indexed=no angle_deg=0.0 angle_from=start cam=250"), "{}", line(&s));
 }
 
 #[test]
@@ -118,7 +124,8 @@ fn a_fresh_controllers_status_line_is_the_idle_line() {
     write_status(&c, &mut out);
     assert_eq!(
         out.as_str(),
-        "ok state=idle fault=none lathe_rpm=0.0 cutter_rpm=0.0 phase_err_steps=0.000 target=0 cutter=0 indexed=no"
+        "ok state=idle fault=none lathe_rpm=0.0 cutter_rpm=0.0 phase_err_steps=0.000 target=0 cutter=0 indexed=no \
+         angle_deg=0.0 angle_from=start"
     );
 }
 
@@ -146,4 +153,41 @@ fn a_controller_turning_the_lathe_while_idle_reports_its_cutter_still() {
     write_status(&c, &mut out);
     let l = out.as_str();
     assert!(l.contains(" cutter_rpm=0.0 ") && !l.contains(" lathe_rpm=0.0 "), "{l}");
+}
+
+/// Every field at its widest (the speeds at their bounds, the positions
+/// at i64's, the longest reason, a cam, a cutter encoder, dividing on the
+/// finest encoder): the line fits a reply, whole.
+#[test]
+fn the_longest_status_line_fits_a_reply() {
+    let mut longest = 0;
+    for (divisions, counts) in [(1, 499_999), (1, 500_001), (7, 71_429), (3600, 999_861), (3600, 999_999)] {
+        let status = Status {
+            state: State::Fault(Fault::LostSteps),
+            lathe_velocity_q32: -(16_000 << 32),
+            phase_error_q16: i64::MIN,
+            cutter_velocity_q16: -(1 << 20),
+            cutter_steps: i64::MIN,
+            target_steps: i64::MIN,
+            lathe_counts: counts - 1_000_000_000,
+            indexed: true,
+            index_counts: Some(-999_999),
+            divisions: Some(divisions),
+            ticks: u64::MAX,
+        };
+        let config = Config { encoder_counts_per_rev: 1_000_000, ..Config::default() };
+        let s = Snapshot {
+            status,
+            config,
+            tick_hz: 25_000,
+            fault: Some(Fault::LostSteps),
+            cam_points: Some(1024),
+            lost_milli_steps: Some(i64::MIN),
+        };
+        let l = line(&s);
+        assert!(l.ends_with(&std::format!("reason=\"{}\"", Fault::LostSteps.reason())), "cut: {l}");
+        assert!(l.contains(&std::format!(" divide={divisions} ")), "{l}");
+        longest = longest.max(l.len());
+    }
+    assert!(longest < crate::console::REPLY_LEN, "{longest}");
 }

@@ -1,9 +1,11 @@
-//! The bench self-test's hooks in the controller: the
-//! console starts it (the firmware then starts the generator), the
-//! firmware's sampler feeds it the generator's books, and it engages the
-//! real gearbox and judges it (`crate::selftest`).
+//! The bench self-test's hooks in the controller (`controller::selftest`,
+//! kept here with the rest of the self-test): the console starts it (the
+//! firmware then starts the generator), the firmware's sampler feeds it
+//! the generator's books, and it engages the real gearbox and judges it
+//! (`crate::selftest`).
 
-use super::Controller;
+use super::activity::{Activity, Asked};
+use super::{Controller, Refusal};
 use crate::config::{Config, DriveKind};
 use crate::derived::Derived;
 use crate::encoder::IndexTracker;
@@ -30,6 +32,20 @@ pub enum SelfTestRefusal {
     },
     /// an encoder check runs: the chuck is being turned by hand
     Checking,
+    /// dividing: the chuck is being turned by hand
+    Dividing,
+}
+
+impl SelfTestRefusal {
+    /// The self-test's words for the activity rule's refusal
+    /// (`Controller::admit`): what runs besides, or the cutter not idle.
+    fn from_rule(r: Refusal) -> SelfTestRefusal {
+        match r {
+            Refusal::Checking => SelfTestRefusal::Checking,
+            Refusal::Dividing => SelfTestRefusal::Dividing,
+            _ => SelfTestRefusal::NotIdle,
+        }
+    }
 }
 
 /// The run in progress (or the last one), and what it started from.
@@ -56,13 +72,8 @@ impl Controller {
     /// Starts `plan` (made for the settings in force): engages at rest and
     /// waits for the generator's books. Short: the tick's lock holds it.
     pub fn start_selftest_planned(&mut self, plan: Plan) -> Result<(), SelfTestRefusal> {
-        if self.state != State::Idle {
-            return Err(SelfTestRefusal::NotIdle);
-        }
         // before anything changes: a refusal leaves the index as it was
-        if self.encoder_check_running() {
-            return Err(SelfTestRefusal::Checking);
-        }
+        self.admit(Asked::SelfTest).map_err(SelfTestRefusal::from_rule)?;
         if !self.lathe_at_rest() {
             return Err(SelfTestRefusal::LatheTurning);
         }
@@ -74,7 +85,7 @@ impl Controller {
         // is forgotten (and again at the end, `end_selftest`)
         self.index = IndexTracker::default();
         self.engage().map_err(|_| SelfTestRefusal::NotIdle)?;
-        let id = self.selftest.map_or(0, |r| r.id.wrapping_add(1));
+        let id = self.selftest_last.map_or(0, |r| r.id.wrapping_add(1));
         let run = Run {
             id,
             test: SelfTest::new(plan),
@@ -83,29 +94,37 @@ impl Controller {
             deadline: self.ticks + (plan.total_ms() as u64 + 2_000) * self.timing.tick_hz as u64 / 1_000,
             ever_engaged,
         };
-        self.selftest = Some(run);
+        self.activity = Activity::SelfTest(run);
         Ok(())
+    }
+
+    /// The running self-test.
+    fn selftest_run(&self) -> Option<Run> {
+        match self.activity {
+            // (only while it runs: its end ends the activity, `end_selftest`)
+            Activity::SelfTest(r) => Some(r),
+            _ => None,
+        }
     }
 
     /// True while a self-test runs: the firmware keeps its generator going.
     pub fn selftest_running(&self) -> bool {
-        self.selftest.is_some_and(|r| r.test.running())
+        self.selftest_run().is_some()
     }
 
     /// The running self-test's number and plan: the firmware plays it.
     pub fn selftest_plan(&self) -> Option<(u32, Plan)> {
-        self.selftest.filter(|r| r.test.running()).map(|r| (r.id, *r.test.plan()))
+        self.selftest_run().map(|r| (r.id, *r.test.plan()))
     }
 
     /// The figures of the running or last self-test.
     pub fn selftest_report(&self) -> Option<Report> {
-        self.selftest.map(|r| r.test.report())
+        self.selftest_run().or(self.selftest_last).map(|r| r.test.report())
     }
 
     /// Ends a running self-test (`selftest stop`): ramps the cutter down.
     pub fn stop_selftest(&mut self) -> Option<Report> {
-        let mut run = self.selftest?;
-        if run.test.running() {
+        if let Some(mut run) = self.selftest_run() {
             run.test.stop();
             self.end_selftest(run);
         }
@@ -127,7 +146,7 @@ impl Controller {
     /// controller shows, nothing more (the judging divides and formats
     /// nothing, but it is not short: it runs outside the lock).
     pub fn selftest_pending(&self) -> Option<Pending> {
-        let run = self.selftest.filter(|r| r.test.running())?;
+        let run = self.selftest_run()?;
         let st = self.status();
         let raw = Raw {
             state: self.state,
@@ -149,12 +168,12 @@ impl Controller {
     /// Under the tick's lock: keeps the judged run, unless the test ended
     /// meanwhile (`selftest stop`); ends it if the judge did.
     pub fn selftest_judged(&mut self, p: Pending) {
-        let current = self.selftest.filter(|r| r.test.running() && r.id == p.run.id);
+        let current = self.selftest_run().filter(|r| r.id == p.run.id);
         if current.is_none() {
             return;
         }
         if p.run.test.running() {
-            self.selftest = Some(p.run);
+            self.activity = Activity::SelfTest(p.run);
         } else {
             self.end_selftest(p.run);
         }
@@ -163,7 +182,8 @@ impl Controller {
     /// The end, whatever it was: the cutter ramps down, and the
     /// generator's index is forgotten as a phase reference.
     fn end_selftest(&mut self, run: Run) {
-        self.selftest = Some(run);
+        self.activity = Activity::None;
+        self.selftest_last = Some(run);
         self.disengage();
         self.index = IndexTracker::default();
         self.rebase_pending = false;

@@ -1,11 +1,12 @@
-//! `selftest [start [rpm]|stop]`: the bench self-test.
+//! `selftest [start [rpm]|stop]`: the bench self-test's console commands
+//! (`console::selftest`, kept here with the rest of the self-test).
 //! One reply line of `name=value` figures; a failed test is reported as
 //! such (`ok selftest fail ...`: the command worked, the board did not).
 
 use super::status::Milli;
 use super::{Command, Outcome, Reply};
 use crate::controller::selftest::SelfTestRefusal;
-use crate::controller::Controller;
+use crate::controller::{Controller, Refusal};
 use crate::selftest::{Failure, Kind, Plan, Report, Verdict};
 use core::fmt::Write;
 
@@ -95,6 +96,7 @@ pub(super) fn write_refused(r: SelfTestRefusal, out: &mut Reply) {
                 "error: an encoder check is running: check-encoder stop first, then wire the self-test's jumpers"
             )
         }
+        SelfTestRefusal::Dividing => write!(out, "error: {}", Refusal::Dividing.describe()),
     };
 }
 
@@ -177,4 +179,5 @@ fn write_failure(f: Failure, out: &mut Reply) -> core::fmt::Result {
 }
 
 #[cfg(test)]
+#[path = "console_tests.rs"]
 mod tests;
