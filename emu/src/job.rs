@@ -116,7 +116,7 @@ pub struct Outcome {
     pub ticks_lost: lost::Counted,
     /// a lost-tick job's hold (`Kind::LostTick`)
     pub held: Option<lost::Held>,
-    /// the step plan's handler: average and worst instructions, entry to
+    /// the step plan's handler: average and worst cycles (the model's), entry to
     /// return, and the plans the image found late (`app::tick::plan::LATES`)
     pub plan: (f64, u64),
     pub plans_late: Option<u32>,

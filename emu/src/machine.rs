@@ -26,6 +26,44 @@ use unicorn_engine::{Arch, HookType, Mode, Prot, RegisterARM, Unicorn};
 const SLICE: u64 = 20_000;
 const NOP: [u8; 2] = [0x00, 0xBF];
 
+/// The flash as the board holds it: the image, its waits for events made
+/// NOPs and sealed again over them, then `flash_init` (settings, or a
+/// damage) written over it.
+fn flashed(image: &Image, flash_init: &[(u32, Vec<u8>)]) -> Result<Box<[u8]>, String> {
+    let mut flash = vec![0xFFu8; FLASH_SIZE as usize].into_boxed_slice(); // erased
+    let put = |flash: &mut [u8], (addr, data): &(u32, Vec<u8>)| {
+        let off = addr.wrapping_sub(FLASH_BASE) as usize;
+        if off + data.len() > flash.len() {
+            return Err(format!("a segment at {addr:#010x} lies outside the flash"));
+        }
+        flash[off..off + data.len()].copy_from_slice(data);
+        Ok(())
+    };
+    for segment in &image.segments {
+        put(&mut flash, segment)?;
+    }
+    // WFE, WFI and SEV are NOPs here: ARMv7-M ARM B1.5.18 lets WFE be a NOP, and
+    // unicorn has none of them; time still passes through the loop around them
+    for a in image.insns.wfe.iter().chain(&image.insns.sev).chain(&image.insns.wfi) {
+        let Some(o) = a.checked_sub(FLASH_BASE).map(|o| o as usize) else {
+            return Err(format!(
+                "a wait for event at {a:#010x}, outside the flash: the emulator makes those NOPs only there"
+            ));
+        };
+        flash[o..o + 2].copy_from_slice(&NOP);
+    }
+    // the image checks its own bytes at boot (`seal`): sealed again over the
+    // NOPs, as if the image had been flashed so
+    if let Some(at) = image.seal_at {
+        crate::image::reseal(&mut flash, at);
+    }
+    // what was flashed besides (settings), or over it (a damaged image)
+    for segment in flash_init {
+        put(&mut flash, segment)?;
+    }
+    Ok(flash)
+}
+
 #[cfg(test)]
 /// Thumb instructions in `code`: a halfword whose top five bits are 0b11101,
 /// 0b11110 or 0b11111 starts a 32-bit instruction (ARMv7-M ARM A5.1).
@@ -108,37 +146,7 @@ impl Machine {
         flash_init: &[(u32, Vec<u8>)],
         firmware: bool,
     ) -> Result<Machine, String> {
-        let mut flash = vec![0xFFu8; FLASH_SIZE as usize].into_boxed_slice(); // erased
-        let put = |flash: &mut [u8], (addr, data): &(u32, Vec<u8>)| {
-            let off = addr.wrapping_sub(FLASH_BASE) as usize;
-            if off + data.len() > flash.len() {
-                return Err(format!("a segment at {addr:#010x} lies outside the flash"));
-            }
-            flash[off..off + data.len()].copy_from_slice(data);
-            Ok(())
-        };
-        for segment in &image.segments {
-            put(&mut flash, segment)?;
-        }
-        // WFE, WFI and SEV are NOPs here: ARMv7-M ARM B1.5.18 lets WFE be a NOP, and
-        // unicorn has none of them; time still passes through the loop around them
-        for a in image.insns.wfe.iter().chain(&image.insns.sev).chain(&image.insns.wfi) {
-            let Some(o) = a.checked_sub(FLASH_BASE).map(|o| o as usize) else {
-                return Err(format!(
-                    "a wait for event at {a:#010x}, outside the flash: the emulator makes those NOPs only there"
-                ));
-            };
-            flash[o..o + 2].copy_from_slice(&NOP);
-        }
-        // the image checks its own bytes at boot (`seal`): sealed again over the
-        // NOPs, as if the image had been flashed so
-        if let Some(at) = image.seal_at {
-            crate::image::reseal(&mut flash, at);
-        }
-        // what was flashed besides (settings), or over it (a damaged image)
-        for segment in flash_init {
-            put(&mut flash, segment)?;
-        }
+        let mut flash = flashed(&image, flash_init)?;
         let mut chip = Chip::new(params);
         chip.meter = crate::clock::Meter::new(image.program.clone());
         chip.code = flash.to_vec();

@@ -21,9 +21,13 @@ pub struct Section {
 
 /// Sections of one kind: the one open, and the longest so far (of all, and
 /// of those begun with the tick's interrupt enabled).
+/// An open section: when it began (both clocks), where (pc, caller), and
+/// whether the tick's interrupt was enabled.
+type Open = ((u64, u64), (u32, u32), bool);
+
 #[derive(Default)]
 pub struct SectionLog {
-    since: Option<((u64, u64), (u32, u32), bool)>,
+    since: Option<Open>,
     pub longest: Section,
     pub ticking: Section,
     pub sections: u64,

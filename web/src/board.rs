@@ -51,11 +51,11 @@ impl FakeBoard {
     }
 
     /// The lathe's speed when it turns by hand, counts/s
-    /// (`Machine::turn_by_hand`), and the time that passes before each
+    /// (`Machine::turn_at`), and the time that passes before each
     /// command, ms (the encoder check needs 1.2 s of rest and a turn).
     pub fn set_machine(&mut self, counts_per_s: u32, ms_per_line: u32) {
         if let Some(m) = &mut self.dev.machine {
-            m.turn_by_hand(counts_per_s);
+            m.turn_at(counts_per_s);
             m.ticks_per_line = ticks_in_ms(u64::from(ms_per_line));
         }
     }

@@ -142,6 +142,7 @@ impl Program {
         p
     }
 
+    #[cfg(test)]
     pub fn insns(&self) -> &[Insn] {
         &self.insns
     }

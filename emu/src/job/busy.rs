@@ -61,11 +61,11 @@ pub fn slice(m: &mut Machine, k: u32, a: &mut Answers) {
         a.synced += r.contains("state=synced") as u32;
         a.last_status = r;
     }
-    if k % 5 == 0 {
-        let nudge = if (k / 5) % 2 == 0 { "set phase 0.5\n" } else { "set phase 0\n" };
+    if k.is_multiple_of(5) {
+        let nudge = if (k / 5).is_multiple_of(2) { "set phase 0.5\n" } else { "set phase 0\n" };
         ask(m, nudge);
     }
-    if k % 10 == 0 {
+    if k.is_multiple_of(10) {
         ask(m, "get ratio\n");
     }
 }

@@ -22,7 +22,7 @@ pub fn map() {
     let (start, end, load) = (
         core::ptr::addr_of!(__sramcode) as u32,
         core::ptr::addr_of!(__eramcode) as u32,
-        core::ptr::addr_of!(__siramcode) as *const u32,
+        core::ptr::addr_of!(__siramcode),
     );
     let dst = sram_address(start) as *mut u32;
     for i in 0..((end - start) / 4) as usize {

@@ -55,13 +55,13 @@ pub struct Machine {
     /// control ticks that pass before each command line is handled
     pub ticks_per_line: usize,
     /// the hand's speed on the chuck, thousandths of a count a tick
-    /// (`turn_by_hand`)
+    /// (`turn_at`)
     counts_per_tick_x1000: i64,
     /// the encoder's real counts per turn (its index comes once a turn)
     pub cpr: i64,
     /// the machinist's hand on the chuck: before the line that ends an
     /// encoder check, the lathe rests 1.2 s and then turns at the hand's
-    /// speed (`turn_by_hand`); at any other time it rests
+    /// speed (`turn_at`); at any other time it rests
     pub turn_for_check: bool,
     /// with `turn_for_check`, the ticks before the line that ends the
     /// check, if more than `ticks_per_line`: the machinist's hand takes its
@@ -107,7 +107,7 @@ impl Machine {
     /// The machinist's hand turns the lathe at `counts_per_s` (forward; 0
     /// rests it), in whole thousandths of a count a control tick: a speed
     /// between two is rounded down.
-    pub fn turn_by_hand(&mut self, counts_per_s: u32) {
+    pub fn turn_at(&mut self, counts_per_s: u32) {
         self.counts_per_tick_x1000 = i64::from(counts_per_s) * 1_000 / i64::from(TICK_HZ);
     }
 

@@ -11,7 +11,7 @@ use crate::fakeboard::{ticks_in_ms, Machine};
 fn board(counts_per_s: u32) -> super::session::Session<FakeDevice> {
     let mut dev = FakeDevice::new();
     let mut m = Machine::new(ticks_in_ms(1_000));
-    m.turn_by_hand(counts_per_s);
+    m.turn_at(counts_per_s);
     dev.machine = Some(m);
     session(dev)
 }

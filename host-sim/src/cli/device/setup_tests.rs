@@ -123,7 +123,7 @@ fn hand_turned() -> Session<FakeDevice> {
 fn hand_turned_at(ms: u64) -> Session<FakeDevice> {
     let mut dev = FakeDevice::new();
     let mut m = Machine::new(ticks_in_ms(ms));
-    m.turn_by_hand(2_500);
+    m.turn_at(2_500);
     (m.cpr, m.turn_for_check, m.check_ticks) = (2_000, true, ticks_in_ms(4_400));
     dev.machine = Some(m);
     let mut s = session(dev);

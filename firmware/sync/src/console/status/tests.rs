@@ -179,7 +179,7 @@ fn the_longest_status_line_fits_a_reply() {
         let s = Snapshot {
             status,
             config,
-            tick_hz: 25_000,
+            tick_hz: TICK_HZ,
             fault: Some(Fault::LostSteps),
             cam_points: Some(1024),
             lost_milli_steps: Some(i64::MIN),
