@@ -45,7 +45,7 @@ pub fn boot(r: &mut Report, m: &mut Machine, led_out: Option<u64>) {
         && led_out.is_some_and(|t| t <= BOOT_BOUND)
         && !pets.is_empty();
     let text = format!(
-        "watchdog started at {started:?} instr (bound {BOOT_BOUND}), {} pets by {now} instr (longest gap {:.1} ms), LED PC13 output at {led_out:?} instr; faults: {}",
+        "watchdog started at cycle {started:?} (bound {BOOT_BOUND}), {} pets by cycle {now} (longest gap {:.1} ms), LED PC13 output at cycle {led_out:?}; faults: {}",
         pets.len(),
         gap as f64 / sysclk * 1e3,
         faults(m)
@@ -127,6 +127,41 @@ pub fn registers(r: &mut Report, m: &mut Machine) {
     r.line(bad.is_empty(), "registers", &text);
 }
 
+/// The MPU as the image left it after boot (the model's reading, ARM DUI
+/// 0553A §4.5): the handlers' code in SRAM read-only and executable at
+/// 0x2000_0000 and in its alias at 0, from `__sramcode` to `__eramcode`;
+/// the RAM after it, where the image keeps its data, ring and stack,
+/// writable.
+pub fn mpu(r: &mut Report, m: &mut Machine) {
+    let sym = |m: &Machine, s: &str| m.image.symbols.get(s).copied();
+    let (Some(start), Some(end)) = (sym(m, "__sramcode"), sym(m, "__eramcode")) else {
+        r.line(false, "mpu", "the image has no __sramcode/__eramcode: no code in SRAM to protect");
+        return;
+    };
+    let mpu = &m.chip().nvic.mpu;
+    let sram = 0x2000_0000;
+    let code = |a: u32| {
+        let x = mpu.access(a);
+        x.read && !x.write && x.fetch
+    };
+    let unguarded: Vec<String> = (start..end)
+        .step_by(64)
+        .chain([end - 2])
+        .filter(|&a| !code(a) || !code(sram + a))
+        .map(|a| format!("{a:#x}"))
+        .collect();
+    let ram = polyturn_firmware::ramcode::RAMCODE_SIZE;
+    let data_ok = [sram + ram, 0x2001_FFFC].iter().all(|&a| mpu.access(a).write);
+    let ok = unguarded.is_empty() && data_ok;
+    let text = format!(
+        "the handlers' code {start:#x}..{end:#x} (and at {:#x}) read-only, executable: {}; RAM from {:#x} writable: {data_ok}",
+        sram + start,
+        if unguarded.is_empty() { "yes".to_string() } else { format!("not at {}", unguarded.join(", ")) },
+        sram + ram
+    );
+    r.line(ok, "mpu", &text);
+}
+
 /// TIM3's and TIM5's words of `edgetime::program::CONFIG` as the timers hold
 /// them after boot (CR1 and SR left out: DIR and the flags move by
 /// themselves).
@@ -181,12 +216,12 @@ pub fn safety(r: &mut Report, m: &mut Machine, name: &str, after: Outputs) {
     let p = &m.chip().probe;
     let ok = p.exti_return.is_some_and(|o| o.safe_now()) && after.safe_all() && f == "none";
     let lat = match (p.exti_entered, p.edge_at) {
-        (Some(h), Some(e)) => format!("{} instr", h - e),
+        (Some(h), Some(e)) => format!("{} cycles", h - e),
         _ => "-".into(),
     };
     let show = |o: Option<Outputs>| o.map_or("never ran".to_string(), |o| o.to_string());
     let text = format!(
-        "before: {} | EXTI15_10 return ({lat} after the edge): {} | 2 ms later: {after}; faults: {f}",
+        "before: {} | EXTI15_10 entered {lat} after the edge (the model's clock), at its return: {} | 2 ms later: {after}; faults: {f}",
         show(p.before),
         show(p.exti_return)
     );

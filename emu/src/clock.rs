@@ -177,6 +177,11 @@ impl Meter {
         let mut lead = Cost::default();
         if std::mem::take(&mut self.returning) {
             lead += Cost { model: exception::RETURN, bound: exception::RETURN };
+            if self.sram_at_zero {
+                // the frame's eight words come back from the SRAM the
+                // return's target is fetched from, as at entry
+                lead.bound += 8;
+            }
         }
         let prev = self.prev.take();
         if let Some(last) = prev.as_ref().filter(|p| p.end != addr).and_then(|p| p.last) {

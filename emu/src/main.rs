@@ -165,6 +165,7 @@ fn scenarios(image: &Rc<Image>, r: &mut Report) -> Result<u64, String> {
     let led = m.chip().gpio[GPIOC].output_since[13];
     checks::boot(r, &mut m, led);
     checks::registers(r, &mut m);
+    checks::mpu(r, &mut m);
     let w = checks::TickWindow { t: (s0.0, s1.0), runs: (s0.1, s1.1), updates: (s0.2, s1.2), clears: (s0.3, s1.3) };
     checks::tick(r, &mut m, &w);
     m.chip().probe.trip = Some((GPIOB, 14, None)); // the contact opens: PB14 floats high

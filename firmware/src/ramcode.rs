@@ -11,6 +11,8 @@
 //! (§3.4), which the handlers' code outgrows many times. The emulator's
 //! bound takes every such miss at its worst; from SRAM there is none.
 
+use crate::regs::Op;
+
 /// SYSCFG_MEMRMP.MEM_MODE = 11: "Embedded SRAM mapped at 0x0000 0000"
 /// (RM0383 §7.2.1).
 pub const MEMRMP_SRAM: u32 = 0b11;
@@ -26,6 +28,42 @@ pub const RAMCODE_SIZE: u32 = 48 * 1024;
 pub const fn sram_address(vma: u32) -> u32 {
     SRAM_BASE + vma
 }
+
+/// The Cortex-M4's MPU registers (ARM DUI 0553A §4.5.2-4.5.5).
+const MPU_CTRL: u32 = 0xE000_ED94;
+const MPU_RBAR: u32 = 0xE000_ED9C;
+const MPU_RASR: u32 = 0xE000_EDA0;
+/// MPU_CTRL: ENABLE, and PRIVDEFENA (the default map for everything no
+/// region covers; the firmware runs privileged) (§4.5.2).
+const CTRL_ON: u32 = 1 | 1 << 2;
+/// MPU_RBAR's VALID: the region number comes with the address (§4.5.4).
+const VALID: u32 = 1 << 4;
+/// MPU_RASR: AP = 110, read-only (Table 4-47), instructions allowed (XN
+/// clear), ENABLE; SIZE is added per region (2^(SIZE+1) bytes, §4.5.5).
+const READ_ONLY: u32 = 0b110 << 24 | 1;
+
+/// RASR's SIZE field for a power-of-two region of `bytes`.
+const fn size_field(bytes: u32) -> u32 {
+    (bytes.trailing_zeros() - 1) << 1
+}
+
+/// The code's SRAM read-only once it is copied, so that nothing (a stray
+/// pointer, a stack run past its end) can write over the handlers the
+/// E-stop and the fault path rest on: its 48 KiB as 32 + 16 KiB at
+/// 0x2000_0000 (a region is a power of two aligned to its size, §4.5.4),
+/// and its alias at 0 as 64 KiB (what lies past 48 KiB there is `.data`'s
+/// alias, which nothing writes through). Everything else keeps the default
+/// map. A write there is a MemManage fault, which, not enabled, escalates
+/// to HardFault: the handler stops every output.
+pub const MPU_PROGRAM: [Op; 7] = [
+    Op::Write(MPU_RBAR, SRAM_BASE | VALID),
+    Op::Write(MPU_RASR, READ_ONLY | size_field(32 * 1024)),
+    Op::Write(MPU_RBAR, (SRAM_BASE + 32 * 1024) | VALID | 1),
+    Op::Write(MPU_RASR, READ_ONLY | size_field(16 * 1024)),
+    Op::Write(MPU_RBAR, VALID | 2),
+    Op::Write(MPU_RASR, READ_ONLY | size_field(64 * 1024)),
+    Op::Write(MPU_CTRL, CTRL_ON),
+];
 
 #[cfg(test)]
 mod tests {

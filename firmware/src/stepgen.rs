@@ -39,7 +39,7 @@ pub mod program;
 
 use entries::{Entry, Layout};
 use polyturn_sync::steps::{Dir, StepPlan, StepTiming};
-use program::{apply, Bus};
+use program::{apply, Bus, Op};
 
 /// Segments in the ring: two ticks in flight of at most `MAX_SEGMENTS`
 /// each, and as much again to tell a DMA that overtook the writer.
@@ -76,6 +76,27 @@ pub struct Generator {
     /// ticks until a halted pulse is released (`program::RELEASE`); 0: none
     /// owed
     release_in: u32,
+    /// the arm's register programs, made once (`Armer`)
+    armer: Armer,
+}
+
+/// `program::quiet` and `program::arm` for one tick length, made at boot
+/// and kept: made in the tick that arms, their 26 operations were stored
+/// to the stack before they were applied, on the tick's worst path.
+struct Armer {
+    tick_len: u32,
+    quiet: [Op; 16],
+    arm: [Op; 10],
+}
+
+impl Armer {
+    const fn new(ring: u32, tick_len: u32) -> Armer {
+        Armer {
+            tick_len,
+            quiet: program::quiet(tick_len, entries::dir_level(Dir::Forward)),
+            arm: program::arm(ring, tick_len),
+        }
+    }
 }
 
 /// Cycles from enabling the stream to reading NDTR at arm: the preload is
@@ -98,6 +119,9 @@ impl Generator {
             silence_next: 0,
             lead: 0,
             release_in: 0,
+            // (remade for the real tick length by `prepare`, or by the
+            // first arm)
+            armer: Armer::new(ring, 2),
         }
     }
 
@@ -114,7 +138,8 @@ impl Generator {
     /// At boot, before the first tick: outputs driven quietly (STEP low),
     /// the ring silent. Zeroed RAM is no silence: CCR1 = 0 holds STEP high.
     pub fn prepare(&mut self, tick_len: u32, bus: &mut impl Bus) {
-        let _ = apply(&program::quiet(tick_len, entries::dir_level(Dir::Forward)), bus);
+        self.armer = Armer::new(self.ring, tick_len);
+        let _ = apply(&self.armer.quiet, bus);
         self.silence(bus);
         self.lead = probe_lead(self.ring, bus);
     }
@@ -150,7 +175,7 @@ impl Generator {
     }
 
     fn halt(&mut self, t: &StepTiming, bus: &mut impl Bus) {
-        let _ = apply(&program::HALT, bus);
+        let _ = apply(&program::HALT_IN_RAM, bus);
         self.halted_elsewhere(t);
     }
 
@@ -159,7 +184,7 @@ impl Generator {
         if self.release_in > 0 {
             self.release_in -= 1;
             if self.release_in == 0 {
-                let _ = apply(&[program::RELEASE], bus);
+                let _ = apply(&program::RELEASE_IN_RAM, bus);
             }
         }
     }
@@ -222,8 +247,10 @@ impl Generator {
     }
 
     fn arm(&mut self, t: &StepTiming, bus: &mut impl Bus) -> Result<(), Fail> {
-        let quiet = program::quiet(t.tick_len, entries::dir_level(Dir::Forward));
-        if apply(&quiet, bus).is_err() || apply(&program::arm(self.ring, t.tick_len), bus).is_err() {
+        if self.armer.tick_len != t.tick_len {
+            self.armer = Armer::new(self.ring, t.tick_len);
+        }
+        if apply(&self.armer.quiet, bus).is_err() || apply(&self.armer.arm, bus).is_err() {
             self.halt(t, bus);
             (self.silent, self.silence_next) = (true, RING_ENTRIES); // the stream never ran on the ring
             return Err(Fail::ArmLate);
@@ -233,19 +260,10 @@ impl Generator {
             (self.silent, self.silence_next) = (true, RING_ENTRIES); // the DMA only read the silent ring
             return Err(Fail::ArmLate);
         }
-        let (ring, lead) = (self.ring, self.lead);
-        // (`quiet` forced STEP low: nothing left to release)
-        *self = Generator {
-            ring,
-            write: 0,
-            silenced: 0,
-            layout: Layout::armed(Dir::Forward),
-            armed: true,
-            silent: false,
-            silence_next: 0,
-            lead,
-            release_in: 0,
-        };
+        // a fresh generator on the armed ring, its boot's lead and its
+        // programs kept (`quiet` forced STEP low: nothing left to release)
+        (self.write, self.silenced, self.layout) = (0, 0, Layout::armed(Dir::Forward));
+        (self.armed, self.silent, self.silence_next, self.release_in) = (true, false, 0, 0);
         Ok(())
     }
 

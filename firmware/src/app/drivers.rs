@@ -203,7 +203,7 @@ pub fn stop_step_timer() {
 /// rises after it; a high one is released at full width by a later tick
 /// (`Generator::halted_elsewhere`).
 pub fn halt_steps() {
-    let _ = stepgen::program::apply(&stepgen::program::HALT, &mut Mmio);
+    let _ = stepgen::program::apply(&stepgen::program::HALT_IN_RAM, &mut Mmio);
 }
 
 /// RAM the DMA reads TIM1's segments from (only through `Mmio`).

@@ -5,7 +5,7 @@
 //! init run from flash).
 
 use embassy_stm32::pac;
-use polyturn_firmware::ramcode::{sram_address, MEMRMP_SRAM};
+use polyturn_firmware::ramcode::{sram_address, MEMRMP_SRAM, MPU_PROGRAM};
 
 extern "C" {
     // memory.x: the section's addresses (in the alias at 0) and where its
@@ -37,6 +37,12 @@ pub fn map() {
     pac::SYSCFG.memrm().modify(|w| w.set_mem_mode(MEMRMP_SRAM as u8));
     // instructions fetched after the remap come from SRAM (PM0214 §2.2.4:
     // DSB then ISB after a change to the memory map)
+    cortex_m::asm::dsb();
+    cortex_m::asm::isb();
+    // the code read-only from here on (`MPU_PROGRAM`), with the same
+    // barriers after the MPU's change (ARM DUI 0553A §4.5, "Updating an MPU
+    // region")
+    let _ = polyturn_firmware::regs::apply(&MPU_PROGRAM, &mut super::drivers::Mmio);
     cortex_m::asm::dsb();
     cortex_m::asm::isb();
 }

@@ -114,6 +114,15 @@ pub const HALT: [Op; 3] = [STOP, Op::Write(TIM1 + DIER, 0), Op::Write(S5CR, S5CR
 /// pulse that was high has had its width.
 pub const RELEASE: Op = Op::Write(TIM1 + CCMR1, CCMR1_HALT);
 
+/// `HALT` and `RELEASE` as the handlers apply them: in RAM on the MCU. A
+/// constant in flash would be read through the ART accelerator's data
+/// cache (RM0383 §3.4), a wait the emulator's clock does not charge for a
+/// load by address; `.ci/callgraph` checks the handlers make none.
+#[cfg_attr(target_os = "none", link_section = ".data.stepgen_halt")]
+pub static HALT_IN_RAM: [Op; 3] = HALT;
+#[cfg_attr(target_os = "none", link_section = ".data.stepgen_release")]
+pub static RELEASE_IN_RAM: [Op; 1] = [RELEASE];
+
 /// Whole ticks after a `HALT` made at any point of a tick of `tick_len`
 /// cycles at whose start `RELEASE` may come: a pulse that rose just before
 /// the halt has had `pulse` cycles by then (at least `ticks - 1` whole

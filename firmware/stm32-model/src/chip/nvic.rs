@@ -37,6 +37,8 @@ pub struct Nvic {
     cyc_at: u64,
     /// AIRCR.SYSRESETREQ was written with its key
     pub reset_requested: bool,
+    /// the MPU's registers, in the same system space (`mpu`)
+    pub mpu: super::mpu::Mpu,
 }
 
 impl Default for Nvic {
@@ -59,6 +61,7 @@ impl Default for Nvic {
             cyc_base: 0,
             cyc_at: 0,
             reset_requested: false,
+            mpu: super::mpu::Mpu::default(),
         }
     }
 }
@@ -122,6 +125,7 @@ impl Nvic {
                 ipsr | pend << 12 | any << 22 | (self.pending[14] as u32) << 28 | (self.pending[15] as u32) << 26
             }
             DWT_CYCCNT => self.cyccnt(now),
+            _ if super::mpu::Mpu::claims(off) => self.mpu.read(off),
             _ => self.regs.get(off),
         }
     }
@@ -145,6 +149,11 @@ impl Nvic {
                 }
                 return;
             }
+        }
+        if super::mpu::Mpu::claims(off) {
+            // (word accesses only, as the firmware makes them)
+            self.mpu.write(off, v);
+            return;
         }
         match off {
             _ if (IPR..IPR + NIRQ as u32).contains(&off) => {
