@@ -110,3 +110,41 @@ fn device_get_lists_every_name_of_the_consoles_table() {
     let err = refused("device --port /nonexistent get bogus", "NAME");
     assert!(err.contains("bldc-tau"), "{err}");
 }
+
+/// A run too short to cut every side once (7/3 with one edge cuts its 7
+/// sides in 3 lathe turns; a tenth of a turn of the hexagon) is refused,
+/// naming the turns it cut and those the pattern takes, and writes no file:
+/// its section, whole sides uncut, is no polygon to report.
+#[test]
+fn a_simulation_too_short_to_cut_every_side_says_so_and_exits_non_zero() {
+    let dir = std::env::temp_dir().join(format!("polyturn-short-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let svg = dir.join("short.svg");
+    let seven = "simulate --cutter-radius 20 --stock-diameter 30 --depth 2 --edges 1 --direction same --ratio 7/3 --rpm 600";
+    let err = refused(&format!("{seven} --revolutions 1 --svg {}", svg.display()), "simulate: the cut is not whole");
+    assert!(err.contains("cuts its 7 sides in 3") && err.contains("got 1"), "{err}");
+    assert!(!svg.exists(), "no file written for a cut that is not whole");
+    let hex = "simulate --cutter-radius 20 --stock-diameter 30 --depth 2 --ratio 2 --edges 3 --direction same --rpm 600";
+    refused(&format!("{hex} --revolutions 0.1 --json"), "simulate: the cut is not whole");
+    // long enough, the same seven sides are cut and reported
+    let (code, out, err) = polyturn(&format!("{seven} --revolutions 6"));
+    assert_eq!(code, 0, "{err}");
+    assert!(out.contains("7 sides"), "{out}");
+}
+
+/// `--start-rate` above the simulated board's max-rate names that figure,
+/// which no flag of `simulate` sets.
+#[test]
+fn a_start_rate_past_the_simulated_max_rate_names_it() {
+    let err = refused(&format!("{RUN} --start-rate 200001"), "--start-rate");
+    assert!(err.contains("max-rate, 200000 steps/s") && err.contains("got 200001"), "{err}");
+}
+
+/// `compensate` with one edge, refused for the link between passes, names
+/// the ratio: fewer edges is no remedy.
+#[test]
+fn compensate_with_one_edge_blames_the_ratio_not_the_edges() {
+    let line = "compensate --cutter-radius 20 --stock-diameter 30 --depth 2 --ratio 1/1000 --edges 1 --direction same --rpm 60 --x-max-speed 10 --x-max-accel 1000";
+    let err = refused(line, "--ratio");
+    assert!(err.contains("another ratio") && !err.contains("fewer edges"), "{err}");
+}

@@ -37,6 +37,8 @@ pub fn run(a: CompensateArgs) -> CliResult<String> {
     let why = |l: Limit| {
         match l {
         Limit::Overlap => "two edges cut at the same time, and one X axis cannot serve both: fewer edges, a larger cutter or the other direction".to_string(),
+        // (with one edge, fewer is no remedy: the ratio is)
+        Limit::Gouge if setup.edges == 1 => "the link between passes would cut into the flats: another ratio".to_string(),
         Limit::Gouge => "the link between passes would cut into the flats: fewer edges or another ratio".to_string(),
         Limit::Speed => format!("X speed {:.1} mm/s exceeds {v} mm/s: at most {}", p.peak_x_speed, up_to(p.max_rpm)),
         Limit::Accel => format!("X acceleration {:.0} mm/s^2 exceeds {acc} mm/s^2: at most {}", p.peak_x_accel, up_to(p.max_rpm)),
@@ -46,6 +48,7 @@ pub fn run(a: CompensateArgs) -> CliResult<String> {
     // (the X axis's speed or acceleration, or the setup's edges).
     if let Some(l) = p.limited_by {
         let flag = match l {
+            Limit::Gouge if setup.edges == 1 => "ratio",
             Limit::Overlap | Limit::Gouge => "edges",
             Limit::Speed => "x-max-speed",
             Limit::Accel => "x-max-accel",

@@ -1,5 +1,6 @@
 //! The temporaries a write stages (`.NAME.polyturn-PID.tmp`) are removed if
-//! the command is interrupted while they exist: Ctrl-C (SIGINT) or SIGTERM,
+//! the command is interrupted while they exist: Ctrl-C (SIGINT), SIGTERM,
+//! SIGHUP (the terminal closed, an SSH session dropped) or SIGQUIT (Ctrl-\),
 //! say while a FIFO waits for its reader. The handler only unlinks paths
 //! made ready beforehand (unlink(2) is async-signal-safe, signal-safety(7)),
 //! then dies of the same signal with its default action, so that the shell
@@ -14,7 +15,7 @@ use std::sync::atomic::{AtomicPtr, Ordering};
 /// written, only not removed on a signal.
 const SLOTS: usize = 16;
 static TEMPS: [AtomicPtr<c_char>; SLOTS] = [const { AtomicPtr::new(std::ptr::null_mut()) }; SLOTS];
-const SIGNALS: [libc::c_int; 2] = [libc::SIGINT, libc::SIGTERM];
+const SIGNALS: [libc::c_int; 4] = [libc::SIGINT, libc::SIGTERM, libc::SIGHUP, libc::SIGQUIT];
 
 extern "C" fn on_signal(sig: libc::c_int) {
     for slot in &TEMPS {
@@ -31,7 +32,7 @@ extern "C" fn on_signal(sig: libc::c_int) {
     }
 }
 
-/// While it lives, SIGINT and SIGTERM remove the temporaries `add`ed (a
+/// While it lives, SIGINT, SIGTERM, SIGHUP and SIGQUIT remove the temporaries `add`ed (a
 /// signal the process ignores stays ignored); dropped, the handlers are
 /// what they were.
 pub struct Guard {

@@ -10,6 +10,19 @@ use polyturn_sync::config::table::BLDC_TAU;
 use polyturn_sync::config::BldcOut;
 use polyturn_sync::ConfigError;
 
+/// A run that cut fewer lathe turns than its pattern takes to cut every
+/// side once: its section is not the polygon (whole sides uncut), so no
+/// report of it is given.
+pub fn cut_short(sc: &Scenario, r: &SimResult, a: &SimulateArgs) -> Option<CliError> {
+    let (sides, turns) = sc.setup.pattern();
+    (r.cut_turns < f64::from(turns)).then(|| {
+        CliError(format!(
+            "simulate: the cut is not whole: the cutter cut for {:.2} lathe turns, and {} x {} cuts its {sides} sides in {turns} (give --revolutions enough for {turns} turns of cutting after it synchronises; got {})",
+            r.cut_turns, sc.setup.ratio, sc.setup.edges, a.revolutions
+        ))
+    })
+}
+
 /// A setting the simulated board refuses, named by the flag it came from
 /// (the board's `max-rpm` is --rpm and 30 %: the ripple's headroom).
 pub fn setting(e: ConfigError, sc: &Scenario, a: &SimulateArgs) -> CliError {
@@ -20,6 +33,14 @@ pub fn setting(e: ConfigError, sc: &Scenario, a: &SimulateArgs) -> CliError {
             c.max_lathe_rpm, c.motor_rate_at(c.max_lathe_rpm as f64), c.max_step_rate_hz)),
         "cpr" => CliError::flag("encoder-cpr", format!("{} (got {})", e.allowed, c.encoder_counts_per_rev)),
         "steps" => CliError::flag("motor-steps", format!("{} (got {})", e.allowed, c.motor_steps_per_rev)),
+        // (simulate has no max-rate flag: the figure is the simulated motor's)
+        "start-rate" if c.start_rate_hz > c.max_step_rate_hz => CliError::flag(
+            "start-rate",
+            format!(
+                "must not exceed the simulated board's max-rate, {} steps/s (got {})",
+                c.max_step_rate_hz, c.start_rate_hz
+            ),
+        ),
         "start-rate" => CliError::flag("start-rate", format!("{} (got {})", e.allowed, c.start_rate_hz)),
         "bldc-out" => CliError::flag(
             "bldc-out",
