@@ -120,11 +120,13 @@ fn a_simulation_too_short_to_cut_every_side_says_so_and_exits_non_zero() {
     let dir = std::env::temp_dir().join(format!("polyturn-short-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
     let svg = dir.join("short.svg");
-    let seven = "simulate --cutter-radius 20 --stock-diameter 30 --depth 2 --edges 1 --direction same --ratio 7/3 --rpm 600";
+    let seven =
+        "simulate --cutter-radius 20 --stock-diameter 30 --depth 2 --edges 1 --direction same --ratio 7/3 --rpm 600";
     let err = refused(&format!("{seven} --revolutions 1 --svg {}", svg.display()), "simulate: the cut is not whole");
     assert!(err.contains("cuts its 7 sides in 3") && err.contains("got 1"), "{err}");
     assert!(!svg.exists(), "no file written for a cut that is not whole");
-    let hex = "simulate --cutter-radius 20 --stock-diameter 30 --depth 2 --ratio 2 --edges 3 --direction same --rpm 600";
+    let hex =
+        "simulate --cutter-radius 20 --stock-diameter 30 --depth 2 --ratio 2 --edges 3 --direction same --rpm 600";
     refused(&format!("{hex} --revolutions 0.1 --json"), "simulate: the cut is not whole");
     // long enough, the same seven sides are cut and reported
     let (code, out, err) = polyturn(&format!("{seven} --revolutions 6"));
