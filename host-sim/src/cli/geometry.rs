@@ -78,11 +78,11 @@ pub(super) fn not_round(s: &SectionSummary) -> CliResult<()> {
 /// across corners).
 fn human(setup: &Setup, s: &SectionSummary) -> String {
     format!(
-        "{} sides over {} lathe turn(s): ratio {} x {} edges, {} sense\n\
+        "{} over {} lathe turn(s): ratio {} x {} edges, {} sense\n\
          stock diameter {:.4} mm, depth {:.4} mm, cutter radius {:.4} mm\n\
          inscribed radius {:.4} mm, circumscribed {:.4} mm, {}\n\
          flat deviation {:+.4} mm ({}), corners {}",
-        s.sides,
+        if s.sides == 1 { "1 side".to_string() } else { format!("{} sides", s.sides) },
         setup.pattern().1,
         setup.ratio,
         setup.edges,

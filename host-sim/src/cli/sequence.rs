@@ -12,7 +12,7 @@ pub struct SequenceArgs {
     #[arg(long, value_name = "N", value_parser = whole32(3, 10_000))]
     pub sides: u32,
     /// Lathe turns per pattern m: >= 2, coprime with --sides, not 1 more than a multiple of it (the noncircular turning note, Theorem 2) [default: the smallest]
-    #[arg(long, value_name = "M", value_parser = whole32(0, 1_000_000))]
+    #[arg(long, value_name = "M", value_parser = whole32(2, 1_000_000))]
     pub m: Option<u32>,
     /// Print the order as JSON
     #[arg(long)]

@@ -67,6 +67,10 @@ fn vectors(base: u32, bytes: &[u8]) -> Result<(), Refusal> {
         return Err(Refusal::new(rule, format!("stack pointer 0x{sp:08x}")));
     }
     let (code, end) = (u64::from(base) + u64::from(VECTOR_TABLE_BYTES), u64::from(base) + bytes.len() as u64);
+    if end <= code {
+        let rule = format!("must hold its vector table ({VECTOR_TABLE_BYTES} bytes) and the code after it");
+        return Err(Refusal::new(rule, format!("{} bytes: cut short", bytes.len())));
+    }
     let rule = format!(
         "must have a reset address that is Thumb code (odd) in the image after its vector table, 0x{code:08x}..0x{end:08x}"
     );

@@ -71,7 +71,10 @@ fn no_seal(bytes: &[u8]) -> String {
         .step_by(4)
         .find(|&at| word_at_is(bytes, at, MAGIC) && word_at_is(bytes, at + 4, at as u32) && bytes.len() >= at + SEAL);
     match sealed_at {
-        Some(at) => format!("{} bytes after its seal (grown)", bytes.len() - at - SEAL),
+        Some(at) => match bytes.len() - at - SEAL {
+            1 => "1 byte after its seal (grown)".to_string(),
+            n => format!("{n} bytes after its seal (grown)"),
+        },
         None => format!("no seal at its end, {} bytes (cut short, or not made by `polyturn image`)", bytes.len()),
     }
 }
