@@ -152,7 +152,7 @@ mod tests {
         let p = |n: &str| d.join(n).display().to_string();
         std::fs::write(d.join("fw.bin"), good(4096)).unwrap();
         std::fs::write(d.join("other"), elf(&[(FLASH_BASE, FLASH_BASE, &unsealed(4096)[..100], 0)])).unwrap();
-        for (input, why) in [("fw.bin", "ELF must be the firmware ELF"), ("other", "ELF must have a reset address")] {
+        for (input, why) in [("fw.bin", "ELF must be the firmware ELF"), ("other", "ELF must hold its vector table")] {
             let e = run_line(&format!("image {} --bin {} --hex {}", p(input), p("o.bin"), p("o.hex"))).unwrap_err();
             assert!(e.0.starts_with(why), "{}", e.0);
             assert!(!d.join("o.bin").exists() && !d.join("o.hex").exists());

@@ -134,7 +134,11 @@ fn a_vector_table_that_cannot_start_is_refused() {
     // shorter than its vector table: said to be cut short, not a reversed
     // range for the reset address
     let r = refused(&image_with(200, SP, RESET, b""), Format::Bin, true);
-    assert_eq!((r.found.as_str(), r.rule.contains("vector table (408 bytes)")), ("200 bytes: cut short", true), "{r:?}");
+    assert_eq!(
+        (r.found.as_str(), r.rule.contains("vector table (408 bytes)")),
+        ("200 bytes: cut short", true),
+        "{r:?}"
+    );
     assert!(from_bytes(&image_with(4096, SP, FLASH_BASE + 4095, b""), Format::Bin, true).is_ok());
     assert!(refused(&image_with(4096, SP, FLASH_BASE + 4097, b""), Format::Bin, true).rule.contains("0x08001000"));
 }

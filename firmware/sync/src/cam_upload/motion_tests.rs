@@ -95,3 +95,13 @@ fn extreme_headers_give_figures_not_overflows() {
     let h = CamHeader { period_counts: 0, ..h };
     assert!(check(&h, &[0, 0]).is_ok());
 }
+
+/// The reasons without figures, as the stored table's check at boot gives
+/// them: each names the limit the points exceed.
+#[test]
+fn each_motion_refusal_describes_the_limit_it_exceeds() {
+    let rate = MotionError::Rate { apart: 2, needs_hz: 3, max_hz: 1 };
+    let accel = MotionError::Accel { bend: 2, needs: 3, max: 1 };
+    assert_eq!(rate.describe(), "cam table: its points need more than its max-rate even at 1 lathe rpm");
+    assert_eq!(accel.describe(), "cam table: its points need more than its max-accel even at 1 lathe rpm");
+}

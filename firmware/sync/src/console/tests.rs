@@ -273,3 +273,35 @@ fn every_reply_starts_with_ok_or_error_so_it_cannot_be_mistaken_for_a_command() 
     }
     assert!(is_reply(HELP) && is_reply(checks::DFU_REPLY));
 }
+
+/// A reply at its longest, with the longest tag and its framing (`#`, the
+/// digits, a space), is exactly the 512-byte line `polyturn device` takes.
+#[test]
+fn a_full_reply_with_the_longest_tag_is_one_512_byte_line() {
+    assert_eq!(1 + tag::TAG_DIGITS + 1 + REPLY_LEN, 512);
+    assert_eq!(REPLY_LEN, 504);
+}
+
+/// A complete cam table is saved only idle with the lathe at rest: at rest
+/// it may be (`None`), with counts arriving it waits for the lathe, and
+/// engaged for idle, each with its own reason.
+#[test]
+fn a_cam_table_waits_for_idle_and_a_lathe_at_rest() {
+    let mut c = ctl();
+    for _ in 0..Timing::FIRMWARE.tick_hz / 5 {
+        c.tick(&TickInput::default());
+    }
+    assert!(cam_wait(&mut c).is_none(), "idle, at rest");
+    let mut input = TickInput::default();
+    for i in 0..200u16 {
+        input.lathe = i;
+        c.tick(&input);
+    }
+    let turning = cam_wait(&mut c);
+    assert!(matches!(turning, Some(CamWait::LatheTurning(_))), "{turning:?}");
+    assert!(std::format!("{}", turning.unwrap()).starts_with("stop the lathe first: its encoder counted"));
+    c.engage().unwrap();
+    let running = cam_wait(&mut c);
+    assert!(matches!(running, Some(CamWait::Running)), "{running:?}");
+    assert_eq!(std::format!("{}", running.unwrap()), "stop first: the cam changes only while idle");
+}

@@ -67,9 +67,17 @@ fn divide_stop_under_a_jog_leaves_a_plain_jog() {
     c.jog(90_000).unwrap();
     assert_eq!(c.stop_divide(), Some(6));
     assert_eq!((c.state(), c.dividing()), (State::Jogging, None));
+    assert_eq!(c.admit(Asked::Divide), Err(Refusal::Moving), "the jog runs on, as a jog");
     c.disengage();
     assert_eq!(c.dividing(), None);
     assert_eq!(c.admit(Asked::Divide), Err(Refusal::CutterOn), "ramping down");
+    // the jog, its dividing stopped, ends as a jog does: at its target, idle
+    let mut r = rig::Rig::new(Config::default());
+    r.c.start_divide(6).unwrap();
+    r.c.jog(90_000).unwrap();
+    assert_eq!(r.c.stop_divide(), Some(6));
+    r.until(0, 100_000, |c| c.state() == State::Idle);
+    assert_eq!((r.cutter_net, r.c.dividing()), (800, None), "the jog's quarter turn, and no dividing after it");
 }
 
 #[test]

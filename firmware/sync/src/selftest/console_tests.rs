@@ -135,3 +135,22 @@ fn a_count_mismatch_names_the_likely_wiring_fault() {
         .ends_with(": counts lost or doubled: shorter jumpers, and see the README's self-test timing;"));
     assert!(say(7_200, -7_199).contains("counts lost or doubled"), "not quite backward");
 }
+
+/// The judge through the controller, in one go as the host runs it
+/// (`selftest_books`: the firmware's `selftest_pending`, `judge` and
+/// `selftest_judged` around its lock): books that decide nothing keep the
+/// run; the generator's end is judged, and ends it with its verdict.
+#[test]
+fn the_controller_keeps_a_run_its_books_leave_open_and_ends_one_they_decide() {
+    use crate::selftest::{Books, Verdict};
+    let mut c = ctl(Config::default());
+    c.start_selftest(None).unwrap();
+    assert!(c.selftest_running());
+    let open = Books { counts: 0, indexes: 0, ms: 10, running: true, last_index: None, latency_cycles: 0 };
+    c.selftest_books(&open);
+    assert!(c.selftest_running(), "nothing decided 10 ms in");
+    c.selftest_books(&Books { running: false, ..open });
+    assert!(!c.selftest_running(), "the generator stopped: judged, and ended");
+    let verdict = c.selftest_report().map(|r| r.verdict);
+    assert!(matches!(verdict, Some(Verdict::Fail(_))), "no rest was seen: {verdict:?}");
+}
