@@ -41,6 +41,13 @@ const VALID: u32 = 1 << 4;
 /// MPU_RASR: AP = 110, read-only (Table 4-47), instructions allowed (XN
 /// clear), ENABLE; SIZE is added per region (2^(SIZE+1) bytes, §4.5.5).
 const READ_ONLY: u32 = 0b110 << 24 | 1;
+/// MPU_RASR's TEX, C, B as the default memory map gives each region
+/// (Table 4-45; the default memory map, ARM DUI 0553A §2.2): SRAM "Normal, write-back, write-allocate"
+/// (TEX 001, C, B), the code region at 0 "Normal, write-through" (TEX
+/// 000, C). Code is fetched from Normal memory only: the region changes
+/// the access, not the memory type.
+const SRAM_NORMAL: u32 = 0b001 << 19 | 1 << 17 | 1 << 16;
+const CODE_NORMAL: u32 = 1 << 17;
 
 /// RASR's SIZE field for a power-of-two region of `bytes`.
 const fn size_field(bytes: u32) -> u32 {
@@ -57,11 +64,11 @@ const fn size_field(bytes: u32) -> u32 {
 /// to HardFault: the handler stops every output.
 pub const MPU_PROGRAM: [Op; 7] = [
     Op::Write(MPU_RBAR, SRAM_BASE | VALID),
-    Op::Write(MPU_RASR, READ_ONLY | size_field(32 * 1024)),
+    Op::Write(MPU_RASR, READ_ONLY | SRAM_NORMAL | size_field(32 * 1024)),
     Op::Write(MPU_RBAR, (SRAM_BASE + 32 * 1024) | VALID | 1),
-    Op::Write(MPU_RASR, READ_ONLY | size_field(16 * 1024)),
+    Op::Write(MPU_RASR, READ_ONLY | SRAM_NORMAL | size_field(16 * 1024)),
     Op::Write(MPU_RBAR, VALID | 2),
-    Op::Write(MPU_RASR, READ_ONLY | size_field(64 * 1024)),
+    Op::Write(MPU_RASR, READ_ONLY | CODE_NORMAL | size_field(64 * 1024)),
     Op::Write(MPU_CTRL, CTRL_ON),
 ];
 

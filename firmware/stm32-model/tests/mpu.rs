@@ -51,3 +51,16 @@ fn what_the_firmware_writes_keeps_the_default_map() {
         assert_eq!(n.mpu.access(addr), ANY, "{addr:#x}");
     }
 }
+
+/// Every region the program enables is Normal memory, as the default map's
+/// SRAM and code regions are (Table 4-45): code is fetched from Normal
+/// memory only, and the regions change the access, not the memory type.
+#[test]
+fn the_regions_keep_the_memory_normal() {
+    let n = programmed();
+    let on: Vec<usize> = (0..8).filter(|&r| n.mpu.enabled(r)).collect();
+    assert_eq!(on, vec![0, 1, 2]);
+    for r in on {
+        assert!(n.mpu.normal(r), "region {r}: not Normal memory");
+    }
+}

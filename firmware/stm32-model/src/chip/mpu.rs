@@ -134,6 +134,23 @@ fn permissions(rasr: u32) -> Access {
     Access { read, write, fetch: read && rasr & RASR_XN == 0 }
 }
 
+impl Mpu {
+    /// Region `r`'s memory type is Normal, from its TEX, C and B (Table
+    /// 4-45): not Strongly-ordered (TEX 000, C 0, B 0) nor Device (TEX
+    /// 000 with B alone, or TEX 010 with neither). Instructions are fetched
+    /// from Normal memory.
+    pub fn normal(&self, r: usize) -> bool {
+        let rasr = self.rasr[r % REGIONS];
+        let (tex, c, b) = ((rasr >> 19) & 0b111, (rasr >> 17) & 1, (rasr >> 16) & 1);
+        !matches!((tex, c, b), (0b000, 0, _) | (0b010, 0, 0))
+    }
+
+    /// Whether region `r` is enabled.
+    pub fn enabled(&self, r: usize) -> bool {
+        self.rasr[r % REGIONS] & RASR_ENABLE != 0
+    }
+}
+
 /// RASR's SIZE field for a region of `bytes` (a power of two, 32 or more):
 /// 2^(SIZE+1) = bytes (§4.5.5).
 pub const fn size_field(bytes: u32) -> u32 {
