@@ -1,4 +1,4 @@
-//! The BLDC path on the drives the firmware can feed (issue 30): TIM10's
+//! The BLDC path on the drives the firmware can feed: TIM10's
 //! command in its real frame and resolution (`polyturn_firmware::bldcout`),
 //! held by the drive between frames, to an RC ESC with no speed loop (its
 //! speed sags under load, and it cannot brake) or a spindle driver's speed
@@ -47,7 +47,7 @@ fn on(j: Job, out: BldcOut) -> SimResult {
 }
 
 /// The spindle driver's settings on a drive that takes every tick's
-/// command exactly (the simulator before issue 30).
+/// command exactly (as the simulator once did).
 fn ideal(j: Job) -> SimResult {
     let mut sc = job(j);
     fit_drive(&mut sc, BldcOut::Pwm, 1_000, None).unwrap();
@@ -114,7 +114,7 @@ fn a_spindle_driver_at_1_khz_keeps_the_hexagons_section_within_10_um() {
     }
 }
 
-/// The cutter encoder's resolution (issue 30, item 3): an AS5047P's ABI
+/// The cutter encoder's resolution: an AS5047P's ABI
 /// output at 1 000 or 4 000 counts, a 600-line optical at 2 400, through
 /// the same 1 kHz spindle driver. The loop sees whole counts, so a
 /// coarser encoder leaves the section further from the ideal: a

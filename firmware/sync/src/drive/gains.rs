@@ -1,5 +1,5 @@
 //! The phase loop's gains, from the drive's update rate and time constant
-//! (issue 30, item 2), worked out at low priority (`Derived`).
+//! worked out at low priority (`Derived`).
 //!
 //! From the speed command to the cutter's angle the drive is a delay and a
 //! lag: the command is taken once per frame and held (a zero-order hold:
