@@ -115,3 +115,12 @@ fn a_save_fits_the_watchdog_period_over_the_whole_lsi_range() {
     let shortest = period_us(WATCHDOG_US, LSI_MAX_HZ);
     assert!(save_us * 2 < shortest, "save {save_us} µs against the watchdog's {shortest} µs at 47 kHz");
 }
+
+/// `polyturn flash`'s sector layout (`polyturn_host::flash`) is the chip
+/// model's, which is checked against RM0383 §3.3 Table 4 on its own.
+#[test]
+fn the_host_flashes_the_sectors_the_chip_model_has() {
+    for (n, kib) in polyturn_host::flash::SECTOR_KIB.iter().enumerate() {
+        assert_eq!(*kib, sector_kib(n as u32), "sector {n}");
+    }
+}

@@ -10,7 +10,7 @@ use std::path::Path;
 #[test]
 fn the_host_plans_with_the_clock_the_board_makes() {
     assert_eq!(polyturn_firmware::clocks::TIMING, Timing::FIRMWARE);
-    assert_eq!(polyturn_host::hwsim::TIMER_HZ, polyturn_firmware::clocks::CLOCKS.apb2_timer_hz());
+    assert_eq!(polyturn_bench::hwsim::TIMER_HZ, polyturn_firmware::clocks::CLOCKS.apb2_timer_hz());
     assert_eq!(polyturn_firmware::quadgen::TIMER_HZ, Timing::FIRMWARE.step_timer_hz);
 }
 
@@ -35,7 +35,7 @@ fn sources(dir: &Path, out: &mut Vec<std::path::PathBuf>) {
 fn no_source_writes_a_clock_or_a_tick_of_its_own() {
     let root = Path::new(env!("CARGO_MANIFEST_DIR"));
     let mut files = Vec::new();
-    for d in ["firmware", "host-sim", "web", "fuzz", "tests"] {
+    for d in ["firmware", "host-sim", "bench", "web", "fuzz", "tests"] {
         sources(&root.join(d), &mut files);
     }
     assert!(files.len() > 100, "the walk found the sources ({} files)", files.len());

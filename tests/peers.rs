@@ -1,5 +1,5 @@
 //! polyturn beside its peers' gearbox algorithms on one lathe trace
-//! (issue 28, `polyturn_host::peers`; docs/src/performance.md, "Beside the
+//! (issue 28, `polyturn_bench::peers`; docs/src/performance.md, "Beside the
 //! peers"). While cutting, its phase error is at most half that of every
 //! count-and-step peer (Clough42's and nanoELS as published, Didge's
 //! Bresenham without its delay), with a true encoder and a cheap one, and
@@ -8,8 +8,8 @@
 //! is no worse than any peer's. (Didge's delay generalised to every step,
 //! on this model's exact edges, cuts closer still: the page says so.)
 
+use polyturn_bench::peers::{as_published, compare, Case, Figures};
 use polyturn_host::geometry::Direction;
-use polyturn_host::peers::{as_published, compare, Case, Figures};
 use polyturn_host::sim::encoder::Disc;
 use polyturn_host::sim::Start;
 use polyturn_scenarios::*;

@@ -3,11 +3,11 @@
 //! own register programs: what a driver receives, against what the core
 //! believes and the exact target.
 
+use polyturn_bench::hwsim::scenarios::{lathe, ramp, rocking, steady, Outcome, TIMING};
+use polyturn_bench::hwsim::{driver::receive, Isr, TICK_LEN};
 use polyturn_firmware::stepgen::entries::Entry;
 use polyturn_firmware::stepgen::program::{self as prog, apply, Bus, Op};
 use polyturn_firmware::stepgen::RING_ENTRIES;
-use polyturn_host::hwsim::scenarios::{lathe, ramp, rocking, steady, Outcome, TIMING};
-use polyturn_host::hwsim::{driver::receive, Isr, TICK_LEN};
 use polyturn_stm32_model::{Mcu, NdtrReading, Params, PwmModeSwitch};
 use polyturn_sync::steps::Dir;
 use polyturn_sync::Config;

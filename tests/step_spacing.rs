@@ -5,8 +5,8 @@
 //! 1 kHz to 240 kHz (the top speed a 250 kHz `max-rate` leaves a lathe),
 //! and no reversal of DIR at a steady speed.
 
-use polyturn_host::hwsim::steady_lathe::steady_lathe;
-use polyturn_host::hwsim::Isr;
+use polyturn_bench::hwsim::steady_lathe::steady_lathe;
+use polyturn_bench::hwsim::Isr;
 use polyturn_stm32_model::Params;
 
 #[test]

@@ -1,7 +1,7 @@
 //! Jobs run on the real image the way a machinist runs them: settings saved in
 //! flash before boot, the E-stop closed, the lathe turning the encoder, ENGAGE and
 //! STOP pressed on their pins, and STEP/DIR judged at the pins by the driver model
-//! the step-output tests use (`polyturn_host::hwsim::driver`).
+//! the step-output tests use (`polyturn_bench::hwsim::driver`).
 
 pub mod bldc;
 pub mod busy;
@@ -20,8 +20,8 @@ pub mod settings;
 
 use crate::image::Image;
 use crate::machine::Machine;
+use polyturn_bench::hwsim::driver::{receive, Received};
 use polyturn_host::geometry::{Direction, Setup};
-use polyturn_host::hwsim::driver::{receive, Received};
 use polyturn_host::sim::{Scenario, Start};
 use polyturn_stm32_model::Params;
 use polyturn_sync::{Config, DriveKind, Ratio};

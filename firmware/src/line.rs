@@ -2,7 +2,7 @@
 //! an over-long line is dropped whole (and reported), never truncated into
 //! a different command. Every byte but CR and LF is kept as it came (a NUL,
 //! a byte over 127): the console answers what is not text. The fake board
-//! (`polyturn_host::fakeboard`) frames with this same code, so the two
+//! (`polyturn_bench::fakeboard`) frames with this same code, so the two
 //! cannot differ.
 
 use polyturn_sync::console::tag;

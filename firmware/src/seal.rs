@@ -43,6 +43,18 @@ pub const GPIOAEN: u32 = 1 << 0;
 pub const GPIOCEN: u32 = 1 << 2;
 pub const CRCEN: u32 = 1 << 12;
 
+/// The CRC a sealed image carries, computed in software as the host writes
+/// it: the CRC unit's algorithm (RM0383 §4.3: polynomial 0x04C11DB7, MSB
+/// first, from 0xFFFF_FFFF after CR.RESET, one whole word per write, no
+/// final XOR). The board computes it in the unit ([`verify`]); host tests
+/// check this against `polyturn_stm32_model::chip::crc`, the reading of §4.
+pub fn crc_of_words(words: impl IntoIterator<Item = u32>) -> u32 {
+    const POLY: u32 = 0x04C1_1DB7;
+    words.into_iter().fold(u32::MAX, |crc, word| {
+        (0..32).fold(crc ^ word, |c, _| if c & 0x8000_0000 != 0 { (c << 1) ^ POLY } else { c << 1 })
+    })
+}
+
 /// The clock the check runs at: the HSI, which the MCU runs from after a
 /// reset (RM0383 §6.2.2), before embassy's init switches to the PLL.
 pub const HSI_HZ: u32 = 16_000_000;

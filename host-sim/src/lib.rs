@@ -4,13 +4,9 @@
 
 pub mod cli;
 pub mod compensate;
-#[cfg(any(test, feature = "fakes"))]
-pub mod fakeboard;
 pub mod flash;
 pub mod geometry;
-pub mod hwsim;
 pub mod noncircular;
-pub mod peers;
 pub mod planner;
 pub mod round;
 pub mod sim;

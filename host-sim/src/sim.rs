@@ -16,7 +16,7 @@ mod stepper;
 
 pub use cut::CutRecorder;
 pub use run::run;
-pub(crate) use run::start_edges;
+pub use run::start_edges;
 
 use crate::geometry::Setup;
 use lathe::LatheProfile;

@@ -1,9 +1,9 @@
 //! The fake serial port the page's device panel is tested against: the
 //! real sync core's console and controller behind the firmware's framing
-//! (`polyturn_host::fakeboard`), time passing on a machine model between
+//! (`polyturn_bench::fakeboard`), time passing on a machine model between
 //! commands and while `watch` streams.
 
-use polyturn_host::fakeboard::{ticks_in_ms, FakeDevice, Machine};
+use polyturn_bench::fakeboard::{ticks_in_ms, FakeDevice, Machine};
 use std::io::Write;
 use wasm_bindgen::prelude::*;
 

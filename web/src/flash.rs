@@ -1,11 +1,11 @@
 //! Flashing from the page: the image checked and planned by the host
 //! library (`flash::image`, `flash::plan`, the same rules as `polyturn
 //! flash`), and the fake ROM bootloader the page's WebUSB layer is tested
-//! against (`flash::fake`, the one `polyturn flash`'s DfuSe is tested
+//! against (`polyturn_bench::flash::fake`, the one `polyturn flash`'s DfuSe is tested
 //! against).
 
 use dfu_core::DfuIo;
-use polyturn_host::flash::fake::{FakeRom, Faults};
+use polyturn_bench::flash::fake::{FakeRom, Faults};
 use polyturn_host::flash::plan::plan_for_web;
 use polyturn_host::flash::{image, Refusal};
 use std::path::Path;
@@ -61,7 +61,7 @@ impl FakeDfu {
 
     /// The alternate setting's name, as WebUSB's `interfaceName`.
     pub fn interface(&self) -> String {
-        polyturn_host::flash::fake::INTERFACE.into()
+        polyturn_bench::flash::fake::INTERFACE.into()
     }
 
     /// The configuration descriptor, as a standard GET_DESCRIPTOR reads it.
@@ -94,7 +94,7 @@ impl FakeDfu {
 
     /// A valid polyturn image of `len` bytes (the host's test kit's), to flash.
     pub fn sample_image(len: usize) -> Vec<u8> {
-        polyturn_host::flash::testkit::good(len)
+        polyturn_bench::flash::testkit::good(len)
     }
 
     /// Loads flash as if an earlier image were there.
@@ -106,7 +106,7 @@ impl FakeDfu {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use polyturn_host::flash::testkit::good;
+    use polyturn_bench::flash::testkit::good;
 
     #[test]
     fn an_image_is_planned_as_polyturn_flash_plans_it() {

@@ -105,9 +105,9 @@ fn step(what: &str, done: usize, of: usize, last: &mut usize) -> Option<String> 
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::flash::fake::{FakeRom, Faults};
     use crate::flash::image::{from_bytes, Format};
-    use crate::flash::testkit::good;
+    use polyturn_bench::flash::fake::{FakeRom, Faults};
+    use polyturn_bench::flash::testkit::good;
 
     fn quick() -> Limits {
         Limits { step: Duration::from_millis(300), poll_max: Duration::from_millis(2) }

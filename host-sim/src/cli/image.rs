@@ -107,8 +107,8 @@ fn shown(path: &Path) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::flash::testkit::{elf, good, unsealed};
     use crate::flash::FLASH_BASE;
+    use polyturn_bench::flash::testkit::{elf, good, unsealed};
 
     fn dir(tag: &str) -> PathBuf {
         let d = std::env::temp_dir().join(format!("polyturn-image-{tag}-{}", std::process::id()));

@@ -3,11 +3,11 @@
 
 use super::dfuse::io as dfuse_io;
 use super::dfuse::{flash, FlashError, Left, Limits, Report};
-use super::fake::{Event, FakeRom, Faults, INTERFACE};
 use super::image::{from_bytes, Format};
-use super::testkit::good;
 use super::Image;
 use super::{sector_start, APP_END, FLASH_BASE};
+use polyturn_bench::flash::fake::{Event, FakeRom, Faults, INTERFACE};
+use polyturn_bench::flash::testkit::good;
 use std::time::{Duration, Instant};
 
 const SETTINGS: u32 = APP_END;

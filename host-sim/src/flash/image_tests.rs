@@ -1,9 +1,9 @@
 //! The image checks: what is flashed, and every way a file is refused.
 
 use super::image::{format_of, from_bytes, load, read_bounded, Format, FILE_MAX_BYTES};
-use super::testkit::{elf, elf_for, good, image_with, record, unsealed, RESET, SP};
 use super::Refusal;
 use super::{hex, FLASH_BASE};
+use polyturn_bench::flash::testkit::{elf, elf_for, good, image_with, record, unsealed, RESET, SP};
 use std::path::Path;
 
 fn refused(bytes: &[u8], format: Format, any_image: bool) -> Refusal {

@@ -8,7 +8,7 @@
 //! `polyturn image` makes it), else a synthetic one from the test kit.
 
 use super::image::{from_bytes, Format};
-use super::testkit::good;
+use polyturn_bench::flash::testkit::good;
 use super::{hex, Image, VECTOR_TABLE_BYTES};
 use polyturn_firmware::regs::Bus;
 use polyturn_firmware::seal::{self, CRC_BASE, FLASH_BASE, RCC_AHB1ENR, SEAL_BYTES};
@@ -148,4 +148,17 @@ fn the_seal_lies_where_the_firmwares_link_says_its_image_ends() {
     let end = sym("__sidata") + (sym("__edata") - sym("__sdata"));
     let image = from_bytes(&file, Format::Elf, false).unwrap();
     assert_eq!(FLASH_BASE + image.bytes.len() as u32 - SEAL_BYTES, end);
+}
+
+/// The CRC the host seals with is the CRC unit's (RM0383 §4.3) as the
+/// model reads it, word for word; and the value ST's CRC examples give for
+/// one word, 0x12345678 → 0xDF8A8A2B.
+#[test]
+fn the_host_seals_with_the_crc_units_algorithm() {
+    use polyturn_stm32_model::chip::crc::of_words;
+    assert_eq!(polyturn_firmware::seal::crc_of_words([0x1234_5678]), 0xDF8A_8A2B);
+    assert_eq!(of_words([0x1234_5678]), 0xDF8A_8A2B);
+    proptest!(ProptestConfig::with_cases(256), |(words in proptest::collection::vec(any::<u32>(), 0..64))| {
+        prop_assert_eq!(polyturn_firmware::seal::crc_of_words(words.iter().copied()), of_words(words.iter().copied()));
+    });
 }

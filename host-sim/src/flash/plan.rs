@@ -80,9 +80,9 @@ pub fn plan_for_web(interface: &str, functional: &[u8], image: &Image) -> Result
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::flash::fake::INTERFACE;
     use crate::flash::image::Format;
-    use crate::flash::testkit::good;
+    use polyturn_bench::flash::fake::INTERFACE;
+    use polyturn_bench::flash::testkit::good;
 
     #[test]
     fn the_web_plan_pads_to_whole_transfers_and_erases_the_pages_the_image_covers() {
@@ -106,7 +106,7 @@ mod tests {
     /// The fake ROM's functional descriptor, the last 9 bytes of its
     /// configuration descriptor.
     fn rom_descriptor() -> [u8; 9] {
-        let config = crate::flash::fake::FakeRom::new(Default::default()).configuration_descriptor();
+        let config = polyturn_bench::flash::fake::FakeRom::new(Default::default()).configuration_descriptor();
         config[config.len() - 9..].try_into().unwrap()
     }
 

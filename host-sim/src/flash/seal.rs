@@ -1,13 +1,13 @@
 //! The seal at the end of a release image (`polyturn_firmware::seal`, which
 //! the firmware checks at boot): the bytes from 0x08000000 padded with
 //! 0xFF to a whole word, then "PTIM", the length sealed and the CRC of the
-//! sealed words as the F411's CRC unit computes it (RM0383 §4; the model,
-//! `polyturn_stm32_model::chip::crc`, is the reading). An image cut short,
+//! sealed words as the F411's CRC unit computes it (RM0383 §4;
+//! `polyturn_firmware::seal::crc_of_words`, checked against the model of
+//! the unit in the tests). An image cut short,
 //! grown, or with any byte changed no longer ends in a seal that fits it.
 
 use super::Refusal;
-use polyturn_firmware::seal::{MAGIC, SEAL_BYTES};
-use polyturn_stm32_model::chip::crc;
+use polyturn_firmware::seal::{crc_of_words, MAGIC, SEAL_BYTES};
 
 const SEAL: usize = SEAL_BYTES as usize;
 
@@ -26,7 +26,7 @@ pub struct Seal {
 /// The CRC unit's result over `words` (whole little-endian words, as the
 /// CPU reads them from flash and writes them to CRC_DR).
 pub fn crc_of(words: &[u8]) -> u32 {
-    crc::of_words(words.chunks_exact(4).map(|w| u32::from_le_bytes([w[0], w[1], w[2], w[3]])))
+    crc_of_words(words.chunks_exact(4).map(|w| u32::from_le_bytes([w[0], w[1], w[2], w[3]])))
 }
 
 /// Pads `bytes` to a whole word with erased flash (0xFF) and appends the

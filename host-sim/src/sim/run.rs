@@ -52,7 +52,7 @@ pub fn run(sc: &Scenario) -> Result<SimResult, String> {
 
 /// The board's edge times, as the firmware starts them: the first tick's
 /// instant on the encoder's stamp, the count 0 in state (A,B) = (0,0).
-pub(crate) fn start_edges(ctl: &mut Controller, sc: &Scenario) {
+pub fn start_edges(ctl: &mut Controller, sc: &Scenario) {
     let per_tick = super::encoder::STAMP_HZ as u32 / sc.tick_hz.max(1);
     let whole = per_tick * sc.tick_hz == super::encoder::STAMP_HZ as u32;
     if sc.edge_timing && whole {

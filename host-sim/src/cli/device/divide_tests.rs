@@ -3,7 +3,7 @@
 
 use super::divide::{divide, large, Look, Readout};
 use super::tests::{session, FakeDevice};
-use crate::fakeboard::Machine;
+use polyturn_bench::fakeboard::Machine;
 use std::io::Write;
 use std::sync::atomic::{AtomicBool, Ordering};
 

@@ -4,7 +4,7 @@
 
 use super::checks::selftest;
 use super::tests::{session, FakeDevice};
-use crate::fakeboard::{ticks_in_ms, Machine};
+use polyturn_bench::fakeboard::{ticks_in_ms, Machine};
 
 /// A board whose lathe input turns at `counts_per_s` (0: at rest), 1 s of
 /// it passing between lines.

@@ -5,8 +5,8 @@
 use super::*;
 use crate::cli::device::prompt::Scripted;
 use crate::cli::device::tests::{session, FakeDevice};
-use crate::fakeboard::{ticks_in_ms, Machine};
 use clap::Parser;
+use polyturn_bench::fakeboard::{ticks_in_ms, Machine};
 use polyturn_sync::Config;
 
 #[derive(Parser)]

@@ -4,7 +4,7 @@
 
 use super::session::{check_command, Session, COMMAND_MAX};
 use super::{upload, watch};
-pub(super) use crate::fakeboard::FakeDevice;
+pub(super) use polyturn_bench::fakeboard::FakeDevice;
 use std::io::{ErrorKind, Read, Write};
 use std::time::Duration;
 
@@ -92,7 +92,7 @@ fn the_board_refuses_a_table_its_x_axis_cannot_follow_with_the_figures() {
 fn a_table_not_saved_now_says_why() {
     let table = octagon_table();
     let mut dev = FakeDevice::new();
-    dev.machine = Some(crate::fakeboard::Machine::new(crate::fakeboard::ticks_in_ms(10)));
+    dev.machine = Some(polyturn_bench::fakeboard::Machine::new(polyturn_bench::fakeboard::ticks_in_ms(10)));
     let mut s = session(dev);
     s.ask("engage").unwrap();
     let e = upload(&mut s, &table).unwrap_err().0;

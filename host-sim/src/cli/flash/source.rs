@@ -70,7 +70,7 @@ impl Source {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::flash::testkit::good;
+    use polyturn_bench::flash::testkit::good;
     use std::sync::LazyLock;
 
     static BYTES: LazyLock<Vec<u8>> = LazyLock::new(|| good(10_000 - 12));

@@ -3,7 +3,7 @@
 //! board, what every page hears, and the board going away.
 
 use super::*;
-use crate::fakeboard::FakeDevice;
+use polyturn_bench::fakeboard::FakeDevice;
 use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 
 /// The fake board's two ends, and a switch that makes it go away.

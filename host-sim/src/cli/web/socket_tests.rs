@@ -6,7 +6,7 @@ use super::super::access::Access;
 use super::super::relay::{Ends, Opener, Relay};
 use super::super::server::{start, Limits};
 use super::super::site::{Page, Site};
-use crate::fakeboard::FakeDevice;
+use polyturn_bench::fakeboard::FakeDevice;
 use std::io::{Read, Write};
 use std::net::{TcpListener, TcpStream};
 use std::sync::atomic::AtomicUsize;

@@ -6,10 +6,10 @@
 //! programming only clears bits (NOR flash), so a write over unerased
 //! bytes ANDs into them as on the chip. Faults can be injected.
 
-use super::{sector_start, FLASH_BASE, SECTOR_KIB};
 use dfu_core::functional_descriptor::FunctionalDescriptor;
 use dfu_core::memory_layout::MemoryLayout;
 use dfu_core::{DfuProtocol, State, Status};
+use polyturn_host::flash::{sector_start, FLASH_BASE, SECTOR_KIB};
 use std::cell::RefCell;
 
 pub const INTERFACE: &str = "@Internal Flash  /0x08000000/04*016Kg,01*064Kg,03*128Kg";

@@ -5,8 +5,8 @@
 //! time (interpolated within the µs). Each leaves its step times.
 
 use super::{clough42::Clough42, didge::Didge, nanoels::NanoEls, Case};
-use crate::sim::encoder::Encoder;
-use crate::sim::lathe::Lathe;
+use polyturn_host::sim::encoder::Encoder;
+use polyturn_host::sim::lathe::Lathe;
 use polyturn_sync::steps::{pipe::LEAD_TICKS, Dir, StepPlan};
 use polyturn_sync::{Controller, State, TickInput, Timing};
 use std::collections::VecDeque;
@@ -49,7 +49,7 @@ impl Polyturn {
         let timing = Timing::FIRMWARE;
         let mut ctl = Controller::new(case.sc.core, timing);
         ctl.start(0, 0, 0);
-        crate::sim::start_edges(&mut ctl, &case.sc);
+        polyturn_host::sim::start_edges(&mut ctl, &case.sc);
         ctl.engage().map_err(|r| r.describe().to_string())?;
         Ok(Polyturn { ctl, flight: VecDeque::new(), emitted: 0 })
     }

@@ -10,7 +10,7 @@ use polyturn_firmware::quadgen::{bench, TIMER_HZ};
 use polyturn_sync::{Controller, TickInput};
 use std::f64::consts::TAU;
 
-use crate::sim::lathe::{Lathe, LatheProfile, Leg};
+use polyturn_host::sim::lathe::{Lathe, LatheProfile, Leg};
 
 /// The control tick's rate (the firmware's).
 pub const TICK_HZ: u32 = polyturn_sync::Timing::FIRMWARE.tick_hz;

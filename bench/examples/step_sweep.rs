@@ -1,9 +1,9 @@
 //! The sweep of the step output on the peripheral model, as a
-//! Markdown table: `cargo run --release -p polyturn-host --example step_sweep`
+//! Markdown table: `cargo run --release -p polyturn-bench --example step_sweep`
 //! (`-- --all` for four interrupt-latency ranges instead of one).
-use polyturn_host::hwsim::scenarios::{lathe, ramp, rocking, steady, Outcome, TIMING};
-use polyturn_host::hwsim::steady_lathe::steady_lathe;
-use polyturn_host::hwsim::Isr;
+use polyturn_bench::hwsim::scenarios::{lathe, ramp, rocking, steady, Outcome, TIMING};
+use polyturn_bench::hwsim::steady_lathe::steady_lathe;
+use polyturn_bench::hwsim::Isr;
 use polyturn_stm32_model::Params;
 use polyturn_sync::Config;
 

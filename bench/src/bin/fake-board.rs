@@ -1,10 +1,11 @@
-//! The fake board (`polyturn_host::fakeboard`) on stdin and stdout: each
+//! The fake board (`polyturn_bench::fakeboard`) on stdin and stdout: each
 //! read of stdin is one write to the board (so a writer's pauses split it
 //! as they would split writes to a port), its replies go to stdout as they
 //! come. `.ci/emu-device` sends the firmware's hostile lines through this
-//! and through the emulated board and compares the two.
-//! `cargo run --release -p polyturn-host --features fakes --example fake_console`
-use polyturn_host::fakeboard::FakeDevice;
+//! and through the emulated board and compares the two. By hand:
+//! `cargo run -p polyturn-bench --bin fake-board`, then type console
+//! lines (`status`, `set ratio 11/3`, `#7 get ratio`).
+use polyturn_bench::fakeboard::FakeDevice;
 use std::io::{Read, Write};
 
 fn main() -> std::io::Result<()> {

@@ -2,10 +2,10 @@
 //! meaning of the block number).
 
 use super::{Event, FakeError, FakeRom, Inner, Pending, FLASH_END, TRANSFER};
-use crate::flash::FLASH_BASE;
 use dfu_core::functional_descriptor::FunctionalDescriptor;
 use dfu_core::memory_layout::MemoryLayout;
 use dfu_core::{DfuIo, DfuProtocol, State, Status};
+use polyturn_host::flash::FLASH_BASE;
 
 const DNLOAD: u8 = 1;
 const UPLOAD: u8 = 2;

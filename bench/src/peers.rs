@@ -18,8 +18,8 @@ mod measure;
 pub mod nanoels;
 pub mod trace;
 
-use crate::sim::lathe::{LatheProfile, Leg};
-use crate::sim::Scenario;
+use polyturn_host::sim::lathe::{LatheProfile, Leg};
+use polyturn_host::sim::Scenario;
 
 /// The controllers, in `trace::Trace::steps`'s order.
 pub const NAMES: [&str; 6] =

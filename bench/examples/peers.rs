@@ -1,12 +1,12 @@
 //! polyturn beside its peers' gearbox algorithms on one lathe trace per
-//! scenario (`polyturn_host::peers`):
-//!   cargo run --release -p polyturn-host --example peers [cheap]
+//! scenario (`polyturn_bench::peers`):
+//!   cargo run --release -p polyturn-bench --example peers [cheap]
 //! Phase error in steps (each controller's constant phase taken out),
 //! and the largest change of one step interval to the next while cutting;
 //! polyturn as set by default and with `start-rate 3200`.
 
+use polyturn_bench::peers::{compare, Case, Figures};
 use polyturn_host::geometry::{Direction, Setup};
-use polyturn_host::peers::{compare, Case, Figures};
 use polyturn_host::sim::encoder::Disc;
 use polyturn_host::sim::{Scenario, Start};
 use polyturn_sync::{DriveKind, Ratio};

@@ -2,7 +2,7 @@
 //! vector table that starts, code-like bytes, a marker, the seal; and a
 //! minimal ELF32 (header and program headers only, as the checks read them).
 
-use super::{seal, FLASH_BASE};
+use polyturn_host::flash::{seal, FLASH_BASE};
 
 pub const GOOD_MARKER: &[u8] = b"polyturn-image:stm32f411ce:0.1.0\0";
 /// Reset handler at 0x08000198 (Thumb: odd), where cortex-m-rt puts it.
