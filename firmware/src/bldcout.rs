@@ -26,7 +26,7 @@
 //! guarantees PWM mode without the preload only in one-pulse mode, which
 //! TIM10 does not have (TIM10_CR1 has no OPM, §14.5.1). `program` and the
 //! stop are register writes as data; the model runs them
-//! (`tests/bldcout.rs` in the model crate), and [`Gate`] orders the tick's
+//! (`tests/bldcout.rs` in the model crate), and [`Interlock`] orders the tick's
 //! command against a stop that pre-empts it.
 //!
 //! The sense: every interface drives the cutter only its wired way (the
@@ -172,8 +172,8 @@ pub const CCMR1_STOPPED: u32 = ccmr1::OC1M.val(ccmr1::PWM1);
 /// update: one whole pulse a frame).
 pub const CCMR1_LIVE: u32 = CCMR1_STOPPED | ccmr1::OC1PE.mask();
 
-mod gate;
-pub use gate::Gate;
+mod interlock;
+pub use interlock::Interlock;
 
 #[cfg(test)]
 mod tests;

@@ -164,10 +164,8 @@ pub const PINS: &[Pin] = &[
     pin("KEY_PHASE_MINUS", "PA15", "key input, pull-up, to GND when pressed", true, Mode::Input, Pull::Up),
 ];
 
-/// Control tick rate: 20 kHz (50 µs), the floor of the design. The tick
-/// and its step plan must fit its period (4 800 cycles) on the emulator's
-/// bound of the cycles the STM32F411 spends (`emu`).
-pub const TICK_HZ: u32 = 20_000;
+/// Control tick rate: 20 kHz (50 µs), from the clock tree (`clocks::TIMING`).
+pub const TICK_HZ: u32 = crate::clocks::TIMING.tick_hz;
 /// System clock from the 25 MHz HSE crystal: 96 MHz, so USB gets exactly
 /// 48 MHz from the same PLL. Every timer runs at 96 MHz (`clocks`).
 pub const SYSCLK_HZ: u32 = crate::clocks::CLOCKS.sysclk_hz();

@@ -65,8 +65,11 @@ impl Clocks {
     }
 }
 
-/// The tick and the step timer's clock, from this tree.
-pub const TIMING: Timing = Timing { tick_hz: crate::board::TICK_HZ, step_timer_hz: CLOCKS.apb2_timer_hz() };
+/// The tick and the step timer's clock, from this tree. The control tick
+/// runs at 20 kHz (50 µs), the floor of the design: the tick and its step
+/// plan must fit its period (4 800 cycles) on the emulator's bound of the
+/// cycles the STM32F411 spends (`emu`).
+pub const TIMING: Timing = Timing { tick_hz: 20_000, step_timer_hz: CLOCKS.apb2_timer_hz() };
 
 // One timing: what the host plans with is what the board makes. TIM1 (the
 // steps, APB2) and TIM2/TIM3 (APB1) must share the clock, since the step

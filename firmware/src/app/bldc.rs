@@ -1,7 +1,7 @@
 //! The BLDC drive's output (`polyturn_firmware::bldcout`): TIM10_CH1 on
 //! PB8, the sense on BLDC_DIR (PB1). The register words are host-tested
 //! data, applied verbatim; the stop's CCR1 and the order of the tick's
-//! command against a stop are kept in a `bldcout::Gate` (host-tested),
+//! command against a stop are kept in a `bldcout::Interlock` (host-tested),
 //! where the E-stop interrupt and the panic handler reach them without the
 //! settings.
 
@@ -9,11 +9,11 @@ use embassy_stm32::gpio::{Level, Output, Speed};
 use embassy_stm32::pac;
 use embassy_stm32::peripherals as P;
 use embassy_stm32::Peri;
-use polyturn_firmware::bldcout::{Gate, Out};
+use polyturn_firmware::bldcout::{Interlock, Out};
 use polyturn_sync::{Config, Controller, Sense};
 
 /// Until `set_up` TIM10 is not clocked and a stop's words do nothing.
-static GATE: Gate = Gate::new();
+static INTERLOCK: Interlock = Interlock::new();
 const DIR_PIN: usize = 1;
 
 /// TIM10 clocked, PB8 on it (AF3: PB8 also maps to TIM4, the cutter's
@@ -35,9 +35,9 @@ pub fn out_for(core: &Controller) -> Out {
     Out::new(core.config(), core.derived().limits.max_velocity)
 }
 
-/// (Re)programs TIM10 for `out` (`Gate::set_up`).
+/// (Re)programs TIM10 for `out` (`Interlock::set_up`).
 pub fn set_up(out: &Out) {
-    GATE.set_up(out, &mut super::drivers::Mmio);
+    INTERLOCK.set_up(out, &mut super::mmio::Mmio);
 }
 
 /// BLDC_DIR: low when the cutter turns the way the core counts up (`dir
@@ -50,25 +50,25 @@ pub fn set_sense(c: &Config) {
 /// Stops so far, read at the tick's entry for `command`.
 #[inline]
 pub fn stops() -> u32 {
-    GATE.stops()
+    INTERLOCK.stops()
 }
 
-/// The tick's command, `ccr`, into the preload (`Gate::command`: not
+/// The tick's command, `ccr`, into the preload (`Interlock::command`: not
 /// written if a stop came since the tick began, the stop written again if
 /// one lands around its word).
 #[inline]
 pub fn command(ccr: u32, since: u32) {
-    GATE.command(ccr, since, &mut super::drivers::Mmio);
+    INTERLOCK.command(ccr, since, &mut super::mmio::Mmio);
 }
 
-/// The tick's halt (an immediate fault): `Gate::halt`.
+/// The tick's halt (an immediate fault): `Interlock::halt`.
 #[inline]
 pub fn halt() {
-    GATE.halt(&mut super::drivers::Mmio);
+    INTERLOCK.halt(&mut super::mmio::Mmio);
 }
 
 /// The stop at once, from any context (E-stop, alarm, fault, panic):
 /// `bldcout::stop_ops`.
 pub fn stop() {
-    GATE.stop(&mut super::drivers::Mmio);
+    INTERLOCK.stop(&mut super::mmio::Mmio);
 }

@@ -3,6 +3,7 @@
 //! lathe's edge times itself). Only register writes live here; their values
 //! come from host-tested code.
 
+use super::mmio::Mmio;
 use embassy_stm32::gpio::{Level, Output, OutputType, Speed};
 use embassy_stm32::pac;
 use embassy_stm32::pac::timer::vals::FilterValue;
@@ -156,30 +157,6 @@ pub fn cutter_encoder(tim: Peri<'static, P::TIM4>, a: Peri<'static, P::PB6>, b: 
     let cfg = embassy_stm32::timer::qei::Config { mode: QeiMode::Mode3, ..Default::default() };
     core::mem::forget(Qei::new(tim, a, b, cfg));
     encoder_filter(pac::TIM4);
-}
-
-/// The step output's registers and RAM, as the MCU sees them: the only
-/// place the `stepgen` programs touch hardware.
-pub struct Mmio;
-
-impl Bus for Mmio {
-    fn write(&mut self, addr: u32, value: u32) {
-        // SAFETY: the register programs (`stepgen::program`, `flashprog`,
-        // `quadgen::program`, `edgetime`, `bldcout`, `seal`) name only
-        // TIM1, TIM2, TIM3, TIM5, TIM9, TIM10, TIM11, DMA2, FLASH, CRC,
-        // RCC_AHB1ENR, GPIOA/GPIOC MODER and BSRR, GPIOA_IDR registers
-        // (RM0383 §2.3), DEMCR and the DWT's CTRL and CYCCNT (PM0214 §4.1), the flash's image (read) and the RING below, all
-        // word-aligned.
-        unsafe { (addr as *mut u32).write_volatile(value) }
-    }
-    fn read(&mut self, addr: u32) -> u32 {
-        // SAFETY: as for `write`.
-        unsafe { (addr as *const u32).read_volatile() }
-    }
-    fn delay(&mut self, cycles: u32) {
-        // the timers run at the CPU clock (board::SYSCLK_HZ)
-        cortex_m::asm::delay(cycles);
-    }
 }
 
 /// The STEP pulse width in timer cycles, for halts from outside the tick.

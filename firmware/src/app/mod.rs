@@ -12,6 +12,7 @@ mod dfu;
 mod drivers;
 mod heartbeat;
 mod keys;
+mod mmio;
 mod priorities;
 mod ramcode;
 mod report;

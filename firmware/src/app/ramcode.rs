@@ -42,7 +42,7 @@ pub fn map() {
     // the code read-only from here on (`MPU_PROGRAM`), with the same
     // barriers after the MPU's change (ARM DUI 0553A §4.5, "Updating an MPU
     // region")
-    let _ = polyturn_firmware::regs::apply(&MPU_PROGRAM, &mut super::drivers::Mmio);
+    let _ = polyturn_firmware::regs::apply(&MPU_PROGRAM, &mut super::mmio::Mmio);
     cortex_m::asm::dsb();
     cortex_m::asm::isb();
 }

@@ -3,7 +3,7 @@
 //! stays as reset left it, and the LEDs show `led::damaged` until the
 //! board is flashed again (BOOT0 and `polyturn flash`, docs/src/flashing.md).
 
-use super::drivers::Mmio;
+use super::mmio::Mmio;
 use polyturn_firmware::{led, seal};
 
 extern "C" {

@@ -7,7 +7,7 @@
 //! which masks TIM9's interrupt (level 3) but never the tick: the handler
 //! may take it for its whole run, and the tick waits for nothing of it.
 
-use super::drivers::Mmio;
+use super::mmio::Mmio;
 use super::tick;
 use core::cell::RefCell;
 use core::sync::atomic::{AtomicBool, Ordering};

@@ -1,7 +1,7 @@
 //! Settings in the last two 128 KiB flash sectors (6 and 7), through the
 //! host-tested power-fail-safe store.
 
-use super::drivers::Mmio;
+use super::mmio::Mmio;
 use embassy_stm32::flash::{Blocking, Flash};
 use embassy_stm32::peripherals::FLASH;
 use embassy_stm32::Peri;

@@ -7,7 +7,8 @@
 
 mod plan;
 
-use super::drivers::{self, Mmio, OutputPins, TIMER_HZ};
+use super::drivers::{self, OutputPins, TIMER_HZ};
+use super::mmio::Mmio;
 use super::{bldc, safety};
 use core::cell::RefCell;
 use core::sync::atomic::{compiler_fence, AtomicU32, Ordering};

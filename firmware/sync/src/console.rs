@@ -5,7 +5,7 @@
 
 use crate::config::{Config, ConfigError, DriveKind, Sense, NAMES};
 use crate::controller::{Controller, PreparedConfig, Refusal};
-use crate::derived::Timing;
+use crate::timing::Timing;
 use core::fmt::Write;
 
 mod checks;
@@ -296,7 +296,7 @@ fn write_reply(outcome: &Outcome, out: &mut Reply) {
         Outcome::SelfTestStarted(rpm, cpr, ms) => selftest::write_started(*rpm, *cpr, *ms, out),
         Outcome::SelfTestRefused(r) => selftest::write_refused(*r, out),
         Outcome::SelfTest(r) => selftest::write_report(r, out),
-        Outcome::Divide(s) => divide::write_readout(s, out),
+        Outcome::Divide(s) => status::angle::write_readout(s, out),
         Outcome::Dfu => {
             let _ = out.push_str(checks::DFU_REPLY);
         }

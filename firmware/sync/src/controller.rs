@@ -4,7 +4,7 @@
 
 use crate::cam::Cam;
 use crate::config::{Config, DriveKind};
-use crate::derived::{Derived, Timing};
+use crate::derived::Derived;
 use crate::drive::Bldc;
 use crate::encoder::{Extender, IndexEvent, IndexTracker};
 use crate::estimator::Estimator;
@@ -15,6 +15,7 @@ use crate::state::{Fault, State};
 use crate::steps::pipe::StepPipe;
 use crate::steps::StepBook;
 use crate::steps::StepPlan;
+use crate::timing::Timing;
 
 /// What the hardware reports at the start of a tick.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]

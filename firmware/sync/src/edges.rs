@@ -56,6 +56,10 @@ impl EdgeClock {
     }
 }
 
+/// Q8 stamps in 24 bits: the wrap of a tick's instant and of an edge's
+/// stamp, which the timer and the track both mask with.
+const WRAP_Q8: u32 = 0xFF_FFFF;
+
 /// The edge's place in count space, in half counts (2·boundary), from the
 /// 64-bit count the capture latched.
 #[inline]

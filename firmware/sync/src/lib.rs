@@ -29,9 +29,10 @@ pub mod ratio;
 pub mod selftest;
 pub mod state;
 pub mod steps;
+pub mod timing;
 
 pub use config::{Config, ConfigError, DriveKind, Sense};
 pub use controller::{Controller, Refusal, Stall, Status, TickInput, TickOutput, XAxis};
-pub use derived::Timing;
 pub use ratio::{Ratio, RatioError};
 pub use state::{Fault, State};
+pub use timing::Timing;

@@ -1,7 +1,7 @@
 //! `polyturn compensate`: plan the X axis that makes the flats straight.
 
 use super::errors::{CliError, CliResult};
-use super::geometry::SetupArgs;
+use super::setup_args::SetupArgs;
 use super::values::{rpm, within};
 use crate::compensate::{plan, section, Limit};
 use crate::geometry::Section;

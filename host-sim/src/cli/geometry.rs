@@ -1,9 +1,9 @@
 //! `polyturn geometry`: what polygon a setup cuts.
 
-use super::errors::{CliError, CliResult};
+use super::errors::CliResult;
 use super::measure::{across_corners, calipers};
 use super::output::Outputs;
-pub use super::setup_args::SetupArgs;
+use super::setup_args::SetupArgs;
 use crate::geometry::{svg, Section, SectionSummary, Setup};
 use serde_json::json;
 use std::path::PathBuf;
@@ -53,24 +53,6 @@ pub fn run(a: GeometryArgs) -> CliResult<String> {
     let written = files.write()?;
     let text = if a.json { report(&setup, &section).to_string() } else { human(&setup, &section.summary()) };
     Ok(written.report(text))
-}
-
-/// A circle has N "flats" too, each bulging R(1 - cos(pi/N)) from its
-/// chord. A section whose flats bulge more than half that is round to the
-/// eye and the finger: not reported as a polygon (else a 0.002 mm
-/// cutter's shaved circle would come out as 6 sharp sides).
-pub const ROUND_FRACTION: f64 = 0.5;
-
-pub(super) fn not_round(s: &SectionSummary) -> CliResult<()> {
-    let circle = s.circumscribed_radius * (1.0 - (std::f64::consts::PI / s.sides as f64).cos());
-    let fraction = s.flat_deviation.abs() / circle;
-    if fraction > ROUND_FRACTION {
-        return Err(CliError::flag(
-            "cutter-radius",
-            format!("is too small for this depth: the section is nearly round (its flats bulge {:.0} % as much as a circle's); a larger cutter gives flatter sides", fraction * 100.0),
-        ));
-    }
-    Ok(())
 }
 
 /// The report for a machinist: the stock as calipers read it (its

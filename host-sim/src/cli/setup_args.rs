@@ -1,12 +1,10 @@
 //! The six variables of a setup as flags, shared by `geometry`,
-//! `simulate` and `compensate` (moved out of `geometry.rs` when the stock
-//! and the cut took their machinist's alternatives).
+//! `simulate` and `compensate`, and the check that they cut a polygon.
 
 use super::errors::{CliError, CliResult};
-use super::geometry::not_round;
 use super::measure::{Cut, Stock};
 use super::values::{direction, length_mm, ratio, setting};
-use crate::geometry::{Direction, Section, Setup};
+use crate::geometry::{Direction, Section, SectionSummary, Setup};
 use polyturn_sync::config::table::EDGES;
 use polyturn_sync::Ratio;
 
@@ -54,4 +52,22 @@ impl SetupArgs {
         not_round(&section.summary())?;
         Ok((setup, section))
     }
+}
+
+/// A circle has N "flats" too, each bulging R(1 - cos(pi/N)) from its
+/// chord. A section whose flats bulge more than half that is round to the
+/// eye and the finger: not reported as a polygon (else a 0.002 mm
+/// cutter's shaved circle would come out as 6 sharp sides).
+pub const ROUND_FRACTION: f64 = 0.5;
+
+fn not_round(s: &SectionSummary) -> CliResult<()> {
+    let circle = s.circumscribed_radius * (1.0 - (std::f64::consts::PI / s.sides as f64).cos());
+    let fraction = s.flat_deviation.abs() / circle;
+    if fraction > ROUND_FRACTION {
+        return Err(CliError::flag(
+            "cutter-radius",
+            format!("is too small for this depth: the section is nearly round (its flats bulge {:.0} % as much as a circle's); a larger cutter gives flatter sides", fraction * 100.0),
+        ));
+    }
+    Ok(())
 }

@@ -7,8 +7,8 @@ mod refused;
 
 use super::cutters::{refuse_others, For};
 use super::errors::{CliError, CliResult};
-use super::geometry::SetupArgs;
 use super::output::Outputs;
+use super::setup_args::SetupArgs;
 use super::values::{bldc_out, drive, out_file, pwm_hz, rpm, setting, whole, whole32, within};
 use crate::geometry::{Direction, Setup};
 use crate::sim::{report, run, Scenario, Start};

@@ -31,7 +31,8 @@
 //!   halts.
 
 use super::{heard_of_halts, Io, IO, NDTR_LEAD, STEPS_LATE};
-use crate::app::drivers::{self, Mmio};
+use crate::app::drivers;
+use crate::app::mmio::Mmio;
 use core::sync::atomic::{AtomicU32, AtomicU8, Ordering};
 use cortex_m::interrupt::CriticalSection;
 use embassy_stm32::interrupt;

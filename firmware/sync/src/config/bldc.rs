@@ -3,8 +3,9 @@
 //! time constant. The phase loop's gains come from both (`BldcGains`); the
 //! register words are the firmware's (`polyturn_firmware::bldcout`).
 
+use super::table::{BLDC_OUT, PWM_HZ};
 use super::{range, ConfigError};
-use crate::derived::Timing;
+use crate::timing::Timing;
 
 /// What the BLDC drive is fed.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -25,7 +26,6 @@ pub enum BldcOut {
 /// which `polyturn_firmware::clocks` makes exactly this.
 pub const TIMER_HZ: u32 = Timing::FIRMWARE.step_timer_hz;
 
-pub const OUT: &str = "esc50, esc400, oneshot125 or pwm";
 pub const RATE: &str = "does not fit with the others: the drive must take a command at least once per cutter revolution at max-rpm (max-rpm x ratio / 60 <= 50 Hz for esc50, 400 for esc400, 2000 for oneshot125, pwm-hz for pwm)";
 
 impl BldcOut {
@@ -42,7 +42,7 @@ impl BldcOut {
 
     pub fn parse(v: &str) -> Result<BldcOut, ConfigError> {
         let v = v.trim();
-        BldcOut::ALL.into_iter().find(|o| o.name() == v).ok_or(range("bldc-out", OUT))
+        BldcOut::ALL.into_iter().find(|o| o.name() == v).ok_or(range("bldc-out", BLDC_OUT))
     }
 
     /// The saved byte (`codec::ext`).
@@ -74,7 +74,7 @@ pub fn pwm_prescaler(hz: u32) -> u32 {
 /// `pwm-hz` alone: in range, and a period of whole timer counts (the timer
 /// cannot make any other frequency).
 pub fn check_pwm_hz(hz: u32) -> Result<(), ConfigError> {
-    let span = super::table::PWM_HZ;
+    let span = PWM_HZ;
     if !span.contains(hz) || !TIMER_HZ.is_multiple_of((pwm_prescaler(hz) + 1) * hz) {
         return Err(span.error());
     }

@@ -4,7 +4,7 @@
 //! and the host's flags, the guided setup's prompts and `--help` take the
 //! same range from this table, so none can take a value the board refuses.
 
-use super::{bldc, ConfigError};
+use super::ConfigError;
 
 /// A number setting's range and the console's words for it.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -90,6 +90,7 @@ pub const DIR: &str = "same or opposite";
 pub const PHASE: &str = "-360..=360 degrees of the cutter";
 pub const DRIVE: &str = "stepper, bldc or none";
 pub const ENABLE: &str = "high or low (the active level)";
+pub const BLDC_OUT: &str = "esc50, esc400, oneshot125 or pwm";
 
 /// One setting: its name, and its range if it is a number.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -127,7 +128,7 @@ pub const SETTINGS: [Setting; 20] = [
     number(CUTTER_CPR),
     number(LOST_STEPS),
     number(START_RATE),
-    words("bldc-out", bldc::OUT),
+    words("bldc-out", BLDC_OUT),
     number(PWM_HZ),
     number(BLDC_TAU),
 ];
@@ -151,7 +152,7 @@ pub fn setting(name: &str) -> Option<&'static Setting> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::config::Config;
+    use crate::config::{bldc, Config};
     use std::format;
     use std::string::ToString;
 

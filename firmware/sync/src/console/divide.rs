@@ -6,11 +6,9 @@
 //! within=yes`.
 
 use super::status::Snapshot;
-use super::{Command, Outcome, Reply};
-use crate::angle::{Angle, Division};
+use super::{Command, Outcome};
 use crate::config::table::DIVIDE_REFUSAL;
 use crate::controller::{Controller, Refusal};
-use core::fmt::Write;
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum DivideOp {
@@ -47,42 +45,6 @@ pub(super) fn apply(op: DivideOp, ctl: &mut Controller) -> Outcome {
         Ok(()) => Outcome::Divide(Snapshot::of(ctl)),
         Err(why) => Outcome::Error(why),
     }
-}
-
-/// The spindle's angle in the snapshot.
-fn angle(s: &Snapshot) -> Angle {
-    Angle::of(s.status.lathe_counts, s.status.index_counts, s.config.encoder_counts_per_rev)
-}
-
-/// ` angle_deg=59.9 angle_from=index|start`
-pub(super) fn write_angle(s: &Snapshot, out: &mut Reply) {
-    let a = angle(s);
-    let from = if a.from_index { "index" } else { "start" };
-    let _ = write!(out, " angle_deg={} angle_from={from}", a.degrees());
-}
-
-/// ` divide=6 division=1 division_deg=60.0 to_deg=0.2 to_counts=1.00
-/// within=yes`, while dividing.
-pub(super) fn write_division(s: &Snapshot, out: &mut Reply) {
-    let Some(n) = s.status.divisions else { return };
-    let d = Division::of(&angle(s), n);
-    let _ = write!(
-        out,
-        " divide={n} division={} division_deg={} to_deg={} to_counts={} within={}",
-        d.number,
-        d.at_degrees(),
-        d.to_degrees(),
-        d.to_counts(),
-        if d.within() { "yes" } else { "no" }
-    );
-}
-
-/// `ok divide=.. division=.. ... angle_deg=.. angle_from=..`
-#[inline(never)]
-pub(super) fn write_readout(s: &Snapshot, out: &mut Reply) {
-    let _ = out.push_str("ok");
-    write_division(s, out);
-    write_angle(s, out);
 }
 
 #[cfg(test)]

@@ -1,6 +1,8 @@
 //! The `status` line: state, fault, speeds and phase error, in units a
 //! machinist reads (rpm, steps), computed at low priority.
 
+pub(super) mod angle;
+
 use super::Reply;
 use crate::config::Config;
 use crate::controller::{Controller, Status};
@@ -61,8 +63,8 @@ impl Snapshot {
             s.cutter_steps,
             if s.indexed { "yes" } else { "no" },
         );
-        super::divide::write_angle(self, out);
-        super::divide::write_division(self, out);
+        angle::write_angle(self, out);
+        angle::write_division(self, out);
         if let Some(n) = self.cam_points {
             let _ = write!(out, " cam={n}");
         }

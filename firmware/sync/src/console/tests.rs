@@ -1,6 +1,6 @@
 use super::*;
 use crate::controller::TickInput;
-use crate::derived::Timing;
+use crate::timing::Timing;
 use proptest::prelude::*;
 
 fn ctl() -> Controller {

@@ -11,10 +11,10 @@
 //! * the self-test's generator plays into the lathe input through jumper
 //!   wires: no hand on the chuck, no other use of the count.
 
-use super::jog::Jog;
 use super::selftest::Run;
 use super::{Controller, Refusal};
 use crate::check::EncoderCheck;
+use crate::follower::Limits;
 use crate::state::State;
 
 /// Dividing a turn (`divide N`): the cutter stays off; `status` shows the
@@ -23,6 +23,20 @@ use crate::state::State;
 pub struct Divide {
     /// equal divisions of one turn of the spindle
     pub divisions: u32,
+}
+
+/// A jog under way (`jog`, `controller::jog`).
+#[derive(Clone, Copy, Debug)]
+pub(super) struct Jog {
+    /// where the cutter ends, Q16 steps (whole steps)
+    pub(super) target: i64,
+    pub(super) limits: Limits,
+    /// the tick by which it must have ended (twice the plan, plus 1 s)
+    pub(super) deadline: u64,
+    /// the lathe's count at the start: a jog ends if the lathe turns
+    pub(super) lathe: i64,
+    /// dividing when it was asked for: dividing again once it ends
+    pub(super) dividing: Option<Divide>,
 }
 
 /// The activity running, if any.

@@ -3,10 +3,11 @@
 
 use super::{Controller, Refusal};
 use crate::config::Config;
-use crate::derived::{Derived, Timing};
+use crate::derived::Derived;
 use crate::follower::Follower;
 use crate::gear::Gear;
 use crate::state::{Fault, State};
+use crate::timing::Timing;
 
 /// A snapshot for `status`, `watch` and the once-a-second log.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -328,7 +329,7 @@ pub fn check_table(h: &crate::cam_upload::CamHeader, points: &[i32]) -> Result<(
 pub fn prepare_cam(
     h: &crate::cam_upload::CamHeader,
     table: &'static [i32],
-    timing: crate::derived::Timing,
+    timing: crate::timing::Timing,
 ) -> Result<super::XAxis, &'static str> {
     check_table(h, table).map_err(|e| e.describe())?;
     let cam = crate::cam::Cam::new(table, h.period_counts).map_err(|e| e.describe())?;

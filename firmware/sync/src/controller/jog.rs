@@ -4,7 +4,7 @@
 //! shows here, before any metal is cut). The move is the follower's: the
 //! same step output and limits as a cut, at a walking pace.
 
-use super::activity::{Activity, Asked, Divide};
+use super::activity::{Activity, Asked, Jog};
 use super::{Controller, Refusal};
 use crate::config::DriveKind;
 use crate::follower::{Follower, Limits};
@@ -14,19 +14,6 @@ use crate::state::State;
 pub const JOG_SECONDS_PER_TURN: u32 = 2;
 /// The largest jog, in millidegrees of the cutter (ten turns).
 pub const JOG_MAX_MDEG: i32 = 3_600_000;
-
-#[derive(Clone, Copy, Debug)]
-pub(super) struct Jog {
-    /// where the cutter ends, Q16 steps (whole steps)
-    target: i64,
-    limits: Limits,
-    /// the tick by which it must have ended (twice the plan, plus 1 s)
-    deadline: u64,
-    /// the lathe's count at the start: a jog ends if the lathe turns
-    lathe: i64,
-    /// dividing when it was asked for: dividing again once it ends
-    pub(super) dividing: Option<Divide>,
-}
 
 /// Counts the lathe may move during a jog (a knock on the chuck) before
 /// the jog stops: a jog is only for a lathe at rest.

@@ -5,8 +5,8 @@
 
 use super::{Controller, TickInput, TickOutput};
 use crate::config::Config;
-use crate::derived::Timing;
 use crate::steps::Dir;
+use crate::timing::Timing;
 
 pub(super) struct Rig {
     pub c: Controller,

@@ -7,7 +7,8 @@
 
 use super::*;
 use crate::config::{Config, DriveKind};
-use crate::derived::{Derived, Timing};
+use crate::derived::Derived;
+use crate::timing::Timing;
 
 const TICK_HZ: i64 = Timing::FIRMWARE.tick_hz as i64;
 /// max-rate's default, Q16 counts a tick.

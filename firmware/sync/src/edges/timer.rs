@@ -10,14 +10,12 @@
 //! (no 64-bit division on the tick).
 
 use super::track::{Clock, Track};
-use super::{boundary_half_counts, EdgeClock, EdgeRegs};
+use super::{boundary_half_counts, EdgeClock, EdgeRegs, WRAP_Q8};
 use crate::encoder::Extender;
 
 /// How far past its count's interval the measurement may stand, Q16
 /// counts: the count is read a little after the instant (1/32 count).
 const SLACK_Q16: i64 = 1 << 11;
-/// Q8 stamps in 24 bits: the instant's wrap.
-pub(super) const WRAP_Q8: u32 = 0xFF_FFFF;
 /// Timed edges from which the acceleration is taken: at least this many
 /// stamps apart. Its error from the stamps' ±1 µs grows as 1/interval².
 const RISE_ACCEL_MIN_STAMPS: i32 = 200;

@@ -76,7 +76,7 @@ impl Track {
     /// fewer; `#[inline(always)]` cost both more: counted on an emulated Cortex-M4.)
     #[inline]
     pub fn observe(&mut self, half: i64, stamp_q8: u32, clock: Clock) {
-        let since = clock.instant_q8.wrapping_sub(stamp_q8) & super::timer::WRAP_Q8;
+        let since = clock.instant_q8.wrapping_sub(stamp_q8) & super::WRAP_Q8;
         let age_q8 = ((since << 8) as i32) >> 8;
         // (as of the last tick: a tick more or less is nothing to the limit)
         let prev_age_q16 = self.age_q16 as i64;
@@ -85,7 +85,7 @@ impl Track {
         (self.velocity_q16, self.accel_q22) = (None, 0);
         let fresh = prev_age_q16 < MAX_INTERVAL_STAMPS as i64 * clock.ticks_per_stamp_q16 as i64;
         if let Some(prev) = self.half.filter(|_| fresh) {
-            let interval = ((stamp_q8.wrapping_sub(self.stamp_q8) & super::timer::WRAP_Q8) >> 8) as i32;
+            let interval = ((stamp_q8.wrapping_sub(self.stamp_q8) & super::WRAP_Q8) >> 8) as i32;
             let span = half - prev;
             let per_tick = clock.per_tick;
             let usable = interval >= clock.interval_min && span.abs() <= MAX_SPAN_HALF;

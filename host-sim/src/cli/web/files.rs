@@ -4,11 +4,24 @@
 //! /dev/zero or a FIFO put in the folder is refused rather than read.
 
 use super::request::BAD_REQUEST;
-use super::site::{Body, Found};
 use std::fs::File;
 use std::path::{Component, Path, PathBuf};
 
 pub const NOT_FOUND: &str = "404 Not Found";
+
+/// A body to send: a file from the page's folder, or bytes carried in the
+/// binary (`site`).
+pub enum Body {
+    File(File),
+    Bytes(&'static [u8]),
+}
+
+/// What to send: its body, length and Content-Type.
+pub struct Found {
+    pub body: Body,
+    pub len: u64,
+    pub kind: &'static str,
+}
 
 /// The file `target` (`/path?query`) names under `root`, which must be
 /// canonical; Err is the status line of the refusal.

@@ -9,7 +9,8 @@
 use super::access::{Granted, UNAUTHORIZED};
 use super::files::NOT_FOUND;
 use super::request::{self, Method, Request, NOT_ALLOWED};
-use super::site::{Body, Site};
+use super::files::Body;
+use super::site::Site;
 use super::socket;
 use super::timed::Timed;
 use std::io::{self, Read, Write};

@@ -6,9 +6,8 @@
 
 use super::super::carried::{self, Firmware};
 use super::access::Access;
-use super::files::{self, content_type, NOT_FOUND};
+use super::files::{self, content_type, Body, Found, NOT_FOUND};
 use super::relay::Relay;
-use std::fs::File;
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
@@ -26,18 +25,6 @@ pub struct Site {
     pub access: Access,
     /// The board's console, when served with one (`--board`).
     pub relay: Option<Arc<Relay>>,
-}
-
-pub enum Body {
-    File(File),
-    Bytes(&'static [u8]),
-}
-
-/// What to send: its body, length and Content-Type.
-pub struct Found {
-    pub body: Body,
-    pub len: u64,
-    pub kind: &'static str,
 }
 
 impl Site {

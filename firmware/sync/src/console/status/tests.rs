@@ -119,7 +119,7 @@ fn thousandths_and_tenths_print_their_digits() {
 
 #[test]
 fn a_fresh_controllers_status_line_is_the_idle_line() {
-    let c = crate::controller::Controller::new(Config::default(), crate::derived::Timing::FIRMWARE);
+    let c = crate::controller::Controller::new(Config::default(), crate::timing::Timing::FIRMWARE);
     let mut out = Reply::new();
     write_status(&c, &mut out);
     assert_eq!(
@@ -144,7 +144,7 @@ fn the_cutter_speed_is_the_speed_it_is_driven_at_not_the_lathes_times_the_ratio(
 #[test]
 fn a_controller_turning_the_lathe_while_idle_reports_its_cutter_still() {
     use crate::controller::{Controller, TickInput};
-    let mut c = Controller::new(Config::default(), crate::derived::Timing::FIRMWARE);
+    let mut c = Controller::new(Config::default(), crate::timing::Timing::FIRMWARE);
     c.start(0, 0, 0);
     for k in 1..=2_000u32 {
         c.tick(&TickInput { lathe: k as u16, ..TickInput::default() });

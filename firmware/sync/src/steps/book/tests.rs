@@ -4,7 +4,8 @@
 
 use super::*;
 use crate::config::Config;
-use crate::derived::{Derived, Timing};
+use crate::derived::Derived;
+use crate::timing::Timing;
 
 fn timing() -> StepTiming {
     Derived::new(&Config::default(), Timing::FIRMWARE).steps

@@ -11,7 +11,7 @@ use core::sync::atomic::{compiler_fence, AtomicBool, AtomicU32, Ordering::Relaxe
 
 /// Shared by the tick and every stop (plain loads and stores, and one
 /// `fetch_add` in the stop: no critical section, nothing that waits).
-pub struct Gate {
+pub struct Interlock {
     /// CCR1 of the interface's stop (0, no pulse, until `set_up` ends)
     stop: AtomicU32,
     /// a command written since the last stop (a speed may be in force)
@@ -20,9 +20,9 @@ pub struct Gate {
     stops: AtomicU32,
 }
 
-impl Gate {
-    pub const fn new() -> Gate {
-        Gate { stop: AtomicU32::new(0), live: AtomicBool::new(false), stops: AtomicU32::new(0) }
+impl Interlock {
+    pub const fn new() -> Interlock {
+        Interlock { stop: AtomicU32::new(0), live: AtomicBool::new(false), stops: AtomicU32::new(0) }
     }
 
     /// Stops so far: read at the tick's entry, given to `command`.
@@ -99,8 +99,8 @@ impl Gate {
     }
 }
 
-impl Default for Gate {
-    fn default() -> Gate {
-        Gate::new()
+impl Default for Interlock {
+    fn default() -> Interlock {
+        Interlock::new()
     }
 }

@@ -1,5 +1,5 @@
 //! The tick's BLDC command against a stop that pre-empts it
-//! (`polyturn_firmware::bldcout::Gate`): the E-stop interrupt runs above
+//! (`polyturn_firmware::bldcout::Interlock`): the E-stop interrupt runs above
 //! the tick and may land anywhere in the tick's command. Each write here
 //! takes time on the model of TIM10 (RM0383 §14), and the frame's update
 //! event is put at every point of the words in turn, under both readings
@@ -9,7 +9,7 @@
 
 mod tim10;
 
-use polyturn_firmware::bldcout::{off, Gate, Out};
+use polyturn_firmware::bldcout::{off, Interlock, Out};
 use polyturn_firmware::regs::Bus;
 use polyturn_stm32_model::PreloadClear;
 use tim10::{out, Tim10, MAX, READINGS};
@@ -37,20 +37,20 @@ enum Lands {
 /// write `at` (counting from 0), or after it with `after`.
 struct Preempted<'a> {
     b: Tim10,
-    gate: &'a Gate,
+    interlock: &'a Interlock,
     at: usize,
     after: bool,
     writes: usize,
 }
 
 impl Preempted<'_> {
-    fn new(b: Tim10, gate: &Gate, at: usize, after: bool) -> Preempted<'_> {
-        Preempted { b, gate, at, after, writes: 0 }
+    fn new(b: Tim10, interlock: &Interlock, at: usize, after: bool) -> Preempted<'_> {
+        Preempted { b, interlock, at, after, writes: 0 }
     }
 
     fn fire(&mut self) {
         self.b.pass(ENTRY);
-        self.gate.stop(&mut self.b);
+        self.interlock.stop(&mut self.b);
     }
 }
 
@@ -83,27 +83,27 @@ fn frame(o: &Out) -> u64 {
 /// update begins (the words' own time included), the cycles of them with
 /// the command in force, and (CCR1 in force, CCR1 waiting) then.
 fn race(o: &Out, r: polyturn_stm32_model::PreloadClear, lands: Lands, offset: u64) -> (u64, u64, (u32, u32)) {
-    let gate = Gate::new();
+    let interlock = Interlock::new();
     let mut b = Tim10::set_up(o, r);
-    gate.set_up(o, &mut b);
+    interlock.set_up(o, &mut b);
     let f = frame(o);
-    gate.command(o.ccr(MAX as u32 / 2), gate.stops(), &mut b);
+    interlock.command(o.ccr(MAX as u32 / 2), interlock.stops(), &mut b);
     b.after(2 * f - offset - b.now % f);
     b.gap = GAP;
     assert!(!b.pin(), "the half-speed pulse is over ({offset} before the update)");
     let update = b.now + offset;
     b.watch = Some(o.ccr(MAX as u32));
-    let since = gate.stops();
+    let since = interlock.stops();
     if let Lands::Before = lands {
-        gate.stop(&mut b);
+        interlock.stop(&mut b);
     }
     let mut p = Preempted::new(
         b,
-        &gate,
+        &interlock,
         if let Lands::Before = lands { usize::MAX } else { 0 },
         matches!(lands, Lands::AfterTheWord),
     );
-    gate.command(o.ccr(MAX as u32), since, &mut p);
+    interlock.command(o.ccr(MAX as u32), since, &mut p);
     let mut b = p.b;
     // to the end of the frame the update began
     let end = update + f;
@@ -139,15 +139,15 @@ fn a_stop_anywhere_in_the_ticks_command_is_the_last_word() {
     }
 }
 
-/// esc400 set up, its gate and the pin, a frame run at full speed: at the
+/// esc400 set up, its interlock and the pin, a frame run at full speed: at the
 /// next update, the full-speed pulse starting.
-fn running_full(o: &Out, r: PreloadClear) -> (Gate, Tim10) {
-    let gate = Gate::new();
+fn running_full(o: &Out, r: PreloadClear) -> (Interlock, Tim10) {
+    let interlock = Interlock::new();
     let mut b = Tim10::set_up(o, r);
-    gate.set_up(o, &mut b);
-    gate.command(o.ccr(MAX as u32), gate.stops(), &mut b);
+    interlock.set_up(o, &mut b);
+    interlock.command(o.ccr(MAX as u32), interlock.stops(), &mut b);
     b.after(frame(o));
-    (gate, b)
+    (interlock, b)
 }
 
 #[test]
@@ -158,9 +158,9 @@ fn a_speed_falling_to_the_stop_keeps_the_pulse_under_way() {
     // pulse below its range), and the next frame is the stop's
     for r in READINGS {
         let o = out("esc400", "1000");
-        let (gate, mut b) = running_full(&o, r);
+        let (interlock, mut b) = running_full(&o, r);
         assert!(b.after(500 * 96));
-        gate.command(o.stop, gate.stops(), &mut b);
+        interlock.command(o.stop, interlock.stops(), &mut b);
         let high = 500 * 96 + b.high_for();
         assert!(high.abs_diff(2 * 96_000) <= 96, "{r:?}: 2 000 µs (to a µs): {high}");
         b.after(frame(&o) - high - 96);
@@ -173,9 +173,9 @@ fn a_speed_falling_to_the_stop_keeps_the_pulse_under_way() {
 fn a_halt_cuts_the_pulse_at_once() {
     for r in READINGS {
         let o = out("esc400", "1000");
-        let (gate, mut b) = running_full(&o, r);
+        let (interlock, mut b) = running_full(&o, r);
         assert!(b.after(1_500 * 96));
-        gate.halt(&mut b);
+        interlock.halt(&mut b);
         assert!(!b.after(1), "{r:?}: low at once");
         assert_eq!((b.t.active_ccr(0), b.t.get(off::CCR1)), (0, o.stop), "{r:?}: cut, the stop waiting");
     }
@@ -188,15 +188,15 @@ fn idle_ticks_leave_the_stop_pulses_whole() {
     // (writing the stop each tick would cut each one short)
     for r in READINGS {
         let o = out("esc400", "1000");
-        let (gate, mut b) = running_full(&o, r);
-        gate.halt(&mut b);
+        let (interlock, mut b) = running_full(&o, r);
+        interlock.halt(&mut b);
         b.after(frame(&o) - b.now % frame(&o)); // the next frame
         let mut highs = 0;
         for tick in 0..(3 * frame(&o) / TICK_CYCLES) {
             if tick % 2 == 0 {
-                gate.command(o.stop, gate.stops(), &mut b);
+                interlock.command(o.stop, interlock.stops(), &mut b);
             } else {
-                gate.halt(&mut b);
+                interlock.halt(&mut b);
             }
             highs += (0..TICK_CYCLES / 96).filter(|_| b.after(96)).count();
         }
@@ -210,21 +210,21 @@ fn a_stop_anywhere_in_a_set_up_leaves_the_new_stop_waiting_and_no_long_pulse() {
     // frame, 1 000 µs stop) with the E-stop landing before or after each
     // of the set-up's words: the pin falls by the set-up's third word and
     // stays low a whole new frame, then gives the new stop's pulse, and the
-    // new stop is what waits (a stop after the last word, before the gate
+    // new stop is what waits (a stop after the last word, before the interlock
     // kept the new stop, left 0: no pulse at all, an ESC's signal lost)
     let (old, new) = (out("esc400", "1000"), out("esc50", "1000"));
     let words = new.program().len();
     for r in READINGS {
         for at in 0..words {
             for after in [false, true] {
-                let gate = Gate::new();
+                let interlock = Interlock::new();
                 let mut b = Tim10::set_up(&old, r);
-                gate.set_up(&old, &mut b);
-                gate.command(old.ccr(MAX as u32), gate.stops(), &mut b);
+                interlock.set_up(&old, &mut b);
+                interlock.command(old.ccr(MAX as u32), interlock.stops(), &mut b);
                 b.after(2 * 240_000 + 600 * 96);
                 b.gap = GAP;
-                let mut p = Preempted::new(b, &gate, at, after);
-                gate.set_up(&new, &mut p);
+                let mut p = Preempted::new(b, &interlock, at, after);
+                interlock.set_up(&new, &mut p);
                 let mut b = p.b;
                 let what = format!("{r:?}, the stop {} word {at}", if after { "after" } else { "before" });
                 let fell = b.last_high_at;
@@ -249,14 +249,14 @@ fn an_estop_inside_the_ticks_own_stop_leaves_the_stop_waiting() {
     for r in READINGS {
         for at in 0..5 {
             for after in [false, true] {
-                let gate = Gate::new();
+                let interlock = Interlock::new();
                 let mut b = Tim10::set_up(&o, r);
-                gate.set_up(&o, &mut b);
-                gate.command(o.ccr(MAX as u32), gate.stops(), &mut b);
+                interlock.set_up(&o, &mut b);
+                interlock.command(o.ccr(MAX as u32), interlock.stops(), &mut b);
                 b.after(frame(&o) + 1_500 * 96);
                 b.gap = GAP;
-                let mut p = Preempted::new(b, &gate, at, after);
-                gate.halt(&mut p);
+                let mut p = Preempted::new(b, &interlock, at, after);
+                interlock.halt(&mut p);
                 let mut b = p.b;
                 let what = format!("{r:?}, the E-stop {} word {at}", if after { "after" } else { "before" });
                 assert_eq!((b.t.active_ccr(0), b.t.get(off::CCR1)), (0, o.stop), "{what}: cut, the stop waiting");
