@@ -24,7 +24,7 @@ pub struct Derived {
     pub stall_ticks: u32,
     pub tick_hz: u32,
     /// the BLDC phase loop's gains (`drive::gains`)
-    pub bldc: crate::drive::BldcGains,
+    pub bldc: crate::drive::gains::BldcGains,
     /// ticks from the encoder reading to the end of the window the tick's
     /// output fills (`Controller::ahead`)
     pub ahead_ticks: i64,
@@ -93,7 +93,7 @@ impl Derived {
             still_ticks: (hz / 10) as u32,
             stall_ticks: (hz / 5) as u32,
             tick_hz: t.tick_hz,
-            bldc: crate::drive::BldcGains::new(c, t.tick_hz),
+            bldc: crate::drive::gains::BldcGains::new(c, t.tick_hz),
             ahead_ticks: ahead_ticks(c.drive),
         }
     }
