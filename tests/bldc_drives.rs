@@ -10,7 +10,7 @@
 //! table the book's performance page shows.
 
 use polyturn_host::geometry::Direction;
-use polyturn_host::sim::bldc::{fit_drive, BldcDrive};
+use polyturn_host::sim::bldc_drive::{fit_drive, BldcDrive};
 use polyturn_host::sim::{Scenario, SimResult, Start};
 use polyturn_scenarios::*;
 use polyturn_sync::config::BldcOut;
@@ -62,13 +62,13 @@ fn cut_end_s(j: Job, r: &SimResult) -> f64 {
 
 /// The worst phase error while cutting, millidegrees of the cutter (an
 /// encoder of `counts` a turn): what `polyturn device setup` tells the
-/// machinist to expect of each interface (`setup_plan::bldc::expected_mdeg`).
+/// machinist to expect of each interface (`guided::bldc::expected_mdeg`).
 fn cutting_mdeg(r: &SimResult, counts: u32) -> f64 {
     r.max_error_steps_cutting * 360_000.0 / counts as f64
 }
 
 fn expected_mdeg(out: BldcOut) -> f64 {
-    polyturn_host::cli::setup_plan::bldc::expected_mdeg(out).expect("a figure") as f64
+    polyturn_host::cli::guided::bldc::expected_mdeg(out).expect("a figure") as f64
 }
 
 fn first_fault_s(r: &SimResult) -> Option<(f64, Fault)> {
@@ -175,11 +175,11 @@ fn an_rc_esc_at_400_hz_or_oneshot125_holds_phase_while_cutting_but_not_the_run_d
 }
 
 /// `ferror` as the guided setup sets it (twice the accuracy it promises
-/// each interface, `setup_plan::bldc::ferror`): the cut is never stopped
+/// each interface, `guided::bldc::ferror`): the cut is never stopped
 /// by it.
 #[test]
 fn the_setups_ferror_never_stops_a_good_cut() {
-    use polyturn_host::cli::setup_plan::bldc::ferror;
+    use polyturn_host::cli::guided::bldc::ferror;
     for (j, out, counts) in [
         (HEXAGON, BldcOut::Pwm, 1_000),
         (HEXAGON, BldcOut::Pwm, 4_000),
@@ -241,8 +241,8 @@ fn the_idealised_drive_is_the_reference_no_real_drive_reaches() {
 
 #[test]
 fn the_guided_setup_warns_of_esc50_and_says_what_the_others_hold() {
-    use polyturn_host::cli::setup_plan::bldc::{ESC50_WARNING, TAU_UNMEASURED};
-    use polyturn_host::cli::setup_plan::summary;
+    use polyturn_host::cli::guided::bldc::{ESC50_WARNING, TAU_UNMEASURED};
+    use polyturn_host::cli::guided::summary;
     let bldc = polyturn_sync::Config::default().with("drive", "bldc").unwrap();
     let s = summary(&bldc, &[]);
     assert!(s.contains(ESC50_WARNING) && s.ends_with(TAU_UNMEASURED), "{s}");

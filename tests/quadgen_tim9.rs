@@ -83,8 +83,8 @@ fn run(cpr: u32, segs: &[Segment], latency: impl Fn(u64) -> u64, patch: impl Fn(
         assert!(mcu.run_to_tim9_update(mcu.cycle() + 10_000_000), "no update event");
         let u = mcu.cycle();
         if mcu.read(addr::TIM9_CR1) & 1 != 0 {
-            let (period, position) = (gen.current(), gen.edges().position());
-            updates.push(Update { cycle: u, position, period, index: gen.edges().index_count(&period) });
+            let (period, position) = (gen.current(), gen.ledger().position());
+            updates.push(Update { cycle: u, position, period, index: gen.ledger().index_count(&period) });
         }
         let k = updates.len() as u64;
         mcu.run_until(u + latency(k).max(ACCESS) - ACCESS);
@@ -95,7 +95,7 @@ fn run(cpr: u32, segs: &[Segment], latency: impl Fn(u64) -> u64, patch: impl Fn(
         gen.prepare();
     }
     mcu.run_until(mcu.cycle() + 1_000_000);
-    Run { books: gen.edges().position(), mcu, updates, index }
+    Run { books: gen.ledger().position(), mcu, updates, index }
 }
 
 /// A latency drawn (xorshift, repeatable) from `lo..=hi`.

@@ -8,7 +8,7 @@
 //! of steady rates and lathe motions is `scenarios`.
 
 pub mod driver;
-pub mod edges;
+pub mod latches;
 pub mod scenarios;
 pub mod steady_lathe;
 

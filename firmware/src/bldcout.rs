@@ -37,7 +37,7 @@
 
 use crate::regs::fields::{ccer, ccmr1, cr1, egr};
 use crate::regs::Op;
-use polyturn_sync::config::bldc::{pwm_prescaler, TIMER_HZ};
+use polyturn_sync::config::bldc_out::{pwm_prescaler, TIMER_HZ};
 use polyturn_sync::config::{BldcOut, Config};
 
 pub const TIM10: u32 = 0x4001_4400;

@@ -9,11 +9,11 @@
 //! (`Period`): two quadrature counts, evenly spaced, hardware-timed. Which
 //! output goes first is the direction; new values take effect at an update
 //! event, so a speed change or a reversal happens exactly on a period
-//! boundary and no count is lost or doubled (`Edges`).
+//! boundary and no count is lost or doubled (`Ledger`).
 //!
 //! **The index** is PA4, a push-pull GPIO written by the update interrupt
 //! (TIM1_BRK_TIM9, UIE) as the first thing it does, high for the period
-//! that crosses [n·cpr, n·cpr + 2] (`Edges::index_in`). Its edge is
+//! that crosses [n·cpr, n·cpr + 2] (`Ledger::index_in`). Its edge is
 //! software-timed and must fall between the period's two edges, so TIM3
 //! latches n·cpr + 1 whichever way the lathe turns:
 //!
@@ -69,12 +69,12 @@
 //! and the index must not wait for it.
 
 pub mod bench;
-pub mod edges;
+pub mod ledger;
 pub mod period;
 pub mod profile;
 pub mod program;
 
-pub use edges::Edges;
+pub use ledger::Ledger;
 pub use period::{Motion, Period};
 pub use profile::{max_rpm, Error, Periods, Profile, Segment};
 
@@ -120,7 +120,7 @@ pub struct Generator<I> {
     periods: core::iter::Fuse<I>,
     current: Period,
     last_moving: Option<Period>,
-    edges: Edges,
+    ledger: Ledger,
     state: State,
     /// found ahead by `prepare` (it divides): the index level for
     /// `current` and the period after it (`None`: the profile ends)
@@ -140,12 +140,12 @@ impl<I: Iterator<Item = Period>> Generator<I> {
     pub fn start(profile: &Profile<'_>, periods: I) -> Option<(Generator<I>, [Op; 15])> {
         let mut periods = periods.fuse();
         let first = periods.next()?;
-        let edges = Edges::new(profile.cpr());
+        let ledger = Ledger::new(profile.cpr());
         let mut gen = Generator {
             periods,
             current: first,
             last_moving: None,
-            edges,
+            ledger,
             state: State::Running,
             prepared: false,
             index: false,
@@ -164,7 +164,7 @@ impl<I: Iterator<Item = Period>> Generator<I> {
         if self.state != State::Running || self.prepared {
             return;
         }
-        self.index = self.edges.index_in(&self.current);
+        self.index = self.ledger.index_in(&self.current);
         self.next = self.periods.next();
         self.prepared = true;
     }
@@ -201,7 +201,7 @@ impl<I: Iterator<Item = Period>> Generator<I> {
                 let _ = ops.push(self.index_op());
                 let _ = ops.push(program::CLEAR_FLAGS);
                 let next = self.take_next();
-                self.edges.book(&p);
+                self.ledger.book(&p);
                 if p.motion != Motion::Idle {
                     self.last_moving = Some(p);
                 }
@@ -230,7 +230,7 @@ impl<I: Iterator<Item = Period>> Generator<I> {
     /// The extra period that leaves A and B low, if the count ends with
     /// both high.
     fn parking(&self) -> Option<Period> {
-        (self.edges.levels() == (true, true)).then_some(self.last_moving).flatten()
+        (self.ledger.levels() == (true, true)).then_some(self.last_moving).flatten()
     }
 
     /// The first op `on_update` returns, prepared ahead (`prepare`): the
@@ -238,13 +238,13 @@ impl<I: Iterator<Item = Period>> Generator<I> {
     pub fn index_op(&self) -> Op {
         match self.state {
             State::Running if self.prepared => program::index(self.index),
-            State::Running => program::index(self.edges.index_in(&self.current)),
+            State::Running => program::index(self.ledger.index_in(&self.current)),
             State::Finishing | State::Done => program::index(false),
         }
     }
 
-    pub fn edges(&self) -> &Edges {
-        &self.edges
+    pub fn ledger(&self) -> &Ledger {
+        &self.ledger
     }
 
     /// The period running since the last update event, until `on_update`

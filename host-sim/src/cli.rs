@@ -15,6 +15,7 @@ pub mod figures;
 #[cfg(feature = "device")]
 pub mod flash;
 pub mod geometry;
+pub mod guided;
 pub mod image;
 pub mod measure;
 #[cfg(test)]
@@ -25,7 +26,6 @@ mod ranges;
 mod ranges_tests;
 pub mod sequence;
 pub mod setup_args;
-pub mod setup_plan;
 pub mod setups;
 pub mod simulate;
 pub mod values;

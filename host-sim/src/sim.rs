@@ -3,7 +3,7 @@
 //! real angle at every tick cuts the section, which is compared with the
 //! geometry model's ideal section.
 
-pub mod bldc;
+pub mod bldc_drive;
 mod cut;
 pub mod encoder;
 pub mod lathe;
@@ -53,7 +53,7 @@ pub struct Scenario {
     pub bldc_cut_torque: f64,
     /// BLDC: the drive between the firmware and the motor (what the
     /// firmware sends today: an RC ESC at 50 Hz, `BldcDrive::FIRMWARE`)
-    pub bldc_drive: bldc::BldcDrive,
+    pub bldc_drive: bldc_drive::BldcDrive,
     /// revolutions of cutting (synchronised, lathe at speed) after which the
     /// machinist withdraws the tool and stops the lathe; None: run the
     /// lathe profile as given
@@ -171,7 +171,7 @@ impl Scenario {
             motor_max_accel: 5e6,
             bldc_max_torque: 1.0,
             bldc_cut_torque: 0.2,
-            bldc_drive: bldc::BldcDrive::FIRMWARE,
+            bldc_drive: bldc_drive::BldcDrive::FIRMWARE,
             cut_revolutions: Some(revolutions),
             x_axis: None,
             step_error: 0.0,

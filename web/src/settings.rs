@@ -3,7 +3,7 @@
 //! so the page refuses exactly what the board refuses, in its words.
 
 use polyturn_host::cli::figures;
-use polyturn_host::cli::setup_plan::{changes, from_flags, summary, SetupArgs};
+use polyturn_host::cli::guided::{changes, from_flags, summary, GuidedArgs};
 use polyturn_sync::config::NAMES;
 use polyturn_sync::console;
 use polyturn_sync::{Config, Controller, Timing};
@@ -98,7 +98,7 @@ pub fn guided(args: &[String], settings: &str) -> Result<String, String> {
     #[command(name = "setup", no_binary_name = true)]
     struct Flags {
         #[command(flatten)]
-        setup: SetupArgs,
+        setup: GuidedArgs,
     }
     let flags = Flags::try_parse_from(args.iter().chain(["--non-interactive".to_string()].iter()))
         .map_err(|e| e.to_string().lines().next().unwrap_or("").trim_start_matches("error: ").to_string())?;

@@ -3,7 +3,7 @@
 //! `cpr` counts, and the step output emits what each tick planned two
 //! ticks later (`steps::pipe`), so jogs and the encoder check really run.
 //! With `drive bldc` the cutter is idealised: its encoder turns each tick
-//! by the speed the tick commanded (`sim::bldc` models a real drive).
+//! by the speed the tick commanded (`sim::bldc_drive` models a real drive).
 
 use polyturn_firmware::quadgen::bench::playback::{Event, Playback};
 use polyturn_firmware::quadgen::{bench, TIMER_HZ};

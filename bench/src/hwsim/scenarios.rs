@@ -3,7 +3,7 @@
 //! model with the interrupt's latency drawn from a range.
 
 use super::driver::{receive, Received};
-use super::edges::Latches;
+use super::latches::Latches;
 use super::{Isr, Rig, TICK_LEN, TIMER_HZ};
 use polyturn_stm32_model::Params;
 use polyturn_sync::gear::Scale;

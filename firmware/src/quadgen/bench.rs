@@ -29,7 +29,7 @@ pub fn start(plan: &Plan) -> Option<(BenchGenerator, [super::program::Op; 15])> 
 /// What the generator has made so far, for the judge. `ms` is where the
 /// booked periods end, in TIM9's own clock.
 pub fn books<I: Iterator<Item = Period>>(g: &Generator<I>) -> Books {
-    let e = g.edges();
+    let e = g.ledger();
     Books {
         counts: e.position(),
         indexes: e.indexes(),

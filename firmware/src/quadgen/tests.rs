@@ -90,7 +90,7 @@ fn table_53(a_changed: bool, new: bool, other: bool) -> i64 {
 fn the_books_match_a_gray_code_decoding_of_the_toggles() {
     let ps = periods(2400, &SELF_TEST);
     let (mut a, mut b, mut count) = (false, false, 0i64);
-    let mut edges = Edges::new(2400);
+    let mut ledger = Ledger::new(2400);
     for p in &ps {
         let [c1, c2] = p.ccr();
         let order = if p.motion == Motion::Idle {
@@ -109,9 +109,9 @@ fn the_books_match_a_gray_code_decoding_of_the_toggles() {
                 count += table_53(false, b, a);
             }
         }
-        edges.book(p);
-        assert_eq!(edges.position(), count);
-        assert_eq!(edges.levels(), (a, b));
+        ledger.book(p);
+        assert_eq!(ledger.position(), count);
+        assert_eq!(ledger.levels(), (a, b));
     }
     assert!(ps.iter().any(|p| p.motion == Motion::Reverse));
 }
@@ -121,7 +121,7 @@ fn the_index_marks_the_same_two_counts_both_ways() {
     let cpr = 8;
     let fwd = Period::moving(10_000, Motion::Forward);
     let rev = Period::moving(10_000, Motion::Reverse);
-    let mut e = Edges::new(cpr);
+    let mut e = Ledger::new(cpr);
     let mut latched = Vec::new();
     for p in [fwd; 12].iter().chain(&[rev; 20]) {
         if let Some(c) = e.index_count(p) {
@@ -167,13 +167,13 @@ fn the_last_period_is_followed_by_a_stop_and_both_outputs_end_low() {
         updates += 1;
         if ops.contains(&program::FINISH) {
             // booked: the n periods and the extra one, which runs now
-            assert_eq!(gen.edges().updates(), n as u64 + 1);
+            assert_eq!(gen.ledger().updates(), n as u64 + 1);
         }
         assert!(updates < 100);
     }
-    assert_eq!(gen.edges().updates(), n as u64 + 1);
-    assert_eq!(gen.edges().position(), 2 * (n as i64 + 1));
-    assert_eq!(gen.edges().levels(), (false, false));
+    assert_eq!(gen.ledger().updates(), n as u64 + 1);
+    assert_eq!(gen.ledger().position(), 2 * (n as i64 + 1));
+    assert_eq!(gen.ledger().levels(), (false, false));
     assert_eq!(gen.on_update()[..], [program::CLEAR_FLAGS]);
 }
 

@@ -5,9 +5,9 @@
 use crate::console::number::unsigned;
 use crate::ratio::{Ratio, RatioError};
 
-pub mod bldc;
+pub mod bldc_out;
 pub mod table;
-pub use bldc::BldcOut;
+pub use bldc_out::BldcOut;
 use table::*;
 pub use table::{Span, NAMES, SETTINGS};
 
@@ -155,7 +155,7 @@ impl Config {
         }
         LOST_STEPS.check(self.lost_step_limit_steps)?;
         START_RATE.check(self.start_rate_hz)?;
-        bldc::check_pwm_hz(self.pwm_hz)?;
+        bldc_out::check_pwm_hz(self.pwm_hz)?;
         BLDC_TAU.check(self.bldc_tau_ms).map(|_| ())
     }
 
@@ -180,7 +180,7 @@ impl Config {
         let frame_hz = self.bldc_out.frame_hz(self.pwm_hz) as u64;
         let cutter_rev_per_min = self.max_lathe_rpm as u64 * self.ratio.num() as u64;
         if self.drive == DriveKind::Bldc && cutter_rev_per_min > 60 * self.ratio.den() as u64 * frame_hz {
-            return Err(range("bldc-out", bldc::RATE));
+            return Err(range("bldc-out", bldc_out::RATE));
         }
         Ok(())
     }

@@ -1,5 +1,5 @@
 //! The control tick's rate and the step timer's clock: a leaf, so that the
-//! settings' checks (`config::bldc`) and everything derived from the
+//! settings' checks (`config::bldc_out`) and everything derived from the
 //! settings (`derived`) can both take it.
 
 /// The control tick's rate and the step timer's clock.

@@ -12,7 +12,6 @@ pub mod prompt;
 mod selftest_tests;
 pub mod session;
 pub mod setup;
-mod setup_bldc;
 #[cfg(test)]
 mod tests;
 
@@ -119,7 +118,7 @@ pub enum DeviceCommand {
     /// Restart the board into its ROM USB bootloader, for `polyturn flash`
     Dfu,
     /// The guided setup: encoder, motor, driver, lathe; checks; save
-    Setup(setup::SetupArgs),
+    Setup(setup::GuidedArgs),
 }
 
 impl DeviceCommand {

@@ -3,7 +3,7 @@
 //! in ns (the console's `pulse` and `dir-setup`), and ratios as the shop
 //! writes them. The old spellings are hidden aliases that still work.
 
-use super::setup_plan::{from_flags, SetupArgs};
+use super::guided::{from_flags, GuidedArgs};
 use super::{command, dispatch};
 use clap::Parser;
 
@@ -47,7 +47,7 @@ fn the_old_spellings_still_work_as_hidden_aliases() {
     #[derive(Parser)]
     struct Line {
         #[command(flatten)]
-        a: SetupArgs,
+        a: GuidedArgs,
     }
     let facts = |flags: &str| {
         let line = format!("setup --non-interactive --encoder-lines 600 --max-lathe-rpm 600 {flags}");

@@ -142,7 +142,8 @@ fn fit_bldc(sc: &mut Scenario, a: &SimulateArgs) -> CliResult<()> {
     if a.bldc_tau.is_none() {
         refused::own_tau(sc, out, a.motor_steps)?;
     }
-    crate::sim::bldc::fit_drive(sc, out, a.pwm_hz.unwrap_or(1_000), a.bldc_tau).map_err(|e| refused::setting(e, sc, a))
+    crate::sim::bldc_drive::fit_drive(sc, out, a.pwm_hz.unwrap_or(1_000), a.bldc_tau)
+        .map_err(|e| refused::setting(e, sc, a))
 }
 
 pub fn run_cli(a: SimulateArgs) -> CliResult<String> {

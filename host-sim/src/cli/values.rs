@@ -113,7 +113,7 @@ pub fn bldc_out(s: &str) -> Result<BldcOut, String> {
 pub fn pwm_hz(s: &str) -> Result<u32, String> {
     let refused = || format!("must be {}", setting_range(polyturn_sync::config::table::PWM_HZ));
     let hz = s.trim().parse::<u32>().map_err(|_| refused())?;
-    polyturn_sync::config::bldc::check_pwm_hz(hz).map_err(|_| refused())?;
+    polyturn_sync::config::bldc_out::check_pwm_hz(hz).map_err(|_| refused())?;
     Ok(hz)
 }
 

@@ -1,6 +1,6 @@
 //! The tick loop: plants → sync core → plants, once per control tick.
 
-use super::bldc::Bldc;
+use super::bldc_drive::Bldc;
 use super::encoder::Encoder;
 use super::lathe::Lathe;
 use super::shaft::ShaftEncoder;

@@ -51,7 +51,7 @@ impl Playback {
     /// One update event: the period that starts, its events queued.
     fn update(&mut self) {
         let p = self.gen.current();
-        let index = self.gen.edges().index_in(&p);
+        let index = self.gen.ledger().index_in(&p);
         let ops = self.gen.on_update();
         self.gen.prepare();
         let at = self.next_update;

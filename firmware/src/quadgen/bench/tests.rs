@@ -46,7 +46,7 @@ fn the_books_of_a_whole_plan_come_back_to_zero_and_end_stopped() {
     let mut rest2 = None;
     while g.running() {
         let p = g.current();
-        indexes += g.edges().index_in(&p) as u32;
+        indexes += g.ledger().index_in(&p) as u32;
         assert_eq!(g.index_op(), g.on_update()[0], "the handler's first write is on_update's");
         let b = books(&g);
         max = max.max(b.counts);

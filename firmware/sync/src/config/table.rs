@@ -58,7 +58,7 @@ pub const MAX_RPM: Span = span!("max-rpm", 1, 10000, " rpm");
 pub const CUTTER_CPR: Span = span!("cutter-cpr", 4, 1000000, " counts per cutter rev, or off");
 pub const LOST_STEPS: Span = span!("lost-steps", 1, 1000000, " steps");
 pub const START_RATE: Span = span!("start-rate", 0, 250000, " Hz (0: off)");
-/// and a divisor of the timer's clock (`bldc::check_pwm_hz`)
+/// and a divisor of the timer's clock (`bldc_out::check_pwm_hz`)
 pub const PWM_HZ: Span = span!(
     "pwm-hz",
     1000,
@@ -152,7 +152,7 @@ pub fn setting(name: &str) -> Option<&'static Setting> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::config::{bldc, Config};
+    use crate::config::{bldc_out, Config};
     use std::format;
     use std::string::ToString;
 
@@ -166,7 +166,7 @@ mod tests {
                 assert_eq!(s.check(s.lo - 1).unwrap_err().field, s.name);
             }
         }
-        assert!(PWM_HZ.allowed.contains(&format!("a divisor of {}", bldc::TIMER_HZ)));
+        assert!(PWM_HZ.allowed.contains(&format!("a divisor of {}", bldc_out::TIMER_HZ)));
     }
 
     #[test]

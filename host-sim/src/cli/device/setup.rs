@@ -12,13 +12,15 @@ use super::figures;
 use super::prompt::{retry, Ask};
 use super::session::{ok_or_device_error, Session};
 use crate::cli::errors::{CliError, CliResult};
-pub use crate::cli::setup_plan::SetupArgs;
-use crate::cli::setup_plan::{changes, from_flags, summary, Facts, MICROSTEPS, MOTOR_STEPS};
+pub use crate::cli::guided::GuidedArgs;
+use crate::cli::guided::{changes, from_flags, summary, Facts, MICROSTEPS, MOTOR_STEPS};
 use polyturn_sync::config::table::{CPR, CUTTER_CPR, DIR_SETUP, MAX_RPM, PULSE, START_RATE};
 use polyturn_sync::{Config, Sense};
 use std::io::{Read, Write};
 
-pub fn run<P: Read + Write>(s: &mut Session<P>, a: &SetupArgs, ask: &mut dyn Ask) -> CliResult<String> {
+mod drive;
+
+pub fn run<P: Read + Write>(s: &mut Session<P>, a: &GuidedArgs, ask: &mut dyn Ask) -> CliResult<String> {
     let facts = if a.non_interactive { from_flags(a)? } else { interview(s, a, ask)? };
     let (_, current) = read_back(s)?;
     let (order, _) = figures::send_order(&current, &changes(&facts)).map_err(CliError)?;
@@ -77,12 +79,12 @@ const CUTTERS: [&str; 3] = [
 ];
 
 /// The questions, with the encoder check on the board.
-fn interview<P: Read + Write>(s: &mut Session<P>, a: &SetupArgs, ask: &mut dyn Ask) -> CliResult<Facts> {
+fn interview<P: Read + Write>(s: &mut Session<P>, a: &GuidedArgs, ask: &mut dyn Ask) -> CliResult<Facts> {
     ask.say("polyturn setup: physical facts only; the board measures what it can.");
     let (cpr, moved) = lathe_encoder(s, a, ask)?;
     let bldc = match ask.choose("What turns the cutter?", &CUTTERS)? {
         0 => None,
-        k => Some(super::setup_bldc::drive(ask, a, k == 2)?),
+        k => Some(drive::facts(ask, a, k == 2)?),
     };
     let steps = match &bldc {
         Some(b) => b.counts,
@@ -115,7 +117,7 @@ fn interview<P: Read + Write>(s: &mut Session<P>, a: &SetupArgs, ask: &mut dyn A
 
 /// The lathe's encoder: the check on the board, and its counts per turn
 /// (measured, or from the label) and the way it counted.
-fn lathe_encoder<P: Read + Write>(s: &mut Session<P>, a: &SetupArgs, ask: &mut dyn Ask) -> CliResult<(u32, i64)> {
+fn lathe_encoder<P: Read + Write>(s: &mut Session<P>, a: &GuidedArgs, ask: &mut dyn Ask) -> CliResult<(u32, i64)> {
     let index = ask.yes("Does the lathe encoder have an index (Z) pulse wired to PB0?", true)?;
     let turns = if index { None } else { Some(ask.number("How many chuck turns will you make?", Some(3), 1, 20)?) };
     let (f, proposal) = checks::check_encoder(s, ask, Turning::UntilEnter, turns)?;
@@ -131,7 +133,7 @@ fn lathe_encoder<P: Read + Write>(s: &mut Session<P>, a: &SetupArgs, ask: &mut d
 
 /// A stepper's steps per cutter turn: the motor, the driver, the belt;
 /// asked again while they make no whole number the console takes.
-fn motor_steps(ask: &mut dyn Ask, a: &SetupArgs) -> CliResult<u32> {
+fn motor_steps(ask: &mut dyn Ask, a: &GuidedArgs) -> CliResult<u32> {
     retry(ask, |ask| {
         let full = ask.number("Motor full steps per turn", Some(a.motor_steps.unwrap_or(MOTOR_STEPS)), 1, 100_000)?;
         let micro = ask.number("Driver microsteps", Some(a.microsteps.unwrap_or(MICROSTEPS)), 1, 512)?;
@@ -149,7 +151,12 @@ fn motor_steps(ask: &mut dyn Ask, a: &SetupArgs) -> CliResult<u32> {
 }
 
 /// A stepper's driver timing, its shaft encoder and its start rate.
-fn stepper_driver<P: Read + Write>(s: &mut Session<P>, ask: &mut dyn Ask, a: &SetupArgs, f: Facts) -> CliResult<Facts> {
+fn stepper_driver<P: Read + Write>(
+    s: &mut Session<P>,
+    ask: &mut dyn Ask,
+    a: &GuidedArgs,
+    f: Facts,
+) -> CliResult<Facts> {
     let q = "The driver's shortest STEP pulse, ns (its datasheet; 2500 if unsure)";
     let pulse_ns = Some(ask.number(q, Some(2500), PULSE.lo, PULSE.hi)?);
     let q = "The driver's DIR setup time, ns (5000 if unsure)";
@@ -160,7 +167,7 @@ fn stepper_driver<P: Read + Write>(s: &mut Session<P>, ask: &mut dyn Ask, a: &Se
 
 /// The lost-step alarm's encoder, if there is one: its counts per cutter
 /// turn, 0 for none.
-fn shaft_encoder(ask: &mut dyn Ask, a: &SetupArgs) -> CliResult<u32> {
+fn shaft_encoder(ask: &mut dyn Ask, a: &GuidedArgs) -> CliResult<u32> {
     let q = "Is there an encoder on the motor's shaft or the cutter spindle, wired to PB6/PB7 (the lost-step alarm)?";
     if !ask.yes(q, a.cutter_encoder_cpr.is_some_and(|n| n != 0))? {
         return Ok(0);
@@ -171,7 +178,7 @@ fn shaft_encoder(ask: &mut dyn Ask, a: &SetupArgs) -> CliResult<u32> {
 
 /// The motor's start rate, up to the board's `max-rate` (the rule the
 /// board holds it to): 0, off, unless the machinist has found it.
-fn start_rate<P: Read + Write>(s: &mut Session<P>, ask: &mut dyn Ask, a: &SetupArgs) -> CliResult<u32> {
+fn start_rate<P: Read + Write>(s: &mut Session<P>, ask: &mut dyn Ask, a: &GuidedArgs) -> CliResult<u32> {
     let max = read_back(s)?.1.max_step_rate_hz.min(START_RATE.hi);
     let q = "The motor's start rate with the cutter fitted, steps/s: engaged at rest, the cutter then starts at the lathe's speed (0 if unsure: every change ramps; find it on the bench)";
     ask.number(q, Some(a.start_rate.unwrap_or(0).min(max)), START_RATE.lo, max)

@@ -12,14 +12,14 @@ use polyturn_sync::Config;
 #[derive(Parser)]
 struct Line {
     #[command(flatten)]
-    a: SetupArgs,
+    a: GuidedArgs,
 }
 
-fn args(flags: &str) -> SetupArgs {
+fn args(flags: &str) -> GuidedArgs {
     try_args(flags).unwrap()
 }
 
-fn try_args(flags: &str) -> Result<SetupArgs, clap::Error> {
+fn try_args(flags: &str) -> Result<GuidedArgs, clap::Error> {
     Line::try_parse_from(std::iter::once("setup").chain(flags.split_whitespace())).map(|l| l.a)
 }
 

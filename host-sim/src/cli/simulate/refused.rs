@@ -4,7 +4,7 @@
 
 use super::SimulateArgs;
 use crate::cli::errors::CliError;
-use crate::sim::bldc::{full_speed, own_tau_ms, INERTIA_KG_M2};
+use crate::sim::bldc_drive::{full_speed, own_tau_ms, INERTIA_KG_M2};
 use crate::sim::{Scenario, SimResult};
 use polyturn_sync::config::table::BLDC_TAU;
 use polyturn_sync::config::BldcOut;

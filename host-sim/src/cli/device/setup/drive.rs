@@ -1,13 +1,13 @@
-//! The guided setup's questions about a BLDC cutter (issue 30): what the
+//! The guided setup's questions about a BLDC cutter: what the
 //! board feeds the drive, the encoder the phase loop reads, the drive's
 //! full speed and its time constant. A fact the board's rules refuse is
 //! asked again, with the reason, a bounded number of times.
 
-use super::prompt::{retry, Ask};
+use super::super::prompt::{retry, Ask};
 use crate::cli::errors::{CliError, CliResult};
-use crate::cli::setup_plan::bldc::{max_rate, BldcFacts};
-use crate::cli::setup_plan::SetupArgs;
-use polyturn_sync::config::bldc::check_pwm_hz;
+use crate::cli::guided::bldc::{max_rate, BldcFacts};
+use crate::cli::guided::GuidedArgs;
+use polyturn_sync::config::bldc_out::check_pwm_hz;
 use polyturn_sync::config::table::{BLDC_TAU, CUTTER_CPR, PWM_HZ};
 use polyturn_sync::config::BldcOut;
 
@@ -19,7 +19,7 @@ const ESC: [(BldcOut, &str); 3] = [
 ];
 
 /// The drive's facts; `esc`: an RC ESC, else a spindle driver's speed input.
-pub fn drive(ask: &mut dyn Ask, a: &SetupArgs, esc: bool) -> CliResult<BldcFacts> {
+pub fn facts(ask: &mut dyn Ask, a: &GuidedArgs, esc: bool) -> CliResult<BldcFacts> {
     let out = if esc {
         ESC[ask.choose("Which pulse does the ESC take?", &ESC.map(|(_, what)| what))?].0
     } else {
@@ -38,7 +38,7 @@ pub fn drive(ask: &mut dyn Ask, a: &SetupArgs, esc: bool) -> CliResult<BldcFacts
 }
 
 /// A frequency the timer makes exactly (`pwm-hz`'s rule).
-fn pwm_hz(ask: &mut dyn Ask, a: &SetupArgs) -> CliResult<u32> {
+fn pwm_hz(ask: &mut dyn Ask, a: &GuidedArgs) -> CliResult<u32> {
     retry(ask, |ask| {
         let hz =
             ask.number("The PWM frequency the driver takes, Hz", a.bldc.pwm_hz.or(Some(1_000)), PWM_HZ.lo, PWM_HZ.hi)?;

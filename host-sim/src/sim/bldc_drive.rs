@@ -12,7 +12,7 @@
 //! spindle driver's speed input feeds its own speed loop.
 
 use polyturn_firmware::bldcout::Out;
-use polyturn_sync::config::bldc::TIMER_HZ;
+use polyturn_sync::config::bldc_out::TIMER_HZ;
 use polyturn_sync::config::BldcOut;
 use polyturn_sync::{Config, ConfigError};
 use std::f64::consts::TAU;

@@ -16,7 +16,7 @@ use polyturn_sync::config::BldcOut;
 use polyturn_sync::{DriveKind, Ratio, Sense};
 
 #[derive(clap::Args, Debug, Clone)]
-pub struct SetupArgs {
+pub struct GuidedArgs {
     /// Ask nothing: every fact from the flags, no checks run (for scripts)
     #[arg(long)]
     pub non_interactive: bool,
@@ -113,7 +113,7 @@ fn cutter_cpr(v: &str) -> Result<u32, String> {
 }
 
 /// Every flag that is one kind of cutter's, given or not.
-fn cutters_flags(a: &SetupArgs) -> [(&'static str, For, bool); 12] {
+fn cutters_flags(a: &GuidedArgs) -> [(&'static str, For, bool); 12] {
     let b = &a.bldc;
     [
         ("motor-steps", For::Stepper, a.motor_steps.is_some()),
@@ -131,7 +131,7 @@ fn cutters_flags(a: &SetupArgs) -> [(&'static str, For, bool); 12] {
     ]
 }
 
-pub fn from_flags(a: &SetupArgs) -> CliResult<Facts> {
+pub fn from_flags(a: &GuidedArgs) -> CliResult<Facts> {
     refuse_others(a.drive, a.bldc.bldc_out == Some(BldcOut::Pwm), &cutters_flags(a))?;
     let need = |flag: &str| CliError::flag(flag, "is needed with --non-interactive");
     let cpr = match (a.encoder_cpr, a.encoder_lines) {
@@ -163,7 +163,7 @@ pub fn from_flags(a: &SetupArgs) -> CliResult<Facts> {
 }
 
 /// A BLDC's facts in place of the stepper's (its flags refused above).
-fn bldc_facts(a: &SetupArgs, f: Facts) -> CliResult<Facts> {
+fn bldc_facts(a: &GuidedArgs, f: Facts) -> CliResult<Facts> {
     let b = bldc::from_flags(&a.bldc, a.cutter_encoder_cpr)?;
     Ok(Facts { steps: b.counts, cutter_cpr: None, bldc: Some(b), ..f })
 }
@@ -182,7 +182,7 @@ pub fn sense_of(d: Direction) -> Sense {
 }
 
 /// A stepper's steps per cutter turn from its flags (or their defaults).
-pub fn motor_steps(a: &SetupArgs) -> CliResult<u32> {
+pub fn motor_steps(a: &GuidedArgs) -> CliResult<u32> {
     let r = a.reduction.map_or((1, 1), |r| (r.num() as u64, r.den() as u64));
     let (full, micro) = (a.motor_steps.unwrap_or(MOTOR_STEPS), a.microsteps.unwrap_or(MICROSTEPS));
     figures::steps_per_cutter_turn(full, micro, r)
