@@ -47,7 +47,7 @@ fn on(j: Job, out: BldcOut) -> SimResult {
 }
 
 /// The spindle driver's settings on a drive that takes every tick's
-/// command exactly (as the simulator once did).
+/// command exactly (an idealised drive).
 fn ideal(j: Job) -> SimResult {
     let mut sc = job(j);
     fit_drive(&mut sc, BldcOut::Pwm, 1_000, None).unwrap();
@@ -99,9 +99,9 @@ fn row_of(j: Job, drive: &str, r: &SimResult, counts: u32) -> String {
     )
 }
 
-/// Issue 30's goal: a spindle driver at 1 kHz keeps the hexagon's section
-/// within 10 µm. (With the target a tick ahead of the encoder's reading, as
-/// before, 22 µm; with the rate's filter half a frame long, 15 µm.)
+/// The goal: a spindle driver at 1 kHz keeps the hexagon's section within
+/// 10 µm. (With the target a tick ahead of the encoder's reading it would
+/// be 22 µm; with the rate's filter half a frame long, 15 µm.)
 #[test]
 fn a_spindle_driver_at_1_khz_keeps_the_hexagons_section_within_10_um() {
     for (j, counts, section_um) in [(HEXAGON, 2.5, 10.0), (ELEVEN, 3.0, 5.0)] {
@@ -138,8 +138,8 @@ fn a_coarser_cutter_encoder_cuts_further_from_the_ideal() {
 
 /// A slower spindle driver (its loop 20 or 100 ms, `bldc-tau` set to it)
 /// must still hold while cutting: the gains follow the drive (with the
-/// integral's corner at a quarter of the crossover; at (1 + Kv) times it,
-/// as a first version had, the linear model is unstable from τ ≈ 70 ms).
+/// integral's corner at a quarter of the crossover; at (1 + Kv) times it
+/// the linear model is unstable from τ ≈ 70 ms).
 #[test]
 fn a_slower_spindle_driver_holds_phase_too() {
     for tau_ms in [20, 100] {

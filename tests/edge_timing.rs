@@ -1,10 +1,10 @@
-//! Phase at the limit of what the encoder can tell (issue 28): with A's
+//! Phase at the limit of what the encoder can tell: with A's
 //! rises timed to the µs, the position between counts comes from the
 //! edge's place and age, not the count's ±½. The limits are the physics:
 //! 0.5 × (steps per count) + 0.5 step synchronised (the count's own
 //! uncertainty plus the motor's step), 0.1 count + 0.5 step while cutting.
 //! Each scenario runs with the edge times and without them (the count
-//! alone, as before), so the gain is shown to come from the edge times.
+//! alone), so the gain is shown to come from the edge times.
 
 use polyturn_host::geometry::Direction;
 use polyturn_host::sim::encoder::Disc;

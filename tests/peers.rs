@@ -1,5 +1,5 @@
 //! polyturn beside its peers' gearbox algorithms on one lathe trace
-//! (issue 28, `polyturn_bench::peers`; docs/src/performance.md, "Beside the
+//! (`polyturn_bench::peers`; docs/src/performance.md, "Beside the
 //! peers"). While cutting, its phase error is at most half that of every
 //! count-and-step peer (Clough42's and nanoELS as published, Didge's
 //! Bresenham without its delay), with a true encoder and a cheap one, and

@@ -195,8 +195,8 @@ fn arming_counts_no_pulse_and_a_halt_cuts_none() {
 
 #[test]
 fn the_model_catches_an_arm_program_that_sets_trgo_after_its_ug() {
-    // the first version of `arm` did: with MMS at reset, UG is TRGO
-    // (RM0383 §12.4.2) and TIM2 counts a pulse nobody sent
+    // with MMS still at reset when UG is written, UG is TRGO (RM0383
+    // §12.4.2) and TIM2 counts a pulse nobody sent
     let late_mms = |ops: &mut Vec<Op>| {
         let i = ops.iter().position(|op| *op == Op::Write(prog::TIM1 + prog::CR2, 0b100 << 4)).unwrap();
         let mms = ops.remove(i);

@@ -1,7 +1,7 @@
 //! The steps' spacing at a steady lathe, fed what a real encoder gives:
 //! whole counts read at the interrupt's latency, and A's rises latched to
 //! the µs (`hwsim::latches`), through the whole controller and the RM0383
-//! model of the step output. Issue 28: within 1 % of the period from
+//! model of the step output. The goal: within 1 % of the period from
 //! 1 kHz to 240 kHz (the top speed a 250 kHz `max-rate` leaves a lathe),
 //! and no reversal of DIR at a steady speed.
 

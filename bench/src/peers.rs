@@ -1,5 +1,5 @@
 //! polyturn's core beside its peers' published gearbox algorithms on one
-//! lathe trace (issue 28: "ahead of every peer on the same trace"): the
+//! lathe trace, to show it ahead of every peer on the same trace: the
 //! same lathe and 2 400-count encoder, the same rotor, the same
 //! measurement. The peers are re-implemented from their sources (each
 //! module cites the file and lines); what they leave open, and what this

@@ -1,4 +1,4 @@
-//! The BLDC drive's command (issue 30): TIM10_CH1 (PB8) in PWM mode 1, and
+//! The BLDC drive's command: TIM10_CH1 (PB8) in PWM mode 1, and
 //! the cutter's sense on BLDC_DIR (PB1). One timer makes every interface
 //! `bldc-out` offers; only its frame and pulse range differ:
 //!

@@ -39,12 +39,10 @@
 //! `LATENCY_MAX` = 3 000 cycles is an estimate, not a measurement: the
 //! interrupt must sit below the tick (level 1; the E-stop, above it, is
 //! 0, and the tick's step plan below it, 2); at level 3 it waits for the
-//! E-stop's handler, the tick and its plan (the same work the tick did
-//! alone before the plan moved out of it: 790 instructions worst in QEMU
-//! then, 900-1 400 cycles estimated on silicon, README), the longest
-//! section under the tick's lock (671 instructions), embassy's TIM5
-//! handler at the same level, and its own
-//! entry (12) and prologue. `MARGIN` (8 cycles) covers TIM3's input path:
+//! E-stop's handler, the tick and its plan, the longest section under the
+//! tick's lock (their costs are measured in the emulator:
+//! docs/src/performance.md), embassy's TIM5 handler at the same level, and
+//! its own entry (12) and prologue. `MARGIN` (8 cycles) covers TIM3's input path:
 //! A, B and the index go through the same 8-sample filter (`app::drivers`).
 //! Not bounded here: every global critical section (BASEPRI, `app/cs.rs`)
 //! also masks this level, and embassy's time driver holds one for its

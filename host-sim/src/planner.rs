@@ -170,7 +170,7 @@ fn min_cutter(setup: &Setup, tol: f64) -> Option<f64> {
 }
 
 #[cfg(test)]
-mod before;
+mod direct_tests;
 
 #[cfg(test)]
 mod tests {

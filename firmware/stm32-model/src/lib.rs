@@ -1,19 +1,24 @@
-//! A cycle-level software model of STM32F411 peripherals — TIM1, TIM2, TIM9, TIM11
-//! and DMA2 stream 5 in [`Mcu`]; TIM3–5, TIM10, GPIO, EXTI, RCC, NVIC, the IWDG and
-//! USB OTG FS for the emulator in [`chip`] — of the flash interface's sector erase ([`flash`], in
-//! nanoseconds, on its own bus) and of TIM3's encoder interface ([`encoder`], fed with
-//! pin levels), written from the reference manual RM0383 (cross-checked with
-//! RM0090/RM0401, whose TIM1/TIM2/DMA chapters describe the same IP), to serve as a
-//! test oracle for firmware that drives them. It is not derived from the firmware.
+//! A software model of the STM32F411, written from the reference manual
+//! RM0383 (cross-checked with RM0090/RM0401, whose TIM1/TIM2/DMA chapters
+//! describe the same IP) to serve as a test oracle for firmware that drives
+//! it. It is not derived from the firmware. Its parts:
+//! * [`Mcu`]: TIM1, TIM2, TIM9, TIM11 and DMA2 stream 5, cycle-exact, driven like
+//!   the hardware: 32-bit register writes and reads at their bus addresses
+//!   ([`addr`]), and [`Mcu::step`] advances one timer-kernel clock (CK_INT = 96 MHz
+//!   for every timer);
+//! * [`chip`]: the rest of the chip as the emulator (`emu/`) needs it, event-driven:
+//!   GPIO, SYSCFG and EXTI, RCC and PWR, the IWDG, TIM3–5 and TIM10, USB OTG FS, and
+//!   the Cortex-M4's NVIC, SCB and DWT (PM0214);
+//! * [`flash`]: the flash interface's sector erase, in nanoseconds, on its own bus;
+//! * [`encoder`]: TIM3's encoder interface, fed with pin levels.
 //!
-//! Every behaviour cites its section in doc comments. The [`Mcu`] is driven like the
-//! hardware: 32-bit register writes and reads at their bus addresses ([`addr`]), and
-//! [`Mcu::step`] advances one timer-kernel clock (CK_INT = 96 MHz for every timer).
+//! Every behaviour cites its section in doc comments.
 //!
-//! # Assumptions
-//! * GPIO/AF are not modelled: PA8/PA9 are taken to be in alternate function TIM1
-//!   (CH1/CH2), PA2/PA3 in TIM9's (CH1/CH2). A pin the timer does not drive (CCxE = 0 or MOE = 0, RM0383 §12.4.9)
-//!   reads `false`, as the board's pull-downs hold it low.
+//! # Assumptions of the `Mcu`
+//! * Its pins are its timers' alone (GPIO and alternate functions are [`chip`]'s):
+//!   PA8/PA9 are taken to be in alternate function TIM1 (CH1/CH2), PA2/PA3 in
+//!   TIM9's (CH1/CH2). A pin the timer does not drive (CCxE = 0 or MOE = 0, RM0383
+//!   §12.4.9) reads `false`, as the board's pull-downs hold it low.
 //! * OCxREF follows the counter in the same cycle (no extra output synchronisation
 //!   stage: the manual's waveforms show none).
 //! * A write to a register or field that is not modelled panics with its address; bits
@@ -27,14 +32,15 @@
 //! * Output-compare match modes act only on counter ticks (a CCRx or CNT write that
 //!   makes CNT = CCRx is not a match); the manual does not say either way.
 //!
-//! # Not modelled (writing such a configuration panics)
+//! # Not modelled by the `Mcu` (writing such a configuration panics)
 //! Down/center-aligned counting, slave modes other than TIM2's external clock mode 1 on
 //! ITR0, input capture, channels 3/4 of TIM1 and TIM11's channel, PWM modes on TIM9,
 //! TIM9's slave modes, complementary outputs,
 //! dead time, break, LOCK, OSSI, OCxCE/ETR, TRGO of TIM2/TIM11, CCxDE/COMDE/TDE DMA
 //! requests, DMA streams other than DMA2 stream 5, FIFO mode, bursts, double buffer,
-//! peripheral flow control, PINC, peripheral addresses outside TIM1, the NVIC (flags and
-//! interrupt-enable bits are kept, interrupts are not delivered), GPIO/AF and RCC.
+//! peripheral flow control, PINC, peripheral addresses outside TIM1. Its timers' flags
+//! and interrupt-enable bits are kept; delivering the interrupts is [`chip`]'s NVIC's
+//! and the emulator's.
 
 pub mod addr;
 pub mod bits;

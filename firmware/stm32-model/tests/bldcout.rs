@@ -115,9 +115,9 @@ fn setting_up_again_in_a_pulse_never_stretches_it() {
     // a µs between words: the pin falls by the third word (CCR1 = 0 with
     // the preload off) and stays low for the whole of the new interface's
     // first frame, so an ESC sees the cut pulse and the first stop pulse
-    // apart, never 900 + 1 000 µs read as throttle. (A first version wrote
-    // the stop with the preload off after the counter started: the pin
-    // rose again a few µs after it fell.)
+    // apart, never 900 + 1 000 µs read as throttle. (The stop written with
+    // the preload off after the counter started would let the pin rise
+    // again a few µs after it fell.)
     for (next, frame) in [("esc50", 1_920_000), ("pwm", 96_000), ("oneshot125", 48_000)] {
         for r in READINGS {
             let o = out("esc400", "1000");
@@ -178,8 +178,8 @@ fn the_stop_never_lets_a_waiting_command_through_between_its_words() {
     // esc400 at half speed (1 500 µs), full speed waiting in the preload;
     // the stop comes 1 600 µs in, the pin already low. Word by word, under
     // either reading, the waiting 2 000 µs is never in force (where
-    // clearing OC1PE puts a waiting value in force, a first version that
-    // cleared the preload first let the pin rise again for 400 µs), and
+    // clearing OC1PE puts a waiting value in force, clearing the preload
+    // first would let the pin rise again for 400 µs), and
     // the stop ends waiting, the preload on again
     for r in READINGS {
         let o = out("esc400", "1000");

@@ -175,8 +175,8 @@ impl Config {
             return Err(range("start-rate", "does not fit with the others: start-rate must not exceed max-rate"));
         }
         // A BLDC drive corrected less than once per cutter revolution
-        // cannot hold its phase (issue 30): at 3 000 rpm a 50 Hz ESC gets
-        // one command per cutter turn.
+        // cannot hold its phase: at 3 000 rpm a 50 Hz ESC gets one command
+        // per cutter turn.
         let frame_hz = self.bldc_out.frame_hz(self.pwm_hz) as u64;
         let cutter_rev_per_min = self.max_lathe_rpm as u64 * self.ratio.num() as u64;
         if self.drive == DriveKind::Bldc && cutter_rev_per_min > 60 * self.ratio.den() as u64 * frame_hz {

@@ -49,8 +49,8 @@ fn ceil_div(a: u64, b: u64) -> u64 {
 /// output fills: one, plus the step output's pipeline. A BLDC's loop
 /// compares the target with its encoder, read at the tick's instant as the
 /// lathe's is: the target there, not a tick ahead (a tick ahead, its
-/// integral held the cutter a tick early: 2.6 counts at 1 200 rpm of a
-/// 3 200-count encoder).
+/// integral would hold the cutter a tick early: 2.6 counts at 1 200 rpm
+/// of a 3 200-count encoder).
 fn ahead_ticks(drive: crate::config::DriveKind) -> i64 {
     use crate::config::DriveKind;
     match drive {

@@ -85,5 +85,5 @@ fn every_ratio_flag_takes_the_shops_notation() {
     let slash =
         run("geometry --cutter-radius 50 --stock-radius 10 --depth 1 --ratio 11/3 --edges 1 --direction same --json");
     assert_eq!(colon, slash);
-    assert!(colon.unwrap().contains("\"ratio\":\"11/3\""), "shown back as before");
+    assert!(colon.unwrap().contains("\"ratio\":\"11/3\""), "shown back in its canonical form");
 }

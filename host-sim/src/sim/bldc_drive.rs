@@ -26,8 +26,8 @@ pub enum BldcDrive {
     /// a spindle driver's speed input (`bldc-out pwm`): its speed loop,
     /// first order `tau`, within the motor's torque
     SpeedLoop { tau: f64 },
-    /// idealised (the simulator before issue 30): a speed loop taking every
-    /// tick's command at full resolution; no real drive is fed so
+    /// idealised: a speed loop taking every tick's command at full
+    /// resolution; no real drive is fed so
     Ideal,
 }
 

@@ -1,4 +1,4 @@
-//! The BLDC drive's interface (issue 30): what TIM10_CH1 (PB8) sends the
+//! The BLDC drive's interface: what TIM10_CH1 (PB8) sends the
 //! drive and how often the drive takes a new command, and the drive's own
 //! time constant. The phase loop's gains come from both (`BldcGains`); the
 //! register words are the firmware's (`polyturn_firmware::bldcout`).
@@ -11,7 +11,7 @@ use crate::timing::Timing;
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub enum BldcOut {
-    /// an RC ESC: 1 000..2 000 µs every 20 ms (the firmware before issue 30)
+    /// an RC ESC: 1 000..2 000 µs every 20 ms (a servo's rate)
     Esc50,
     /// an RC ESC taking the same pulse every 2.5 ms
     Esc400,

@@ -41,7 +41,7 @@ fn integral(b: &mut Bldc, d: &Derived) -> i64 {
 }
 
 /// A drive that takes 4096 / 65 536 of the error a tick and 2^-10 of it
-/// into the integral (the gains before issue 30), with no lag.
+/// into the integral (fixed gains, whatever the drive), with no lag.
 fn stiff() -> Derived {
     let mut d = derived();
     d.bldc = BldcGains { kp_q16: 4_096, ki_q32: 1 << 22, tau_ticks: 0, kv_q8: 0, rate_shift: 0 };

@@ -1,4 +1,4 @@
-//! The phase loop's gains, from the drive's update rate and time constant
+//! The phase loop's gains, from the drive's update rate and time constant,
 //! worked out at low priority (`Derived`).
 //!
 //! From the speed command to the cutter's angle the drive is a delay and a
@@ -11,9 +11,9 @@
 //!   over 2^shift ticks: at least the largest power of two within a
 //!   frame. The drive takes one command a frame, so the rate's noise
 //!   (whole counts) faster than that would only alias into the command:
-//!   averaged over half a frame, as a first version had, the spindle
-//!   driver's error wandered ±2 counts at 30–50 Hz (`tests/bldc_drives.rs`:
-//!   the hexagon 3.4 counts while cutting, 1.9 with the frame's filter).
+//!   averaged over half a frame, the spindle driver's error wanders ±2
+//!   counts at 30–50 Hz (`tests/bldc_drives.rs`: the hexagon 3.4 counts
+//!   while cutting, 1.9 with the frame's filter).
 //!   Around the lag, Kv / (1 + sτ)
 //!   crosses over near Kv/τ (for Kv well over 1), where the hold and the
 //!   filter, T, cost Kv·T/τ rad: Kv = τ / 2T keeps that to ½ rad. Kv is

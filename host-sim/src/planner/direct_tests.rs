@@ -1,10 +1,10 @@
-//! The planner's figures against the ones it printed before the sector
-//! solver and the per-ratio cache (commit e7b03fd, `Section::ideal` with a
-//! 0.5 µm polyline per evaluation, which took 173 s for
-//! `--sides 2 --max-edges 12 --max-ratio 1000 --max-revolutions 12`):
-//! smaller requests of the same shape, captured from that build's `--json`.
+//! The planner's figures against the direct method's: `Section::ideal` on
+//! a 0.5 µm polyline per evaluation, with no sector solver and no
+//! per-ratio cache (173 s for `--sides 2 --max-edges 12 --max-ratio 1000
+//! --max-revolutions 12`), whose `--json` for smaller requests of the same
+//! shape is captured below (from the build of commit e7b03fd).
 //!
-//! Unchanged up to the old polyline's own interpolation: flat deviations
+//! The same up to the polyline's own interpolation: flat deviations
 //! within 1e-7 mm (seen: ≤ 1.2e-8), the same corners, the same rows in the
 //! same order, and the smallest cutter within 1e-4 of itself (seen: 1.2e-5,
 //! where the deviation changes by only 1e-5 mm per mm of cutter, so its
@@ -31,10 +31,10 @@ fn req(sides: u32, stock_radius: f64, depth: f64, max_edges: u32, max_ratio: f64
     }
 }
 
-fn check(req: &Request, before: &[Row]) {
-    let now = plan(req);
-    assert_eq!(now.len(), before.len(), "{} sides", req.sides);
-    for (c, &(ratio, edges, direction, turns, flat, sharp, min_r1)) in now.iter().zip(before) {
+fn check(req: &Request, direct: &[Row]) {
+    let planned = plan(req);
+    assert_eq!(planned.len(), direct.len(), "{} sides", req.sides);
+    for (c, &(ratio, edges, direction, turns, flat, sharp, min_r1)) in planned.iter().zip(direct) {
         let row = format!("{} sides: {ratio} x {edges} {direction}", req.sides);
         assert_eq!((c.ratio.as_str(), c.edges, c.direction, c.revolutions), (ratio, edges, direction, turns), "{row}");
         assert!((c.flat_deviation - flat).abs() <= 1e-7, "{row}: {} vs {flat}", c.flat_deviation);
@@ -47,16 +47,16 @@ fn check(req: &Request, before: &[Row]) {
 }
 
 #[test]
-fn the_worst_requests_shape_plans_as_before_on_smaller_requests() {
+fn the_worst_requests_shape_plans_as_the_direct_method_on_smaller_requests() {
     check(&req(2, 10.0, 1.5, 3, 1000.0, 3), TWO_SIDES);
     check(&Request { rpm: Some(300.0), ..req(3, 10.0, 1.5, 3, 1000.0, 4) }, THREE_SIDES);
     check(&Request { rpm: Some(1000.0), ..req(1000, 10.0, 1.5, 4, 1000.0, 3) }, THOUSAND_SIDES);
     check(&Request { tolerance: 0.001, ..req(5, 1.0, 0.2, 4, 20.0, 2) }, FIVE_SIDES_SMALL);
 }
 
-/// The worst request itself (173 s before): its rows, shared figures and
-/// order, and some rows' figures recomputed the old way, on the 0.5 µm
-/// polyline over the whole circle (every flat, not flat 0 alone).
+/// The worst request itself (173 s by the direct method): its rows, shared
+/// figures and order, and some rows' figures recomputed the direct way, on
+/// the 0.5 µm polyline over the whole circle (every flat, not flat 0 alone).
 #[test]
 fn the_worst_request_agrees_with_the_sampled_section() {
     let req = req(2, 10.0, 1.5, 12, 1000.0, 12);
@@ -83,12 +83,12 @@ fn the_worst_request_agrees_with_the_sampled_section() {
             edges: c.edges,
             direction: if c.direction == "same" { Direction::Same } else { Direction::Opposite },
         };
-        let old = Section::ideal(&setup, 256).summary();
-        assert!((c.flat_deviation - old.flat_deviation).abs() <= 1e-7, "{c:?}: {}", old.flat_deviation);
-        assert_eq!(c.corners_sharp, old.corners_sharp, "{c:?}");
+        let sampled = Section::ideal(&setup, 256).summary();
+        assert!((c.flat_deviation - sampled.flat_deviation).abs() <= 1e-7, "{c:?}: {}", sampled.flat_deviation);
+        assert_eq!(c.corners_sharp, sampled.corners_sharp, "{c:?}");
         if let Some(r) = c.min_cutter_radius {
             // the contract (`min_cutter_radius_meets_the_tolerance_just_barely`)
-            // on the old deviation, which may differ by its 1e-8 mm
+            // on the sampled deviation, which may differ by its 1e-8 mm
             let dev = |r1| Section::ideal(&Setup { cutter_radius_mm: r1, ..setup }, 128).summary().flat_deviation.abs();
             assert!(dev(r) <= req.tolerance + 1e-7 && (r == 5.0 || dev(r * 0.97) > req.tolerance), "{c:?}");
         }
