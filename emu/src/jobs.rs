@@ -43,7 +43,7 @@ const ROCKED: Spec = Spec {
     seed: 7,
 };
 
-/// Issue 25's job scenarios; (d) save-reset and (e) the self-test run on the
+/// The jobs' scenarios; (d) save-reset and (e) the self-test run on the
 /// USB console (`job::save`, `job::selftest`).
 pub const SPECS: &[Spec] = &[
     HEXAGON,
