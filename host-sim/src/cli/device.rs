@@ -7,6 +7,7 @@ pub mod divide;
 #[cfg(test)]
 mod divide_tests;
 pub use super::figures;
+pub mod port;
 pub mod prompt;
 #[cfg(test)]
 mod selftest_tests;
@@ -35,7 +36,8 @@ pub struct DeviceArgs {
     /// The board's serial port [default: the first /dev/ttyACM* or /dev/cu.usbmodem*]
     #[arg(long, global = true, value_name = "PATH")]
     pub port: Option<String>,
-    /// How long to wait for each reply, seconds
+    /// How long to wait for each reply, seconds (`save` and a table's last line
+    /// wait at least 10: erasing the settings' flash sector takes up to 2 s)
     #[arg(long, global = true, value_name = "S", default_value = "3", allow_hyphen_values = true, value_parser = within(0.01, 60.0, "s"))]
     pub timeout: f64,
     #[command(subcommand)]
@@ -158,11 +160,8 @@ pub fn run(a: DeviceArgs) -> CliResult<String> {
         DeviceCommand::UploadCam { file } => Some(read_table(file)?),
         _ => None,
     };
-    let path = a.port.clone().or_else(find_port).ok_or_else(|| CliError::flag("port", NO_PORT))?;
-    let serial = serialport::new(&path, 115_200)
-        .timeout(Duration::from_millis(50))
-        .open()
-        .map_err(|e| CliError::flag("port", format!("cannot open {}: {e}", escaped(&path))))?;
+    let path = a.port.clone().or_else(port::find).ok_or_else(|| CliError::flag("port", port::NONE_FOUND))?;
+    let serial = port::open(&path).map_err(|why| CliError::flag("port", why))?;
     let mut s = Session::new(serial, &path, Duration::from_secs_f64(a.timeout));
     match (&a.command, line) {
         (DeviceCommand::Watch, _) => watch(&mut s, &mut std::io::stdout().lock()),
@@ -291,46 +290,4 @@ pub fn upload<P: Read + Write>(s: &mut Session<P>, table: &crate::noncircular::t
         last = ok_or_device_error(s.ask_within(line, wait)?)?;
     }
     Ok(last)
-}
-
-/// The first USB CDC-ACM port, as Linux and macOS name them.
-/// What a missing `--port` gets, where the board was looked for.
-#[cfg(not(windows))]
-const NO_PORT: &str =
-    "not given and no polyturn console found (looked for /dev/ttyACM*): connect the board by USB, or give --port PATH";
-#[cfg(windows)]
-const NO_PORT: &str = "not given and no polyturn console found (looked for USB 16c0:27dd among the COM ports): connect the board by USB, or give --port COM5 (its number in Device Manager, Ports)";
-
-/// The polyturn console's USB IDs (firmware/src/app/usb.rs).
-const CONSOLE_USB: (u16, u16) = (0x16c0, 0x27dd);
-
-/// Windows names ports COMn: the console is the one with its USB IDs
-/// (SetupAPI, through serialport's `available_ports`).
-#[cfg(windows)]
-fn find_port() -> Option<String> {
-    first_console(serialport::available_ports().ok()?)
-}
-
-/// The first port that is the polyturn console by its USB IDs.
-#[cfg_attr(not(windows), allow(dead_code))]
-fn first_console(ports: Vec<serialport::SerialPortInfo>) -> Option<String> {
-    let mut found: Vec<String> = ports
-        .into_iter()
-        .filter(|p| matches!(&p.port_type, serialport::SerialPortType::UsbPort(u) if (u.vid, u.pid) == CONSOLE_USB))
-        .map(|p| p.port_name)
-        .collect();
-    found.sort();
-    found.into_iter().next()
-}
-
-#[cfg(not(windows))]
-fn find_port() -> Option<String> {
-    let mut found: Vec<String> = std::fs::read_dir("/dev")
-        .ok()?
-        .filter_map(|e| e.ok()?.file_name().into_string().ok())
-        .filter(|n| n.starts_with("ttyACM") || n.starts_with("cu.usbmodem"))
-        .map(|n| format!("/dev/{n}"))
-        .collect();
-    found.sort();
-    found.into_iter().next()
 }

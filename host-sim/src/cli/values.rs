@@ -4,7 +4,9 @@
 //! every kind of value alike (numbers, ratios and choices). A range is
 //! said as `lo..=hi`, and `--help` shows each flag's range as its parser
 //! refuses it (`cli::ranges`): the two cannot disagree. A flag that is a
-//! console setting takes the console's own range (`setting`).
+//! console setting takes the console's own range (`setting`). No number
+//! takes a `+`, as the console's do not (`console::number`), whatever
+//! Rust's own number parsers would take; a `-` is left to the range.
 
 use crate::geometry::Direction;
 use polyturn_sync::config::{BldcOut, Span};
@@ -14,10 +16,16 @@ use polyturn_sync::{DriveKind, Ratio};
 pub trait Parser<T>: Fn(&str) -> Result<T, String> + Clone + Send + Sync + 'static {}
 impl<T, F: Fn(&str) -> Result<T, String> + Clone + Send + Sync + 'static> Parser<T> for F {}
 
+/// `s` trimmed, or `None` when it starts with `+` (which `str::parse`
+/// takes and the console does not).
+pub(crate) fn unplussed(s: &str) -> Option<&str> {
+    Some(s.trim()).filter(|t| !t.starts_with('+'))
+}
+
 /// A finite number in [lo, hi] with its unit.
 pub fn within(lo: f64, hi: f64, unit: &'static str) -> impl Parser<f64> {
-    move |s: &str| match s.trim().parse::<f64>() {
-        Ok(v) if v.is_finite() && (lo..=hi).contains(&v) => Ok(v),
+    move |s: &str| match unplussed(s).map(str::parse::<f64>) {
+        Some(Ok(v)) if v.is_finite() && (lo..=hi).contains(&v) => Ok(v),
         _ => Err(format!("must be a number in {lo}..={hi}{}", spaced(unit))),
     }
 }
@@ -31,16 +39,16 @@ pub fn length_mm() -> impl Parser<f64> {
 
 /// A lathe speed: at least 1 rpm (slower is no cut), at most `hi`.
 pub fn rpm(hi: f64) -> impl Parser<f64> {
-    move |s: &str| match s.trim().parse::<f64>() {
-        Ok(v) if v.is_finite() && (1.0..=hi).contains(&v) => Ok(v),
+    move |s: &str| match unplussed(s).map(str::parse::<f64>) {
+        Some(Ok(v)) if v.is_finite() && (1.0..=hi).contains(&v) => Ok(v),
         _ => Err(format!("must be a lathe speed in 1..={hi} rpm")),
     }
 }
 
 /// A whole number in lo..=hi.
 pub fn whole(lo: u64, hi: u64) -> impl Parser<u64> {
-    move |s: &str| match s.trim().parse::<u64>() {
-        Ok(v) if (lo..=hi).contains(&v) => Ok(v),
+    move |s: &str| match unplussed(s).map(str::parse::<u64>) {
+        Some(Ok(v)) if (lo..=hi).contains(&v) => Ok(v),
         _ => Err(format!("must be a whole number in {lo}..={hi}")),
     }
 }
@@ -54,8 +62,8 @@ pub fn whole32(lo: u32, hi: u32) -> impl Parser<u32> {
 /// A console setting's number, in the console's own range (its table,
 /// `polyturn_sync::config::table`), refused in its words.
 pub fn setting(span: Span) -> impl Parser<u32> {
-    move |s: &str| match s.trim().parse::<u32>() {
-        Ok(v) if span.contains(v) => Ok(v),
+    move |s: &str| match unplussed(s).map(str::parse::<u32>) {
+        Some(Ok(v)) if span.contains(v) => Ok(v),
         _ => Err(format!("must be {}", setting_range(span))),
     }
 }
@@ -78,7 +86,7 @@ pub fn ratio_bound(lo: f64, hi: f64) -> impl Parser<f64> {
     move |s: &str| {
         let value = match s.contains(['/', ':']) {
             true => Ratio::parse(s).map(Ratio::to_f64).ok(),
-            false => s.trim().parse::<f64>().ok(),
+            false => unplussed(s).and_then(|t| t.parse::<f64>().ok()),
         };
         value
             .filter(|v| v.is_finite() && (lo..=hi).contains(v))
@@ -112,7 +120,7 @@ pub fn bldc_out(s: &str) -> Result<BldcOut, String> {
 /// A PWM frequency TIM10 makes exactly (the console's own rule, `pwm-hz`).
 pub fn pwm_hz(s: &str) -> Result<u32, String> {
     let refused = || format!("must be {}", setting_range(polyturn_sync::config::table::PWM_HZ));
-    let hz = s.trim().parse::<u32>().map_err(|_| refused())?;
+    let hz = unplussed(s).and_then(|t| t.parse::<u32>().ok()).ok_or_else(refused)?;
     polyturn_sync::config::bldc_out::check_pwm_hz(hz).map_err(|_| refused())?;
     Ok(hz)
 }
@@ -182,5 +190,22 @@ mod tests {
         assert_eq!(cpr("1048576").unwrap_err(), "must be 4..=1000000 counts per lathe rev, the console's `cpr`");
         assert!(cpr("3").is_err() && cpr("-4").is_err() && cpr("x").is_err());
         assert_eq!(setting(START_RATE)("0"), Ok(0));
+    }
+
+    #[test]
+    fn no_number_takes_a_plus_as_the_ratio_and_the_console_do_not() {
+        use polyturn_sync::config::table::CPR;
+        let refused = [
+            length_mm()("+2").is_err(),
+            rpm(6000.0)("+600").is_err(),
+            whole(1, 12)("+3").is_err(),
+            setting(CPR)(" +2400").is_err(),
+            ratio_bound(0.01, 1000.0)("+2").is_err(),
+            pwm_hz("+1000").is_err(),
+            ratio("+2").is_err(),
+        ];
+        assert_eq!(refused, [true; 7]);
+        assert_eq!((length_mm()("2"), whole(1, 12)("3")), (Ok(2.0), Ok(3)));
+        assert_eq!(within(-0.45, 0.45, "counts")("-0.25"), Ok(-0.25), "a minus is left to the range");
     }
 }

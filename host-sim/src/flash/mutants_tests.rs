@@ -8,8 +8,8 @@
 //! `polyturn image` makes it), else a synthetic one from the test kit.
 
 use super::image::{from_bytes, Format};
-use polyturn_bench::flash::testkit::good;
 use super::{hex, Image, VECTOR_TABLE_BYTES};
+use polyturn_bench::flash::testkit::good;
 use polyturn_firmware::regs::Bus;
 use polyturn_firmware::seal::{self, CRC_BASE, FLASH_BASE, RCC_AHB1ENR, SEAL_BYTES};
 use polyturn_stm32_model::chip::crc::Crc;

@@ -24,7 +24,9 @@ pub struct Request {
 
 /// m as typed, any whole number: `request` refuses it knowing N.
 pub fn turns(s: &str) -> Result<u32, String> {
-    s.trim().parse::<u32>().map_err(|_| "must be a whole number in 2..=N-1 (N is --sides)".into())
+    crate::cli::values::unplussed(s)
+        .and_then(|t| t.parse::<u32>().ok())
+        .ok_or_else(|| "must be a whole number in 2..=N-1 (N is --sides)".into())
 }
 
 pub fn request(a: &CamArgs) -> CliResult<Request> {

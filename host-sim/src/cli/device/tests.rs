@@ -293,6 +293,6 @@ fn the_console_is_found_among_the_ports_by_its_usb_ids() {
         usb("COM7", 0x16c0, 0x27dd),
         usb("COM5", 0x16c0, 0x27dd),
     ];
-    assert_eq!(super::first_console(ports), Some("COM5".into()));
-    assert_eq!(super::first_console(vec![usb("COM3", 0x0403, 0x6001)]), None);
+    assert_eq!(super::port::first_console(ports), Some("COM5".into()));
+    assert_eq!(super::port::first_console(vec![usb("COM3", 0x0403, 0x6001)]), None);
 }

@@ -266,10 +266,7 @@ impl Lines {
 pub fn serial(port: String) -> Opener {
     Box::new(move || {
         let shown = super::super::errors::escaped(&port);
-        let p = serialport::new(&port, 115_200)
-            .timeout(Duration::from_millis(50))
-            .open()
-            .map_err(|e| format!("cannot open {shown}: {e}"))?;
+        let p = super::super::device::port::open(&port)?;
         let reader = p.try_clone().map_err(|e| format!("cannot open {shown} twice (to read and write): {e}"))?;
         Ok((reader as Box<dyn Read + Send>, p as Box<dyn Write + Send>))
     })

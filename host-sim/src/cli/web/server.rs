@@ -7,9 +7,9 @@
 //! the board when one is relayed (`socket.rs`), with no reply deadline.
 
 use super::access::{Granted, UNAUTHORIZED};
+use super::files::Body;
 use super::files::NOT_FOUND;
 use super::request::{self, Method, Request, NOT_ALLOWED};
-use super::files::Body;
 use super::site::Site;
 use super::socket;
 use super::timed::Timed;
