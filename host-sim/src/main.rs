@@ -1,20 +1,34 @@
 //! `polyturn`: the host command-line tool.
-use std::io::Write;
+use std::io::{ErrorKind, Write};
 use std::process::ExitCode;
 
 fn main() -> ExitCode {
     let argv: Vec<String> = std::env::args().skip(1).collect();
     match polyturn_host::cli::dispatch(&argv) {
-        Ok(text) => {
-            // A closed pipe (`polyturn ... | head`) is not an error worth a panic.
-            if !text.is_empty() {
-                let _ = writeln!(std::io::stdout().lock(), "{text}");
-            }
-            ExitCode::SUCCESS
-        }
-        Err(e) => {
-            let _ = writeln!(std::io::stderr().lock(), "error: {}", e.0);
-            ExitCode::from(2)
-        }
+        Ok(text) => match print(&text) {
+            Ok(()) => ExitCode::SUCCESS,
+            // the reader took what it wanted (`polyturn ... | head`)
+            Err(e) if e.kind() == ErrorKind::BrokenPipe => ExitCode::SUCCESS,
+            // a full disk or a closed stdout: the report is not where the
+            // caller asked for it, which is no success
+            Err(e) => fail(&format!("the report could not be written to standard output: {e}")),
+        },
+        Err(e) => fail(&e.0),
     }
+}
+
+/// The report, flushed: a write that fails only at the flush (a full
+/// disk behind a redirect) fails here, not silently at exit.
+fn print(text: &str) -> std::io::Result<()> {
+    if text.is_empty() {
+        return Ok(());
+    }
+    let mut out = std::io::stdout().lock();
+    writeln!(out, "{text}")?;
+    out.flush()
+}
+
+fn fail(why: &str) -> ExitCode {
+    let _ = writeln!(std::io::stderr().lock(), "error: {why}");
+    ExitCode::from(2)
 }

@@ -137,6 +137,15 @@ fn cases() -> Vec<(String, Option<&'static str>)> {
         c("image Cargo.toml --bin a.bin".into(), Some("image needs --hex")),
         // anything else
         c("frobnicate".into(), None),
+        // an m asked for is sharp corners, not swapped for a rounded turn
+        c("cam --sides 6 --inscribed-radius 10 --rpm 60 --x-max-speed 12.5 --x-max-accel 10000 --m 5".into(), Some("--rpm")),
+        // no number takes a '+', as --ratio and the console do not
+        c(format!("geometry {HEX} --depth +2").replace("--depth 1.5 ", ""), Some("--depth")),
+        c("web --port 1e3 --no-open".into(), Some("--port")),
+        c("web --listen evil --no-open".into(), Some("--listen")),
+        // a cut that misses the polygon by most of its depth is no success
+        c(format!("simulate {HEX} --depth 1 --rpm 600 --revolutions 10 --drive bldc --bldc-out pwm --ripple 0.2").replace("--depth 1.5 ", ""), Some("the polygon was not cut")),
+        c(format!("simulate {HEX} --depth 1 --rpm 600 --revolutions 1 --motor-steps 1").replace("--depth 1.5 ", ""), Some("the polygon was not cut")),
         c("completions tcsh".into(), Some("tcsh")),
     ]
 }
@@ -238,4 +247,21 @@ fn a_hex_with_a_blank_line_is_refused_naming_the_file_and_the_line() {
             && err.contains(&format!("(got '{}': line 2 is blank)", hex.display())),
         "{err}"
     );
+}
+
+/// A report that cannot be written where stdout goes (a full disk) is no
+/// success: exit 2 and a line that says so, where a script would
+/// otherwise get an empty file and exit 0.
+#[cfg(target_os = "linux")]
+#[test]
+fn a_report_stdout_cannot_take_is_an_error() {
+    let full = std::fs::OpenOptions::new().write(true).open("/dev/full").expect("/dev/full");
+    let out = Command::new(env!("CARGO_BIN_EXE_polyturn"))
+        .args(words(&format!("geometry {HEX} --json")))
+        .stdout(full)
+        .output()
+        .expect("runs");
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(2), "{err}");
+    assert!(err.starts_with("error: the report could not be written to standard output: "), "{err}");
 }

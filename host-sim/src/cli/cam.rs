@@ -78,6 +78,9 @@ pub fn run(a: CamArgs) -> CliResult<String> {
                 let rpm = e.max_rpm;
                 (Box::new(p), e, Corners::Sharp { m: r.m }, rpm)
             }
+            // an m asked for is a pattern of sharp corners: not swapped
+            // for one rounded turn behind the machinist's back
+            Outcome::Rounded(_, _, sharp) if a.m.is_some() => return Err(sharp_refused(&r, sharp)),
             Outcome::Rounded(f, e, sharp) if e.max_rpm >= r.axis.rpm => (Box::new(f), e, Corners::Rounded(f), sharp),
             Outcome::Rounded(_, e, _) => return Err(refusal(&e, &r)),
         };
@@ -215,6 +218,22 @@ fn body(j: &serde_json::Value) -> String {
         f("peak_x_accel"), f("velocity_jump_mm_s"), f("max_rpm"), j["limited_by"].as_str().unwrap_or(""),
         j["table"]["points"], j["table"]["period_counts"]
     )
+}
+
+/// Why the sharp corners of `--m` cannot be cut at `--rpm`.
+fn sharp_refused(r: &Request, sharp_rpm: f64) -> CliError {
+    let m = r.m;
+    if sharp_rpm >= 1.0 {
+        CliError::flag(
+            "rpm",
+            format!("must be <= {sharp_rpm:.1} rpm for sharp corners with --m {m}: the X axis cannot follow them faster (without --m the table cuts rounded corners in one turn)"),
+        )
+    } else {
+        CliError::flag(
+            "m",
+            format!("{m} asks for sharp corners the X axis cannot follow even at 1 rpm: give it more speed and acceleration, or leave --m out for rounded corners in one turn"),
+        )
+    }
 }
 
 fn refusal(e: &Evaluation, r: &Request) -> CliError {

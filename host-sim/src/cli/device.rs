@@ -182,7 +182,12 @@ now: polyturn flash FILE",
             let turning =
                 seconds.map_or(checks::Turning::UntilEnter, |t| checks::Turning::For(Duration::from_secs_f64(t)));
             let (f, proposal) = checks::check_encoder(&mut s, &mut prompt::Terminal::with_ctrl_c(), turning, *turns)?;
-            Ok(checks::explain(&f, &proposal, *turns))
+            let text = checks::explain(&f, &proposal, *turns);
+            // a check that proposes no cpr failed: a script must see it
+            match proposal {
+                Ok(_) => Ok(text),
+                Err(_) => Err(CliError(format!("device: the encoder check proposes no cpr:\n{text}"))),
+            }
         }
         (DeviceCommand::Setup(args), _) => setup::run(&mut s, args, &mut prompt::Terminal::with_ctrl_c()),
         (DeviceCommand::UploadCam { .. }, _) => upload(&mut s, table.as_ref().expect("read above")),

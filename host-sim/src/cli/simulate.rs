@@ -156,7 +156,7 @@ pub fn run_cli(a: SimulateArgs) -> CliResult<String> {
     if r.cut_turns == 0.0 {
         return Err(refused::nothing_cut(&sc, &r, &a));
     }
-    if let Some(e) = refused::cut_short(&sc, &r, &a) {
+    if let Some(e) = refused::cut_short(&sc, &r, &a).or_else(|| refused::missed(&sc, &r, &a)) {
         return Err(e);
     }
     let mut files = Outputs::default();

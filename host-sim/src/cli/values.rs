@@ -125,6 +125,16 @@ pub fn pwm_hz(s: &str) -> Result<u32, String> {
     Ok(hz)
 }
 
+/// A TCP port, 0..=65535 (0: any free port).
+pub fn tcp_port(s: &str) -> Result<u16, String> {
+    whole(0, 65_535)(s).map(|p| p as u16).map_err(|_| "must be a port number in 0..=65535 (0: any free port)".into())
+}
+
+/// An IPv4 or IPv6 address to listen on.
+pub fn ip_address(s: &str) -> Result<std::net::IpAddr, String> {
+    s.trim().parse().map_err(|_| "must be an IP address, such as 0.0.0.0 (every network) or 192.168.1.10".into())
+}
+
 /// A file to write: not empty.
 pub fn out_file(s: &str) -> Result<std::path::PathBuf, String> {
     if s.trim().is_empty() {

@@ -36,7 +36,7 @@ pub struct WebArgs {
     #[arg(long, value_name = "DIR")]
     pub dir: Option<PathBuf>,
     /// Port on 127.0.0.1 (0: any free port; the address is printed)
-    #[arg(long, value_name = "PORT", default_value = "8177", value_parser = clap::value_parser!(u16))]
+    #[arg(long, value_name = "PORT", default_value = "8177", value_parser = super::values::tcp_port)]
     pub port: u16,
     /// Print the address but do not open a browser
     #[arg(long)]
@@ -47,7 +47,7 @@ pub struct WebArgs {
     pub board: Option<String>,
     /// Serve on this address instead of 127.0.0.1 (0.0.0.0: every network),
     /// beyond this machine; every request then needs the token printed at start
-    #[arg(long, value_name = "ADDR")]
+    #[arg(long, value_name = "ADDR", value_parser = super::values::ip_address)]
     pub listen: Option<IpAddr>,
 }
 

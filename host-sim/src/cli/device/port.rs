@@ -17,15 +17,33 @@ const CONSOLE_USB: (u16, u16) = (0x16c0, 0x27dd);
 
 /// The board's console at `path`, 115 200 baud (the USB CDC-ACM ignores
 /// it), reads returning every 50 ms so that a wait can keep its timeout.
+/// What is not a device (a FIFO, a file, a folder) is refused before it
+/// is opened: opening a FIFO waits for a writer, with no timeout.
 pub fn open(path: &str) -> Result<Box<dyn serialport::SerialPort>, String> {
+    let not_serial = || format!("{} is not a serial port (the board's console is {EXAMPLE})", escaped(path));
+    if not_a_device(path) {
+        return Err(not_serial());
+    }
     serialport::new(path, 115_200).timeout(Duration::from_millis(50)).open().map_err(|e| {
-        let shown = escaped(path);
         if not_a_terminal(path) {
-            format!("{shown} is not a serial port (the board's console is {EXAMPLE})")
+            not_serial()
         } else {
-            format!("cannot open {shown}: {e}")
+            format!("cannot open {}: {e}", escaped(path))
         }
     })
+}
+
+/// Whether `path` exists and is no character device (POSIX: a terminal
+/// is one; a FIFO, a regular file or a folder is not).
+#[cfg(unix)]
+fn not_a_device(path: &str) -> bool {
+    use std::os::unix::fs::FileTypeExt;
+    std::fs::metadata(path).is_ok_and(|m| !m.file_type().is_char_device())
+}
+
+#[cfg(not(unix))]
+fn not_a_device(path: &str) -> bool {
+    std::fs::metadata(path).is_ok_and(|m| m.is_file() || m.is_dir())
 }
 
 #[cfg(not(windows))]
@@ -33,23 +51,25 @@ const EXAMPLE: &str = "a /dev/ttyACM* while it is plugged in";
 #[cfg(windows)]
 const EXAMPLE: &str = "a COM port, its number in Device Manager, Ports";
 
-/// Whether `path` opens as a file that is no terminal: a serial port is a
-/// terminal device (POSIX termios), `/dev/null` and regular files are not.
+/// Whether the character device at `path` is no terminal: a serial port
+/// is one (POSIX termios), `/dev/null` is not. Opened without waiting
+/// (O_NONBLOCK) and without becoming the controlling terminal.
 #[cfg(unix)]
 fn not_a_terminal(path: &str) -> bool {
     use std::os::fd::AsRawFd;
-    match std::fs::File::open(path) {
+    use std::os::unix::fs::OpenOptionsExt;
+    let opened = std::fs::OpenOptions::new().read(true).custom_flags(libc::O_NONBLOCK | libc::O_NOCTTY).open(path);
+    match opened {
         // SAFETY: isatty reads the descriptor's type; the file is open.
         Ok(f) => unsafe { libc::isatty(f.as_raw_fd()) == 0 },
         Err(_) => false,
     }
 }
 
-/// Windows: a COM port's name is `COMn` or `\\.\COMn`; a path to a file is
-/// not one.
+/// Windows: what is not a device was refused before the open.
 #[cfg(not(unix))]
-fn not_a_terminal(path: &str) -> bool {
-    std::path::Path::new(path).is_file()
+fn not_a_terminal(_path: &str) -> bool {
+    false
 }
 
 /// Windows names ports COMn: the console is the one with its USB IDs
@@ -96,6 +116,24 @@ mod tests {
         std::fs::write(&file, b"").unwrap();
         let Err(e) = open(file.to_str().unwrap()) else { panic!("a file opened as a serial port") };
         std::fs::remove_file(&file).unwrap();
+        assert!(
+            e.ends_with("is not a serial port (the board's console is a /dev/ttyACM* while it is plugged in)"),
+            "{e}"
+        );
+    }
+
+    #[test]
+    fn a_fifo_is_refused_at_once_not_waited_on() {
+        let fifo = std::env::temp_dir().join(format!("polyturn-fifo-{}", std::process::id()));
+        let c = std::ffi::CString::new(fifo.to_str().unwrap()).unwrap();
+        // SAFETY: mkfifo reads the NUL-terminated path.
+        assert_eq!(unsafe { libc::mkfifo(c.as_ptr(), 0o600) }, 0);
+        let (tx, rx) = std::sync::mpsc::channel();
+        let path = fifo.to_str().unwrap().to_string();
+        std::thread::spawn(move || tx.send(open(&path).err()));
+        let got = rx.recv_timeout(std::time::Duration::from_secs(5));
+        std::fs::remove_file(&fifo).unwrap();
+        let e = got.expect("opening a FIFO waited").expect("a FIFO opened as a serial port");
         assert!(
             e.ends_with("is not a serial port (the board's console is a /dev/ttyACM* while it is plugged in)"),
             "{e}"

@@ -23,6 +23,34 @@ pub fn cut_short(sc: &Scenario, r: &SimResult, a: &SimulateArgs) -> Option<CliEr
     })
 }
 
+/// The share of the depth of cut past which a section is no polygon of
+/// this setup: its flats are further from the ideal than half the metal
+/// the cutter was to take.
+pub const MISSED_SHARE: f64 = 0.5;
+
+/// A run that cut, but not the polygon: the section is as far from the
+/// ideal as the cut is deep (the cutter out of phase by most of a flat).
+/// Said as an error, with the phase error that made it, rather than a
+/// report whose "faults: none" reads as a good cut.
+pub fn missed(sc: &Scenario, r: &SimResult, a: &SimulateArgs) -> Option<CliError> {
+    let depth = sc.setup.depth_mm;
+    (r.max_profile_deviation > MISSED_SHARE * depth).then(|| {
+        CliError(format!(
+            "simulate: the polygon was not cut: the section is {:.0} µm from the ideal, {:.0} % of the {depth} mm depth of cut; the cutter's phase error while cutting reached {:.1} steps ({}; got --ripple {} at {} rpm)",
+            r.max_profile_deviation * 1000.0,
+            r.max_profile_deviation / depth * 100.0,
+            r.max_error_steps_cutting,
+            if sc.core.drive == polyturn_sync::DriveKind::Bldc {
+                "lower --ripple or --rpm, or drive the cutter with a stepper"
+            } else {
+                "raise --motor-steps, or lower --ripple or --rpm"
+            },
+            a.ripple,
+            a.rpm
+        ))
+    })
+}
+
 /// A setting the simulated board refuses, named by the flag it came from
 /// (the board's `max-rpm` is --rpm and 30 %: the ripple's headroom).
 pub fn setting(e: ConfigError, sc: &Scenario, a: &SimulateArgs) -> CliError {
