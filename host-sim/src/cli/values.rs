@@ -74,9 +74,15 @@ pub fn setting_range(span: Span) -> String {
     format!("{}, the console's `{}`", span.allowed, span.name)
 }
 
-/// A gear ratio as the console takes it (the core's own parser).
+/// A gear ratio as the console takes it (the core's own parser). A
+/// decimal past the core's six places is told so, not called no decimal.
 pub fn ratio(s: &str) -> Result<Ratio, String> {
-    Ratio::parse(s).map_err(|e| e.describe().to_string())
+    Ratio::parse(s).map_err(|e| match s.trim().split_once('.') {
+        Some((_, frac)) if frac.len() > 6 && frac.bytes().all(|b| b.is_ascii_digit()) => {
+            "must have at most 6 decimal places (as 2.5 or 3.666667; 11/3 is exact)".to_string()
+        }
+        _ => e.describe().to_string(),
+    })
 }
 
 /// A bound on the ratio in lo..=hi: a number (`7.5`) or a ratio as
@@ -214,6 +220,11 @@ mod tests {
             pwm_hz("+1000").is_err(),
             ratio("+2").is_err(),
         ];
+        assert_eq!(
+            ratio("2.5000000").unwrap_err(),
+            "must have at most 6 decimal places (as 2.5 or 3.666667; 11/3 is exact)"
+        );
+        assert_eq!(ratio("2.500000").map(|r| r.to_string()), Ok("5/2".into()));
         assert_eq!(refused, [true; 7]);
         assert_eq!((length_mm()("2"), whole(1, 12)("3")), (Ok(2.0), Ok(3)));
         assert_eq!(within(-0.45, 0.45, "counts")("-0.25"), Ok(-0.25), "a minus is left to the range");

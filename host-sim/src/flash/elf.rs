@@ -35,9 +35,9 @@ pub fn parse(file: &[u8]) -> Result<(u32, Vec<u8>), Refusal> {
         if segment.p_type(endian) != PT_LOAD || segment.p_filesz(endian) == 0 {
             continue;
         }
-        let data = segment
-            .data(endian, file)
-            .map_err(|()| Refusal::new(ELF_RULE, format!("segment {i} lies outside the file")))?;
+        let data = segment.data(endian, file).map_err(|()| {
+            Refusal::new(ELF_RULE, format!("cut short: segment {i} reaches past its end ({} bytes)", file.len()))
+        })?;
         canvas.place(segment.p_paddr(endian), data, &format!("segment {i}"))?;
     }
     canvas.finish()

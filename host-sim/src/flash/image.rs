@@ -69,6 +69,11 @@ pub fn read_bounded(path: &Path) -> Result<Vec<u8>, Refusal> {
 
 /// ELF by its magic; then `.hex`/`.bin` by the name; else Intel HEX if it
 /// starts with a record's ':', raw binary otherwise.
+/// Text that starts with a HEX record's ':' and is printable ASCII.
+fn looks_like_hex(bytes: &[u8]) -> bool {
+    bytes.first() == Some(&b':') && bytes.iter().all(|b| b.is_ascii_graphic() || b.is_ascii_whitespace())
+}
+
 pub fn format_of(path: &Path, bytes: &[u8]) -> Result<Format, Refusal> {
     if bytes.starts_with(b"\x7fELF") {
         return Ok(Format::Elf);
@@ -76,6 +81,11 @@ pub fn format_of(path: &Path, bytes: &[u8]) -> Result<Format, Refusal> {
     let ext = path.extension().map(|e| e.to_string_lossy().to_ascii_lowercase()).unwrap_or_default();
     match ext.as_str() {
         "hex" | "ihex" | "ihx" => Ok(Format::Hex),
+        // a raw image starts with the stack pointer, never a text line
+        "bin" if looks_like_hex(bytes) => Err(Refusal::new(
+            "must be an ELF, .hex or .bin file",
+            "named .bin but it is Intel HEX text (lines starting ':'): name it .hex",
+        )),
         "bin" => Ok(Format::Bin),
         "elf" => Err(Refusal::new("must be an ELF, .hex or .bin file", "named .elf but not an ELF file")),
         _ if bytes.iter().find(|b| !b.is_ascii_whitespace()) == Some(&b':') => Ok(Format::Hex),
