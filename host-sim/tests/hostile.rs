@@ -265,3 +265,18 @@ fn a_report_stdout_cannot_take_is_an_error() {
     assert_eq!(out.status.code(), Some(2), "{err}");
     assert!(err.starts_with("error: the report could not be written to standard output: "), "{err}");
 }
+
+/// compensate says a speed the floor allows, and no negative zero: an X
+/// axis too slow for even 1 rpm is blamed as such, not given "up to 0
+/// rpm"; a straightened flat reads +0.0000.
+#[test]
+fn compensate_says_no_speed_below_the_floor_and_no_negative_zero() {
+    let (code, _, err) =
+        polyturn(&words(&format!("compensate {HEX} --rpm 100 --x-max-speed 0.001 --x-max-accel 0.001")));
+    assert_eq!(code, 2);
+    assert!(err.contains("this X axis cannot follow even at 1 rpm") && !err.contains("0 rpm"), "{err}");
+    let (code, out, err) =
+        polyturn(&words(&format!("compensate {HEX} --rpm 10 --x-max-speed 100 --x-max-accel 100000")));
+    assert_eq!(code, 0, "{err}");
+    assert!(out.starts_with("flats straightened: deviation +0.0087 mm -> +0.0000 mm"), "{out}");
+}

@@ -40,8 +40,8 @@ pub fn run(a: CompensateArgs) -> CliResult<String> {
         // (with one edge, fewer is no remedy: the ratio is)
         Limit::Gouge if setup.edges == 1 => "the link between passes would cut into the flats: another ratio".to_string(),
         Limit::Gouge => "the link between passes would cut into the flats: fewer edges or another ratio".to_string(),
-        Limit::Speed => format!("X speed {:.1} mm/s exceeds {v} mm/s: at most {}", p.peak_x_speed, up_to(p.max_rpm)),
-        Limit::Accel => format!("X acceleration {:.0} mm/s^2 exceeds {acc} mm/s^2: at most {}", p.peak_x_accel, up_to(p.max_rpm)),
+        Limit::Speed => format!("X speed {:.1} mm/s exceeds {v} mm/s: {}", p.peak_x_speed, allows(p.max_rpm)),
+        Limit::Accel => format!("X acceleration {:.0} mm/s^2 exceeds {acc} mm/s^2: {}", p.peak_x_accel, allows(p.max_rpm)),
     }
     };
     // A plan the axis cannot follow is refused, naming what limits it
@@ -71,10 +71,21 @@ pub fn run(a: CompensateArgs) -> CliResult<String> {
         })
         .to_string());
     }
+    // rounded first, so that a deviation under 0.05 µm is +0.0000, not -0.0000
+    let after = (after.unwrap_or(before) * 1e4).round() / 1e4 + 0.0;
     Ok(format!(
-        "flats straightened: deviation {before:+.4} mm -> {:+.4} mm\nX travel {:.3} mm, peak X speed {:.1} mm/s, peak X acceleration {:.0} mm/s^2 (allows {})",
-        after.unwrap_or(before), p.x_travel, p.peak_x_speed, p.peak_x_accel, up_to(p.max_rpm)
+        "flats straightened: deviation {before:+.4} mm -> {after:+.4} mm\nX travel {:.3} mm, peak X speed {:.1} mm/s, peak X acceleration {:.0} mm/s^2 (allows {})",
+        p.x_travel, p.peak_x_speed, p.peak_x_accel, up_to(p.max_rpm)
     ))
+}
+
+/// The lathe speed the X axis allows, in a refusal: below the 1 rpm
+/// floor, that the axis is at fault.
+fn allows(max_rpm: Option<f64>) -> String {
+    match max_rpm {
+        Some(r) if r < 1.0 => "this X axis cannot follow even at 1 rpm: give it more speed and acceleration".into(),
+        m => format!("at most {}", up_to(m)),
+    }
 }
 
 /// The lathe speed the X axis allows, or that it sets no limit.
