@@ -318,8 +318,11 @@ fn judge(r: &mut Report, o: &Outcome) {
         // cycles more are kept as margin for what the model does not see (the
         // bound's slower fetches, the EXTI's input synchronisation)
         let within = |after: Option<u64>| after.is_some_and(|a| a + EXCEPTION_ENTRY <= e.pulse);
+        // and on the bound: the cycles from the contact to TIM1 stopped that
+        // silicon cannot exceed, with the same margin
         let ok = within(e.last_rise_after)
             && within(e.stopped_after)
+            && within(e.stopped_after_bound)
             && e.safe
             && e.mid_arm == Some(true)
             && e.flashes_open == 4
@@ -327,9 +330,10 @@ fn judge(r: &mut Report, o: &Outcome) {
             && e.cleared.starts_with("ok ")
             && e.cleared_again.starts_with("ok ");
         let text = format!(
-            "the contact opened inside a tick: handler entered {} cycles, TIM1 stopped {} cycles and last STEP rise {} cycles after (the model's clock; within one pulse, {} cycles, less a 12-cycle margin), outputs safe 2 ms on: {}, LED code {} open, {} closed again (4 = E-stop, latched); clear: {:?}, the contact opening inside the re-arming tick: outputs safe 2 ms on: {}; clear: {:?}, then ENGAGE",
+            "the contact opened inside a tick: handler entered {} cycles, TIM1 stopped {} cycles ({} on the bound) and last STEP rise {} cycles after (the model's clock; within one pulse, {} cycles, less a 12-cycle margin), outputs safe 2 ms on: {}, LED code {} open, {} closed again (4 = E-stop, latched); clear: {:?}, the contact opening inside the re-arming tick: outputs safe 2 ms on: {}; clear: {:?}, then ENGAGE",
             e.handler_after.map_or("never".into(), |h| h.to_string()),
             e.stopped_after.map_or("never".into(), |h| h.to_string()),
+            e.stopped_after_bound.map_or("never".into(), |h| h.to_string()),
             e.last_rise_after.map_or("- (it never opened)".into(), |a| a.to_string()),
             e.pulse, e.safe, e.flashes_open, e.flashes_closed, e.cleared,
             e.mid_arm.map_or("- (the re-arm never came)".into(), |s| s.to_string()),

@@ -23,6 +23,10 @@ pub struct Probe {
     pub trip_on_write: Option<(u32, u32, Trip)>,
     /// the first write stopping TIM1 (CR1 with CEN clear) after `edge_at`
     pub step_timer_stopped: Option<u64>,
+    /// the bound's clock at `edge_at` and at `step_timer_stopped`: the
+    /// cycles between them that silicon cannot exceed
+    pub edge_bound: Option<u64>,
+    pub stopped_bound: Option<u64>,
     pub before: Option<Outputs>,
     pub edge_at: Option<u64>,
     /// the tick handler's runs
@@ -156,6 +160,7 @@ pub fn on_read(c: &mut Chip, word: u32) {
 pub fn on_write(c: &mut Chip, word: u32, value: u32) {
     if word == TIM1_CR1 && value & 1 == 0 && c.probe.edge_at.is_some() && c.probe.step_timer_stopped.is_none() {
         c.probe.step_timer_stopped = Some(c.now);
+        c.probe.stopped_bound = Some(c.bound);
     }
     if c.probe.trip_on_write.is_some_and(|(a, v, _)| a == word && v == value) {
         if let Some((_, _, t)) = c.probe.trip_on_write.take() {
@@ -176,7 +181,9 @@ fn fire(c: &mut Chip, (port, pin, level): Trip) {
     c.gp[3].write(off::CCMR1, ccmr1, 0xFFFF);
     c.probe.before = Some(c.outputs());
     c.probe.edge_at = Some(c.now);
+    c.probe.edge_bound = Some(c.bound);
     c.probe.step_timer_stopped = None;
+    c.probe.stopped_bound = None;
     let edges = c.gpio[port].drive(pin, level);
     c.pin_edges(port, edges);
     c.update_lines();

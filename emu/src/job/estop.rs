@@ -27,6 +27,8 @@ pub struct Seen {
     /// write stopping TIM1 (the moment no STEP can rise any more)
     pub handler_after: Option<u64>,
     pub stopped_after: Option<u64>,
+    /// the same as `stopped_after` on the bound's clock
+    pub stopped_after_bound: Option<u64>,
     pub flashes_open: u32,
     pub flashes_closed: u32,
     /// the console's replies to `clear`, after each opening
@@ -47,6 +49,8 @@ pub fn open_mid_cut(m: &mut Machine, at_s: f64, cfg: &Config) -> Seen {
     let safe = m.chip().outputs().safe_all();
     let handler_after = m.chip().probe.exti_entered.zip(t0).map(|(h, t)| h - t);
     let stopped_after = m.chip().probe.step_timer_stopped.zip(t0).map(|(h, t)| h - t);
+    let p = &m.chip().probe;
+    let stopped_after_bound = p.stopped_bound.zip(p.edge_bound).map(|(s, e)| s - e);
     let flashes_open = flashes(m);
     m.drive(GPIOB, ESTOP, Some(false));
     let flashes_closed = flashes(m);
@@ -69,6 +73,7 @@ pub fn open_mid_cut(m: &mut Machine, at_s: f64, cfg: &Config) -> Seen {
         safe,
         handler_after,
         stopped_after,
+        stopped_after_bound,
         flashes_open,
         flashes_closed,
         cleared,
