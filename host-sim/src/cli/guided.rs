@@ -35,7 +35,7 @@ pub struct GuidedArgs {
     /// With --drive stepper: driver microsteps per full step [default: 16]
     #[arg(long, value_name = "N", value_parser = whole32(1, 512))]
     pub microsteps: Option<u32>,
-    /// With --drive stepper: motor turns per cutter turn (belt or gears), greater than 0, e.g. 2, 40/20 or 40:20 (numerator and denominator 1..=1000) [default: 1]
+    /// With --drive stepper: motor turns per cutter turn (belt or gears), greater than 0, e.g. 2, 40/20 or 40:20 (numerator and denominator 1..=1000, at most 6 decimal places) [default: 1]
     #[arg(long, value_name = "RATIO", value_parser = ratio)]
     pub reduction: Option<Ratio>,
     /// The lathe's fastest speed, rpm

@@ -18,7 +18,7 @@ pub struct SetupArgs {
     pub stock: Stock,
     #[command(flatten)]
     pub cut: Cut,
-    /// Gear ratio GR, cutter turns per lathe turn, greater than 0: 2, 2:1, 5/2, 11:3 or 2.5 (numerator and denominator 1..=1000)
+    /// Gear ratio GR, cutter turns per lathe turn, greater than 0: 2, 2:1, 5/2, 11:3 or 2.5 (numerator and denominator 1..=1000, at most 6 decimal places)
     #[arg(long, value_name = "GR", value_parser = ratio)]
     pub ratio: Ratio,
     /// Cutting edges Z on the cutter

@@ -79,7 +79,7 @@ pub fn setting_range(span: Span) -> String {
 pub fn ratio(s: &str) -> Result<Ratio, String> {
     Ratio::parse(s).map_err(|e| match s.trim().split_once('.') {
         Some((_, frac)) if frac.len() > 6 && frac.bytes().all(|b| b.is_ascii_digit()) => {
-            "must have at most 6 decimal places (as 2.5 or 3.666667; 11/3 is exact)".to_string()
+            "must have at most 6 decimal places (or be written p/q, exactly)".to_string()
         }
         _ => e.describe().to_string(),
     })
@@ -220,10 +220,7 @@ mod tests {
             pwm_hz("+1000").is_err(),
             ratio("+2").is_err(),
         ];
-        assert_eq!(
-            ratio("2.5000000").unwrap_err(),
-            "must have at most 6 decimal places (as 2.5 or 3.666667; 11/3 is exact)"
-        );
+        assert_eq!(ratio("2.5000000").unwrap_err(), "must have at most 6 decimal places (or be written p/q, exactly)");
         assert_eq!(ratio("2.500000").map(|r| r.to_string()), Ok("5/2".into()));
         assert_eq!(refused, [true; 7]);
         assert_eq!((length_mm()("2"), whole(1, 12)("3")), (Ok(2.0), Ok(3)));
