@@ -70,6 +70,16 @@ fn a_deliberately_truncating_ratio_is_caught_by_the_section_check() {
 }
 
 fn x_run(rpm: f64, steps_per_mm: f64, max_rate_hz: f64) -> polyturn_host::sim::SimResult {
+    // a hardware-timed X output, which the board has not got: idealised
+    x_run_on(rpm, steps_per_mm, max_rate_hz, polyturn_host::sim::XOutput::Timed)
+}
+
+fn x_run_on(
+    rpm: f64,
+    steps_per_mm: f64,
+    max_rate_hz: f64,
+    output: polyturn_host::sim::XOutput,
+) -> polyturn_host::sim::SimResult {
     use polyturn_host::compensate;
     use polyturn_host::sim::XSim;
     let s = setup("3", 2, Direction::Same, 2.0);
@@ -77,7 +87,8 @@ fn x_run(rpm: f64, steps_per_mm: f64, max_rate_hz: f64) -> polyturn_host::sim::S
     assert_eq!(plan.limited_by, None);
     let (table, period_counts) = compensate::cam_table(&s, &plan, 2400, steps_per_mm, 1024);
     let mut sc = scenario(s, rpm, 4.0, 0.0, Start::Spinning, DriveKind::Stepper);
-    sc.x_axis = Some(XSim { table: Vec::leak(table), period_counts, steps_per_mm, max_rate_hz, max_accel: 1e8 });
+    sc.x_axis =
+        Some(XSim { table: Vec::leak(table), period_counts, steps_per_mm, max_rate_hz, max_accel: 1e8, output });
     simulate(&sc)
 }
 
@@ -106,4 +117,54 @@ fn an_x_axis_that_cannot_keep_up_trips_the_following_error() {
     // step generator emits. The core must notice, not cut a wrong section.
     let r = x_run(100.0, 16_000.0, 1e7);
     assert!(r.faults.iter().any(|(_, f)| *f == polyturn_sync::Fault::FollowingError), "{:?}", r.faults);
+}
+
+#[test]
+fn the_board_x_pins_cannot_follow_what_a_timed_output_follows() {
+    // 100 rpm at 1600 steps/mm asks ~19 000 X steps/s: a timed output
+    // keeps up (above), the board's pins (one step per two ticks) cannot,
+    // and the core says so rather than cut a wrong section.
+    let r = x_run_on(100.0, 1600.0, 200_000.0, polyturn_host::sim::XOutput::Gpio);
+    assert!(r.faults.iter().any(|(_, f)| *f == polyturn_sync::Fault::FollowingError), "{:?}", r.faults);
+}
+
+/// What `polyturn compensate --table` writes for the board's X axis (800
+/// steps/mm, its 10 000 steps/s), read back as `device upload-cam` reads
+/// it, run by the core at the lathe speed the planner allows.
+fn board_table_run(rpm: f64) -> (polyturn_host::sim::SimResult, String) {
+    use polyturn_host::cli::{console_line::cam_table, dispatch};
+    use polyturn_host::sim::XSim;
+    let file = std::env::temp_dir().join(format!("polyturn-compensate-{}.json", std::process::id()));
+    let line = format!(
+        "compensate --cutter-radius 50 --stock-radius 10 --depth 2 --ratio 3 --edges 2 --direction same --rpm {rpm} --x-max-speed 12.5 --x-max-accel 5000 --table {}",
+        file.display()
+    );
+    let argv: Vec<String> = line.split(' ').map(String::from).collect();
+    let report = dispatch(&argv).expect("compensate writes its table");
+    let t = cam_table("table", &std::fs::read_to_string(&file).unwrap()).expect("upload-cam takes it");
+    let _ = std::fs::remove_file(&file);
+    let mut sc = scenario(setup("3", 2, Direction::Same, 2.0), rpm, 3.0, 0.0, Start::Spinning, DriveKind::Stepper);
+    sc.x_axis = Some(XSim {
+        table: Vec::leak(t.points),
+        period_counts: t.period_counts,
+        steps_per_mm: t.steps_per_mm,
+        max_rate_hz: t.max_rate_hz as f64,
+        max_accel: t.max_accel as f64,
+        output: polyturn_host::sim::XOutput::Gpio,
+    });
+    (simulate(&sc), report)
+}
+
+#[test]
+fn the_table_compensate_writes_cuts_straight_flats_at_the_board_x_rate() {
+    // The board's X axis (one step per two ticks, 12.5 mm/s at 800
+    // steps/mm) follows this 3:1 x 2 up to 29 rpm, the planner says.
+    let (r, report) = board_table_run(25.0);
+    assert!(report.contains("allows up to 29 rpm"), "{report}");
+    assert!(r.faults.is_empty(), "{:?}", r.faults);
+    let after = r.section.summary();
+    eprintln!("the board's table: flats {:.1} um from straight at 25 rpm", after.flat_deviation * 1e3);
+    assert!(after.flat_deviation.abs() < 0.004, "flats {} mm from straight", after.flat_deviation);
+    assert!((after.inscribed_radius - 8.0).abs() < 0.003, "{after:?}");
+    assert_eq!(r.final_error_steps, 0);
 }

@@ -31,6 +31,7 @@ pub mod simulate;
 pub mod values;
 #[cfg(feature = "device")]
 pub mod web;
+pub mod x_table;
 
 use clap::{CommandFactory, FromArgMatches, Parser, Subcommand};
 pub use errors::{CliError, CliResult};

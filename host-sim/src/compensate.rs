@@ -179,5 +179,7 @@ pub fn cam_table(setup: &Setup, plan: &Plan, counts_per_rev: u32, steps_per_mm: 
     (table, period_counts)
 }
 
+pub mod table;
+
 #[cfg(test)]
 mod tests;

@@ -81,6 +81,20 @@ pub struct XSim {
     /// steps/s and steps/s²: the core's limits for X (the plant follows them)
     pub max_rate_hz: f64,
     pub max_accel: f64,
+    /// how the steps reach the driver
+    pub output: XOutput,
+}
+
+/// How the X steps reach the driver.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum XOutput {
+    /// the board's: a pulse on a GPIO pin from the control tick, at most
+    /// one per two ticks, DIR a tick ahead (`polyturn_firmware::xsteps`,
+    /// the very code the board runs)
+    Gpio,
+    /// each step at its planned instant within the tick, as a timer
+    /// places the cutter's: an idealised output the board has not got
+    Timed,
 }
 
 /// Start condition of the lathe.

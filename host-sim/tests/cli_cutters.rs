@@ -150,3 +150,34 @@ fn compensate_with_one_edge_blames_the_ratio_not_the_edges() {
     let err = refused(line, "--ratio");
     assert!(err.contains("another ratio") && !err.contains("fewer edges"), "{err}");
 }
+
+/// The 3:1 x 2 of the flats document: 62 µm hollow on a fixed X axis.
+const FLATS: &str =
+    "compensate --cutter-radius 50 --stock-radius 10 --depth 2 --ratio 3 --edges 2 --direction same --x-max-accel 5000";
+
+#[test]
+fn compensate_writes_a_table_the_board_takes_and_refuses_one_it_could_not_run() {
+    let dir = std::env::temp_dir().join(format!("polyturn-compensate-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let table = dir.join("flats.json");
+    let (code, out, err) = polyturn(&format!("{FLATS} --rpm 25 --x-max-speed 12.5 --table {}", table.display()));
+    assert_eq!(code, 0, "{out}{err}");
+    assert!(out.contains("allows up to 29 rpm") && out.contains("table 400 points over 400 lathe counts"), "{out}");
+    // the file is what `device upload-cam` reads, and the board's checks take it
+    let text = std::fs::read_to_string(&table).unwrap();
+    let t = polyturn_host::cli::console_line::cam_table("flats.json", &text).expect("upload-cam takes it");
+    assert_eq!((t.counts_per_rev, t.period_counts, t.max_rate_hz, t.max_accel), (2400, 400, 10_000, 4_000_000));
+    assert!(polyturn_sync::controller::check_table(&t.header(), &t.points).is_ok());
+    // a plan for a faster X axis than the board's pins: fine as a plan,
+    // refused as a table, and no file written
+    let (code, out, _) = polyturn(&format!("{FLATS} --rpm 25 --x-max-speed 50"));
+    assert_eq!(code, 0, "{out}");
+    let other = dir.join("fast.json");
+    let err = refused(
+        &format!("{FLATS} --rpm 25 --x-max-speed 50 --table {}", other.display()),
+        "--x-max-speed must be <= 12.5 mm/s",
+    );
+    assert!(err.contains("10000 X steps/s (800 steps/mm)"), "{err}");
+    assert!(!other.exists());
+    let _ = std::fs::remove_dir_all(&dir);
+}

@@ -5,23 +5,19 @@ mod request;
 
 use super::errors::{CliError, CliResult};
 use super::output::Outputs;
-use super::values::{out_file, rpm, setting, whole32, within};
+use super::values::{out_file, rpm, whole32, within};
+use super::x_table::{board_takes, TableArgs};
 use crate::geometry::svg::Drawing;
 use crate::noncircular::order;
 use crate::noncircular::path::ToolPath;
 use crate::noncircular::plan::{plan, Evaluation, Limit, Outcome, TOLERANCE_MM};
 use crate::noncircular::rounded::Rounded;
-use crate::noncircular::table::{build, CamFile, STEPS_PER_MM};
-use polyturn_sync::cam::{Cam, CamError};
-use polyturn_sync::cam_upload::motion::MotionError;
-use polyturn_sync::config::table::CPR;
+use crate::noncircular::table::{build, CamFile};
 use request::{request, turns, Request};
 use serde_json::json;
 use std::f64::consts::TAU;
 use std::path::PathBuf;
 
-/// The firmware emits at most one X step per two control ticks.
-pub const X_MAX_RATE_HZ: f64 = polyturn_sync::cam_upload::X_MAX_RATE_HZ as f64;
 /// A table further than this from its own tool path cuts another part:
 /// refused (more steps per mm or encoder counts fix it).
 pub const TABLE_REFUSED_MM: f64 = 0.1;
@@ -53,15 +49,8 @@ pub struct CamArgs {
     /// Lathe turns per pattern m: 2..=N-1 and at most 128, co-prime with N (the noncircular turning note's Theorem 2). The cuts set the top speed, not m: m + N cuts the sides in the same order in N more turns, and past 128 a cut gets under 8 of the table's 1024 points [default: the smallest valid]
     #[arg(long, value_name = "M", allow_hyphen_values = true, value_parser = turns)]
     pub m: Option<u32>,
-    /// X axis steps per mm of tool radius: a 1 mm screw, 200-step motor at 256 microsteps is 51200; under 1 a step is more than ten times the 0.1 mm a table may be off
-    #[arg(long, value_name = "STEPS/MM", default_value = "800", allow_hyphen_values = true, value_parser = within(STEPS_PER_MM.0, STEPS_PER_MM.1, "steps/mm"))]
-    pub steps_per_mm: f64,
-    /// Lathe encoder counts per turn, after x4 quadrature
-    #[arg(long = "encoder-cpr", alias = "encoder-counts", value_name = "COUNTS", default_value = "2400", allow_hyphen_values = true, value_parser = setting(CPR))]
-    pub encoder_counts: u32,
-    /// Write the cam table (JSON, for `polyturn device upload-cam`) to this file (- for stdout)
-    #[arg(long, value_name = "FILE", value_parser = out_file)]
-    pub table: Option<PathBuf>,
+    #[command(flatten)]
+    pub board: TableArgs,
     /// Also draw the tool path and the section to this SVG file (- for stdout)
     #[arg(long, value_name = "FILE", value_parser = out_file)]
     pub svg: Option<PathBuf>,
@@ -84,12 +73,11 @@ pub fn run(a: CamArgs) -> CliResult<String> {
             Outcome::Rounded(f, e, sharp) if e.max_rpm >= r.axis.rpm => (Box::new(f), e, Corners::Rounded(f), sharp),
             Outcome::Rounded(_, e, _) => return Err(refusal(&e, &r)),
         };
-    let rates = ((r.axis.max_speed * r.steps_per_mm) as u32, (r.axis.max_accel * r.steps_per_mm) as u32);
-    let table = build(path.as_ref(), r.counts_per_rev, r.steps_per_mm, rates);
+    let table = build(path.as_ref(), r.counts_per_rev, r.steps_per_mm, r.rates);
     let table_dev = table.deviation(path.as_ref(), 8192);
     faithful(&table, table_dev, &r)?;
     let mut files = Outputs::default();
-    if let Some(file) = &a.table {
+    if let Some(file) = &a.board.table {
         files.add("table", file, serde_json::to_string(&table).map_err(|e| CliError(e.to_string()))?)?;
     }
     if let Some(file) = &a.svg {
@@ -104,16 +92,7 @@ pub fn run(a: CamArgs) -> CliResult<String> {
 /// `check_table`) and must cut the path it was made from: refused, naming
 /// the flag that would fix it, when it is further off than TABLE_REFUSED_MM.
 fn faithful(table: &CamFile, dev_mm: f64, r: &Request) -> CliResult<()> {
-    Cam::check(&table.points, table.period_counts).map_err(|e| match e {
-        CamError::Step => CliError::flag("steps-per-mm", format!("is too fine for this path: {}", e.describe())),
-        CamError::Points | CamError::Period => CliError::flag("encoder-cpr", e.describe()),
-    })?;
-    // the board's check of the points against the X axis the table
-    // declares; a plan within the axis at --rpm (>= 1) passes it
-    polyturn_sync::cam_upload::motion::check(&table.header(), &table.points).map_err(|e| match e {
-        MotionError::Rate { .. } => CliError::flag("x-max-speed", e.to_string()),
-        MotionError::Accel { .. } => CliError::flag("x-max-accel", e.to_string()),
-    })?;
+    board_takes(table)?;
     if dev_mm <= TABLE_REFUSED_MM {
         return Ok(());
     }

@@ -1,10 +1,16 @@
-//! `polyturn compensate`: plan the X axis that makes the flats straight.
+//! `polyturn compensate`: plan the X axis that makes the flats straight,
+//! and with `--table` write it as a cam table for the board.
 
 use super::errors::{CliError, CliResult};
+use super::output::Outputs;
 use super::setup_args::SetupArgs;
 use super::values::{rpm, within};
-use crate::compensate::{plan, section, Limit};
+use super::x_table::{board_takes, rates, TableArgs};
+use crate::cli::cam::{TABLE_COARSE_MM, TABLE_REFUSED_MM};
+use crate::compensate::{plan, section, table, Limit, Plan};
 use crate::geometry::Section;
+use crate::geometry::Setup;
+use crate::noncircular::table::CamFile;
 use serde_json::json;
 
 #[derive(clap::Args, Debug)]
@@ -20,6 +26,10 @@ pub struct CompensateArgs {
     /// The X axis's top acceleration, mm/s^2
     #[arg(long, value_name = "MM/S^2", value_parser = within(0.001, 1e6, "mm/s^2"))]
     pub x_max_accel: f64,
+    /// The board's X axis (with --table, its speed and acceleration are
+    /// checked against what the board emits)
+    #[command(flatten)]
+    pub board: TableArgs,
     /// Print the report as one JSON object
     #[arg(long)]
     pub json: bool,
@@ -58,25 +68,70 @@ pub fn run(a: CompensateArgs) -> CliResult<String> {
             format!("cannot straighten these flats (deviation stays {before:+.4} mm): {}", why(l)),
         ));
     }
+    let table = match &a.board.table {
+        Some(_) => Some(board_table(&setup, &p, &a)?),
+        None => None,
+    };
+    let mut files = Outputs::default();
+    if let (Some(file), Some((t, _))) = (&a.board.table, &table) {
+        files.add("table", file, serde_json::to_string(t).map_err(|e| CliError(e.to_string()))?)?;
+    }
+    let written = files.write()?;
+    let table_json = table.as_ref().map(|(t, err)| {
+        json!({"points": t.points.len(), "period_counts": t.period_counts, "counts_per_rev": t.counts_per_rev, "error_um": (err * 1e4).round() / 10.0})
+    });
     if a.json {
-        return Ok(json!({
-            "flat_deviation_before": before,
-            "flat_deviation_after": after,
-            "x_travel": p.x_travel,
-            "peak_x_speed": p.peak_x_speed,
-            "peak_x_accel": p.peak_x_accel,
-            "limited_by": p.limited_by,
-            "reason": p.limited_by.map(why),
-            "max_rpm": p.max_rpm,
-        })
-        .to_string());
+        return Ok(written.report(
+            json!({
+                "flat_deviation_before": before,
+                "flat_deviation_after": after,
+                "x_travel": p.x_travel,
+                "peak_x_speed": p.peak_x_speed,
+                "peak_x_accel": p.peak_x_accel,
+                "limited_by": p.limited_by,
+                "reason": p.limited_by.map(why),
+                "max_rpm": p.max_rpm,
+                "table": table_json,
+            })
+            .to_string(),
+        ));
     }
     // rounded first, so that a deviation under 0.05 µm is +0.0000, not -0.0000
     let after = (after.unwrap_or(before) * 1e4).round() / 1e4 + 0.0;
-    Ok(format!(
+    let mut text = format!(
         "flats straightened: deviation {before:+.4} mm -> {after:+.4} mm\nX travel {:.3} mm, peak X speed {:.1} mm/s, peak X acceleration {:.0} mm/s^2 (allows {})",
         p.x_travel, p.peak_x_speed, p.peak_x_accel, up_to(p.max_rpm)
-    ))
+    );
+    if let Some((t, err)) = &table {
+        text += &format!(
+            "\ntable {} points over {} lathe counts; as the board interpolates it, {:.1} µm from the plan{}",
+            t.points.len(),
+            t.period_counts,
+            err * 1e3,
+            if *err > TABLE_COARSE_MM { ": raise --steps-per-mm or --encoder-cpr for a finer one" } else { "" }
+        );
+    }
+    Ok(written.report(text))
+}
+
+/// The plan as the board's cam table, and how far the board's reading of
+/// it is from the plan (mm): refused when the board could not run it (its
+/// X rate, the table's own checks) or it is further off than a `cam`
+/// table may be.
+fn board_table(setup: &Setup, p: &Plan, a: &CompensateArgs) -> CliResult<(CamFile, f64)> {
+    let (spm, cpr) = (a.board.steps_per_mm, a.board.encoder_counts);
+    let t = table::cam_file(setup, p, cpr, spm, rates(a.x_max_speed, a.x_max_accel, spm)?);
+    board_takes(&t)?;
+    let err = table::error_mm(p, &t, 8192);
+    if err > TABLE_REFUSED_MM {
+        let (flag, fix) = if 1.0 / spm > TABLE_REFUSED_MM {
+            ("steps-per-mm", "more steps per mm")
+        } else {
+            ("encoder-cpr", "a finer encoder")
+        };
+        return Err(CliError::flag(flag, format!("too coarse: the table, {} points over {} counts, would be {err:.3} mm off the plan (at most {TABLE_REFUSED_MM} mm): {fix}", t.points.len(), t.period_counts)));
+    }
+    Ok((t, err))
 }
 
 /// The lathe speed the X axis allows, in a refusal: below the 1 rpm

@@ -1,8 +1,9 @@
 //! What `polyturn cam` is asked, checked before any planning: each flag in
 //! its range, and the flags that depend on each other together.
 
-use super::{CamArgs, X_MAX_RATE_HZ};
+use super::CamArgs;
 use crate::cli::errors::{CliError, CliResult};
+use crate::cli::x_table::rates;
 use crate::noncircular::path::Polygon;
 use crate::noncircular::plan::Axis;
 use crate::noncircular::{check, smallest_m};
@@ -20,6 +21,8 @@ pub struct Request {
     pub axis: Axis,
     pub steps_per_mm: f64,
     pub counts_per_rev: u32,
+    /// the axis's limits in whole steps/s and steps/s^2, for the table
+    pub rates: (u32, u32),
 }
 
 /// m as typed, any whole number: `request` refuses it knowing N.
@@ -37,13 +40,15 @@ pub fn request(a: &CamArgs) -> CliResult<Request> {
         None => smallest_m(sides).map_err(|e| CliError::flag("sides", e.describe()))?,
     };
     let axis = Axis { rpm: a.rpm, max_speed: a.x_max_speed, max_accel: a.x_max_accel };
-    rates(&axis, a.steps_per_mm)?;
+    let spm = a.board.steps_per_mm;
+    let rates = rates(axis.max_speed, axis.max_accel, spm)?;
     Ok(Request {
         polygon: Polygon { sides, apothem_mm: a.inscribed_radius },
         m,
         axis,
-        steps_per_mm: a.steps_per_mm,
-        counts_per_rev: a.encoder_counts,
+        steps_per_mm: spm,
+        counts_per_rev: a.board.encoder_counts,
+        rates,
     })
 }
 
@@ -58,29 +63,4 @@ fn m_range(sides: u32, m: u32) -> CliError {
     };
     let hi = (sides - 1).min(MAX_M);
     CliError::flag("m", format!("must be in 2..={hi} for {sides} sides: {why} (got '{m}')"))
-}
-
-/// The X axis's limits as the firmware takes them: at most X_MAX_RATE_HZ,
-/// and in whole steps/s and steps/s^2, > 0.
-fn rates(axis: &Axis, spm: f64) -> CliResult<()> {
-    if axis.max_speed * spm > X_MAX_RATE_HZ {
-        let top = X_MAX_RATE_HZ / spm;
-        return Err(CliError::flag(
-            "x-max-speed",
-            format!("must be <= {top:.1} mm/s: the firmware emits at most {X_MAX_RATE_HZ} X steps/s ({spm} steps/mm)"),
-        ));
-    }
-    if axis.max_speed * spm < 1.0 {
-        return Err(CliError::flag(
-            "x-max-speed",
-            format!("must be >= {} mm/s: at least one X step per second ({spm} steps/mm)", 1.0 / spm),
-        ));
-    }
-    if axis.max_accel * spm < 1.0 {
-        return Err(CliError::flag(
-            "x-max-accel",
-            format!("must be >= {} mm/s^2: at least one X step per second squared ({spm} steps/mm)", 1.0 / spm),
-        ));
-    }
-    Ok(())
 }

@@ -1,0 +1,69 @@
+//! The X axis as the board runs it, shared by `cam` and `compensate`: the
+//! flags that make a cam table for the board (its steps per mm, the lathe
+//! encoder, the file) and the board's limits on the axis, so that a table
+//! either command writes is one the board takes (`device upload-cam`).
+
+use super::errors::{CliError, CliResult};
+use super::values::{out_file, setting, within};
+use crate::noncircular::table::{CamFile, STEPS_PER_MM};
+use polyturn_sync::cam::{Cam, CamError};
+use polyturn_sync::cam_upload::motion::MotionError;
+use polyturn_sync::config::table::CPR;
+use std::path::PathBuf;
+
+/// The firmware emits at most one X step per two control ticks.
+pub const X_MAX_RATE_HZ: f64 = polyturn_sync::cam_upload::X_MAX_RATE_HZ as f64;
+
+// Numbers take a leading '-' as a value, so that it is refused naming its
+// flag rather than read as flags.
+#[derive(clap::Args, Debug)]
+pub struct TableArgs {
+    /// X axis steps per mm of tool radius: a 1 mm screw, 200-step motor at 256 microsteps is 51200; under 1 a step is more than ten times the 0.1 mm a table may be off
+    #[arg(long, value_name = "STEPS/MM", default_value = "800", allow_hyphen_values = true, value_parser = within(STEPS_PER_MM.0, STEPS_PER_MM.1, "steps/mm"))]
+    pub steps_per_mm: f64,
+    /// Lathe encoder counts per turn, after x4 quadrature
+    #[arg(long = "encoder-cpr", alias = "encoder-counts", value_name = "COUNTS", default_value = "2400", allow_hyphen_values = true, value_parser = setting(CPR))]
+    pub encoder_counts: u32,
+    /// Write the cam table (JSON, for `polyturn device upload-cam`) to this file (- for stdout)
+    #[arg(long, value_name = "FILE", value_parser = out_file)]
+    pub table: Option<PathBuf>,
+}
+
+/// The X axis's limits as the firmware takes them, in whole steps/s and
+/// steps/s² (`cam_upload::check_axis`): at most X_MAX_RATE_HZ, at least 1.
+pub fn rates(max_speed: f64, max_accel: f64, spm: f64) -> CliResult<(u32, u32)> {
+    if max_speed * spm > X_MAX_RATE_HZ {
+        let top = X_MAX_RATE_HZ / spm;
+        return Err(CliError::flag(
+            "x-max-speed",
+            format!("must be <= {top:.1} mm/s: the firmware emits at most {X_MAX_RATE_HZ} X steps/s ({spm} steps/mm)"),
+        ));
+    }
+    if max_speed * spm < 1.0 {
+        return Err(CliError::flag(
+            "x-max-speed",
+            format!("must be >= {} mm/s: at least one X step per second ({spm} steps/mm)", 1.0 / spm),
+        ));
+    }
+    if max_accel * spm < 1.0 {
+        return Err(CliError::flag(
+            "x-max-accel",
+            format!("must be >= {} mm/s^2: at least one X step per second squared ({spm} steps/mm)", 1.0 / spm),
+        ));
+    }
+    Ok(((max_speed * spm) as u32, (max_accel * spm) as u32))
+}
+
+/// The board's own checks of a table (`controller::check_table`): its
+/// points and period (`Cam::check`), and what they ask of the axis it
+/// declares (`cam_upload::motion`), refused naming the flag that fixes it.
+pub fn board_takes(table: &CamFile) -> CliResult<()> {
+    Cam::check(&table.points, table.period_counts).map_err(|e| match e {
+        CamError::Step => CliError::flag("steps-per-mm", format!("is too fine for this path: {}", e.describe())),
+        CamError::Points | CamError::Period => CliError::flag("encoder-cpr", e.describe()),
+    })?;
+    polyturn_sync::cam_upload::motion::check(&table.header(), &table.points).map_err(|e| match e {
+        MotionError::Rate { .. } => CliError::flag("x-max-speed", e.to_string()),
+        MotionError::Accel { .. } => CliError::flag("x-max-accel", e.to_string()),
+    })
+}
