@@ -7,6 +7,7 @@ use polyturn_host::noncircular::path::Polygon;
 use polyturn_host::noncircular::plan::{plan, Axis, Outcome};
 use polyturn_host::noncircular::table::build;
 use polyturn_host::sim::single_point::{run, SinglePoint};
+use polyturn_host::sim::XOutput;
 
 fn octagon(cpr: u32, rpm: f64, ripple: f64, sabotage_period: i32) -> (f64, Vec<polyturn_sync::Fault>) {
     let polygon = Polygon { sides: 8, apothem_mm: 20.0 };
@@ -14,7 +15,7 @@ fn octagon(cpr: u32, rpm: f64, ripple: f64, sabotage_period: i32) -> (f64, Vec<p
     let Outcome::Sharp(path, _) = plan(polygon, 3, axis) else { panic!("sharp corners fit at 12 rpm") };
     let mut table = build(&path, cpr, 800.0, (9_600, 1_600_000));
     table.period_counts = (table.period_counts as i32 + sabotage_period) as u32;
-    let sc = SinglePoint { table, apothem_mm: 20.0, rpm, ripple, revolutions: 4.0, seed: 3 };
+    let sc = SinglePoint { table, apothem_mm: 20.0, rpm, ripple, revolutions: 4.0, seed: 3, output: XOutput::Gpio };
     let r = run(&sc, &path).expect("runs");
     assert!(r.synced_ticks > 0, "never synchronised");
     eprintln!("{cpr} counts, {rpm} rpm, period {sabotage_period:+}: {:.2} um from the octagon", r.max_deviation * 1e3);

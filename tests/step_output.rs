@@ -4,7 +4,7 @@
 //! believes and the exact target.
 
 use polyturn_bench::hwsim::scenarios::{lathe, ramp, rocking, steady, Outcome, TIMING};
-use polyturn_bench::hwsim::{driver::receive, Isr, TICK_LEN};
+use polyturn_bench::hwsim::{driver::receive, Isr, TICK_LEN, TIMER_HZ};
 use polyturn_firmware::stepgen::entries::Entry;
 use polyturn_firmware::stepgen::program::{self as prog, apply, Bus, Op};
 use polyturn_firmware::stepgen::RING_ENTRIES;
@@ -228,4 +228,38 @@ fn a_dir_setup_longer_than_a_tick_still_lets_the_cutter_reverse() {
     let o = lathe(c, &rocking(40.0, 0.6), 0.9, Isr::new((200, 2_000)), Params::default(), None);
     assert!(o.received.reversals > 10, "{} reversals", o.received.reversals);
     assert_clean("long DIR setup", &o);
+}
+
+/// A tick that stops writing (a handler that hangs: the watchdog resets the
+/// MCU within its 4 s) while TIM1 and the DMA run on: the two ticks in
+/// flight go out, then silence, never an old segment's step again.
+#[test]
+fn a_tick_that_stops_writing_leaves_no_old_step_to_come_round() {
+    use polyturn_bench::hwsim::Rig;
+    use polyturn_sync::steps::pipe::StepPipe;
+    let t = polyturn_sync::derived::Derived::new(&Config::default(), TIMING).steps;
+    let mut rig = Rig::new(Params::default(), Isr::new((200, 2_000)));
+    let mut books = StepPipe::default();
+    books.start(0);
+    // 64 000 steps/s: 3.2 steps a tick, Q16
+    let q = |j: u64| ((j as i64) * 64_000 * 65_536) / TIMING.tick_hz as i64;
+    const TICKS: u64 = 400;
+    for k in 0..TICKS {
+        rig.tick(|_, _| (books.plan(q(k), &t), false, t));
+    }
+    // the last plan runs in the tick after next (`steps::pipe`)
+    let flight_end = rig.tick_start(TICKS + 2);
+    let rises = |mcu: &Mcu| receive(mcu.edges(), 192, true).rises;
+    rig.mcu.run_until(flight_end);
+    let sent = rises(&rig.mcu).len();
+    assert!(sent > 1_000, "{sent} steps before the hang");
+    // a third of a second later (the model's own time)
+    rig.mcu.run_until(flight_end + TIMER_HZ as u64 / 3);
+    let late: Vec<u64> = rises(&rig.mcu).into_iter().skip(sent).collect();
+    assert!(
+        late.is_empty(),
+        "{} old steps came round, the first {} cycles after the last tick",
+        late.len(),
+        late[0] - flight_end
+    );
 }

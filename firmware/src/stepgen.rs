@@ -222,11 +222,13 @@ impl Generator {
         }
         // segments the DMA has taken whole go silent (not the one whose
         // burst is under way: its last words are still to be read, and a
-        // mix of two segments is no segment): STEP held low in each, so that
-        // a DMA that ran on past the writer could never step again from an
-        // old one (CCR1 alone: `Entry::SILENT`, PWM mode 2)
+        // mix of two segments is no segment), and long: STEP held low
+        // (`Entry::SILENT`, PWM mode 2) for the filler's 0.17 s, so that a
+        // DMA that ran on past a writer that stopped plays the ticks in
+        // flight, then seconds of silence, never an old segment's step
+        // before the watchdog resets the MCU (`Entry::filler`)
         while self.silenced != finished {
-            bus.write(self.word(self.silenced, CCR1_WORD), entries::SILENT);
+            silence_taken(self.ring, self.silenced, bus);
             self.silenced = (self.silenced + 1) % RING_ENTRIES;
         }
         let first = self.write;
@@ -316,8 +318,16 @@ fn lead_holds(lead: u32, bus: &mut impl Bus) -> bool {
     !updated && left == program::RING_WORDS - lead
 }
 
-/// Word of an entry that holds CCR1 (`Entry::words`: PSC, ARR, RCR, CCR1, CCR2).
-const CCR1_WORD: u32 = 3;
+/// An entry the DMA has taken becomes a filler but for its DIR (CCR2,
+/// left as it was: a level with no step moves nothing): ARR, RCR and CCR1.
+#[inline(always)]
+fn silence_taken(ring: u32, slot: usize, bus: &mut impl Bus) {
+    let base = ring + slot as u32 * program::BURST_WORDS * 4;
+    let f = Entry::filler();
+    bus.write(base + 4, f.arr);
+    bus.write(base + 8, f.rcr);
+    bus.write(base + 12, f.ccr1);
+}
 
 /// Writes a segment's ARR, RCR, CCR1 and CCR2 into entry `slot` of the ring
 /// at `ring`. Its PSC word is 0 in every entry from the ring's first fill on

@@ -135,6 +135,15 @@ impl Canvas {
         Ok(())
     }
 
+    /// The first run of bytes no piece gave, below the last byte given:
+    /// its address and length (filled 0xFF by `finish`).
+    pub fn gap(&self) -> Option<(u32, usize)> {
+        let span = &self.placed[..(self.end.max(FLASH_BASE) - FLASH_BASE) as usize];
+        let from = span.iter().position(|&p| !p)?;
+        let len = span[from..].iter().position(|&p| p).unwrap_or(span.len() - from);
+        Some((FLASH_BASE + from as u32, len))
+    }
+
     /// The image from FLASH_BASE to its last byte.
     pub fn finish(mut self) -> Result<(u32, Vec<u8>), Refusal> {
         if self.end == FLASH_BASE {

@@ -13,6 +13,7 @@ mod run;
 pub mod shaft;
 pub mod single_point;
 mod stepper;
+mod x_out;
 
 pub use cut::CutRecorder;
 pub use run::run;

@@ -85,7 +85,12 @@ pub fn run(a: CamArgs) -> CliResult<String> {
     }
     let written = files.write()?;
     let report = report(&e, &r, corners, &table, table_dev, sharp_rpm);
-    Ok(written.report(if a.json { report.to_string() } else { text(&report) }))
+    let out = match (a.json, written.wrote()) {
+        (true, _) => report.to_string(),
+        (false, None) => text(&report),
+        (false, Some(w)) => format!("{}\n{w}", text(&report)),
+    };
+    Ok(written.report(out))
 }
 
 /// The table must be one the firmware takes (the sync core's own checks,

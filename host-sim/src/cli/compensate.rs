@@ -111,6 +111,9 @@ pub fn run(a: CompensateArgs) -> CliResult<String> {
             if *err > TABLE_COARSE_MM { ": raise --steps-per-mm or --encoder-cpr for a finer one" } else { "" }
         );
     }
+    if let Some(w) = written.wrote() {
+        text += &format!("\n{w}");
+    }
     Ok(written.report(text))
 }
 

@@ -5,7 +5,7 @@
 //! share these flags and this arithmetic.
 
 use super::errors::{CliError, CliResult};
-use super::values::{length_mm, within};
+use super::values::{length_mm, within, LENGTH_MM};
 use crate::geometry::SectionSummary;
 
 /// The stock before the cut: one of its radius or its diameter.
@@ -58,10 +58,17 @@ impl Cut {
     /// radius, R2 - DOC, so across flats AF is 2 (R2 - DOC).
     pub fn depth(&self, r2: f64) -> CliResult<f64> {
         match (self.across_flats, self.depth) {
-            (Some(af), None) if af < 2.0 * r2 => Ok(r2 - af / 2.0),
-            (Some(_), None) => {
-                Err(CliError::flag("across-flats", format!("must be < the stock diameter ({} mm)", 2.0 * r2)))
-            }
+            // the depth it leaves is one --depth would take: at least a micron
+            (Some(af), None) if r2 - af / 2.0 >= LENGTH_MM.0 => Ok(r2 - af / 2.0),
+            (Some(af), None) => Err(CliError::flag(
+                "across-flats",
+                format!(
+                    "must be at most the stock diameter ({} mm) less {} mm: a depth of cut of at least {} mm (got '{af}')",
+                    2.0 * r2,
+                    2.0 * LENGTH_MM.0,
+                    LENGTH_MM.0
+                ),
+            )),
             (None, Some(d)) if d < r2 => Ok(d),
             (None, Some(_)) => Err(CliError::flag("depth", format!("must be > 0 and < the stock radius ({r2} mm)"))),
             _ => Err(CliError("give exactly one of --across-flats AF or --depth DOC".into())),

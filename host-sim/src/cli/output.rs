@@ -49,9 +49,20 @@ pub struct Outputs {
 #[derive(Debug)]
 pub struct Written {
     to_stdout: bool,
+    /// the files written that are not stdout, as given
+    files: Vec<String>,
 }
 
 impl Written {
+    /// "wrote A and B" for the files written (stdout aside), or nothing.
+    pub fn wrote(&self) -> Option<String> {
+        match self.files.as_slice() {
+            [] => None,
+            [one] => Some(format!("wrote {one}")),
+            [rest @ .., last] => Some(format!("wrote {} and {last}", rest.join(", "))),
+        }
+    }
+
     /// The text for stdout: `report`, or nothing once it went to stderr.
     pub fn report(self, report: String) -> String {
         if !self.to_stdout {
@@ -132,7 +143,8 @@ impl Outputs {
                 return Err(fail(o, &staged[i..], could_not(o, e)));
             }
         }
-        Ok(Written { to_stdout: self.files.iter().any(|o| o.target == Target::Stdout) })
+        let files = self.files.iter().filter(|o| o.target != Target::Stdout).map(|o| shown(&o.given)).collect();
+        Ok(Written { to_stdout: self.files.iter().any(|o| o.target == Target::Stdout), files })
     }
 }
 
@@ -155,8 +167,9 @@ fn unstaged(target: &Target, bytes: &[u8], wait: std::time::Duration) -> std::io
 #[cfg(target_family = "wasm")]
 impl Outputs {
     pub fn write(self) -> CliResult<Written> {
+        let files = self.files.iter().map(|o| shown(&o.given)).collect();
         CAPTURED.with(|c| c.borrow_mut().extend(self.files.into_iter().map(|o| (shown(&o.given), o.bytes))));
-        Ok(Written { to_stdout: false })
+        Ok(Written { to_stdout: false, files })
     }
 }
 

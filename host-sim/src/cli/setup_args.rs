@@ -49,7 +49,26 @@ impl SetupArgs {
         };
         setup.validate().map_err(|e| CliError::flag(e.field, e.allowed))?;
         let section = Section::ideal(&setup, Section::default_bins(setup.sides()));
-        not_round(&section.summary())?;
+        let fraction = roundness(&section.summary());
+        if fraction > ROUND_FRACTION {
+            return Err(match round_whatever_the_cutter(&setup) {
+                true => round_error(
+                    "ratio",
+                    format!(
+                        "cuts a nearly round section with {} edges with any cutter up to 100 x the stock radius",
+                        setup.edges
+                    ),
+                    fraction,
+                    "a larger ratio turns the cutter fast enough to cut flats",
+                ),
+                false => round_error(
+                    "cutter-radius",
+                    "is too small for this depth: the section is nearly round".into(),
+                    fraction,
+                    "a larger cutter gives flatter sides",
+                ),
+            });
+        }
         Ok((setup, section))
     }
 }
@@ -60,14 +79,22 @@ impl SetupArgs {
 /// cutter's shaved circle would come out as 6 sharp sides).
 pub const ROUND_FRACTION: f64 = 0.5;
 
-fn not_round(s: &SectionSummary) -> CliResult<()> {
+/// Whether a cutter of 100 times the stock's radius (the largest `setups`
+/// considers) would still cut a round section: then the ratio is at
+/// fault, not the cutter (at 1/1000 the cutter barely turns, and its tip
+/// shaves a circle).
+fn round_whatever_the_cutter(setup: &Setup) -> bool {
+    let big = Setup { cutter_radius_mm: 100.0 * setup.stock_radius_mm, ..*setup };
+    big.validate().is_ok()
+        && roundness(&Section::ideal(&big, Section::default_bins(big.sides())).summary()) > ROUND_FRACTION
+}
+
+fn round_error(flag: &'static str, what: String, fraction: f64, fix: &str) -> CliError {
+    CliError::flag(flag, format!("{what} (its flats bulge {:.0} % as much as a circle's); {fix}", fraction * 100.0))
+}
+
+/// How round a section is: its flats' bulge as a fraction of a circle's.
+fn roundness(s: &SectionSummary) -> f64 {
     let circle = s.circumscribed_radius * (1.0 - (std::f64::consts::PI / s.sides as f64).cos());
-    let fraction = s.flat_deviation.abs() / circle;
-    if fraction > ROUND_FRACTION {
-        return Err(CliError::flag(
-            "cutter-radius",
-            format!("is too small for this depth: the section is nearly round (its flats bulge {:.0} % as much as a circle's); a larger cutter gives flatter sides", fraction * 100.0),
-        ));
-    }
-    Ok(())
+    s.flat_deviation.abs() / circle
 }

@@ -34,8 +34,11 @@ pub fn within(lo: f64, hi: f64, unit: &'static str) -> impl Parser<f64> {
 /// would only come back in another flag's error as a 300-digit number) to
 /// 10 m (a lathe, not a bridge).
 pub fn length_mm() -> impl Parser<f64> {
-    within(0.001, 10_000.0, "mm")
+    within(LENGTH_MM.0, LENGTH_MM.1, "mm")
 }
+
+/// The lengths a length flag takes, mm: a micron to ten metres.
+pub const LENGTH_MM: (f64, f64) = (0.001, 10_000.0);
 
 /// A lathe speed: at least 1 rpm (slower is no cut), at most `hi`.
 pub fn rpm(hi: f64) -> impl Parser<f64> {

@@ -50,11 +50,27 @@ pub fn parse(file: &[u8]) -> Result<(u32, Vec<u8>), Refusal> {
     if !ended {
         return Err(Refusal::new(HEX_RULE, "no end-of-file record (cut short?)"));
     }
+    let gap = canvas.gap();
     let (base, bytes) = canvas.finish()?;
+    whole(gap, &bytes)?;
     if let Some((n, address)) = start {
         starts_at_reset(&bytes, n, address)?;
     }
     Ok((base, bytes))
+}
+
+/// `polyturn image` writes every byte of a sealed polyturn image, so a gap
+/// in one is a record missing (a HEX of another program, or an unsealed
+/// one, may have gaps: they are erased flash). Said so, before the seal
+/// would call it a changed byte.
+fn whole(gap: Option<(u32, usize)>, bytes: &[u8]) -> Result<(), Refusal> {
+    match gap {
+        Some((at, len)) if super::check::marked(bytes) && super::seal::ends_sealed(bytes) => Err(Refusal::new(
+            "must give every byte of a polyturn image, as `polyturn image` writes it",
+            format!("no record gives 0x{at:08x}..0x{:08x} ({len} bytes): a record is missing", at as usize + len),
+        )),
+        _ => Ok(()),
+    }
 }
 
 /// A line that is a record and nothing else.

@@ -93,6 +93,21 @@ fn the_hex_written_loads_back_to_the_same_bytes() {
 }
 
 #[test]
+fn a_sealed_hex_missing_a_record_is_said_to_miss_one() {
+    let bytes = good(3000);
+    let text = hex_of(&[(FLASH_BASE, &bytes)]);
+    // the record for 0x08000100..0x08000110 dropped
+    let gone: Vec<&str> = text.lines().filter(|l| !l.starts_with(":10010000")).collect();
+    assert_eq!(gone.len() + 1, text.lines().count());
+    let e = refused(gone.join("\n").as_bytes(), Format::Hex, false);
+    assert_eq!(e.found, "no record gives 0x08000100..0x08000110 (16 bytes): a record is missing");
+    // an unmarked program's gaps are erased flash, as before
+    let raw = image_with(1024, SP, RESET, b"");
+    let other = hex_of(&[(FLASH_BASE, &raw[..512]), (FLASH_BASE + 640, &raw[640..])]);
+    assert!(from_bytes(other.as_bytes(), Format::Hex, true).is_ok());
+}
+
+#[test]
 fn sizes_and_addresses_outside_sectors_0_to_5_are_refused_with_the_range() {
     let r = refused(&[], Format::Bin, true);
     assert!(r.rule.contains("must not be empty (1..=262144 bytes)"), "{r:?}");

@@ -59,6 +59,12 @@ pub fn check(bytes: &[u8]) -> Result<Seal, Refusal> {
     Ok(Seal { length, crc32 })
 }
 
+/// Whether the image ends in a seal whose length fits it (its CRC
+/// unchecked): an image `polyturn image` made, whole or altered.
+pub fn ends_sealed(bytes: &[u8]) -> bool {
+    bytes.len().checked_sub(SEAL).is_some_and(|at| word_at_is(bytes, at, MAGIC) && word_at_is(bytes, at + 4, at as u32))
+}
+
 fn word_at_is(bytes: &[u8], at: usize, want: u32) -> bool {
     bytes.get(at..at + 4).is_some_and(|w| u32::from_le_bytes([w[0], w[1], w[2], w[3]]) == want)
 }

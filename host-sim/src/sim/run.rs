@@ -5,13 +5,12 @@ use super::encoder::Encoder;
 use super::lathe::Lathe;
 use super::shaft::ShaftEncoder;
 use super::stepper::Stepper;
+use super::x_out::XAxisPlant;
 use super::{CutRecorder, Event, Scenario, SimResult, XOutput};
 use crate::geometry::Section;
 use polyturn_firmware::bldcout::Out;
-use polyturn_firmware::xsteps::XSteps;
 use polyturn_sync::edges::EdgeClock;
 use polyturn_sync::gear::Scale;
-use polyturn_sync::steps::StepPlan;
 use polyturn_sync::{Controller, DriveKind, Fault, State, TickInput, TickOutput, Timing};
 use std::f64::consts::TAU;
 
@@ -26,9 +25,7 @@ struct Plants {
     /// what TIM10 sends the BLDC drive: the core's settings fix it for
     /// the run
     bldc_out: Out,
-    x: Stepper,
-    /// the board's X pins, when the scenario's X output is `Gpio`
-    x_pins: XSteps,
+    x: XAxisPlant,
     /// an encoder on the stepper's shaft, if the core has one set
     shaft: ShaftEncoder,
 }
@@ -90,8 +87,7 @@ impl Plants {
             ),
             bldc: Bldc::new(sc.core.motor_steps_per_rev),
             bldc_out: Out::new(ctl.config(), ctl.derived().limits.max_velocity),
-            x: Stepper::new(1e9, 1e12, 2e-6, 0),
-            x_pins: XSteps::default(),
+            x: XAxisPlant::new(sc.x_axis.as_ref().map_or(XOutput::Timed, |x| x.output)),
             shaft: ShaftEncoder::new(sc.core.cutter_encoder_cpr, sc.core.motor_steps_per_rev, sc.step_error, sc.seed),
         };
         p.bldc.max_torque = sc.bldc_max_torque;
@@ -171,7 +167,7 @@ fn event_loop(sc: &Scenario, ctl: &mut Controller, p: &mut Plants, bins: usize) 
             cutter: p.cutter_count(sc) as u16,
             estop_open: latched.estop,
             alarm: false,
-            x_emitted: p.x_emitted(sc),
+            x_emitted: p.x.emitted(),
             lathe_edge: p.encoder.edge_regs(),
         };
         let o = ctl.tick(&input);
@@ -189,7 +185,7 @@ fn event_loop(sc: &Scenario, ctl: &mut Controller, p: &mut Plants, bins: usize) 
         p.shaft.update(steps_now);
         let theta = steps_now / m * TAU;
         let dx = match &sc.x_axis {
-            Some(x) => p.step_x(x.output, &o.x_plan, (t, dt), o.halt) / x.steps_per_mm,
+            Some(x) => p.x.step(&o.x_plan, (t, dt), TIMER_HZ as f64, o.halt) / x.steps_per_mm,
             None => 0.0,
         };
         let state = ctl.state();
@@ -231,33 +227,6 @@ fn event_loop(sc: &Scenario, ctl: &mut Controller, p: &mut Plants, bins: usize) 
 struct Latched {
     estop: bool,
     jam: bool,
-}
-
-impl Plants {
-    /// The X pulses the core reads back: what the board's pins emitted,
-    /// or, timed, every pulse planned.
-    fn x_emitted(&self, sc: &Scenario) -> u16 {
-        match sc.x_axis.as_ref().map(|x| x.output) {
-            Some(XOutput::Gpio) => self.x_pins.emitted,
-            _ => self.x.pulses as u16,
-        }
-    }
-
-    /// X for a tick: the plan through the board's pins (one pulse at the
-    /// tick, when they raise STEP) or at its planned instants; returns
-    /// the axis's position in steps.
-    fn step_x(&mut self, output: XOutput, plan: &StepPlan, (t, dt): (f64, f64), halt: bool) -> f64 {
-        let plan = match output {
-            XOutput::Timed => *plan,
-            XOutput::Gpio => {
-                let before = self.x_pins.emitted;
-                let pins = self.x_pins.tick(plan, halt);
-                let count = self.x_pins.emitted.wrapping_sub(before);
-                StepPlan { count, dir: pins.dir, ..StepPlan::default() }
-            }
-        };
-        self.x.execute(&plan, t, dt, TIMER_HZ as f64, halt)
-    }
 }
 
 impl Plants {

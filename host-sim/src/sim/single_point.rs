@@ -5,7 +5,8 @@
 
 use super::encoder::Encoder;
 use super::lathe::{Lathe, LatheProfile, Leg};
-use super::stepper::Stepper;
+use super::x_out::XAxisPlant;
+use super::XOutput;
 use crate::noncircular::path::ToolPath;
 use crate::noncircular::table::CamFile;
 use polyturn_sync::{Config, Controller, DriveKind, Fault, State, TickInput, Timing};
@@ -25,6 +26,8 @@ pub struct SinglePoint {
     pub ripple: f64,
     pub revolutions: f64,
     pub seed: u64,
+    /// how X's steps reach the driver
+    pub output: XOutput,
 }
 
 #[derive(Clone, Debug)]
@@ -62,7 +65,7 @@ pub fn run(sc: &SinglePoint, planned: &dyn ToolPath) -> Result<SinglePointResult
     ];
     let profile = LatheProfile { start_rpm: sc.rpm, legs, ripple: sc.ripple, wander: sc.ripple / 5.0, dips: vec![] };
     let (mut lathe, mut encoder) = (Lathe::new(profile, sc.seed), Encoder::new(sc.table.counts_per_rev));
-    let mut x = Stepper::new(1e9, 1e12, 2e-6, 0);
+    let mut x = XAxisPlant::new(sc.output);
     let (dt, spm) = (1.0 / TICK_HZ as f64, sc.table.steps_per_mm);
     let cpr = sc.table.counts_per_rev as f64;
     let (mut deviation, mut faults, mut synced) = (vec![f64::INFINITY; BINS], Vec::new(), 0u64);
@@ -77,13 +80,13 @@ pub fn run(sc: &SinglePoint, planned: &dyn ToolPath) -> Result<SinglePointResult
         let input = TickInput {
             lathe: encoder.count(a, tick) as u16,
             index: encoder.index(a),
-            x_emitted: x.pulses as u16,
+            x_emitted: x.emitted(),
             lathe_edge: None,
             ..TickInput::default()
         };
         let o = ctl.tick(&input);
         ctl.service();
-        let x_steps = x.execute(&o.x_plan, t, dt, TIMER_HZ as f64, o.halt);
+        let x_steps = x.step(&o.x_plan, (t, dt), TIMER_HZ as f64, o.halt);
         if let State::Fault(f) = ctl.state() {
             if faults.last() != Some(&f) {
                 faults.push(f);

@@ -47,7 +47,15 @@ fn geometry_takes_across_flats_and_works_out_the_depth_as_setups_does() {
 #[test]
 fn an_across_flats_not_under_the_stock_diameter_is_refused_naming_it() {
     let e = run(&format!("geometry {REST} --stock-diameter 20 --across-flats 20")).unwrap_err();
-    assert_eq!(e, "--across-flats must be < the stock diameter (20 mm)");
+    assert_eq!(e, "--across-flats must be at most the stock diameter (20 mm) less 0.002 mm: a depth of cut of at least 0.001 mm (got '20')");
+    // nor one that leaves a depth --depth would refuse, in setups as in geometry
+    for cmd in ["setups --sides 6", "geometry --cutter-radius 50 --ratio 2 --edges 3 --direction same"] {
+        let e = run(&format!("{cmd} --stock-diameter 20 --across-flats 19.9999")).unwrap_err();
+        assert!(e.starts_with("--across-flats must be at most the stock diameter (20 mm) less 0.002 mm"), "{cmd}: {e}");
+    }
+    // a depth of 5 µm is one --depth takes: whatever else is said, not this
+    let e = run(&format!("geometry {REST} --stock-diameter 20 --across-flats 19.99")).err().unwrap_or_default();
+    assert!(!e.starts_with("--across-flats"), "{e}");
     let e = run(&format!("simulate {REST} --stock-radius 10 --across-flats 25 --rpm 300 --revolutions 1")).unwrap_err();
     assert!(e.starts_with("--across-flats "), "{e}");
     let e = run(&format!("geometry {REST} --stock-diameter 20 --depth 10")).unwrap_err();
@@ -87,4 +95,20 @@ fn an_odd_section_has_no_across_corners_but_a_corner_to_flat() {
     let to_flat = v["inscribed_radius"].as_f64().unwrap() + v["circumscribed_radius"].as_f64().unwrap();
     let text = run(line).unwrap();
     assert!(text.contains(&format!("across flats n/a (odd sides), corner to opposite flat {to_flat:.4} mm")), "{text}");
+}
+
+#[test]
+fn a_section_round_whatever_the_cutter_blames_the_ratio_not_the_cutter() {
+    // at 1/1000 the cutter barely turns: its tip shaves a circle, and no
+    // cutter would cut flats
+    let e = run("geometry --cutter-radius 50 --stock-diameter 20 --depth 1 --ratio 1:1000 --edges 3 --direction same")
+        .unwrap_err();
+    assert!(
+        e.starts_with("--ratio cuts a nearly round section with 3 edges with any cutter up to 100 x the stock radius (its flats bulge"),
+        "{e}"
+    );
+    // a small cutter at a working ratio is still the cutter's fault
+    let e = run("geometry --cutter-radius 3 --stock-radius 10 --depth 0.1 --ratio 5/3 --edges 12 --direction same")
+        .unwrap_err();
+    assert!(e.starts_with("--cutter-radius is too small for this depth"), "{e}");
 }
