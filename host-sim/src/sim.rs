@@ -84,6 +84,9 @@ pub struct XSim {
     pub max_accel: f64,
     /// how the steps reach the driver
     pub output: XOutput,
+    /// the slide's lost motion between the motor and the tool (a screw and
+    /// nut's backlash), steps; 0 for none
+    pub backlash_steps: f64,
 }
 
 /// How the X steps reach the driver.

@@ -333,11 +333,15 @@ impl Controller {
             _ => x.follower.ramp_down(&x.limits),
         }
         // The axis must really be where it is commanded (its steps can be
-        // limited by the step generator): the same limit as the cutter's.
+        // limited by the step generator), and its command on the cam (an
+        // axis whose limits cannot follow the cam falls behind it): the
+        // same limit as the cutter's, or the part is cut wrong unsaid.
         x.on_cam = x.follower.arrived(target + velocity, velocity, &x.limits);
-        let lag = x.follower.position - at;
+        let unmade = x.follower.position - at;
+        let behind = target - x.follower.position;
         let plan = self.x_steps.plan(x.follower.position, &self.d.steps);
-        if self.state == State::Synced && lag.abs() > self.d.following_limit_q16 {
+        let limit = self.d.following_limit_q16;
+        if self.state == State::Synced && (unmade.abs() > limit || crate::q16::beyond(behind, limit)) {
             self.trip(Fault::FollowingError);
         }
         plan

@@ -87,7 +87,10 @@ impl Plants {
             ),
             bldc: Bldc::new(sc.core.motor_steps_per_rev),
             bldc_out: Out::new(ctl.config(), ctl.derived().limits.max_velocity),
-            x: XAxisPlant::new(sc.x_axis.as_ref().map_or(XOutput::Timed, |x| x.output)),
+            x: XAxisPlant::new(
+                sc.x_axis.as_ref().map_or(XOutput::Timed, |x| x.output),
+                sc.x_axis.as_ref().map_or(0.0, |x| x.backlash_steps),
+            ),
             shaft: ShaftEncoder::new(sc.core.cutter_encoder_cpr, sc.core.motor_steps_per_rev, sc.step_error, sc.seed),
         };
         p.bldc.max_torque = sc.bldc_max_torque;

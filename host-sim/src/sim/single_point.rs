@@ -28,6 +28,8 @@ pub struct SinglePoint {
     pub seed: u64,
     /// how X's steps reach the driver
     pub output: XOutput,
+    /// the cross-slide's backlash, steps (0: none)
+    pub backlash_steps: f64,
 }
 
 #[derive(Clone, Debug)]
@@ -65,7 +67,7 @@ pub fn run(sc: &SinglePoint, planned: &dyn ToolPath) -> Result<SinglePointResult
     ];
     let profile = LatheProfile { start_rpm: sc.rpm, legs, ripple: sc.ripple, wander: sc.ripple / 5.0, dips: vec![] };
     let (mut lathe, mut encoder) = (Lathe::new(profile, sc.seed), Encoder::new(sc.table.counts_per_rev));
-    let mut x = XAxisPlant::new(sc.output);
+    let mut x = XAxisPlant::new(sc.output, sc.backlash_steps);
     let (dt, spm) = (1.0 / TICK_HZ as f64, sc.table.steps_per_mm);
     let cpr = sc.table.counts_per_rev as f64;
     let (mut deviation, mut faults, mut synced) = (vec![f64::INFINITY; BINS], Vec::new(), 0u64);

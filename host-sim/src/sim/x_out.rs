@@ -13,13 +13,18 @@ pub struct XAxisPlant {
     output: XOutput,
     pins: XSteps,
     motor: Stepper,
+    /// the screw's backlash (steps) and where the slide is (steps): it
+    /// moves only when the motor pushes it from one side of the play
+    backlash: f64,
+    slide: f64,
 }
 
 impl XAxisPlant {
     /// A stiff axis (it follows any rate the core plans): what limits it
     /// is the core's limits and the output.
-    pub fn new(output: XOutput) -> XAxisPlant {
-        XAxisPlant { output, pins: XSteps::default(), motor: Stepper::new(1e9, 1e12, 2e-6, 0) }
+    pub fn new(output: XOutput, backlash_steps: f64) -> XAxisPlant {
+        let motor = Stepper::new(1e9, 1e12, 2e-6, 0);
+        XAxisPlant { output, pins: XSteps::default(), motor, backlash: backlash_steps.max(0.0), slide: 0.0 }
     }
 
     /// The pulse count the core reads back: what the pins emitted, or,
@@ -31,7 +36,7 @@ impl XAxisPlant {
         }
     }
 
-    /// One tick of the core's X plan from `t` (s); returns the axis's
+    /// One tick of the core's X plan from `t` (s); returns the slide's
     /// position in steps at `t`.
     pub fn step(&mut self, plan: &StepPlan, (t, dt): (f64, f64), timer_hz: f64, halt: bool) -> f64 {
         let plan = match self.output {
@@ -44,6 +49,20 @@ impl XAxisPlant {
                 StepPlan { count, dir: pins.dir, ..StepPlan::default() }
             }
         };
-        self.motor.execute(&plan, t, dt, timer_hz, halt)
+        let motor = self.motor.execute(&plan, t, dt, timer_hz, halt);
+        self.play(motor)
+    }
+
+    /// The slide behind a screw with backlash: it stays while the motor
+    /// turns within the play (a reversal takes the play up first), and
+    /// follows one edge of it otherwise. With none, the motor itself.
+    fn play(&mut self, motor: f64) -> f64 {
+        let half = self.backlash / 2.0;
+        if motor > self.slide + half {
+            self.slide = motor - half;
+        } else if motor < self.slide - half {
+            self.slide = motor + half;
+        }
+        self.slide
     }
 }

@@ -165,3 +165,24 @@ fn on_a_moving_cam_the_synced_x_command_is_where_the_cam_will_be_at_the_tick_s_e
     assert_eq!(r.c.state(), State::Synced);
     assert!(worst < 1 << 10, "within 1/64 step of the cam a tick ahead: {worst}");
 }
+
+#[test]
+fn an_x_axis_too_slow_to_stay_on_its_cam_trips_once_synced_though_every_step_is_made() {
+    // drive=none: only X; a cam 200 steps up over half a turn and down
+    // again, followed at 1 000 steps/s² (2.5e-6 steps a tick²): from rest
+    // at 1 count a tick the cam runs away at 1/6 step a tick, and the X
+    // command falls behind it by more than ferror (64 steps)
+    let table: &'static [i32] = std::vec::Vec::leak(std::vec![0, 200]);
+    let mut r = Rig::new(Config::default().with("drive", "none").unwrap());
+    r.c.set_x_axis(Some(XAxis::new(Cam::new(table, 2_400).unwrap(), x_limits(1_000)))).unwrap();
+    r.c.engage().unwrap();
+    r.until(0, 5_000, |c| c.state() == State::Synced);
+    let ticks = r.until(per_tick(1.0), 20_000, |c| c.fault().is_some());
+    assert_eq!(r.c.fault(), Some(Fault::FollowingError));
+    // the command hardly moves while the cam runs 1/6 step a tick: more
+    // than 64 steps behind after about 6 × 64 ticks
+    assert!((380..400).contains(&ticks), "{ticks}");
+    // every step commanded was made: it is the cam the axis is behind
+    let x = r.c.x_axis().unwrap().position_q16() >> 16;
+    assert!((x - i64::from(r.x_emitted as i16)).abs() <= 1, "{x} {}", r.x_emitted);
+}
