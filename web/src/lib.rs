@@ -59,10 +59,15 @@ pub fn guided_setup(args: Vec<String>, settings: &str) -> Result<String, String>
     settings::guided(&args, settings)
 }
 
-/// The console lines that upload a `polyturn cam --table` file.
+/// The console lines that upload a `polyturn cam --table` (or
+/// `compensate --table`) file; a compensating table only to a board whose
+/// `get` reply (`settings`) has the ratio and edges it was made for.
 #[wasm_bindgen]
-pub fn cam_lines(name: &str, text: &str) -> Result<Vec<String>, String> {
+pub fn cam_lines(name: &str, text: &str, settings: &str) -> Result<Vec<String>, String> {
     let table = polyturn_host::cli::console_line::cam_table(name, text).map_err(|e| e.0)?;
+    if let Some(made_for) = &table.cutter {
+        made_for.fits_settings(settings).map_err(|e| format!("upload-cam: {e}"))?;
+    }
     Ok(table.upload_lines())
 }
 

@@ -496,6 +496,19 @@ await test('a cam table from polyturn cam uploads through the console', async ()
   assert.ok((await received()).some((l) => / cam begin /.test(l)));
 });
 
+await test('a compensating table goes only to a board set for its ratio and edges', async () => {
+  const table = join(TMP, 'flats.json');
+  execFileSync(POLYTURN, ['compensate', '--cutter-radius', '50', '--stock-radius', '10', '--depth', '2', '--ratio', '3', '--edges', '2', '--direction', 'same', '--rpm', '20', '--x-max-speed', '12.5', '--x-max-accel', '5000', '--encoder-cpr', '2000', '--table', table]);
+  const begun = (await received()).filter((l) => / cam begin /.test(l)).length;
+  await page.evaluate(() => { document.querySelector('#cam-result').textContent = ''; });
+  await page.setInputFiles('#cam-file', table);
+  await page.click('#cam-upload');
+  await page.waitForFunction(() => /^(uploaded|error)/.test(document.querySelector('#cam-result').textContent), null, { timeout: 30000 });
+  const result = await page.textContent('#cam-result');
+  assert.match(result, /^error: upload-cam: the table was made for ratio 3 with 2 edges, the board is set to ratio \S+ with \d+ edges: /, result);
+  assert.equal((await received()).filter((l) => / cam begin /.test(l)).length, begun, 'nothing was sent');
+});
+
 await test('the DfuSe layer writes, verifies and leaves a fake ROM bootloader', async () => {
   const r = await page.evaluate(async () => {
     const w = await import('/pkg/polyturn_web.js');

@@ -284,10 +284,24 @@ fn read_table(file: &std::path::Path) -> CliResult<crate::noncircular::table::Ca
     super::console_line::cam_table(&name, &text)
 }
 
+/// A compensating table fits only the ratio and edges it was made for:
+/// refused, naming both and sending nothing, when the board's differ.
+fn same_cutter<P: Read + Write>(s: &mut Session<P>, made_for: &crate::noncircular::table::MadeFor) -> CliResult<()> {
+    let mut setting = |name: &str| -> CliResult<String> {
+        let reply = ok_or_device_error(s.ask(&format!("get {name}"))?)?;
+        Ok(reply.split_once('=').map(|(_, v)| v.trim().to_string()).unwrap_or_default())
+    };
+    let (ratio, edges) = (setting("ratio")?, setting("edges")?);
+    made_for.fits(&ratio, &edges).map_err(|e| CliError(format!("upload-cam: {e}")))
+}
+
 /// Sends a table line by line; stops at the first error (the device then
 /// discards the partial table). The last line saves to flash: it waits
 /// as long as a save.
 pub fn upload<P: Read + Write>(s: &mut Session<P>, table: &crate::noncircular::table::CamFile) -> CliResult<String> {
+    if let Some(made_for) = &table.cutter {
+        same_cutter(s, made_for)?;
+    }
     let lines = table.upload_lines();
     let mut last = String::new();
     for (i, line) in lines.iter().enumerate() {

@@ -4,7 +4,7 @@
 
 use super::{cam_table, Plan};
 use crate::geometry::Setup;
-use crate::noncircular::table::{CamFile, FORMAT};
+use crate::noncircular::table::{CamFile, MadeFor, FORMAT};
 use polyturn_sync::cam::CAM_POINTS;
 use std::f64::consts::TAU;
 
@@ -20,6 +20,7 @@ pub fn cam_file(setup: &Setup, plan: &Plan, counts_per_rev: u32, steps_per_mm: f
         max_rate_hz: rates.0,
         max_accel: rates.1,
         points,
+        cutter: Some(MadeFor { ratio: setup.ratio.to_string(), edges: setup.edges }),
     }
 }
 

@@ -22,6 +22,48 @@ pub struct CamFile {
     pub max_rate_hz: u32,
     pub max_accel: u32,
     pub points: Vec<i32>,
+    /// the cutter a compensating table was made for (`polyturn
+    /// compensate`); none for a single-point tool's (`polyturn cam`)
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub cutter: Option<MadeFor>,
+}
+
+/// A compensating X motion repeats with the cutter's passes, so it fits
+/// only the ratio and edges it was planned for: `device upload-cam`
+/// checks them against the board's before it sends anything.
+#[derive(Clone, Debug, PartialEq, Eq, Serialize, Deserialize)]
+pub struct MadeFor {
+    pub ratio: String,
+    pub edges: u32,
+}
+
+impl MadeFor {
+    /// Whether a board set to `ratio` and `edges` (as its console says
+    /// them) cuts with the cutter this table was made for; if not, why.
+    pub fn fits(&self, ratio: &str, edges: &str) -> Result<(), String> {
+        let same_ratio = match (polyturn_sync::Ratio::parse(ratio), polyturn_sync::Ratio::parse(&self.ratio)) {
+            (Ok(a), Ok(b)) => a == b,
+            _ => false,
+        };
+        if same_ratio && edges == self.edges.to_string() {
+            return Ok(());
+        }
+        Err(format!(
+            "the table was made for ratio {} with {} edges, the board is set to ratio {ratio} with {edges} edges: set ratio and edges on the board, or make the table for its setup (nothing sent)",
+            self.ratio, self.edges
+        ))
+    }
+
+    /// The same, from the board's `get` reply (`ok ... ratio=R edges=E ...`).
+    pub fn fits_settings(&self, get_reply: &str) -> Result<(), String> {
+        let value = |key: &str| {
+            get_reply.split_whitespace().find_map(|w| w.split_once('=').filter(|(k, _)| *k == key).map(|(_, v)| v))
+        };
+        match (value("ratio"), value("edges")) {
+            (Some(r), Some(e)) => self.fits(r, e),
+            _ => Err("the board's ratio and edges could not be read (get): connect to it first".into()),
+        }
+    }
 }
 
 pub const FORMAT: &str = "polyturn-cam-1";
@@ -65,6 +107,7 @@ pub fn build(path: &dyn ToolPath, counts_per_rev: u32, steps_per_mm: f64, rates:
         max_rate_hz: rates.0,
         max_accel: rates.1,
         points,
+        cutter: None,
     }
 }
 

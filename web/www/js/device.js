@@ -312,7 +312,8 @@ async function uploadCam() {
   const out = $('cam-result');
   if (!file) { out.textContent = 'choose a table file first'; return; }
   try {
-    const lines = (await load()).cam_lines(file.name, await file.text());
+    settings = await ask('get'); // a compensating table goes only to its ratio and edges
+    const lines = (await load()).cam_lines(file.name, await file.text(), settings);
     let last = '';
     for (const [i, line] of lines.entries()) {
       last = await ask(line, i + 1 === lines.length ? SAVE_WAIT_MS : undefined);

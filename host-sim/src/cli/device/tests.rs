@@ -63,6 +63,36 @@ fn a_cam_table_uploads_through_the_real_console() {
     assert!(e.contains("start again with cam begin"), "{e}");
 }
 
+/// A compensating table from `polyturn compensate --table` goes to a board
+/// set up for its cutter, and to no other: nothing is sent.
+#[test]
+fn a_compensating_table_goes_only_to_a_board_set_for_its_ratio_and_edges() {
+    use crate::geometry::{Direction, Setup};
+    let setup = Setup {
+        cutter_radius_mm: 50.0,
+        stock_radius_mm: 10.0,
+        depth_mm: 2.0,
+        ratio: polyturn_sync::Ratio::parse("3").unwrap(),
+        edges: 2,
+        direction: Direction::Same,
+    };
+    let plan = crate::compensate::plan(&setup, 20.0, 12.5, 5000.0);
+    let table = crate::compensate::table::cam_file(&setup, &plan, 2400, 800.0, (10_000, 4_000_000));
+    let mut s = session(FakeDevice::new());
+    s.ask("set max-rpm 600").unwrap(); // room for ratio 3 at max-rate
+    s.ask("set ratio 2").unwrap();
+    s.ask("set edges 3").unwrap();
+    let e = upload(&mut s, &table).unwrap_err().0;
+    assert_eq!(e, "upload-cam: the table was made for ratio 3 with 2 edges, the board is set to ratio 2 with 3 edges: set ratio and edges on the board, or make the table for its setup (nothing sent)");
+    let e = s.ask("cam end 00000000").unwrap_err().0;
+    assert!(e.contains("cam begin"), "no table was begun: {e}");
+    s.ask("set ratio 3/1").unwrap();
+    assert!(upload(&mut s, &table).unwrap_err().0.contains("with 3 edges"), "the edges differ still");
+    s.ask("set edges 2").unwrap();
+    let r = upload(&mut s, &table).unwrap();
+    assert!(r.starts_with("ok cam 400 points checked"), "{r}");
+}
+
 /// The board checks the points against the X axis the table declares
 /// before it stores anything (the host checks first: this is the board's
 /// own check, for a table sent past it).
@@ -77,6 +107,7 @@ fn the_board_refuses_a_table_its_x_axis_cannot_follow_with_the_figures() {
         max_rate_hz: polyturn_sync::cam_upload::X_MAX_RATE_HZ,
         max_accel: 1_000_000,
         points,
+        cutter: None,
     };
     let mut s = session(FakeDevice::new());
     let e = upload(&mut s, &table).unwrap_err().0;
