@@ -231,18 +231,20 @@ fn a_dir_setup_longer_than_a_tick_still_lets_the_cutter_reverse() {
 }
 
 /// A tick that stops writing (a handler that hangs: the watchdog resets the
-/// MCU within its 4 s) while TIM1 and the DMA run on: the two ticks in
-/// flight go out, then silence, never an old segment's step again.
+/// MCU within its longest period, 15.06 s at the slowest LSI, `iwdg`)
+/// while TIM1 and the DMA run on at near the top rate with the least
+/// latency: the ticks in flight go out, then silence to past the watchdog,
+/// never an old segment's step again.
 #[test]
 fn a_tick_that_stops_writing_leaves_no_old_step_to_come_round() {
     use polyturn_bench::hwsim::Rig;
     use polyturn_sync::steps::pipe::StepPipe;
     let t = polyturn_sync::derived::Derived::new(&Config::default(), TIMING).steps;
-    let mut rig = Rig::new(Params::default(), Isr::new((200, 2_000)));
+    let mut rig = Rig::new(Params::default(), Isr::new((200, 200)));
     let mut books = StepPipe::default();
     books.start(0);
-    // 64 000 steps/s: 3.2 steps a tick, Q16
-    let q = |j: u64| ((j as i64) * 64_000 * 65_536) / TIMING.tick_hz as i64;
+    // 249 000 steps/s: 12.45 steps a tick, Q16
+    let q = |j: u64| ((j as i64) * 249_000 * 65_536) / TIMING.tick_hz as i64;
     const TICKS: u64 = 400;
     for k in 0..TICKS {
         rig.tick(|_, _| (books.plan(q(k), &t), false, t));
@@ -252,9 +254,10 @@ fn a_tick_that_stops_writing_leaves_no_old_step_to_come_round() {
     let rises = |mcu: &Mcu| receive(mcu.edges(), 192, true).rises;
     rig.mcu.run_until(flight_end);
     let sent = rises(&rig.mcu).len();
-    assert!(sent > 1_000, "{sent} steps before the hang");
-    // a third of a second later (the model's own time)
-    rig.mcu.run_until(flight_end + TIMER_HZ as u64 / 3);
+    assert!(sent > 4_000, "{sent} steps before the hang");
+    let watchdog_us =
+        polyturn_firmware::iwdg::period_us(polyturn_firmware::iwdg::WATCHDOG_US, polyturn_firmware::iwdg::LSI_MIN_HZ);
+    rig.mcu.run_until(flight_end + watchdog_us as u64 * (TIMER_HZ as u64 / 1_000_000));
     let late: Vec<u64> = rises(&rig.mcu).into_iter().skip(sent).collect();
     assert!(
         late.is_empty(),

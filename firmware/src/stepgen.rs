@@ -42,11 +42,14 @@ use polyturn_sync::steps::{Dir, StepPlan, StepTiming};
 use program::{apply, Bus, Op};
 
 /// Segments in the ring: two ticks in flight of at most `MAX_SEGMENTS`
-/// each, and as much again to tell a DMA that overtook the writer.
-pub const RING_ENTRIES: usize = 128;
-/// Ring entries a tick silences after a halt: the ring in 8 ticks (320 µs).
+/// each, as much again to tell a DMA that overtook the writer, and room
+/// for fillers that outlast the watchdog if the writer stops (the rest of
+/// the ring; a test ties the figures).
+pub const RING_ENTRIES: usize = 256;
+/// Ring entries a tick silences after a halt: the ring in 16 ticks (800 µs).
 pub const SILENCE_PER_TICK: usize = 16;
-const PENDING_MAX: usize = 64;
+/// Entries written ahead of the DMA at most: more means it overtook.
+pub const PENDING_MAX: usize = 64;
 
 /// Shortest segment, timer cycles: the DMA's five-word burst must land
 /// before the segment ends. 1 µs at 96 MHz; `STEP_FLOOR_NS` keeps every
@@ -225,8 +228,9 @@ impl Generator {
         // mix of two segments is no segment), and long: STEP held low
         // (`Entry::SILENT`, PWM mode 2) for the filler's 0.17 s, so that a
         // DMA that ran on past a writer that stopped plays the ticks in
-        // flight, then seconds of silence, never an old segment's step
-        // before the watchdog resets the MCU (`Entry::filler`)
+        // flight, then silence, never an old segment's step before the
+        // watchdog resets the MCU (`Entry::filler`; the test
+        // `fillers_outlast_the_watchdog` ties the figures)
         while self.silenced != finished {
             silence_taken(self.ring, self.silenced, bus);
             self.silenced = (self.silenced + 1) % RING_ENTRIES;

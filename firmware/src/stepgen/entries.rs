@@ -58,7 +58,8 @@ impl Entry {
     /// lap the ring through these, 256 × 65535 cycles (0.17 s) each (every
     /// entry the DMA has taken becomes one, `silence_taken`), so an old
     /// segment could come round only after the rest of the ring, at least
-    /// 12 s, long after the watchdog has reset the MCU.
+    /// 163 fillers (28 s), after the watchdog's longest period (15 s) has
+    /// reset the MCU.
     pub const fn filler() -> Entry {
         Entry { arr: 0xFFFE, rcr: 255, ccr1: SILENT, ccr2: dir_level(Dir::Forward) }
     }

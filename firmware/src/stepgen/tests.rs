@@ -280,3 +280,16 @@ fn after_a_halt_each_tick_silences_a_share_and_the_ring_is_silent_before_it_re_a
     assert_eq!(g.tick(&StepPlan::default(), false, &T, &mut bus), Err(Fail::ArmLate));
     assert!(!g.armed());
 }
+
+/// If the tick stops writing while TIM1 and the DMA run on, what is not
+/// yet silenced (at most `PENDING_MAX` entries ahead of the DMA, the one
+/// under way and a tick's segments) goes out, then fillers: the rest of
+/// the ring must outlast the watchdog's longest period (the slowest LSI,
+/// `iwdg`) before an old segment could come round.
+#[test]
+fn fillers_outlast_the_watchdog() {
+    let fillers = (RING_ENTRIES - PENDING_MAX - 1 - entries::MAX_SEGMENTS) as u64;
+    let silent_us = fillers * Entry::filler().cycles() as u64 * 1_000_000 / 96_000_000;
+    let watchdog_us = crate::iwdg::period_us(crate::iwdg::WATCHDOG_US, crate::iwdg::LSI_MIN_HZ) as u64;
+    assert!(silent_us > watchdog_us + 1_000_000, "{fillers} fillers, {silent_us} µs, watchdog {watchdog_us} µs");
+}
