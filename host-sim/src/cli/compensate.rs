@@ -103,18 +103,23 @@ pub fn run(a: CompensateArgs) -> CliResult<String> {
         p.x_travel, p.peak_x_speed, p.peak_x_accel, up_to(p.max_rpm)
     );
     if let Some((t, err)) = &table {
-        text += &format!(
-            "\ntable {} points over {} lathe counts; as the board interpolates it, {:.1} µm from the plan{}",
-            t.points.len(),
-            t.period_counts,
-            err * 1e3,
-            if *err > TABLE_COARSE_MM { ": raise --steps-per-mm or --encoder-cpr for a finer one" } else { "" }
-        );
+        text += &table_line(t, *err);
     }
     if let Some(w) = written.wrote() {
         text += &format!("\n{w}");
     }
     Ok(written.report(text))
+}
+
+/// What the report says of the table written.
+fn table_line(t: &CamFile, err_mm: f64) -> String {
+    format!(
+        "\ntable {} points over {} lathe counts; as the board interpolates it, {:.1} µm from the plan{}",
+        t.points.len(),
+        t.period_counts,
+        err_mm * 1e3,
+        if err_mm > TABLE_COARSE_MM { ": raise --steps-per-mm or --encoder-cpr for a finer one" } else { "" }
+    )
 }
 
 /// The plan as the board's cam table, and how far the board's reading of
