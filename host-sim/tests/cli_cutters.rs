@@ -162,7 +162,7 @@ fn compensate_writes_a_table_the_board_takes_and_refuses_one_it_could_not_run() 
     let table = dir.join("flats.json");
     let (code, out, err) = polyturn(&format!("{FLATS} --rpm 25 --x-max-speed 12.5 --table {}", table.display()));
     assert_eq!(code, 0, "{out}{err}");
-    assert!(out.contains("allows up to 29 rpm") && out.contains("table 400 points over 400 lathe counts"), "{out}");
+    assert!(out.contains("allows up to 28.7 rpm") && out.contains("table 400 points over 400 lathe counts"), "{out}");
     // the file is what `device upload-cam` reads, and the board's checks take it
     let text = std::fs::read_to_string(&table).unwrap();
     let t = polyturn_host::cli::console_line::cam_table("flats.json", &text).expect("upload-cam takes it");

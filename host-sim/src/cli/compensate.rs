@@ -50,8 +50,8 @@ pub fn run(a: CompensateArgs) -> CliResult<String> {
         // (with one edge, fewer is no remedy: the ratio is)
         Limit::Gouge if setup.edges == 1 => "the link between passes would cut into the flats: another ratio".to_string(),
         Limit::Gouge => "the link between passes would cut into the flats: fewer edges or another ratio".to_string(),
-        Limit::Speed => format!("X speed {:.1} mm/s exceeds {v} mm/s: {}", p.peak_x_speed, allows(p.max_rpm)),
-        Limit::Accel => format!("X acceleration {:.0} mm/s^2 exceeds {acc} mm/s^2: {}", p.peak_x_accel, allows(p.max_rpm)),
+        Limit::Speed => format!("X speed {:.2} mm/s exceeds {v} mm/s: {}", p.peak_x_speed, allows(p.max_rpm)),
+        Limit::Accel => format!("X acceleration {:.1} mm/s^2 exceeds {acc} mm/s^2: {}", p.peak_x_accel, allows(p.max_rpm)),
     }
     };
     // A plan the axis cannot follow is refused, naming what limits it
@@ -68,6 +68,7 @@ pub fn run(a: CompensateArgs) -> CliResult<String> {
             format!("cannot straighten these flats (deviation stays {before:+.4} mm): {}", why(l)),
         ));
     }
+    no_straighter(before, after)?;
     let table = match &a.board.table {
         Some(_) => Some(board_table(&setup, &p, &a)?),
         None => None,
@@ -111,15 +112,39 @@ pub fn run(a: CompensateArgs) -> CliResult<String> {
     Ok(written.report(text))
 }
 
+/// Flats the fixed axis already cuts as straight as the X motion would
+/// (a ratio whose cutter barely turns): nothing to straighten, refused
+/// rather than called straightened.
+fn no_straighter(before: f64, after: Option<f64>) -> CliResult<()> {
+    match after {
+        Some(a) if a.abs() >= before.abs() => Err(CliError::flag(
+            "ratio",
+            format!("cuts flats the X motion cannot make straighter (deviation {before:+.4} mm on a fixed axis, {a:+.4} mm with it)"),
+        )),
+        _ => Ok(()),
+    }
+}
+
 /// What the report says of the table written.
 fn table_line(t: &CamFile, err_mm: f64) -> String {
+    let fix = if err_mm > TABLE_COARSE_MM { format!(": {}", finer(t)) } else { String::new() };
     format!(
-        "\ntable {} points over {} lathe counts; as the board interpolates it, {:.1} µm from the plan{}",
+        "\ntable {} points over {} lathe counts; as the board interpolates it, {:.1} µm from the plan{fix}",
         t.points.len(),
         t.period_counts,
         err_mm * 1e3,
-        if err_mm > TABLE_COARSE_MM { ": raise --steps-per-mm or --encoder-cpr for a finer one" } else { "" }
     )
+}
+
+/// What would make a coarse table finer: when its points are capped below
+/// one a count, a shorter pattern (the cap binds, not the encoder).
+fn finer(t: &CamFile) -> String {
+    if (t.points.len() as u32) < t.period_counts {
+        let turns = t.period_counts as f64 / t.counts_per_rev as f64;
+        format!("the table's {} points are too few for an X motion that repeats every {turns:.2} lathe turns: a ratio whose pattern is shorter", t.points.len())
+    } else {
+        "raise --steps-per-mm or --encoder-cpr for a finer one".into()
+    }
 }
 
 /// The plan as the board's cam table, and how far the board's reading of
@@ -133,9 +158,11 @@ fn board_table(setup: &Setup, p: &Plan, a: &CompensateArgs) -> CliResult<(CamFil
     let err = table::error_mm(p, &t, 8192);
     if err > TABLE_REFUSED_MM {
         let (flag, fix) = if 1.0 / spm > TABLE_REFUSED_MM {
-            ("steps-per-mm", "more steps per mm")
+            ("steps-per-mm", "more steps per mm".to_string())
+        } else if (t.points.len() as u32) < t.period_counts {
+            ("ratio", finer(&t))
         } else {
-            ("encoder-cpr", "a finer encoder")
+            ("encoder-cpr", "a finer encoder".to_string())
         };
         return Err(CliError::flag(flag, format!("too coarse: the table, {} points over {} counts, would be {err:.3} mm off the plan (at most {TABLE_REFUSED_MM} mm): {fix}", t.points.len(), t.period_counts)));
     }
@@ -147,14 +174,21 @@ fn board_table(setup: &Setup, p: &Plan, a: &CompensateArgs) -> CliResult<(CamFil
 fn allows(max_rpm: Option<f64>) -> String {
     match max_rpm {
         Some(r) if r < 1.0 => "this X axis cannot follow even at 1 rpm: give it more speed and acceleration".into(),
-        m => format!("at most {}", up_to(m)),
+        Some(r) => format!("at most {} rpm", floor_tenth(r)),
+        None => "at any lathe speed".into(),
     }
+}
+
+/// A lathe speed rounded down to a tenth of an rpm, as a limit must be
+/// (28.75 is "28.7": 28.8 would exceed it).
+fn floor_tenth(rpm: f64) -> String {
+    format!("{:.1}", (rpm * 10.0).floor() / 10.0)
 }
 
 /// The lathe speed the X axis allows, or that it sets no limit.
 fn up_to(max_rpm: Option<f64>) -> String {
     match max_rpm {
-        Some(r) => format!("up to {r:.0} rpm"),
+        Some(r) => format!("up to {} rpm", floor_tenth(r)),
         None => "any lathe speed: the X axis does not move".into(),
     }
 }

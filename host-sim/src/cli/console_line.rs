@@ -86,9 +86,21 @@ fn declared(table: &CamFile) -> Result<(), String> {
     polyturn_sync::Config::default()
         .with("cpr", &cpr)
         .map_err(|e| format!("counts_per_rev must be {} (the console's cpr; got {cpr})", e.allowed))?;
+    if let Some(c) = &table.cutter {
+        made_for(c)?;
+    }
     let h = table.header();
     check_axis(&h, polyturn_sync::Timing::FIRMWARE.tick_hz)?;
     check_table(&h, &table.points).map_err(|e| e.to_string())
+}
+
+/// A compensating table's cutter as the console takes its settings: a
+/// `ratio` and `edges` the board could be set to (else no board fits it).
+fn made_for(c: &crate::noncircular::table::MadeFor) -> Result<(), String> {
+    polyturn_sync::Ratio::parse(&c.ratio)
+        .map_err(|e| format!("cutter.ratio {} (got '{}')", e.describe(), escaped(&c.ratio)))?;
+    let edges = polyturn_sync::config::table::EDGES;
+    edges.check(c.edges).map(|_| ()).map_err(|e| format!("cutter.edges must be {} (got {})", e.allowed, c.edges))
 }
 
 #[cfg(test)]

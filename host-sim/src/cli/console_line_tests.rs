@@ -63,3 +63,26 @@ fn an_encoder_or_an_x_axis_the_board_refuses_is_refused_here() {
         assert!(e.ends_with(&want), "{e}");
     }
 }
+
+/// A compensating table's cutter is one a board could be set to, and the
+/// file has no field polyturn does not write: refused before any port.
+#[test]
+fn a_cutter_no_board_takes_or_an_unknown_field_is_refused_naming_it() {
+    use crate::noncircular::table::MadeFor;
+    let with = |ratio: &str, edges: u32| CamFile { cutter: Some(MadeFor { ratio: ratio.into(), edges }), ..octagon() };
+    assert!(checked(&with("5/2", 2)).is_ok());
+    // a ratio the board takes only with other settings is still a ratio
+    assert!(checked(&with("1000", 12)).is_ok());
+    for ratio in ["garbage", "0", "-3", "NaN"] {
+        let e = checked(&with(ratio, 2)).unwrap_err();
+        assert!(e.starts_with("upload-cam: 't.json' is refused: cutter.ratio "), "{ratio}: {e}");
+        assert!(e.ends_with(&format!("(got '{ratio}')")), "{e}");
+    }
+    for edges in [0, 99_999] {
+        let e = checked(&with("2", edges)).unwrap_err();
+        assert_eq!(e, format!("upload-cam: 't.json' is refused: cutter.edges must be 1..=12 (got {edges})"));
+    }
+    let text = serde_json::to_string(&octagon()).unwrap().replace("{\"format\"", "{\"bogus\":1,\"format\"");
+    let e = cam_table("t.json", &text).unwrap_err().0;
+    assert!(e.contains("unknown field `bogus`"), "{e}");
+}

@@ -58,8 +58,9 @@ impl Cut {
     /// radius, R2 - DOC, so across flats AF is 2 (R2 - DOC).
     pub fn depth(&self, r2: f64) -> CliResult<f64> {
         match (self.across_flats, self.depth) {
-            // the depth it leaves is one --depth would take: at least a micron
-            (Some(af), None) if r2 - af / 2.0 >= LENGTH_MM.0 => Ok(r2 - af / 2.0),
+            // the depth it leaves is one --depth would take: at least a
+            // micron (to the float's rounding: 20 - 19.998 is not 0.002)
+            (Some(af), None) if r2 - af / 2.0 >= LENGTH_MM.0 * (1.0 - 1e-9) => Ok((r2 - af / 2.0).max(LENGTH_MM.0)),
             (Some(af), None) => Err(CliError::flag(
                 "across-flats",
                 format!(

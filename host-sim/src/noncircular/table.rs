@@ -11,6 +11,7 @@ use std::f64::consts::TAU;
 /// A cam table file (JSON): what `polyturn device upload-cam FILE` sends.
 /// X steps are measured from the inscribed radius, outward positive.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
 pub struct CamFile {
     pub format: String,
     /// the lathe encoder the table was made for (counts per revolution)
@@ -32,6 +33,7 @@ pub struct CamFile {
 /// only the ratio and edges it was planned for: `device upload-cam`
 /// checks them against the board's before it sends anything.
 #[derive(Clone, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
 pub struct MadeFor {
     pub ratio: String,
     pub edges: u32,

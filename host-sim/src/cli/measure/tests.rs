@@ -53,6 +53,11 @@ fn an_across_flats_not_under_the_stock_diameter_is_refused_naming_it() {
         let e = run(&format!("{cmd} --stock-diameter 20 --across-flats 19.9999")).unwrap_err();
         assert!(e.starts_with("--across-flats must be at most the stock diameter (20 mm) less 0.002 mm"), "{cmd}: {e}");
     }
+    // the bound itself is taken, whatever the float makes of 20 - 19.998
+    for (d, af) in [("20", "19.998"), ("100", "99.998"), ("1000", "999.998")] {
+        let e = run(&format!("setups --sides 6 --stock-diameter {d} --across-flats {af}")).err().unwrap_or_default();
+        assert!(!e.starts_with("--across-flats"), "{d} {af}: {e}");
+    }
     // a depth of 5 µm is one --depth takes: whatever else is said, not this
     let e = run(&format!("geometry {REST} --stock-diameter 20 --across-flats 19.99")).err().unwrap_or_default();
     assert!(!e.starts_with("--across-flats"), "{e}");
