@@ -28,11 +28,13 @@
 
 pub mod alignment;
 mod envelope;
+pub mod roundness;
 pub mod section;
 mod sector;
 pub mod svg;
 
 pub use envelope::Envelope;
+pub use roundness::Roundness;
 pub use section::{Section, SectionSummary};
 
 use polyturn_sync::Ratio;

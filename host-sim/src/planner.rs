@@ -1,7 +1,7 @@
 //! The setup planner: every (ratio, edges, direction) that cuts N flats,
 //! with what a machinist needs to choose between them.
 
-use crate::geometry::{Direction, Section, Setup};
+use crate::geometry::{Direction, Roundness, Section, Setup};
 use polyturn_sync::ratio::gcd;
 use polyturn_sync::Ratio;
 use std::collections::HashMap;
@@ -44,9 +44,17 @@ pub fn default_cutter(stock: f64) -> f64 {
     5.0 * stock
 }
 
-pub fn plan(req: &Request) -> Vec<Candidate> {
+/// What the planner found: the setups that cut the polygon, flattest
+/// first, and how many more it left out as nearly round (`Roundness`).
+pub struct Plan {
+    pub found: Vec<Candidate>,
+    pub round: usize,
+}
+
+pub fn plan(req: &Request) -> Plan {
     let r1 = req.cutter_radius.unwrap_or_else(|| default_cutter(req.stock_radius));
     let mut out = Vec::new();
+    let mut round = 0;
     // The section depends on the ratio and the sense but not on the edges:
     // it is one tip's pass and its N rotations, N = `sides` for every
     // candidate. Candidates whose r·Z is the same product share the ratio
@@ -75,7 +83,11 @@ pub fn plan(req: &Request) -> Vec<Candidate> {
                 };
                 let f =
                     *figures.entry((ratio, direction == Direction::Same)).or_insert_with(|| Figures::of(&setup, req));
-                out.push(candidate(&setup, req, f));
+                // what `geometry` would refuse as nearly round is no setup
+                match f.round {
+                    true => round += 1,
+                    false => out.push(candidate(&setup, req, f)),
+                }
             }
         }
     }
@@ -86,7 +98,7 @@ pub fn plan(req: &Request) -> Vec<Candidate> {
             .then(a.cutter_rpm.partial_cmp(&b.cutter_rpm).unwrap_or(std::cmp::Ordering::Equal))
             .then(a.revolutions.cmp(&b.revolutions))
     });
-    out
+    Plan { found: out, round }
 }
 
 /// What a candidate's section tells: flatness, corners, smallest cutter.
@@ -95,21 +107,28 @@ struct Figures {
     flat_deviation: f64,
     corners_sharp: bool,
     min_cutter_radius: Option<f64>,
+    /// the section is nearly round (`Roundness`), judged as `geometry` judges it
+    round: bool,
 }
 
 impl Figures {
     fn of(setup: &Setup, req: &Request) -> Figures {
-        let (flat_deviation, corners_sharp) = flatness(setup, 256);
+        let sector = Section::ideal_sector(setup, 256);
+        let (flat_deviation, corners_sharp) = flatness(&sector);
         let min_cutter_radius = if req.cutter_radius.is_none() { min_cutter(setup, req.tolerance) } else { None };
-        Figures { flat_deviation, corners_sharp, min_cutter_radius }
+        // judged on the bins `geometry` judges on (a flat's deviation moves
+        // with them by a few %, where a section is on the edge); a sector's
+        // summary is the whole section's, its period being 2π/N
+        let judged = Section::ideal_sector(setup, Section::default_bins(setup.sides()));
+        let round = Roundness::of(&judged.summary(), setup.depth_mm).is_round();
+        Figures { flat_deviation, corners_sharp, min_cutter_radius, round }
     }
 }
 
 /// `Section::ideal(setup, bins).summary()`'s flat deviation and sharp
 /// corners, from one sector solved on the pass ([`Section::ideal_sector`]):
 /// every flat reads the same bins, so flat 0 and corner 0 stand for all.
-fn flatness(setup: &Setup, bins: usize) -> (f64, bool) {
-    let s = Section::ideal_sector(setup, bins);
+fn flatness(s: &Section) -> (f64, bool) {
     (s.flat_deviation(0), s.corner_radius(0) < s.stock_radius - 1e-9)
 }
 
@@ -140,7 +159,7 @@ pub const MIN_CUTTER_SCAN: f64 = 100.0;
 
 /// Scans cutter radii from R2/2 to 100·R2 (geometric steps, then bisection).
 fn min_cutter(setup: &Setup, tol: f64) -> Option<f64> {
-    let dev = |r1: f64| flatness(&Setup { cutter_radius_mm: r1, ..*setup }, 128).0.abs();
+    let dev = |r1: f64| flatness(&Section::ideal_sector(&Setup { cutter_radius_mm: r1, ..*setup }, 128)).0.abs();
     // No smaller than the depth: a cutter whose radius does not exceed it
     // would have its axis inside the bar (`Setup::validate`).
     let lo0 = (setup.stock_radius_mm * 0.5).max(setup.depth_mm * 1.01);
@@ -192,7 +211,7 @@ mod tests {
 
     #[test]
     fn a_hexagon_has_foales_four_integer_setups_in_each_sense() {
-        let c = plan(&req(6));
+        let c = plan(&req(6)).found;
         // Foale: four integer-ratio options for a hexagon (and fractional
         // ones such as 3/2 × 4 that also finish in one turn).
         let mut pairs: Vec<(String, u32)> =
@@ -211,14 +230,14 @@ mod tests {
     #[test]
     fn a_prime_has_only_the_two_integer_setups_but_fractional_ones_over_turns() {
         // Foale: a prime needs 1:1 × N or N:1 × 1 among integer ratios.
-        let c = plan(&req(7));
+        let c = plan(&req(7)).found;
         let integer = |c: &&Candidate| !c.ratio.contains('/');
         assert!(c.iter().filter(integer).all(|c| (c.ratio == "7" && c.edges == 1) || (c.ratio == "1" && c.edges == 7)));
         let mut r = req(11);
         r.max_revolutions = 3;
         r.max_edges = 3;
-        assert!(plan(&r).iter().any(|c| c.ratio == "11/3" && c.edges == 1 && c.revolutions == 3));
-        assert!(plan(&r).iter().any(|c| c.ratio == "11/3" && c.edges == 3 && c.revolutions == 1));
+        assert!(plan(&r).found.iter().any(|c| c.ratio == "11/3" && c.edges == 1 && c.revolutions == 3));
+        assert!(plan(&r).found.iter().any(|c| c.ratio == "11/3" && c.edges == 3 && c.revolutions == 1));
     }
 
     #[test]

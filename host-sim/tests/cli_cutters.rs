@@ -146,7 +146,7 @@ fn a_start_rate_past_the_simulated_max_rate_names_it() {
 /// the ratio: fewer edges is no remedy.
 #[test]
 fn compensate_with_one_edge_blames_the_ratio_not_the_edges() {
-    let line = "compensate --cutter-radius 20 --stock-diameter 30 --depth 2 --ratio 1/1000 --edges 1 --direction same --rpm 60 --x-max-speed 10 --x-max-accel 1000";
+    let line = "compensate --cutter-radius 20 --stock-diameter 30 --depth 2 --ratio 1/3 --edges 1 --direction same --rpm 60 --x-max-speed 10 --x-max-accel 1000";
     let err = refused(line, "--ratio");
     assert!(err.contains("another ratio") && !err.contains("fewer edges"), "{err}");
 }

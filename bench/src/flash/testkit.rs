@@ -20,6 +20,11 @@ pub fn image_with(len: usize, sp: u32, reset: u32, marker: &[u8]) -> Vec<u8> {
     };
     put(0, &sp.to_le_bytes());
     put(4, &reset.to_le_bytes());
+    // the system exceptions' handlers (PM0214 Table 17), reserved words 0
+    for n in 2..16 {
+        let handler = if matches!(n, 7..=10 | 13) { 0 } else { RESET };
+        put(4 * n, &handler.to_le_bytes());
+    }
     put(0x200, marker);
     b
 }

@@ -4,7 +4,7 @@
 use super::errors::{CliError, CliResult};
 use super::measure::{Cut, Stock};
 use super::values::{direction, length_mm, ratio, setting};
-use crate::geometry::{Direction, Section, SectionSummary, Setup};
+use crate::geometry::{Direction, Roundness, Section, Setup};
 use polyturn_sync::config::table::EDGES;
 use polyturn_sync::Ratio;
 
@@ -48,9 +48,8 @@ impl SetupArgs {
             direction: self.direction,
         };
         setup.validate().map_err(|e| CliError::flag(e.field, e.allowed))?;
-        let section = Section::ideal(&setup, Section::default_bins(setup.sides()));
-        let fraction = roundness(&section.summary());
-        if fraction > ROUND_FRACTION {
+        let (round, section) = Roundness::of_setup(&setup);
+        if round.is_round() {
             return Err(match round_whatever_the_cutter(&setup) {
                 true => round_error(
                     "ratio",
@@ -58,13 +57,13 @@ impl SetupArgs {
                         "cuts a nearly round section with {} edges with any cutter up to 100 x the stock radius",
                         setup.edges
                     ),
-                    fraction,
+                    &round,
                     "a larger ratio turns the cutter fast enough to cut flats",
                 ),
                 false => round_error(
                     "cutter-radius",
                     "is too small for this depth: the section is nearly round".into(),
-                    fraction,
+                    &round,
                     "a larger cutter gives flatter sides",
                 ),
             });
@@ -73,28 +72,15 @@ impl SetupArgs {
     }
 }
 
-/// A circle has N "flats" too, each bulging R(1 - cos(pi/N)) from its
-/// chord. A section whose flats bulge more than half that is round to the
-/// eye and the finger: not reported as a polygon (else a 0.002 mm
-/// cutter's shaved circle would come out as 6 sharp sides).
-pub const ROUND_FRACTION: f64 = 0.5;
-
 /// Whether a cutter of 100 times the stock's radius (the largest `setups`
 /// considers) would still cut a round section: then the ratio is at
 /// fault, not the cutter (at 1/1000 the cutter barely turns, and its tip
 /// shaves a circle).
 fn round_whatever_the_cutter(setup: &Setup) -> bool {
     let big = Setup { cutter_radius_mm: 100.0 * setup.stock_radius_mm, ..*setup };
-    big.validate().is_ok()
-        && roundness(&Section::ideal(&big, Section::default_bins(big.sides())).summary()) > ROUND_FRACTION
+    big.validate().is_ok() && Roundness::of_setup(&big).0.is_round()
 }
 
-fn round_error(flag: &'static str, what: String, fraction: f64, fix: &str) -> CliError {
-    CliError::flag(flag, format!("{what} (its flats bulge {:.0} % as much as a circle's); {fix}", fraction * 100.0))
-}
-
-/// How round a section is: its flats' bulge as a fraction of a circle's.
-fn roundness(s: &SectionSummary) -> f64 {
-    let circle = s.circumscribed_radius * (1.0 - (std::f64::consts::PI / s.sides as f64).cos());
-    s.flat_deviation.abs() / circle
+fn round_error(flag: &'static str, what: String, round: &Roundness, fix: &str) -> CliError {
+    CliError::flag(flag, format!("{what} ({}); {fix}", round.says))
 }

@@ -59,14 +59,19 @@ pub struct SetupsArgs {
 
 pub fn run(a: SetupsArgs) -> CliResult<String> {
     let req = request(&a)?;
-    let found = plan(&req);
+    let crate::planner::Plan { found, round } = plan(&req);
     let limits = Limits { tip_speed: a.max_tip_speed, cutter_rpm: a.max_cutter_rpm };
     let cutter = Cutter::of(&req);
     let lines = found.first().map(|c| reproduce::lines(&a, cutter.radius, c));
     let mut warnings = advice::warnings(&found, &req, &limits);
     // a line that would be refused as printed is said so, with the reason
     warnings.extend(lines.iter().flat_map(|l| l.refused.clone()));
-    let notes = assumed::notes(&found, &req);
+    let mut notes = assumed::notes(&found, &req);
+    if round > 0 {
+        notes.push(format!(
+            "{round} more left out: with this cutter their section is nearly round, and geometry refuses them (a larger --cutter-radius gives flatter sides)"
+        ));
+    }
     let r = Report { req: &req, found: &found, cutter, lines, limits, notes, warnings };
     Ok(if a.json { r.json().to_string() } else { r.human() })
 }

@@ -84,6 +84,38 @@ fn vectors(base: u32, bytes: &[u8]) -> Result<(), Refusal> {
     if entry < code || entry >= end {
         return Err(Refusal::new(rule, format!("reset address 0x{reset:08x}")));
     }
+    handlers(&word, code, end)
+}
+
+/// The system exceptions' vectors (PM0214 §2.3.4, Table 17: words 2 to
+/// 15, 7 to 10 and 13 reserved). NMI and HardFault are always enabled
+/// (§2.3.2), so theirs must be Thumb code in the image; the others are
+/// taken only once a program enables or raises them, so 0 is allowed. An
+/// image cut or shifted so that its table is garbage is refused here, where
+/// the reset vector alone could still look right.
+fn handlers(word: &dyn Fn(usize) -> Option<u32>, code: u64, end: u64) -> Result<(), Refusal> {
+    const NAMES: [(usize, &str, bool); 9] = [
+        (2, "NMI", true),
+        (3, "HardFault", true),
+        (4, "MemManage", false),
+        (5, "BusFault", false),
+        (6, "UsageFault", false),
+        (11, "SVCall", false),
+        (12, "DebugMonitor", false),
+        (14, "PendSV", false),
+        (15, "SysTick", false),
+    ];
+    for (n, name, always) in NAMES {
+        let v = word(n * 4).unwrap_or(0);
+        let inside = v & 1 == 1 && u64::from(v & !1) >= code && u64::from(v & !1) < end;
+        if !(inside || (v == 0 && !always)) {
+            let may = if always { "" } else { " or 0 (never enabled)" };
+            let rule = format!(
+                "must have a {name} handler address that is Thumb code (odd) in the image after its vector table, 0x{code:08x}..0x{end:08x}{may}"
+            );
+            return Err(Refusal::new(rule, format!("{name} address 0x{v:08x} (vector table word {n})")));
+        }
+    }
     Ok(())
 }
 

@@ -310,3 +310,25 @@ fn a_hex_start_address_must_be_the_reset_vector_and_lines_must_be_bare_records()
         assert_eq!(r.found, found, "{r:?}");
     }
 }
+
+#[test]
+fn an_unmarked_image_needs_its_always_enabled_handlers_in_the_image() {
+    let with = |word: usize, v: u32| {
+        let mut b = image_with(4096, SP, RESET, b"");
+        b[word * 4..word * 4 + 4].copy_from_slice(&v.to_le_bytes());
+        from_bytes(&b, Format::Bin, true)
+    };
+    // a table shifted or cut so that its words are garbage: the reset
+    // vector alone still looked right
+    let r = with(2, 0x4142_4344).expect_err("garbage NMI");
+    assert_eq!(r.found, "NMI address 0x41424344 (vector table word 2)", "{r:?}");
+    assert!(r.rule.contains("0x08000198..0x08001000") && !r.rule.contains("or 0"), "{r:?}");
+    assert_eq!(with(3, 0).expect_err("no HardFault").found, "HardFault address 0x00000000 (vector table word 3)");
+    assert!(with(3, RESET & !1).is_err(), "an even HardFault is ARM code, which the M4 cannot run");
+    // a handler the program never enables may be 0, not garbage
+    assert!(with(15, 0).is_ok());
+    let r = with(15, FLASH_BASE + 5001).expect_err("SysTick past the end");
+    assert!(r.rule.ends_with("or 0 (never enabled)") && r.found.starts_with("SysTick"), "{r:?}");
+    // reserved words are not read
+    assert!(with(7, 0xDEAD_BEEF).is_ok());
+}

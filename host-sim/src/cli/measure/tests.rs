@@ -117,3 +117,44 @@ fn a_section_round_whatever_the_cutter_blames_the_ratio_not_the_cutter() {
         .unwrap_err();
     assert!(e.starts_with("--cutter-radius is too small for this depth"), "{e}");
 }
+
+#[test]
+fn one_or_two_flats_must_stand_out_from_the_round() {
+    // a circle has no chord for one or two "flats" to bulge from: a cutter
+    // that barely turns shaves the bar round, 1.1 µm from corner to flat
+    for edges in [1, 2] {
+        let line = format!(
+            "geometry --cutter-radius 40 --stock-radius 10 --depth 1 --direction opposite --ratio 1:1000 --edges {edges}"
+        );
+        let e = run(&line).unwrap_err();
+        assert!(
+            e.contains("nearly round (its flats stand 0.0011 mm below its corners, under half the 1 mm depth)"),
+            "{e}"
+        );
+    }
+    // one flat a lathe turn, a D: 1 mm from corner to flat, all the depth
+    assert!(run("geometry --cutter-radius 40 --stock-radius 10 --depth 1 --direction opposite --ratio 1:2 --edges 2")
+        .is_ok());
+}
+
+#[test]
+fn setups_lists_only_what_geometry_takes() {
+    let rows = json("setups --sides 6 --stock-radius 10 --depth 1 --cutter-radius 2.001");
+    let rows = rows["setups"].as_array().expect("setups");
+    assert!(!rows.is_empty());
+    for r in rows {
+        let line = format!(
+            "geometry --cutter-radius 2.001 --stock-radius 10 --depth 1 --ratio {} --edges {} --direction {}",
+            r["ratio"].as_str().unwrap(),
+            r["edges"],
+            r["direction"].as_str().unwrap()
+        );
+        assert!(run(&line).is_ok(), "{line}: {:?}", run(&line));
+    }
+    let text = run("setups --sides 6 --stock-radius 10 --depth 1 --cutter-radius 2.001").unwrap();
+    assert!(text.contains(&format!("{} setups for 6 sides", rows.len())), "{text}");
+    assert!(
+        text.contains("5 more left out: with this cutter their section is nearly round, and geometry refuses them"),
+        "{text}"
+    );
+}
