@@ -28,7 +28,12 @@ fn print(text: &str) -> std::io::Result<()> {
     out.flush()
 }
 
+/// Exit status 2 for an error, 130 (the shell's for SIGINT) for a command
+/// the machinist cancelled with Ctrl-C.
 fn fail(why: &str) -> ExitCode {
     let _ = writeln!(std::io::stderr().lock(), "error: {why}");
-    ExitCode::from(2)
+    match polyturn_host::cli::device::prompt::cancelled_by_ctrl_c() {
+        true => ExitCode::from(130),
+        false => ExitCode::from(2),
+    }
 }

@@ -181,3 +181,13 @@ fn compensate_writes_a_table_the_board_takes_and_refuses_one_it_could_not_run() 
     assert!(!other.exists());
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// Without `--table` the plan is for any X axis: the board's flags are
+/// refused there, not taken and ignored.
+#[test]
+fn compensate_takes_the_boards_flags_only_with_a_table() {
+    for flag in ["--steps-per-mm 51200", "--encoder-cpr 7"] {
+        let err = refused(&format!("{FLATS} --rpm 25 --x-max-speed 12.5 {flag}"), &flag[..flag.find(' ').unwrap()]);
+        assert!(err.contains("describes the board's table: give --table FILE with it"), "{err}");
+    }
+}

@@ -60,14 +60,12 @@ pub fn guided_setup(args: Vec<String>, settings: &str) -> Result<String, String>
 }
 
 /// The console lines that upload a `polyturn cam --table` (or
-/// `compensate --table`) file; a compensating table only to a board whose
-/// `get` reply (`settings`) has the ratio and edges it was made for.
+/// `compensate --table`) file, only to a board whose `get` reply
+/// (`settings`) has the tool it was made for (`CamFile::fits`).
 #[wasm_bindgen]
 pub fn cam_lines(name: &str, text: &str, settings: &str) -> Result<Vec<String>, String> {
     let table = polyturn_host::cli::console_line::cam_table(name, text).map_err(|e| e.0)?;
-    if let Some(made_for) = &table.cutter {
-        made_for.fits_settings(settings).map_err(|e| format!("upload-cam: {e}"))?;
-    }
+    table.fits_settings(settings).map_err(|e| format!("upload-cam: {e}"))?;
     Ok(table.upload_lines())
 }
 

@@ -485,17 +485,6 @@ await test('the guided setup sets a BLDC cutter from its drive, its encoder and 
   await page.waitForFunction(() => document.querySelector('#settings [name=drive]')?.value === 'stepper');
 });
 
-await test('a cam table from polyturn cam uploads through the console', async () => {
-  const table = join(TMP, 'cam.json');
-  execFileSync(POLYTURN, ['cam', '--sides', '4', '--inscribed-radius', '10', '--rpm', '60', '--x-max-speed', '12', '--x-max-accel', '5000', '--encoder-counts', '2000', '--table', table]);
-  await page.setInputFiles('#cam-file', table);
-  await page.click('#cam-upload');
-  await page.waitForFunction(() => /^(uploaded|error)/.test(document.querySelector('#cam-result').textContent), null, { timeout: 30000 });
-  const result = await page.textContent('#cam-result');
-  assert.match(result, /^uploaded \d+ lines: ok/, `${result}\n${(await received()).slice(-6).join('\n')}\n${(await page.textContent('#log')).split('\n').slice(-8).join('\n')}`);
-  assert.ok((await received()).some((l) => / cam begin /.test(l)));
-});
-
 await test('a compensating table goes only to a board set for its ratio and edges', async () => {
   const table = join(TMP, 'flats.json');
   execFileSync(POLYTURN, ['compensate', '--cutter-radius', '50', '--stock-radius', '10', '--depth', '2', '--ratio', '3', '--edges', '2', '--direction', 'same', '--rpm', '20', '--x-max-speed', '12.5', '--x-max-accel', '5000', '--encoder-cpr', '2000', '--table', table]);
@@ -507,6 +496,27 @@ await test('a compensating table goes only to a board set for its ratio and edge
   const result = await page.textContent('#cam-result');
   assert.match(result, /^error: upload-cam: the table was made for ratio 3 with 2 edges, the board is set to ratio \S+ with \d+ edges: /, result);
   assert.equal((await received()).filter((l) => / cam begin /.test(l)).length, begun, 'nothing was sent');
+});
+
+await test('a cam table from polyturn cam uploads through the console', async () => {
+  const table = join(TMP, 'cam.json');
+  execFileSync(POLYTURN, ['cam', '--sides', '4', '--inscribed-radius', '10', '--rpm', '60', '--x-max-speed', '12', '--x-max-accel', '5000', '--encoder-counts', '2000', '--table', table]);
+  // a single-point tool's table goes only to a board with no cutter
+  await page.evaluate(() => { document.querySelector('#cam-result').textContent = ''; });
+  await page.setInputFiles('#cam-file', table);
+  await page.click('#cam-upload');
+  await page.waitForFunction(() => /^(uploaded|error)/.test(document.querySelector('#cam-result').textContent), null, { timeout: 30000 });
+  assert.match(await page.textContent('#cam-result'), /^error: upload-cam: the table is a single-point tool's \(polyturn cam\), the board is set to drive=stepper: set drive none first/);
+  await page.selectOption('#settings select[name=drive]', 'none');
+  await page.click('#settings button[data-name=drive]');
+  await page.waitForFunction(() => document.querySelector('#settings [name=drive]')?.value === 'none');
+  await page.evaluate(() => { document.querySelector('#cam-result').textContent = ''; });
+  await page.setInputFiles('#cam-file', table);
+  await page.click('#cam-upload');
+  await page.waitForFunction(() => /^(uploaded|error)/.test(document.querySelector('#cam-result').textContent), null, { timeout: 30000 });
+  const result = await page.textContent('#cam-result');
+  assert.match(result, /^uploaded \d+ lines: ok/, `${result}\n${(await received()).slice(-6).join('\n')}\n${(await page.textContent('#log')).split('\n').slice(-8).join('\n')}`);
+  assert.ok((await received()).some((l) => / cam begin /.test(l)));
 });
 
 await test('the DfuSe layer writes, verifies and leaves a fake ROM bootloader', async () => {

@@ -177,10 +177,14 @@ fn refused((field, text): (Option<&'static str>, &'static str)) -> Outcome {
 pub fn apply_prepared(cmd: Command<'_>, pre: Option<Prepared>, ctl: &mut Controller) -> Outcome {
     // (the error as (field, text), not an `Outcome`: a small Err keeps
     // the Result small; `Outcome` carries a whole status snapshot)
-    let installed = |ctl: &mut Controller| -> Result<Config, (Option<&'static str>, &'static str)> {
+    let installed = |ctl: &mut Controller, phase: bool| -> Result<Config, (Option<&'static str>, &'static str)> {
         let Some(p) = pre else { return Err((None, "internal: command not prepared")) };
         if p.generation != ctl.config_generation() {
             return Err((None, "the settings changed meanwhile: nothing changed, send it again"));
+        }
+        if p.next.is_err() {
+            // engaged, "stop first" comes before how the value fits
+            ctl.settings_may_change(phase).map_err(|r| (None, r.describe()))?;
         }
         let next = p.next.map_err(|e| (Some(e.field), e.allowed))?;
         ctl.install_config(next).map_err(|r| (None, r.describe()))?;
@@ -191,7 +195,7 @@ pub fn apply_prepared(cmd: Command<'_>, pre: Option<Prepared>, ctl: &mut Control
         Command::Bad(msg) => Outcome::Error(msg),
         Command::GetAll => Outcome::All(*ctl.config()),
         Command::Get(name) => Outcome::Value(*ctl.config(), name),
-        Command::Set(name, _) => match installed(ctl) {
+        Command::Set(name, _) => match installed(ctl, name == "phase") {
             Ok(c) => Outcome::Value(c, NAMES.iter().find(|n| **n == name).copied().unwrap_or("name")),
             Err(e) => refused(e),
         },
@@ -216,7 +220,7 @@ pub fn apply_prepared(cmd: Command<'_>, pre: Option<Prepared>, ctl: &mut Control
             Outcome::LatheTurning(status::LatheSeen::of(ctl), "saving pauses the controller for up to 2 s")
         }
         Command::Save => Outcome::Save,
-        Command::Defaults => match installed(ctl) {
+        Command::Defaults => match installed(ctl, false) {
             Ok(_) => Outcome::Text("ok defaults loaded (not saved: use save)"),
             Err(e) => refused(e),
         },

@@ -106,6 +106,8 @@ pub enum Refusal {
     DivideRange,
     /// dfu refused: the cutter is not idle, or a fault is latched
     DfuNotIdle,
+    /// ratio, edges or drive refused: a cam table is fitted for this cutter
+    CamFitted,
 }
 
 impl Refusal {
@@ -134,6 +136,9 @@ impl Refusal {
             Refusal::CutterOn => "stop first: the cutter is engaged or ramping down (divide only while idle)",
             Refusal::DivideRange => crate::config::table::DIVIDE_REFUSAL,
             Refusal::DfuNotIdle => "stop first (and clear any fault): dfu restarts the board into its ROM bootloader",
+            Refusal::CamFitted => {
+                "a cam table is fitted for this cutter (ratio, edges, drive): cam off first, then upload a table made for the new one"
+            }
         }
     }
 }

@@ -36,6 +36,7 @@ pub struct CompensateArgs {
 }
 
 pub fn run(a: CompensateArgs) -> CliResult<String> {
+    a.board.only_with_a_table()?;
     let setup = a.setup.setup()?;
     let (rpm, v, acc) = (a.rpm, a.x_max_speed, a.x_max_accel);
     let p = plan(&setup, rpm, v, acc);
@@ -152,7 +153,7 @@ fn finer(t: &CamFile) -> String {
 /// X rate, the table's own checks) or it is further off than a `cam`
 /// table may be.
 fn board_table(setup: &Setup, p: &Plan, a: &CompensateArgs) -> CliResult<(CamFile, f64)> {
-    let (spm, cpr) = (a.board.steps_per_mm, a.board.encoder_counts);
+    let (spm, cpr) = (a.board.steps_per_mm(), a.board.encoder_counts());
     let t = table::cam_file(setup, p, cpr, spm, rates(a.x_max_speed, a.x_max_accel, spm)?);
     board_takes(&t)?;
     let err = table::error_mm(p, &t, 8192);

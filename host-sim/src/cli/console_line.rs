@@ -88,6 +88,7 @@ fn declared(table: &CamFile) -> Result<(), String> {
         .map_err(|e| format!("counts_per_rev must be {} (the console's cpr; got {cpr})", e.allowed))?;
     if let Some(c) = &table.cutter {
         made_for(c)?;
+        whole_passes(c, table)?;
     }
     let h = table.header();
     check_axis(&h, polyturn_sync::Timing::FIRMWARE.tick_hz)?;
@@ -101,6 +102,28 @@ fn made_for(c: &crate::noncircular::table::MadeFor) -> Result<(), String> {
         .map_err(|e| format!("cutter.ratio {} (got '{}')", e.describe(), escaped(&c.ratio)))?;
     let edges = polyturn_sync::config::table::EDGES;
     edges.check(c.edges).map(|_| ()).map_err(|e| format!("cutter.edges must be {} (got {})", e.allowed, c.edges))
+}
+
+/// A compensating table repeats with its cutter's passes: its period is a
+/// whole number of them (a pass is cpr x revolutions / sides counts of the
+/// cutter's pattern), else each period the X motion slips against the
+/// cutter (a period of 401 counts for a 400-count pass drifts a count a
+/// pass).
+fn whole_passes(c: &crate::noncircular::table::MadeFor, table: &CamFile) -> Result<(), String> {
+    let Ok(ratio) = polyturn_sync::Ratio::parse(&c.ratio) else { return Ok(()) };
+    let (sides, revolutions) = ratio.pattern(c.edges);
+    let all = u64::from(revolutions) * u64::from(table.counts_per_rev);
+    let least = all / polyturn_sync::ratio::gcd(all, u64::from(sides)).max(1);
+    if least > 0 && u64::from(table.period_counts).is_multiple_of(least) {
+        return Ok(());
+    }
+    Err(format!(
+        "period_counts must be a whole number of the cutter's passes, a multiple of {least} counts for ratio {} with {} edges at {} counts a turn (got {})",
+        escaped(&c.ratio),
+        c.edges,
+        table.counts_per_rev,
+        table.period_counts
+    ))
 }
 
 #[cfg(test)]

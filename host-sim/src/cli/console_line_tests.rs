@@ -70,7 +70,8 @@ fn an_encoder_or_an_x_axis_the_board_refuses_is_refused_here() {
 fn a_cutter_no_board_takes_or_an_unknown_field_is_refused_naming_it() {
     use crate::noncircular::table::MadeFor;
     let with = |ratio: &str, edges: u32| CamFile { cutter: Some(MadeFor { ratio: ratio.into(), edges }), ..octagon() };
-    assert!(checked(&with("5/2", 2)).is_ok());
+    // 8/3 x 3: 8 passes a turn, 300 counts each, the octagon's 900 three
+    assert!(checked(&with("8/3", 3)).is_ok());
     // a ratio the board takes only with other settings is still a ratio
     assert!(checked(&with("1000", 12)).is_ok());
     for ratio in ["garbage", "0", "-3", "NaN"] {
@@ -85,4 +86,27 @@ fn a_cutter_no_board_takes_or_an_unknown_field_is_refused_naming_it() {
     let text = serde_json::to_string(&octagon()).unwrap().replace("{\"format\"", "{\"bogus\":1,\"format\"");
     let e = cam_table("t.json", &text).unwrap_err().0;
     assert!(e.contains("unknown field `bogus`"), "{e}");
+}
+
+/// A compensating table's period is a whole number of its cutter's
+/// passes: else its X motion slips against the cutter a little each pass.
+#[test]
+fn a_period_that_is_no_whole_number_of_the_cutters_passes_is_refused() {
+    use crate::noncircular::table::MadeFor;
+    let with = |ratio: &str, edges: u32, period_counts: u32| CamFile {
+        cutter: Some(MadeFor { ratio: ratio.into(), edges }),
+        period_counts,
+        ..octagon()
+    };
+    // 5/2 x 2: 5 passes a turn, 480 counts each: the octagon's 900 is not
+    let e = checked(&with("5/2", 2, 900)).unwrap_err();
+    assert_eq!(
+        e,
+        "upload-cam: 't.json' is refused: period_counts must be a whole number of the cutter's passes, a multiple of 480 counts for ratio 5/2 with 2 edges at 2400 counts a turn (got 900)"
+    );
+    // 11/3 x 3: 11 passes over a turn of 2400 counts, no whole count each:
+    // only the whole turn repeats
+    assert!(checked(&with("11/3", 3, 900)).unwrap_err().contains("a multiple of 2400 counts"));
+    let e = checked(&with("2", 3, 401)).unwrap_err();
+    assert!(e.contains("a multiple of 400 counts") && e.ends_with("(got 401)"), "{e}");
 }

@@ -78,7 +78,7 @@ pub enum DeviceCommand {
     /// The board's own command list
     #[command(name = "help")]
     ConsoleHelp,
-    /// Send a cam table made by `polyturn cam --table FILE`
+    /// Send a cam table made by `polyturn cam --table FILE` or `polyturn compensate --table FILE`
     UploadCam {
         /// the table file (JSON)
         file: PathBuf,
@@ -181,7 +181,8 @@ now: polyturn flash FILE",
         (DeviceCommand::CheckEncoder { turns, seconds }, _) => {
             let turning =
                 seconds.map_or(checks::Turning::UntilEnter, |t| checks::Turning::For(Duration::from_secs_f64(t)));
-            let (f, proposal) = checks::check_encoder(&mut s, &mut prompt::Terminal::with_ctrl_c(), turning, *turns)?;
+            let (f, proposal) =
+                checks::check_encoder(&mut s, &mut prompt::Terminal::with_ctrl_c("check-encoder"), turning, *turns)?;
             let text = checks::explain(&f, &proposal, *turns);
             // a check that proposes no cpr failed: a script must see it
             match proposal {
@@ -189,7 +190,7 @@ now: polyturn flash FILE",
                 Err(_) => Err(CliError(format!("device: the encoder check proposes no cpr:\n{text}"))),
             }
         }
-        (DeviceCommand::Setup(args), _) => setup::run(&mut s, args, &mut prompt::Terminal::with_ctrl_c()),
+        (DeviceCommand::Setup(args), _) => setup::run(&mut s, args, &mut prompt::Terminal::with_ctrl_c("setup")),
         (DeviceCommand::UploadCam { .. }, _) => upload(&mut s, table.as_ref().expect("read above")),
         (_, Some(l)) => s.ask(&l),
         (_, None) => Err(CliError("internal: a device command without a line".into())),
@@ -284,29 +285,42 @@ fn read_table(file: &std::path::Path) -> CliResult<crate::noncircular::table::Ca
     super::console_line::cam_table(&name, &text)
 }
 
-/// A compensating table fits only the ratio and edges it was made for:
-/// refused, naming both and sending nothing, when the board's differ.
-fn same_cutter<P: Read + Write>(s: &mut Session<P>, made_for: &crate::noncircular::table::MadeFor) -> CliResult<()> {
+/// A table fits only the tool it was made for: a compensating table the
+/// ratio and edges of its cutter, a single-point tool's no cutter at all.
+/// Refused, naming what differs and sending nothing, when the board's differ.
+fn same_tool<P: Read + Write>(s: &mut Session<P>, table: &crate::noncircular::table::CamFile) -> CliResult<()> {
     let mut setting = |name: &str| -> CliResult<String> {
         let reply = ok_or_device_error(s.ask(&format!("get {name}"))?)?;
         Ok(reply.split_once('=').map(|(_, v)| v.trim().to_string()).unwrap_or_default())
     };
-    let (ratio, edges) = (setting("ratio")?, setting("edges")?);
-    made_for.fits(&ratio, &edges).map_err(|e| CliError(format!("upload-cam: {e}")))
+    let (ratio, edges, drive) = (setting("ratio")?, setting("edges")?, setting("drive")?);
+    table.fits(&ratio, &edges, &drive).map_err(|e| CliError(format!("upload-cam: {e}")))
 }
 
 /// Sends a table line by line; stops at the first error (the device then
 /// discards the partial table). The last line saves to flash: it waits
 /// as long as a save.
 pub fn upload<P: Read + Write>(s: &mut Session<P>, table: &crate::noncircular::table::CamFile) -> CliResult<String> {
-    if let Some(made_for) = &table.cutter {
-        same_cutter(s, made_for)?;
-    }
+    same_tool(s, table)?;
+    send_table(s, table)
+}
+
+/// `upload` without the tool's check: the board's own checks answer.
+pub(crate) fn send_table<P: Read + Write>(
+    s: &mut Session<P>,
+    table: &crate::noncircular::table::CamFile,
+) -> CliResult<String> {
     let lines = table.upload_lines();
     let mut last = String::new();
     for (i, line) in lines.iter().enumerate() {
         let wait = if i + 1 == lines.len() { FLASH_WAIT.max(s.timeout) } else { s.timeout };
-        last = ok_or_device_error(s.ask_within(line, wait)?)?;
+        last = ok_or_device_error(s.ask_within(line, wait)?).map_err(kept_for_another_try)?;
     }
     Ok(last)
+}
+
+/// The board keeps a complete table it could not save for a `cam end`
+/// sent again; this command sends the whole table again instead.
+fn kept_for_another_try(e: CliError) -> CliError {
+    CliError(e.0.replace("send cam end again", "run upload-cam again to send it"))
 }

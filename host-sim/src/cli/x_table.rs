@@ -18,15 +18,40 @@ pub const X_MAX_RATE_HZ: f64 = polyturn_sync::cam_upload::X_MAX_RATE_HZ as f64;
 // flag rather than read as flags.
 #[derive(clap::Args, Debug)]
 pub struct TableArgs {
-    /// X axis steps per mm of tool radius: a 1 mm screw, 200-step motor at 256 microsteps is 51200; under 1 a step is more than ten times the 0.1 mm a table may be off
-    #[arg(long, value_name = "STEPS/MM", default_value = "800", allow_hyphen_values = true, value_parser = within(STEPS_PER_MM.0, STEPS_PER_MM.1, "steps/mm"))]
-    pub steps_per_mm: f64,
-    /// Lathe encoder counts per turn, after x4 quadrature
-    #[arg(long = "encoder-cpr", alias = "encoder-counts", value_name = "COUNTS", default_value = "2400", allow_hyphen_values = true, value_parser = setting(CPR))]
-    pub encoder_counts: u32,
+    /// X axis steps per mm of tool radius: a 1 mm screw, 200-step motor at 256 microsteps is 51200; under 1 a step is more than ten times the 0.1 mm a table may be off [default: 800]
+    #[arg(long = "steps-per-mm", value_name = "STEPS/MM", allow_hyphen_values = true, value_parser = within(STEPS_PER_MM.0, STEPS_PER_MM.1, "steps/mm"))]
+    pub given_steps_per_mm: Option<f64>,
+    /// Lathe encoder counts per turn, after x4 quadrature [default: 2400]
+    #[arg(long = "encoder-cpr", alias = "encoder-counts", value_name = "COUNTS", allow_hyphen_values = true, value_parser = setting(CPR))]
+    pub given_encoder_counts: Option<u32>,
     /// Write the cam table (JSON, for `polyturn device upload-cam`) to this file (- for stdout)
     #[arg(long, value_name = "FILE", value_parser = out_file)]
     pub table: Option<PathBuf>,
+}
+
+impl TableArgs {
+    pub fn steps_per_mm(&self) -> f64 {
+        self.given_steps_per_mm.unwrap_or(800.0)
+    }
+
+    pub fn encoder_counts(&self) -> u32 {
+        self.given_encoder_counts.unwrap_or(2400)
+    }
+
+    /// For a command whose plan stands without the board (`compensate`
+    /// plans for any X axis): the board's flags only with `--table`, so
+    /// that none is taken and ignored.
+    pub fn only_with_a_table(&self) -> CliResult<()> {
+        let given =
+            [("steps-per-mm", self.given_steps_per_mm.is_some()), ("encoder-cpr", self.given_encoder_counts.is_some())];
+        match given.iter().find(|(_, g)| *g) {
+            Some((flag, _)) if self.table.is_none() => Err(CliError::flag(
+                flag,
+                "describes the board's table: give --table FILE with it (without a table the plan is for any X axis, and the board's limits are not checked)".to_string(),
+            )),
+            _ => Ok(()),
+        }
+    }
 }
 
 /// The X axis's limits as the firmware takes them, in whole steps/s and

@@ -55,15 +55,35 @@ impl MadeFor {
             self.ratio, self.edges
         ))
     }
+}
+
+impl CamFile {
+    /// Whether a board whose console says `ratio`, `edges` and `drive`
+    /// runs this table with the tool it was made for: a compensating
+    /// table (`polyturn compensate`) with its cutter turning, a single-point
+    /// tool's (`polyturn cam`) with none (its X motion is the whole cut).
+    pub fn fits(&self, ratio: &str, edges: &str, drive: &str) -> Result<(), String> {
+        match (&self.cutter, drive == "none") {
+            (Some(c), true) => Err(format!(
+                "the table straightens the flats of a turning cutter (ratio {} with {} edges), the board is set to drive=none: set drive stepper or bldc, or make a single-point tool's table with polyturn cam (nothing sent)",
+                c.ratio, c.edges
+            )),
+            (Some(c), false) => c.fits(ratio, edges),
+            (None, true) => Ok(()),
+            (None, false) => Err(format!(
+                "the table is a single-point tool's (polyturn cam), the board is set to drive={drive}: set drive none first, so that no cutter turns while X cuts the section (nothing sent)"
+            )),
+        }
+    }
 
     /// The same, from the board's `get` reply (`ok ... ratio=R edges=E ...`).
     pub fn fits_settings(&self, get_reply: &str) -> Result<(), String> {
         let value = |key: &str| {
             get_reply.split_whitespace().find_map(|w| w.split_once('=').filter(|(k, _)| *k == key).map(|(_, v)| v))
         };
-        match (value("ratio"), value("edges")) {
-            (Some(r), Some(e)) => self.fits(r, e),
-            _ => Err("the board's ratio and edges could not be read (get): connect to it first".into()),
+        match (value("ratio"), value("edges"), value("drive")) {
+            (Some(r), Some(e), Some(d)) => self.fits(r, e, d),
+            _ => Err("the board's ratio, edges and drive could not be read (get): connect to it first".into()),
         }
     }
 }

@@ -185,6 +185,20 @@ fn defaults_loads_the_defaults_without_saving_and_only_while_idle() {
 }
 
 #[test]
+fn engaged_a_setting_is_told_stop_first_whether_or_not_it_fits_with_the_others() {
+    let mut c = ctl();
+    c.engage().unwrap();
+    let stop = "error: stop first: settings change only while idle";
+    // one that fits and one that would not: the same refusal, engaged
+    for line in ["set steps 1600", "set steps 6400000", "set max-rate 1", "set start-rate 250000", "set pulse 100000"] {
+        assert_eq!(say(&mut c, line).0, stop, "{line}");
+    }
+    // the phase may change while engaged: its own range is still said
+    assert!(say(&mut c, "set phase 999999").0.starts_with("error: phase "), "{:?}", say(&mut c, "set phase 999999"));
+    assert_eq!(say(&mut c, "set phase 10").0, "ok phase=10.000");
+}
+
+#[test]
 fn save_is_refused_while_the_lathe_turns() {
     let mut c = ctl();
     for t in 1..=5_000u16 {

@@ -213,6 +213,20 @@ impl Controller {
         self.gear.reset(if self.d.sense_positive { rel } else { -rel });
     }
 
+    /// Whether settings may change now: while the cutter runs (or still
+    /// ramps down from a fault) only the phase offset may. Asked first, so
+    /// that a setting refused for being engaged is told "stop first", not
+    /// how it fits with the others.
+    #[inline]
+    pub fn settings_may_change(&self, only_phase: bool) -> Result<(), Refusal> {
+        let running = !matches!(self.state, State::Idle | State::Fault(_));
+        let stopping = matches!(self.state, State::Fault(f) if !f.immediate()) && self.follower.velocity != 0;
+        match (running && !only_phase) || stopping {
+            true => Err(Refusal::NotIdle),
+            false => Ok(()),
+        }
+    }
+
     /// Replaces the settings. While running only the phase offset may
     /// change (a nudge, smoothed by the follower's limits).
     pub fn set_config(&mut self, c: Config) -> Result<(), Refusal> {
@@ -224,14 +238,12 @@ impl Controller {
     /// short). `p` was prepared from the settings in force: the caller
     /// checks `config_generation` is the one it prepared from.
     pub fn install_config(&mut self, p: PreparedConfig) -> Result<(), Refusal> {
-        let PreparedConfig { config: c, derived: d, only_phase } = p;
+        let PreparedConfig { config: c, derived: d, only_phase, another_cutter } = p;
+        self.settings_may_change(only_phase)?;
+        if another_cutter && self.x.is_some() {
+            return Err(Refusal::CamFitted);
+        }
         let running = !matches!(self.state, State::Idle | State::Fault(_));
-        if running && !only_phase {
-            return Err(Refusal::NotIdle);
-        }
-        if matches!(self.state, State::Fault(f) if !f.immediate()) && self.follower.velocity != 0 {
-            return Err(Refusal::NotIdle);
-        }
         if c.encoder_counts_per_rev != self.config.encoder_counts_per_rev && self.x.is_some() {
             // the cam's period is in counts of the old encoder
             warn!("cpr changed: the X cam table no longer fits, X axis off");
@@ -290,6 +302,9 @@ pub struct PreparedConfig {
     /// whether `config` differs from the settings it was prepared from only
     /// in its phase (all that may change while running)
     only_phase: bool,
+    /// whether `config` turns another cutter (`changes_the_cutter`):
+    /// worked out here, outside the tick's lock
+    another_cutter: bool,
 }
 
 impl PreparedConfig {
@@ -300,6 +315,7 @@ impl PreparedConfig {
             config: next,
             derived: Derived::new(&next, timing),
             only_phase: next.differs_only_in_phase(current),
+            another_cutter: changes_the_cutter(current, &next),
         }
     }
 
@@ -335,4 +351,14 @@ pub fn prepare_cam(
     let cam = crate::cam::Cam::new(table, h.period_counts).map_err(|e| e.describe())?;
     let limits = crate::follower::Limits::from_rates(h.max_rate_hz as u64, h.max_accel as u64, timing.tick_hz as u64);
     Ok(super::XAxis::new(cam, limits))
+}
+
+/// Whether `next` turns another cutter than `now`: a cam table fitted for
+/// one cutter (its period a whole number of the cutter's passes, made by
+/// `polyturn compensate` for that ratio and those edges) would run out of
+/// step with another. With no cutter before or after, ratio and edges move
+/// nothing (a single-point tool's table takes any).
+fn changes_the_cutter(now: &Config, next: &Config) -> bool {
+    let none = |c: &Config| c.drive == crate::config::DriveKind::None;
+    !(none(now) && none(next)) && (now.ratio != next.ratio || now.edges != next.edges || now.drive != next.drive)
 }

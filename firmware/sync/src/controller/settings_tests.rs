@@ -37,6 +37,32 @@ fn an_x_axis_stays_fitted_unless_cpr_changes() {
 }
 
 #[test]
+fn a_cam_fitted_for_a_cutter_keeps_its_cutter_until_cam_off() {
+    let table: &'static [i32] = std::vec::Vec::leak(std::vec![0, 10]);
+    let fit = |r: &mut Rig| {
+        r.c.set_x_axis(Some(XAxis::new(Cam::new(table, 400).unwrap(), super::rig::x_limits(1_000_000)))).unwrap()
+    };
+    let mut r = Rig::new(Config::default());
+    fit(&mut r);
+    // a compensating table's period is one pass of this cutter: another
+    // ratio, edge count or drive would run it out of step
+    for (name, value) in [("ratio", "1"), ("edges", "2"), ("drive", "none"), ("drive", "bldc")] {
+        assert_eq!(install(&mut r, name, value), Err(Refusal::CamFitted), "{name} {value}");
+    }
+    assert!(r.c.x_axis().is_some() && r.c.config().ratio == Config::default().ratio);
+    install(&mut r, "max-accel", "300000").unwrap();
+    // with the cam off, the cutter may change
+    r.c.set_x_axis(None).unwrap();
+    install(&mut r, "ratio", "1").unwrap();
+    // no cutter before or after: a single-point tool's table takes any ratio
+    install(&mut r, "drive", "none").unwrap();
+    fit(&mut r);
+    install(&mut r, "ratio", "1/2").unwrap();
+    install(&mut r, "edges", "4").unwrap();
+    assert_eq!(install(&mut r, "drive", "stepper"), Err(Refusal::CamFitted), "a cutter added under the cam");
+}
+
+#[test]
 fn setting_the_same_phase_while_synced_stays_synced() {
     let mut r = Rig::new(Config::default().with("phase", "10").unwrap());
     r.run(per_tick(0.5), 3_000);

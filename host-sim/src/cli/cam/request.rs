@@ -40,14 +40,14 @@ pub fn request(a: &CamArgs) -> CliResult<Request> {
         None => smallest_m(sides).map_err(|e| CliError::flag("sides", e.describe()))?,
     };
     let axis = Axis { rpm: a.rpm, max_speed: a.x_max_speed, max_accel: a.x_max_accel };
-    let spm = a.board.steps_per_mm;
+    let spm = a.board.steps_per_mm();
     let rates = rates(axis.max_speed, axis.max_accel, spm)?;
     Ok(Request {
         polygon: Polygon { sides, apothem_mm: a.inscribed_radius },
         m,
         axis,
         steps_per_mm: spm,
-        counts_per_rev: a.board.encoder_counts,
+        counts_per_rev: a.board.encoder_counts(),
         rates,
     })
 }

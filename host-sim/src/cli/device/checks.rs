@@ -37,11 +37,19 @@ pub fn check_encoder<P: Read + Write>(
                 Some(n) => format!("Turn the chuck FORWARD by hand exactly {n} turn(s) from a mark, then press Enter"),
                 None => "Turn the chuck FORWARD by hand 3 turns or more, one way only, then press Enter".into(),
             };
-            ask.wait(&what)?;
+            if let Err(e) = ask.wait(&what) {
+                return Err(stopped(s, e));
+            }
         }
         Turning::For(d) => {
             ask.say(&format!("Measuring for {:.1} s: run the lathe slowly forward", d.as_secs_f64()));
-            std::thread::sleep(d);
+            let end = std::time::Instant::now() + d;
+            while std::time::Instant::now() < end {
+                if super::prompt::cancelled_by_ctrl_c() {
+                    return Err(stopped(s, CliError("check-encoder: cancelled (Ctrl-C): nothing saved".into())));
+                }
+                std::thread::sleep(std::time::Duration::from_millis(20).min(end - std::time::Instant::now()));
+            }
         }
     }
     let reply = s.ask("check-encoder stop")?;
@@ -49,6 +57,18 @@ pub fn check_encoder<P: Read + Write>(
         .ok_or_else(|| s.port_error(format!("unexpected reply to check-encoder stop: '{reply}'")))?;
     let proposal = figures::propose_cpr(&f, turns);
     Ok((f, proposal))
+}
+
+/// A check cut short: the board's check stopped too (else engage, jog and
+/// divide stay refused), and the error says whether it could be.
+fn stopped<P: Read + Write>(s: &mut Session<P>, e: CliError) -> CliError {
+    match s.ask("check-encoder stop") {
+        Ok(_) => CliError(format!("{} (the board's encoder check stopped)", e.0)),
+        Err(stop) => CliError(format!(
+            "{} (the board's encoder check may still run: {}; `polyturn device check-encoder --seconds 0.1` ends it)",
+            e.0, stop.0
+        )),
+    }
 }
 
 /// The check's result in words, with what to do; `turns` as given.

@@ -4,6 +4,8 @@
 //! asked again through `retry`.
 
 use crate::cli::errors::{CliError, CliResult};
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::time::Duration;
 
 pub trait Ask {
     /// Says something (the terminal's stderr).
@@ -36,20 +38,47 @@ pub fn retry<T>(ask: &mut dyn Ask, mut question: impl FnMut(&mut dyn Ask) -> Cli
     Err(CliError(format!("setup: {} ({TRIES} tries): nothing sent", last.0)))
 }
 
-/// A terminal.
-pub struct Terminal;
+/// A terminal, for `command` (named in what a cancel says).
+pub struct Terminal {
+    command: &'static str,
+}
+
+/// Ctrl-C was pressed (`Terminal::with_ctrl_c`): the command cleans up on
+/// the board (an encoder check stopped) and ends with exit status 130.
+static CANCELLED: AtomicBool = AtomicBool::new(false);
+
+/// How long a Ctrl-C leaves the command to end on its own (and stop what
+/// it started on the board) before the process ends regardless.
+const CANCEL_GRACE: Duration = Duration::from_secs(2);
+
+pub fn cancelled_by_ctrl_c() -> bool {
+    CANCELLED.load(Ordering::SeqCst)
+}
 
 impl Terminal {
-    /// The terminal for the setup's questions: Ctrl-C between two reads of
-    /// a key (a signal, not a key) gives the cursor back before it ends
-    /// the setup, as a Ctrl-C read as a key does (`cancelled`).
-    pub fn with_ctrl_c() -> Terminal {
-        let _ = ctrlc::set_handler(|| {
+    /// The terminal for `command`'s questions. Ctrl-C interrupts the read
+    /// that waits (or the wait the command checks `cancelled_by_ctrl_c`
+    /// in), so that the command can stop what it started on the board and
+    /// say so once; if it has not ended within CANCEL_GRACE, or at a
+    /// second Ctrl-C, the process ends (exit 130) with the cursor shown.
+    pub fn with_ctrl_c(command: &'static str) -> Terminal {
+        let _ = ctrlc::set_handler(move || {
             show_cursor();
-            eprintln!("error: setup: cancelled (Ctrl-C): nothing saved");
+            if !CANCELLED.swap(true, Ordering::SeqCst) {
+                std::thread::sleep(CANCEL_GRACE);
+            }
+            eprintln!("error: {command}: cancelled (Ctrl-C): nothing saved");
             std::process::exit(130);
         });
-        Terminal
+        Terminal { command }
+    }
+
+    fn cancelled(&self, e: dialoguer::Error) -> CliError {
+        show_cursor();
+        match cancelled_by_ctrl_c() {
+            true => CliError(format!("{}: cancelled (Ctrl-C): nothing saved", self.command)),
+            false => CliError(format!("{}: cancelled ({e}): nothing saved", self.command)),
+        }
     }
 }
 
@@ -60,34 +89,52 @@ fn show_cursor() {
     let _ = dialoguer::console::Term::stderr().show_cursor();
 }
 
-fn cancelled(e: dialoguer::Error) -> CliError {
-    show_cursor();
-    CliError(format!("setup: cancelled ({e}): nothing saved"))
-}
-
 impl Ask for Terminal {
     fn say(&mut self, text: &str) {
         eprintln!("{text}");
     }
     fn wait(&mut self, prompt: &str) -> CliResult<()> {
-        dialoguer::Input::<String>::new().with_prompt(prompt).allow_empty(true).interact_text().map_err(cancelled)?;
+        dialoguer::Input::<String>::new()
+            .with_prompt(prompt)
+            .allow_empty(true)
+            .interact_text()
+            .map_err(|e| self.cancelled(e))?;
         Ok(())
     }
     fn yes(&mut self, question: &str, default: bool) -> CliResult<bool> {
-        dialoguer::Confirm::new().with_prompt(question).default(default).interact().map_err(cancelled)
+        dialoguer::Confirm::new().with_prompt(question).default(default).interact().map_err(|e| self.cancelled(e))
     }
     fn number(&mut self, question: &str, default: Option<u32>, min: u32, max: u32) -> CliResult<u32> {
-        let mut input = dialoguer::Input::<u32>::new().with_prompt(format!("{question} ({min}..={max})"));
+        // read as text, so that "-5", "1.5" or 20 digits are told the
+        // range, not a parser's words
+        let mut input = dialoguer::Input::<String>::new().with_prompt(format!("{question} ({min}..={max})"));
         if let Some(d) = default {
-            input = input.default(d);
+            input = input.default(d.to_string());
         }
-        input
-            .validate_with(move |v: &u32| if (min..=max).contains(v) { Ok(()) } else { Err(format!("{min}..={max}")) })
+        let text = input
+            .validate_with(move |t: &String| whole_in(t, min, max).map(|_| ()))
             .interact_text()
-            .map_err(cancelled)
+            .map_err(|e| self.cancelled(e))?;
+        whole_in(&text, min, max).map_err(CliError)
     }
     fn choose(&mut self, question: &str, choices: &[&str]) -> CliResult<usize> {
-        dialoguer::Select::new().with_prompt(question).items(choices).default(0).interact().map_err(cancelled)
+        dialoguer::Select::new()
+            .with_prompt(question)
+            .items(choices)
+            .default(0)
+            .interact()
+            .map_err(|e| self.cancelled(e))
+    }
+}
+
+/// An answer to a number question: a whole number in `min..=max` (spaces
+/// around it taken), else what is wrong with it and the range.
+pub fn whole_in(text: &str, min: u32, max: u32) -> Result<u32, String> {
+    let t = text.trim();
+    match t.parse::<u32>() {
+        Ok(v) if (min..=max).contains(&v) => Ok(v),
+        Ok(_) => Err(format!("{t} is outside {min}..={max}")),
+        Err(_) => Err(format!("'{}' is not a whole number: {min}..={max}", t.escape_debug())),
     }
 }
 
@@ -125,9 +172,9 @@ impl Ask for Scripted {
     fn number(&mut self, question: &str, _: Option<u32>, min: u32, max: u32) -> CliResult<u32> {
         loop {
             let a = self.next(question)?;
-            match a.parse::<u32>() {
-                Ok(v) if (min..=max).contains(&v) => return Ok(v),
-                _ => self.said.push(format!("refused: {a}: {min}..={max}")),
+            match whole_in(&a, min, max) {
+                Ok(v) => return Ok(v),
+                Err(e) => self.said.push(format!("refused: {e}")),
             }
         }
     }
@@ -137,5 +184,19 @@ impl Ask for Scripted {
             .iter()
             .position(|c| c.starts_with(a.as_str()))
             .ok_or_else(|| CliError(format!("scripted: no choice '{a}'")))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::whole_in;
+
+    #[test]
+    fn a_number_answer_is_told_its_range_whatever_was_typed() {
+        assert_eq!(whole_in(" 600 ", 1, 250_000), Ok(600));
+        assert_eq!(whole_in("0", 1, 250_000), Err("0 is outside 1..=250000".into()));
+        for bad in ["-5", "1.5", "99999999999999999999", "", "6OO"] {
+            assert_eq!(whole_in(bad, 1, 250_000), Err(format!("'{bad}' is not a whole number: 1..=250000")), "{bad}");
+        }
     }
 }

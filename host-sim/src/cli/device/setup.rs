@@ -23,14 +23,15 @@ mod drive;
 pub fn run<P: Read + Write>(s: &mut Session<P>, a: &GuidedArgs, ask: &mut dyn Ask) -> CliResult<String> {
     let facts = if a.non_interactive { from_flags(a)? } else { interview(s, a, ask)? };
     let (_, current) = read_back(s)?;
+    let facts = top_speed_that_fits(facts, &current, a, ask)?;
     let (order, _) = figures::send_order(&current, &changes(&facts)).map_err(CliError)?;
     for (name, value) in &order {
-        s.ask(&format!("set {name} {value}"))?;
+        s.ask(&format!("set {name} {value}")).map_err(sent_not_saved)?;
     }
     let mut names: Vec<&str> = order.iter().map(|(n, _)| n.as_str()).collect();
     if !a.non_interactive {
-        clear_check_fault(s, ask)?;
-        if jog_check(s, ask)? {
+        clear_check_fault(s, ask).map_err(sent_not_saved)?;
+        if jog_check(s, ask).map_err(sent_not_saved)? {
             names.push("dir");
         }
     }
@@ -42,6 +43,50 @@ pub fn run<P: Read + Write>(s: &mut Session<P>, a: &GuidedArgs, ask: &mut dyn As
     // the summary is what the board holds after the last save, read back
     let (reply, now) = read_back(s)?;
     Ok(format!("{}\n{saved}", summary(&now, &held(&reply, &names))))
+}
+
+/// The lathe's top speed, held to what the cutter's drive can follow at
+/// the board's ratio: asked again with that bound (or refused naming
+/// `--max-lathe-rpm` and it), rather than every answer refused together
+/// at the end. The reason is the board's own (`Config::with`).
+fn top_speed_that_fits(f: Facts, current: &Config, a: &GuidedArgs, ask: &mut dyn Ask) -> CliResult<Facts> {
+    let order = |rpm: u32| figures::send_order(current, &changes(&Facts { max_rpm: rpm, ..f.clone() }));
+    let why = match order(f.max_rpm) {
+        Ok(_) => return Ok(f),
+        Err(e) => e.trim_start_matches("these settings do not fit together: ").to_string(),
+    };
+    if order(MAX_RPM.lo).is_err() {
+        return Ok(f); // not the speed: said as before, when they are sent
+    }
+    // the highest speed that fits (a lower one always fits where a higher does)
+    let (mut lo, mut hi) = (MAX_RPM.lo, f.max_rpm);
+    while hi - lo > 1 {
+        let mid = lo + (hi - lo) / 2;
+        match order(mid) {
+            Ok(_) => lo = mid,
+            Err(_) => hi = mid,
+        }
+    }
+    let at = format!("at the board's ratio {} ({why})", current.ratio);
+    if a.non_interactive {
+        return Err(CliError::flag("max-lathe-rpm", format!("must be <= {lo} rpm {at} (got {})", f.max_rpm)));
+    }
+    ask.say(&format!("{} rpm is too fast {at}: at most {lo} rpm", f.max_rpm));
+    let max_rpm = ask.number("The lathe's fastest speed, rpm", Some(lo), MAX_RPM.lo, lo)?;
+    Ok(Facts { max_rpm, ..f })
+}
+
+/// A setup stopped once its settings went to the board says so: the
+/// board holds them until it restarts, none of them saved.
+fn sent_not_saved(e: CliError) -> CliError {
+    const SAID: &str = "(settings sent, not saved)";
+    match e.0.contains(SAID) {
+        true => e,
+        false => CliError(format!(
+            "{} {SAID}: `polyturn device get` shows what the board holds, a restart drops them",
+            e.0.trim_end_matches(": nothing saved")
+        )),
+    }
 }
 
 /// The board's settings (`get`): its reply and what it says.

@@ -105,7 +105,9 @@ fn missing_or_impossible_facts_change_nothing_on_the_board() {
         &mut Scripted::new(&[]),
     )
     .unwrap_err();
-    assert!(e.0.contains("do not fit together"), "{}", e.0);
+    // 3 000 rpm x ratio 2 x 80 000 steps: the speed the motor can follow is named
+    assert!(e.0.starts_with("--max-lathe-rpm must be <= 75 rpm at the board's ratio 2 (steps does not fit with the others: max-rpm x ratio x steps/60 must not exceed max-rate"), "{}", e.0);
+    assert!(e.0.ends_with("(got 3000)"), "{}", e.0);
     let e = run(&mut s, &args("--non-interactive --encoder-lines 600 --motor-steps 200 --microsteps 1 --reduction 37/21 --max-lathe-rpm 600"), &mut Scripted::new(&[])).unwrap_err();
     assert!(e.0.starts_with("--motor-steps x --microsteps x --reduction: 200 x 1 x 37/21"), "{}", e.0);
     assert!(sent(&s).iter().all(|l| !l.starts_with("set ")), "{:?}", sent(&s));
@@ -180,6 +182,40 @@ const INTERVIEW: &[&str] = &[
     "n", // the jog: one turn, but the wrong way
 ];
 
+/// The cutter check after the settings went to the board: a jog that did
+/// not make one turn ends the setup, saying the settings are on the
+/// board, unsaved.
+#[test]
+fn a_setup_stopped_after_its_settings_were_sent_says_so() {
+    let mut s = hand_turned();
+    let mut answers = INTERVIEW.to_vec();
+    *answers.iter_mut().rev().nth(1).unwrap() = "two turns";
+    let e = run(&mut s, &args(""), &mut Scripted::new(&answers)).unwrap_err().0;
+    assert_eq!(
+        e,
+        "setup: the cutter did not make one turn (settings sent, not saved): `polyturn device get` shows what the board holds, a restart drops them"
+    );
+    assert!(!sent(&s).contains(&"save".to_string()), "{:?}", sent(&s));
+    assert_eq!(s.io.ctl.config().encoder_counts_per_rev, 2_000, "sent, as the error says");
+}
+
+/// A top speed the motor cannot follow at the board's ratio is asked
+/// again with its bound, not refused with every answer at the end.
+#[test]
+fn a_top_speed_too_fast_for_the_boards_ratio_is_asked_again_with_its_bound() {
+    let mut s = hand_turned();
+    let mut answers = INTERVIEW.to_vec();
+    let at = answers.iter().position(|a| *a == "1000").unwrap();
+    answers[at] = "5000";
+    let after = answers.iter().position(|a| *a == "1600").unwrap();
+    answers.insert(after + 1, "1800");
+    let mut ask = Scripted::new(&answers);
+    run(&mut s, &args(""), &mut ask).unwrap_or_else(|e| panic!("{e:?}: {:?}", ask.said));
+    let told = ask.said.iter().find(|l| l.starts_with("5000 rpm is too fast")).expect("told");
+    assert!(told.ends_with(": at most 1875 rpm"), "{told}");
+    assert_eq!(s.io.ctl.config().max_lathe_rpm, 1_800);
+}
+
 #[test]
 fn the_interview_measures_the_encoder_jogs_the_cutter_and_saves() {
     let mut s = hand_turned();
@@ -240,7 +276,7 @@ fn a_bldc_setup_the_drive_cannot_hold_or_a_flag_of_the_other_drive_changes_nothi
         // 50 frames a second at 1 600 lathe rpm x 2: 53 cutter turns a second
         (
             BLDC.replace("600 --cutter", "1600 --cutter").replace("3000 --no", "3600 --no") + " --bldc-out esc50",
-            "the drive must take a command at least once per cutter revolution",
+            "--max-lathe-rpm must be <= 1500 rpm at the board's ratio 2 (max-rpm does not fit with the others: the drive must take a command at least once per cutter revolution",
         ),
         // 600 rpm x 2 x 4 000 / 60 = 80 000 counts/s; at full command it makes 1 000 rpm: 66 666
         (BLDC.replace("3000 --no", "1000 --no") + " --bldc-out pwm", "the motor must keep up"),

@@ -3,7 +3,7 @@
 //! `usb.rs` does) and against devices that misbehave.
 
 use super::session::{check_command, Session, COMMAND_MAX};
-use super::{upload, watch};
+use super::{send_table, upload, watch};
 pub(super) use polyturn_bench::fakeboard::FakeDevice;
 use std::io::{ErrorKind, Read, Write};
 use std::time::Duration;
@@ -54,6 +54,10 @@ fn a_cam_table_uploads_through_the_real_console() {
         assert!(line.len() <= COMMAND_MAX, "{} > {COMMAND_MAX}: {line}", line.len());
     }
     let mut s = session(FakeDevice::new());
+    // a single-point tool's table, on a board with a cutter: nothing sent
+    let e = upload(&mut s, &table).unwrap_err().0;
+    assert!(e.starts_with("upload-cam: the table is a single-point tool's (polyturn cam), the board is set to drive=stepper: set drive none first"), "{e}");
+    s.ask("set drive none").unwrap();
     // the fake device stages and checks the table as the firmware does;
     // it has no flash, and its last reply says so
     let r = upload(&mut s, &table).unwrap();
@@ -91,6 +95,11 @@ fn a_compensating_table_goes_only_to_a_board_set_for_its_ratio_and_edges() {
     s.ask("set edges 2").unwrap();
     let r = upload(&mut s, &table).unwrap();
     assert!(r.starts_with("ok cam 400 points checked"), "{r}");
+    // and no cutter at all is refused before anything is sent
+    let mut s = session(FakeDevice::new());
+    s.ask("set drive none").unwrap();
+    let e = upload(&mut s, &table).unwrap_err().0;
+    assert!(e.starts_with("upload-cam: the table straightens the flats of a turning cutter (ratio 3 with 2 edges), the board is set to drive=none"), "{e}");
 }
 
 /// The board checks the points against the X axis the table declares
@@ -110,6 +119,7 @@ fn the_board_refuses_a_table_its_x_axis_cannot_follow_with_the_figures() {
         cutter: None,
     };
     let mut s = session(FakeDevice::new());
+    s.ask("set drive none").unwrap();
     let e = upload(&mut s, &table).unwrap_err().0;
     assert_eq!(
         e,
@@ -126,19 +136,24 @@ fn a_table_not_saved_now_says_why() {
     dev.machine = Some(polyturn_bench::fakeboard::Machine::new(polyturn_bench::fakeboard::ticks_in_ms(10)));
     let mut s = session(dev);
     s.ask("engage").unwrap();
-    let e = upload(&mut s, &table).unwrap_err().0;
-    assert_eq!(e, "device: error: stop first: the cam changes only while idle (900 points kept, send cam end again)");
+    // the board's own refusal (the host would refuse this table for the
+    // cutter first)
+    let e = send_table(&mut s, &table).unwrap_err().0;
+    assert_eq!(
+        e,
+        "device: error: stop first: the cam changes only while idle (900 points kept, run upload-cam again to send it)"
+    );
     s.ask("stop").unwrap();
     s.io.machine.as_mut().unwrap().set_lathe_rpm(60.0);
     s.ask("status").unwrap();
-    let e = upload(&mut s, &table).unwrap_err().0;
+    let e = send_table(&mut s, &table).unwrap_err().0;
     assert!(
         e.starts_with(
             "device: error: stop the lathe first: its encoder counted 0 ms ago (at rest after 100 ms without a count)"
         ),
         "{e}"
     );
-    assert!(e.ends_with(": the table is saved to flash (900 points kept, send cam end again)"), "{e}");
+    assert!(e.ends_with(": the table is saved to flash (900 points kept, run upload-cam again to send it)"), "{e}");
 }
 
 fn octagon_table() -> crate::noncircular::table::CamFile {
