@@ -48,6 +48,18 @@ fn a_simulation_that_never_cut_says_so_and_why_and_exits_non_zero() {
     assert!(out.contains("6 sides") && out.contains("faults: none"), "{out}");
 }
 
+/// A lathe encoder whose every count jumps the cutter's target past the
+/// following-error limit is named as the cause, not the motor.
+#[test]
+fn a_run_that_never_cut_for_a_coarse_lathe_encoder_names_the_encoder() {
+    let err = refused(
+        "simulate --cutter-radius 50 --stock-radius 10 --depth 2 --ratio 3 --edges 2 --direction same --rpm 300 --revolutions 3 --encoder-cpr 4 --max-accel 2000000",
+        "simulate: nothing was cut",
+    );
+    assert!(err.contains("each lathe count (--encoder-cpr 4) moves the cutter's target 2400 steps, past its following-error limit of 64 steps: a finer lathe encoder, at least 150 counts a turn"), "{err}");
+    assert!(!err.contains("motor too weak"), "{err}");
+}
+
 #[test]
 fn a_flag_for_the_other_kind_of_cutter_is_refused_naming_it() {
     for (flags, flag, why) in [

@@ -53,8 +53,15 @@ pub fn cam_table(name: &str, text: &str) -> CliResult<CamFile> {
             "upload-cam: '{name}' is larger than {CAM_FILE_MAX} bytes: not a polyturn cam table"
         )));
     }
-    let table: CamFile = serde_json::from_str(text).map_err(|e| {
-        CliError(format!("upload-cam: '{name}' is not a polyturn cam table: {}", escaped(&e.to_string())))
+    // the field at fault named by its path (`cutter.edges`, `points[3]`),
+    // not only by its line and column
+    let de = &mut serde_json::Deserializer::from_str(text);
+    let table: CamFile = serde_path_to_error::deserialize(de).map_err(|e| {
+        let at = match e.path().to_string().as_str() {
+            "." | "" => String::new(),
+            p => format!("{p}: "),
+        };
+        CliError(format!("upload-cam: '{name}' is not a polyturn cam table: {at}{}", escaped(&e.inner().to_string())))
     })?;
     if table.format != FORMAT {
         return Err(CliError(format!(

@@ -124,8 +124,33 @@ pub fn nothing_cut(sc: &Scenario, r: &SimResult, a: &SimulateArgs) -> CliError {
             a.ripple * 100.0
         ));
     }
+    let coarse = coarse_encoder(sc);
+    let reason = |f: polyturn_sync::Fault| match (&coarse, sc.core.drive) {
+        (Some(_), _) => String::new(),
+        (None, polyturn_sync::config::DriveKind::Bldc) if f == polyturn_sync::Fault::FollowingError => {
+            " (the cutter fell behind: its drive too slow for the lathe, --bldc-out and --bldc-tau)".into()
+        }
+        (None, _) => format!(" ({})", f.reason()),
+    };
+    why.extend(coarse.clone());
     if let Some((tick, f)) = r.faults.first() {
-        why.push(format!("{} at {:.2} s ({})", f.name(), *tick as f64 / sc.tick_hz as f64, f.reason()));
+        why.push(format!("{} at {:.2} s{}", f.name(), *tick as f64 / sc.tick_hz as f64, reason(*f)));
     }
     CliError(why.join("; "))
+}
+
+/// A lathe encoder so coarse that each of its counts moves the cutter's
+/// target past the following-error limit: the cutter can only lag it, and
+/// no motor or max-accel helps. Named with the cpr that would do.
+fn coarse_encoder(sc: &Scenario) -> Option<String> {
+    let c = &sc.core;
+    let per_count = c.ratio.to_f64() * c.motor_steps_per_rev as f64 / c.encoder_counts_per_rev as f64;
+    let limit = c.following_error_limit_steps as f64;
+    (per_count > limit).then(|| {
+        let need = (c.ratio.to_f64() * c.motor_steps_per_rev as f64 / limit).ceil();
+        format!(
+            "each lathe count (--encoder-cpr {}) moves the cutter's target {per_count:.0} steps, past its following-error limit of {limit} steps: a finer lathe encoder, at least {need} counts a turn",
+            c.encoder_counts_per_rev
+        )
+    })
 }
