@@ -116,8 +116,14 @@ fn a_period_that_is_no_whole_number_of_the_cutters_passes_is_refused() {
 fn a_number_out_of_its_fields_type_is_named_by_its_field() {
     let text = serde_json::to_string(&octagon()).unwrap();
     let cases = [
-        (text.replacen("\"max_accel\":1600000", "\"max_accel\":1000000000000000", 1), "max_accel: invalid value: integer `1000000000000000`, expected u32"),
-        (text.replacen("\"points\":[", "\"points\":[1e20,", 1), "points[0]: invalid type: floating point `1e+20`, expected i32"),
+        (
+            text.replacen("\"max_accel\":1600000", "\"max_accel\":1000000000000000", 1),
+            "max_accel: invalid value: integer `1000000000000000`, expected u32",
+        ),
+        (
+            text.replacen("\"points\":[", "\"points\":[1e20,", 1),
+            "points[0]: invalid type: floating point `1e+20`, expected i32",
+        ),
     ];
     for (t, want) in cases {
         let e = cam_table("t.json", &t).unwrap_err().0;
