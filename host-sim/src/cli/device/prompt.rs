@@ -62,9 +62,13 @@ impl Terminal {
     /// say so once; if it has not ended within CANCEL_GRACE, or at a
     /// second Ctrl-C, the process ends (exit 130) with the cursor shown.
     pub fn with_ctrl_c(command: &'static str) -> Terminal {
+        // the handler's own flag: the main thread may have set CANCELLED
+        // first, from the interrupted read
+        static PRESSED: AtomicBool = AtomicBool::new(false);
         let _ = ctrlc::set_handler(move || {
             show_cursor();
-            if !CANCELLED.swap(true, Ordering::SeqCst) {
+            CANCELLED.store(true, Ordering::SeqCst);
+            if !PRESSED.swap(true, Ordering::SeqCst) {
                 std::thread::sleep(CANCEL_GRACE);
             }
             eprintln!("error: {command}: cancelled (Ctrl-C): nothing saved");
@@ -75,6 +79,12 @@ impl Terminal {
 
     fn cancelled(&self, e: dialoguer::Error) -> CliError {
         show_cursor();
+        // the read is interrupted by the signal before the handler's
+        // thread has set the flag: the same Ctrl-C
+        let dialoguer::Error::IO(io) = &e;
+        if io.kind() == std::io::ErrorKind::Interrupted {
+            CANCELLED.store(true, Ordering::SeqCst);
+        }
         match cancelled_by_ctrl_c() {
             true => CliError(format!("{}: cancelled (Ctrl-C): nothing saved", self.command)),
             false => CliError(format!("{}: cancelled ({e}): nothing saved", self.command)),
