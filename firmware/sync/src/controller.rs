@@ -137,7 +137,7 @@ impl Refusal {
             Refusal::DivideRange => crate::config::table::DIVIDE_REFUSAL,
             Refusal::DfuNotIdle => "stop first (and clear any fault): dfu restarts the board into its ROM bootloader",
             Refusal::CamFitted => {
-                "a cam table is fitted for this cutter (ratio, edges, drive): cam off first, then upload a table made for the new one"
+                "a cam table is fitted for this cutter (ratio, edges, drive): cam off first (polyturn device cam-off), then upload a table made for the new one"
             }
         }
     }

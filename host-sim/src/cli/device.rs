@@ -83,6 +83,9 @@ pub enum DeviceCommand {
         /// the table file (JSON)
         file: PathBuf,
     },
+    /// Remove the board's cam table (the X axis off; `save` to forget it):
+    /// before a table for another cutter, or to change ratio, edges or drive
+    CamOff,
     /// Measure the lathe encoder while you turn the chuck: real counts per
     /// turn, direction, lost counts, chatter; proposes `set cpr`
     CheckEncoder {
@@ -139,6 +142,7 @@ impl DeviceCommand {
             DeviceCommand::Defaults => "defaults".into(),
             DeviceCommand::ConsoleHelp => "help".into(),
             DeviceCommand::Dfu => "dfu".into(),
+            DeviceCommand::CamOff => "cam off".into(),
             DeviceCommand::Jog { degrees } => format!("jog {degrees}"),
             DeviceCommand::Divide { divisions } => format!("divide {divisions}"),
             DeviceCommand::Selftest { rpm: None } => "selftest start".into(),

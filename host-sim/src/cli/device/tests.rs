@@ -342,3 +342,13 @@ fn the_console_is_found_among_the_ports_by_its_usb_ids() {
     assert_eq!(super::port::first_console(ports), Some("COM5".into()));
     assert_eq!(super::port::first_console(vec![usb("COM3", 0x0403, 0x6001)]), None);
 }
+
+/// `device cam-off` sends the console's `cam off`, the way out of a table
+/// made for one cutter (the board refuses another ratio under it).
+#[test]
+fn cam_off_is_the_consoles_cam_off() {
+    let line = super::DeviceCommand::CamOff.line().unwrap();
+    assert_eq!(line, "cam off");
+    let mut s = session(FakeDevice::new());
+    assert!(s.ask(&line).unwrap().starts_with("ok cam off"));
+}
