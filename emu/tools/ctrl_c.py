@@ -1,4 +1,4 @@
-"""Ctrl-C at the encoder check's "turn the chuck" question, on a terminal,
+"""Ctrl-C during the encoder check (its hands-off second or its "turn the chuck" question), on a terminal,
 against a board's console: the command ends with one line naming it and
 exit status 130, and the board's check is stopped (engage is not refused
 "an encoder check is running"). For `device check-encoder` and `device
@@ -17,9 +17,10 @@ import sys
 import time
 
 
-def cancel_at_the_chuck(polyturn, port, command):
+def cancel_at_the_chuck(polyturn, port, command, at=b"Turn the chuck"):
     """Runs `polyturn device --port PORT COMMAND` on a pty, answers the
-    setup's first question, and sends SIGINT at "Turn the chuck"."""
+    setup's first question, and sends SIGINT once `at` is shown ("Turn
+    the chuck", or the hands-off second before it)."""
     pid, fd = pty.fork()
     if pid == 0:
         os.execv(polyturn, [polyturn, "device", "--port", port, command])
@@ -37,8 +38,8 @@ def cancel_at_the_chuck(polyturn, port, command):
         if not answered and b"index (Z) pulse" in out:
             os.write(fd, b"y")
             answered = True
-        if not sent and b"Turn the chuck" in out:
-            time.sleep(0.5)
+        if not sent and at in out:
+            time.sleep(0.5 if at == b"Turn the chuck" else 0.1)
             os.kill(pid, signal.SIGINT)
             sent = True
     _, status = os.waitpid(pid, 0)
@@ -53,13 +54,13 @@ def device(polyturn, port, *args):
 def main():
     polyturn, port = sys.argv[1], sys.argv[2]
     failed = False
-    for command in ("check-encoder", "setup"):
-        code, out = cancel_at_the_chuck(polyturn, port, command)
+    for command, at in (("check-encoder", b"Turn the chuck"), ("setup", b"Turn the chuck"), ("check-encoder", b"hands off")):
+        code, out = cancel_at_the_chuck(polyturn, port, command, at)
         errors = [l for l in out.splitlines() if "error:" in l]
         want = f"error: {command}: cancelled (Ctrl-C): nothing saved (the board's encoder check stopped)"
         engage = device(polyturn, port, "engage")
         ok = code == 130 and len(errors) == 1 and errors[0].endswith(want) and engage == (0, "ok engaging")
-        print(f"  {'ok  ' if ok else 'FAIL'} ctrl-c-{command}: exit {code}, {errors}, then engage: {engage}")
+        print(f"  {'ok  ' if ok else 'FAIL'} ctrl-c-{command} at '{at.decode()}': exit {code}, {errors}, then engage: {engage}")
         failed |= not ok
         device(polyturn, port, "stop")
         time.sleep(1)

@@ -56,8 +56,14 @@ fn a_run_that_never_cut_for_a_coarse_lathe_encoder_names_the_encoder() {
         "simulate --cutter-radius 50 --stock-radius 10 --depth 2 --ratio 3 --edges 2 --direction same --rpm 300 --revolutions 3 --encoder-cpr 4 --max-accel 2000000",
         "simulate: nothing was cut",
     );
-    assert!(err.contains("each lathe count (--encoder-cpr 4) moves the cutter's target 2400 steps, past its following-error limit of 64 steps: a finer lathe encoder, at least 150 counts a turn"), "{err}");
+    assert!(err.contains("each lathe count (--encoder-cpr 4) moves the cutter's target 2400 steps, more than the follower holds within its following-error limit of 64 steps: a finer lathe encoder, 200 counts a turn or more"), "{err}");
     assert!(!err.contains("motor too weak"), "{err}");
+    // just coarser than it cuts with (2 x 3 edges cuts from 123 counts)
+    let line = "simulate --cutter-radius 75 --stock-diameter 30 --depth 1 --ratio 2 --edges 3 --direction same --rpm 300 --revolutions 5";
+    let err = refused(&format!("{line} --encoder-cpr 110"), "simulate: nothing was cut");
+    assert!(err.contains("(--encoder-cpr 110)") && err.contains("134 counts a turn or more"), "{err}");
+    let (code, _, err) = polyturn(&format!("{line} --encoder-cpr 134"));
+    assert_eq!(code, 0, "the cpr it names cuts: {err}");
 }
 
 #[test]

@@ -143,7 +143,10 @@ fn too_long() -> Reply {
 /// unless idle with the lathe at rest.
 fn saved(store: &mut Store) -> Reply {
     let cfg = tick::with_core(|c| *c.config());
-    let cam = store.cam;
+    // what runs is saved: a stored table the X axis no longer runs (`set
+    // cpr` took it off, or it did not fit at power-up) is forgotten, never
+    // fitted again at the next power-up under other settings
+    let cam = store.cam.filter(|_| tick::with_core(|c| c.x_axis().is_some()) == Some(true));
     let mut r = Reply::new();
     let _ = match cfg.map(|c| persist(&mut store.flash, &mut store.cam, &c, cam)) {
         Some(Ok((stall, Fit::Fitted | Fit::NoCam))) => write!(r, "ok saved{}", stall.describe()),

@@ -106,7 +106,7 @@ pub enum Refusal {
     DivideRange,
     /// dfu refused: the cutter is not idle, or a fault is latched
     DfuNotIdle,
-    /// ratio, edges or drive refused: a cam table is fitted for this cutter
+    /// ratio, edges, dir or drive refused: a cam table is fitted for this cutter
     CamFitted,
 }
 
@@ -137,7 +137,7 @@ impl Refusal {
             Refusal::DivideRange => crate::config::table::DIVIDE_REFUSAL,
             Refusal::DfuNotIdle => "stop first (and clear any fault): dfu restarts the board into its ROM bootloader",
             Refusal::CamFitted => {
-                "a cam table is fitted for this cutter (ratio, edges, drive): cam off first (polyturn device cam-off), then upload a table made for the new one"
+                "a cam table is fitted for this cutter (ratio, edges, dir, drive): cam off first (polyturn device cam-off), then upload a table made for the new one"
             }
         }
     }
@@ -564,7 +564,7 @@ mod turns_tests;
 #[cfg(test)]
 mod x_axis_tests;
 pub use activity::{Asked, Divide};
-pub use commands::{check_table, prepare_cam, PreparedConfig, Status};
+pub use commands::{changes_the_cutter, check_table, prepare_cam, PreparedConfig, Status};
 pub use jog::JogPlan;
 pub use stall::Stall;
 

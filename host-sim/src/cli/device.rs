@@ -289,16 +289,18 @@ fn read_table(file: &std::path::Path) -> CliResult<crate::noncircular::table::Ca
     super::console_line::cam_table(&name, &text)
 }
 
-/// A table fits only the tool it was made for: a compensating table the
-/// ratio and edges of its cutter, a single-point tool's no cutter at all.
+/// A table fits only the encoder and the tool it was made for: a
+/// compensating table the ratio and edges of its cutter, a single-point
+/// tool's no cutter at all.
 /// Refused, naming what differs and sending nothing, when the board's differ.
 fn same_tool<P: Read + Write>(s: &mut Session<P>, table: &crate::noncircular::table::CamFile) -> CliResult<()> {
     let mut setting = |name: &str| -> CliResult<String> {
         let reply = ok_or_device_error(s.ask(&format!("get {name}"))?)?;
         Ok(reply.split_once('=').map(|(_, v)| v.trim().to_string()).unwrap_or_default())
     };
-    let (ratio, edges, drive) = (setting("ratio")?, setting("edges")?, setting("drive")?);
-    table.fits(&ratio, &edges, &drive).map_err(|e| CliError(format!("upload-cam: {e}")))
+    let (cpr, ratio, edges, drive) = (setting("cpr")?, setting("ratio")?, setting("edges")?, setting("drive")?);
+    let board = crate::noncircular::table::Board { cpr: &cpr, ratio: &ratio, edges: &edges, drive: &drive };
+    table.fits(&board).map_err(|e| CliError(format!("upload-cam: {e}")))
 }
 
 /// Sends a table line by line; stops at the first error (the device then

@@ -51,39 +51,59 @@ impl MadeFor {
             return Ok(());
         }
         Err(format!(
-            "the table was made for ratio {} with {} edges, the board is set to ratio {ratio} with {edges} edges: set ratio and edges on the board, or make the table for its setup (nothing sent)",
+            "the table was made for ratio {} with {} edges, the board is set to ratio {ratio} with {edges} edges: set ratio and edges on the board {CAM_OFF}, or make the table for its setup (nothing sent)",
             self.ratio, self.edges
         ))
     }
 }
 
+/// A board's settings as its console says them (`get`), those a table
+/// must fit.
+pub struct Board<'a> {
+    pub cpr: &'a str,
+    pub ratio: &'a str,
+    pub edges: &'a str,
+    pub drive: &'a str,
+}
+
+/// The way out of a fitted table, for advice that changes the cutter (the
+/// board refuses that while a table is fitted).
+const CAM_OFF: &str = "(after polyturn device cam-off, if a table is fitted)";
+
 impl CamFile {
-    /// Whether a board whose console says `ratio`, `edges` and `drive`
-    /// runs this table with the tool it was made for: a compensating
-    /// table (`polyturn compensate`) with its cutter turning, a single-point
+    /// Whether a board with these settings runs this table with the
+    /// encoder and the tool it was made for: a compensating table
+    /// (`polyturn compensate`) with its cutter turning, a single-point
     /// tool's (`polyturn cam`) with none (its X motion is the whole cut).
-    pub fn fits(&self, ratio: &str, edges: &str, drive: &str) -> Result<(), String> {
-        match (&self.cutter, drive == "none") {
+    pub fn fits(&self, b: &Board) -> Result<(), String> {
+        if b.cpr != self.counts_per_rev.to_string() {
+            return Err(format!(
+                "the table was made for a lathe encoder of {} counts a turn (counts_per_rev), the board's cpr is {}: set cpr on the board, or make the table for its encoder (nothing sent)",
+                self.counts_per_rev, b.cpr
+            ));
+        }
+        match (&self.cutter, b.drive == "none") {
             (Some(c), true) => Err(format!(
-                "the table straightens the flats of a turning cutter (ratio {} with {} edges), the board is set to drive=none: set drive stepper or bldc, or make a single-point tool's table with polyturn cam (nothing sent)",
+                "the table straightens the flats of a turning cutter (ratio {} with {} edges), the board is set to drive=none: set drive stepper or bldc {CAM_OFF}, or make a single-point tool's table with polyturn cam (nothing sent)",
                 c.ratio, c.edges
             )),
-            (Some(c), false) => c.fits(ratio, edges),
+            (Some(c), false) => c.fits(b.ratio, b.edges),
             (None, true) => Ok(()),
             (None, false) => Err(format!(
-                "the table is a single-point tool's (polyturn cam), the board is set to drive={drive}: set drive none first, so that no cutter turns while X cuts the section (nothing sent)"
+                "the table is a single-point tool's (polyturn cam), the board is set to drive={}: set drive none first {CAM_OFF}, so that no cutter turns while X cuts the section (nothing sent)",
+                b.drive
             )),
         }
     }
 
-    /// The same, from the board's `get` reply (`ok ... ratio=R edges=E ...`).
+    /// The same, from the board's `get` reply (`ok cpr=C ... ratio=R ...`).
     pub fn fits_settings(&self, get_reply: &str) -> Result<(), String> {
         let value = |key: &str| {
             get_reply.split_whitespace().find_map(|w| w.split_once('=').filter(|(k, _)| *k == key).map(|(_, v)| v))
         };
-        match (value("ratio"), value("edges"), value("drive")) {
-            (Some(r), Some(e), Some(d)) => self.fits(r, e, d),
-            _ => Err("the board's ratio, edges and drive could not be read (get): connect to it first".into()),
+        match (value("cpr"), value("ratio"), value("edges"), value("drive")) {
+            (Some(cpr), Some(ratio), Some(edges), Some(drive)) => self.fits(&Board { cpr, ratio, edges, drive }),
+            _ => Err("the board's cpr, ratio, edges and drive could not be read (get): connect to it first".into()),
         }
     }
 }

@@ -355,10 +355,11 @@ pub fn prepare_cam(
 
 /// Whether `next` turns another cutter than `now`: a cam table fitted for
 /// one cutter (its period a whole number of the cutter's passes, made by
-/// `polyturn compensate` for that ratio and those edges) would run out of
-/// step with another. With no cutter before or after, ratio and edges move
+/// `polyturn compensate` for that ratio, those edges and that sense) would
+/// run out of step with another. With no cutter before or after, ratio and edges move
 /// nothing (a single-point tool's table takes any).
-fn changes_the_cutter(now: &Config, next: &Config) -> bool {
+pub fn changes_the_cutter(now: &Config, next: &Config) -> bool {
     let none = |c: &Config| c.drive == crate::config::DriveKind::None;
-    !(none(now) && none(next)) && (now.ratio != next.ratio || now.edges != next.edges || now.drive != next.drive)
+    let turned = now.ratio != next.ratio || now.edges != next.edges || now.sense != next.sense;
+    !(none(now) && none(next)) && (turned || now.drive != next.drive)
 }

@@ -46,7 +46,8 @@ fn a_cam_fitted_for_a_cutter_keeps_its_cutter_until_cam_off() {
     fit(&mut r);
     // a compensating table's period is one pass of this cutter: another
     // ratio, edge count or drive would run it out of step
-    for (name, value) in [("ratio", "1"), ("edges", "2"), ("drive", "none"), ("drive", "bldc")] {
+    let other_sense = if Config::default().sense == crate::Sense::Same { "opposite" } else { "same" };
+    for (name, value) in [("ratio", "1"), ("edges", "2"), ("dir", other_sense), ("drive", "none"), ("drive", "bldc")] {
         assert_eq!(install(&mut r, name, value), Err(Refusal::CamFitted), "{name} {value}");
     }
     assert!(r.c.x_axis().is_some() && r.c.config().ratio == Config::default().ratio);

@@ -30,7 +30,10 @@ pub fn check_encoder<P: Read + Write>(
 ) -> CliResult<(EncoderFigures, Result<u32, String>)> {
     s.ask("check-encoder start")?;
     ask.say("Encoder check: hands off the chuck for a second...");
-    std::thread::sleep(STILL);
+    // from here the board's check runs: a Ctrl-C anywhere stops it
+    if !pause(STILL) {
+        return Err(stopped(s, ask.interrupted()));
+    }
     match turning {
         Turning::UntilEnter => {
             let what = match turns {
@@ -43,12 +46,8 @@ pub fn check_encoder<P: Read + Write>(
         }
         Turning::For(d) => {
             ask.say(&format!("Measuring for {:.1} s: run the lathe slowly forward", d.as_secs_f64()));
-            let end = std::time::Instant::now() + d;
-            while std::time::Instant::now() < end {
-                if super::prompt::cancelled_by_ctrl_c() {
-                    return Err(stopped(s, CliError("check-encoder: cancelled (Ctrl-C): nothing saved".into())));
-                }
-                std::thread::sleep(std::time::Duration::from_millis(20).min(end - std::time::Instant::now()));
+            if !pause(d) {
+                return Err(stopped(s, ask.interrupted()));
             }
         }
     }
@@ -57,6 +56,19 @@ pub fn check_encoder<P: Read + Write>(
         .ok_or_else(|| s.port_error(format!("unexpected reply to check-encoder stop: '{reply}'")))?;
     let proposal = figures::propose_cpr(&f, turns);
     Ok((f, proposal))
+}
+
+/// Waits `d`, or until Ctrl-C (false).
+fn pause(d: Duration) -> bool {
+    let end = Instant::now() + d;
+    while !super::prompt::cancelled_by_ctrl_c() {
+        let now = Instant::now();
+        if now >= end {
+            return true;
+        }
+        std::thread::sleep(Duration::from_millis(20).min(end - now));
+    }
+    false
 }
 
 /// A check cut short: the board's check stopped too (else engage, jog and

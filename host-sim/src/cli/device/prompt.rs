@@ -17,6 +17,8 @@ pub trait Ask {
     fn number(&mut self, question: &str, default: Option<u32>, min: u32, max: u32) -> CliResult<u32>;
     /// One of `choices`; returns its index.
     fn choose(&mut self, question: &str, choices: &[&str]) -> CliResult<usize>;
+    /// What a Ctrl-C outside a question ends the command with.
+    fn interrupted(&self) -> CliError;
 }
 
 /// How often a refused answer is asked again before the setup stops.
@@ -127,6 +129,9 @@ impl Ask for Terminal {
             .map_err(|e| self.cancelled(e))?;
         whole_in(&text, min, max).map_err(CliError)
     }
+    fn interrupted(&self) -> CliError {
+        CliError(format!("{}: cancelled (Ctrl-C): nothing saved", self.command))
+    }
     fn choose(&mut self, question: &str, choices: &[&str]) -> CliResult<usize> {
         dialoguer::Select::new()
             .with_prompt(question)
@@ -144,6 +149,10 @@ pub fn whole_in(text: &str, min: u32, max: u32) -> Result<u32, String> {
     match t.parse::<u32>() {
         Ok(v) if (min..=max).contains(&v) => Ok(v),
         Ok(_) => Err(format!("{t} is outside {min}..={max}")),
+        // digits too many for a u32 are still a whole number, far outside
+        Err(_) if !t.is_empty() && t.bytes().all(|b| b.is_ascii_digit()) => {
+            Err(format!("{t} is outside {min}..={max}"))
+        }
         Err(_) => Err(format!("'{}' is not a whole number: {min}..={max}", t.escape_debug())),
     }
 }
@@ -188,6 +197,9 @@ impl Ask for Scripted {
             }
         }
     }
+    fn interrupted(&self) -> CliError {
+        CliError("scripted: cancelled (Ctrl-C): nothing saved".into())
+    }
     fn choose(&mut self, question: &str, choices: &[&str]) -> CliResult<usize> {
         let a = self.next(question)?;
         choices
@@ -205,7 +217,8 @@ mod tests {
     fn a_number_answer_is_told_its_range_whatever_was_typed() {
         assert_eq!(whole_in(" 600 ", 1, 250_000), Ok(600));
         assert_eq!(whole_in("0", 1, 250_000), Err("0 is outside 1..=250000".into()));
-        for bad in ["-5", "1.5", "99999999999999999999", "", "6OO"] {
+        assert_eq!(whole_in("99999999999999999999", 1, 20), Err("99999999999999999999 is outside 1..=20".into()));
+        for bad in ["-5", "1.5", "", "6OO"] {
             assert_eq!(whole_in(bad, 1, 250_000), Err(format!("'{bad}' is not a whole number: 1..=250000")), "{bad}");
         }
     }

@@ -24,7 +24,8 @@ pub fn run<P: Read + Write>(s: &mut Session<P>, a: &GuidedArgs, ask: &mut dyn As
     let facts = if a.non_interactive { from_flags(a)? } else { interview(s, a, ask)? };
     let (_, current) = read_back(s)?;
     let facts = top_speed_that_fits(facts, &current, a, ask)?;
-    let (order, _) = figures::send_order(&current, &changes(&facts)).map_err(CliError)?;
+    let (order, next) = figures::send_order(&current, &changes(&facts)).map_err(CliError)?;
+    cam_keeps_its_cutter(s, &current, &next)?;
     for (name, value) in &order {
         s.ask(&format!("set {name} {value}")).map_err(sent_not_saved)?;
     }
@@ -74,6 +75,22 @@ fn top_speed_that_fits(f: Facts, current: &Config, a: &GuidedArgs, ask: &mut dyn
     ask.say(&format!("{} rpm is too fast {at}: at most {lo} rpm", f.max_rpm));
     let max_rpm = ask.number("The lathe's fastest speed, rpm", Some(lo), MAX_RPM.lo, lo)?;
     Ok(Facts { max_rpm, ..f })
+}
+
+/// A board with a cam table fitted refuses another cutter under it (the
+/// sync core's `changes_the_cutter`): said before anything is sent, not
+/// half-way through the settings.
+fn cam_keeps_its_cutter<P: Read + Write>(s: &mut Session<P>, current: &Config, next: &Config) -> CliResult<()> {
+    if !polyturn_sync::controller::changes_the_cutter(current, next) {
+        return Ok(());
+    }
+    let status = s.ask("status")?;
+    match status.split_whitespace().any(|w| w.starts_with("cam=")) {
+        true => Err(CliError(
+            "setup: the board has a cam table fitted for its cutter, and these answers change the cutter (ratio, edges, dir or drive): polyturn device cam-off first (nothing sent)".into(),
+        )),
+        false => Ok(()),
+    }
 }
 
 /// A setup stopped once its settings went to the board says so: the

@@ -58,6 +58,11 @@ fn a_cam_table_uploads_through_the_real_console() {
     let e = upload(&mut s, &table).unwrap_err().0;
     assert!(e.starts_with("upload-cam: the table is a single-point tool's (polyturn cam), the board is set to drive=stepper: set drive none first"), "{e}");
     s.ask("set drive none").unwrap();
+    // a table for another encoder: refused before anything is sent
+    s.ask("set cpr 2000").unwrap();
+    let e = upload(&mut s, &table).unwrap_err().0;
+    assert!(e.starts_with("upload-cam: the table was made for a lathe encoder of 2400 counts a turn (counts_per_rev), the board's cpr is 2000"), "{e}");
+    s.ask("set cpr 2400").unwrap();
     // the fake device stages and checks the table as the firmware does;
     // it has no flash, and its last reply says so
     let r = upload(&mut s, &table).unwrap();
@@ -87,7 +92,7 @@ fn a_compensating_table_goes_only_to_a_board_set_for_its_ratio_and_edges() {
     s.ask("set ratio 2").unwrap();
     s.ask("set edges 3").unwrap();
     let e = upload(&mut s, &table).unwrap_err().0;
-    assert_eq!(e, "upload-cam: the table was made for ratio 3 with 2 edges, the board is set to ratio 2 with 3 edges: set ratio and edges on the board, or make the table for its setup (nothing sent)");
+    assert_eq!(e, "upload-cam: the table was made for ratio 3 with 2 edges, the board is set to ratio 2 with 3 edges: set ratio and edges on the board (after polyturn device cam-off, if a table is fitted), or make the table for its setup (nothing sent)");
     let e = s.ask("cam end 00000000").unwrap_err().0;
     assert!(e.contains("cam begin"), "no table was begun: {e}");
     s.ask("set ratio 3/1").unwrap();
