@@ -256,7 +256,7 @@ impl Controller {
             // not lag: back to Engaging (no following-error check) until the
             // cutter is on the new phase, then Synced again. Checked as lag,
             // 10 degrees of a 3200-step cutter (89 steps) tripped the 64-step
-            // limit on the next tick after `ok phase=10` (found by fuzzing).
+            // limit on the next tick after `ok phase=10`.
             if d.phase_offset_q16 != self.d.phase_offset_q16 && self.state == State::Synced {
                 self.state = State::Engaging;
             }
