@@ -192,8 +192,26 @@ impl Generator {
         }
     }
 
-    /// One control tick: the core's plan for tick k+2, or its halt.
+    /// One control tick: the core's plan for tick k+2, or its halt
+    /// (`begin`, then `write_plan` if it says so), as the host runs it.
     pub fn tick(&mut self, plan: &StepPlan, halt: bool, t: &StepTiming, bus: &mut impl Bus) -> Result<(), Fail> {
+        if self.begin(halt, t, bus)? {
+            self.write_plan(plan, t, bus)
+        } else {
+            Ok(())
+        }
+    }
+
+    /// The tick's own part, made inside the tick it is for: a halted
+    /// pulse released in its time, the halt, the ring silenced a share
+    /// after one, or the arm, whose register program holds only inside its
+    /// tick (`program::arm`'s `Sync`). True if the output is armed and this
+    /// tick's plan is to be written (`write_plan`). That may come after the
+    /// tick returns, if it ends before the next tick's instant: the DMA
+    /// reads the window's first segment no earlier (after an arm, at TIM1's
+    /// first update, which is that instant; later, at the start of the
+    /// window before's last segment, inside that window).
+    pub fn begin(&mut self, halt: bool, t: &StepTiming, bus: &mut impl Bus) -> Result<bool, Fail> {
         self.release_due(bus);
         if halt {
             if self.armed {
@@ -203,7 +221,7 @@ impl Generator {
                 // is silenced a share at a time while nothing is urgent
                 self.silence_some(bus);
             }
-            return Ok(());
+            return Ok(false);
         }
         if !self.armed {
             if !self.silent {
@@ -216,6 +234,12 @@ impl Generator {
             }
             self.arm(t, bus)?;
         }
+        Ok(true)
+    }
+
+    /// The plan's part: this tick's plan into the ring, RAM writes only, and
+    /// a halt if the DMA got there first. Only while armed (`begin`).
+    pub fn write_plan(&mut self, plan: &StepPlan, t: &StepTiming, bus: &mut impl Bus) -> Result<(), Fail> {
         // the stream runs, and has not reached what this tick writes
         let (started, finished) = self.dma_entries(bus);
         let pending = (self.write + RING_ENTRIES - started) % RING_ENTRIES;

@@ -71,6 +71,6 @@ fn nudge(dir: i8) -> bool {
     let Some(phase) = nudged_phase(c.phase_offset_mdeg, dir) else { return false };
     let next = polyturn_sync::Config { phase_offset_mdeg: phase, ..c };
     let p = PreparedConfig::prepare(next, &c, tick::TIMING);
-    let done = tick::with_core(|c| c.config_generation() == generation && c.install_config(p).is_ok());
+    let done = tick::with_core(|c| c.config_generation() == generation && c.install_config(&p).is_ok());
     done == Some(true)
 }

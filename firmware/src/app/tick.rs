@@ -234,15 +234,22 @@ fn run(cs: &CriticalSection) -> bool {
     };
     let out = io.core.control(&input);
     heard_of_halts(io);
-    // the plan for two ticks on, RAM writes only (stepgen), one level
-    // below (`plan`); but a halt, or a (re-)arm, whose register program
-    // must run inside the tick it was made for (`program::arm`'s Sync),
-    // here. Any other drive keeps the step output halted.
-    let stepping = io.core.config().drive == DriveKind::Stepper;
-    if stepping && !out.halt && io.steps.armed() {
-        plan::hand_on();
-    } else {
-        write_steps(io, out.halt || !stepping);
+    // the step output's own part of the tick here (a halt, or an arm, whose
+    // register program holds only inside its tick: `program::arm`'s Sync),
+    // and the plan for two ticks on, RAM writes only, one level below
+    // (`plan`). Any other drive keeps the step output halted.
+    let halt = out.halt || io.core.config().drive != DriveKind::Stepper;
+    let timing = io.core.derived().steps;
+    match io.steps.begin(halt, &timing, &mut Mmio) {
+        Ok(true) => plan::hand_on(),
+        // halted, or an arm that must wait: the plan made for the core's
+        // books, unwritten (a failed arm is counted, as a late write)
+        done => {
+            let _ = io.core.plan_steps();
+            if done.is_err() {
+                STEPS_LATE.fetch_add(1, Ordering::Relaxed);
+            }
+        }
     }
     // every tick, whatever the drive: a halt stops the BLDC at once,
     // anything else not running it gets the stop from the next frame
@@ -266,16 +273,6 @@ fn run(cs: &CriticalSection) -> bool {
         heard_of_halts(io);
     }
     true
-}
-
-/// The core's step plan into the ring (`Generator::tick`), or the halt.
-fn write_steps(io: &mut Io, halt: bool) {
-    let plan = io.core.plan_steps();
-    let timing = io.core.derived().steps;
-    if io.steps.tick(&plan, halt, &timing, &mut Mmio).is_err() {
-        STEPS_LATE.fetch_add(1, Ordering::Relaxed);
-    }
-    NDTR_LEAD.store(io.steps.ndtr_lead(), Ordering::Relaxed);
 }
 
 /// Halts of the step output made outside the generator: the E-stop
@@ -407,20 +404,24 @@ pub fn fit_cam(h: &polyturn_sync::cam_upload::CamHeader, table: &'static [i32]) 
 
 /// Applies the settings the drivers hold themselves (ENABLE polarity, the
 /// pulse width a halt waits out, the BLDC drive's interface and sense)
-/// after a console change, at low priority.
+/// after a console change, at low priority. The BLDC's scale (a 64-bit
+/// division) is worked out between two short copies under the lock: only
+/// thread mode changes the settings, and nothing else runs there meanwhile.
 pub fn apply_driver_settings() {
+    let read = |io: &Io| (*io.core.config(), io.core.derived().limits.max_velocity, io.core.derived().steps.pulse);
+    let Some((config, max_q16, pulse)) = locked(|cs| IO.borrow(cs).borrow().as_ref().map(read)) else { return };
+    let out = Out::new(&config, max_q16);
+    drivers::set_halt_pulse(pulse);
     locked(|cs| {
         if let Some(io) = IO.borrow(cs).borrow_mut().as_mut() {
-            io.pins.set_polarity(io.core.config().enable_active_high);
-            drivers::set_halt_pulse(io.core.derived().steps.pulse);
+            io.pins.set_polarity(config.enable_active_high);
             // (a new scale alone keeps the frame: no reprogram, whose
             // restart would cut a frame short)
-            let out = bldc::out_for(&io.core);
             if !out.same_frame(&io.bldc) {
                 bldc::set_up(&out);
             }
             io.bldc = out;
-            bldc::set_sense(io.core.config());
+            bldc::set_sense(&config);
         }
     });
 }

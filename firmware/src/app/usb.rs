@@ -121,7 +121,7 @@ fn answer(line: &[u8], store: &mut Store) -> (Tag, Reply, Action) {
     let cmd = console::parse(body);
     let pre = tick::with_core(|c| (*c.config(), c.config_generation()))
         .and_then(|(cfg, generation)| console::prepare(&cmd, cfg, generation, tick::TIMING));
-    let outcome = tick::with_core(|c| console::apply_prepared(cmd, pre, c));
+    let outcome = tick::with_core(|c| console::apply_prepared(cmd, pre.as_ref(), c));
     tick::apply_driver_settings();
     let (reply, action) = match outcome {
         Some(outcome) => console::render(&outcome),

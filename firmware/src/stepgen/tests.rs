@@ -186,6 +186,39 @@ fn a_segment_whose_burst_is_under_way_is_not_silenced() {
     assert!(!touched.contains(&1), "slot 1 is mid-burst: {touched:?}");
 }
 
+/// The arm's own part runs in the tick (its register program holds only
+/// there); the first window's segments are RAM writes made by the plan's
+/// handler afterwards, the same writes `tick` makes in one go.
+#[test]
+fn an_arm_in_the_tick_leaves_its_first_window_to_the_plan() {
+    let ring = 0x2000_0000;
+    let in_ring = |a: u32| (ring..ring + program::RING_WORDS * 4).contains(&a);
+    let p = plan(0, 3 << 16, 0, &Prev::idle(Dir::Forward), &T); // three steps (Q16)
+    assert!(p.count > 0, "a window with steps in it");
+    let arm_reads = vec![0, 100, 0, program::RING_WORDS, 0, program::RING_WORDS, 1, program::RING_WORDS];
+    let prepared = || {
+        let mut g = Generator::new(ring);
+        let mut bus = Script::default();
+        g.prepare(T.tick_len, &mut bus);
+        bus.writes.clear();
+        bus.reads = arm_reads.clone();
+        (g, bus)
+    };
+    let (mut split, mut bus) = prepared();
+    assert_eq!(split.begin(false, &T, &mut bus), Ok(true));
+    assert!(split.armed());
+    assert!(!bus.writes.iter().any(|w| in_ring(w.0)), "the tick writes no ring entry at arm");
+    let armed_at = bus.writes.len();
+    split.write_plan(&p, &T, &mut bus).unwrap();
+    assert!(
+        bus.writes[armed_at..].iter().any(|w| in_ring(w.0) && w.0 < ring + 4 * program::BURST_WORDS),
+        "slot 0 written by the plan"
+    );
+    let (mut whole, mut whole_bus) = prepared();
+    whole.tick(&p, false, &T, &mut whole_bus).unwrap();
+    assert_eq!(bus.writes, whole_bus.writes, "begin and write_plan make tick's writes");
+}
+
 /// A generator whose boot probe reads NDTR `boot`, armed with NDTR
 /// reading `ndtr` and TIM1's update flag `uif`; then one tick whose NDTR
 /// reads `now`. Returns the lead learnt, the arm's result, the tick's, and

@@ -141,28 +141,38 @@ pub struct Prepared {
     next: Result<PreparedConfig, ConfigError>,
     /// `selftest start`'s plan (it divides in 128 bits: not under the lock)
     selftest: Option<Result<crate::selftest::Plan, crate::controller::selftest::SelfTestRefusal>>,
+    /// the setting a `set` names, as `NAMES` spells it, and whether it is
+    /// the phase (looked up here: string compares are not for the lock)
+    setting: &'static str,
+    phase: bool,
 }
 
 /// The long half of `apply`, outside the lock: `current` and `generation`
 /// are short copies taken from the controller.
 pub fn prepare(cmd: &Command<'_>, current: Config, generation: u32, timing: Timing) -> Option<Prepared> {
+    let setting = match *cmd {
+        Command::Set(name, _) => NAMES.iter().find(|n| **n == name).copied().unwrap_or("name"),
+        _ => "",
+    };
+    let phase = setting == "phase";
     let next = match *cmd {
         Command::Set(name, value) => current.with(name, value),
         Command::Defaults => Ok(Config::default()),
         Command::SelfTest(SelfTestOp::Start(rpm)) => {
             let p = PreparedConfig::prepare(current, &current, timing);
             let plan = crate::controller::selftest::plan_selftest(&current, p.derived(), rpm);
-            return Some(Prepared { generation, next: Ok(p), selftest: Some(plan) });
+            return Some(Prepared { generation, next: Ok(p), selftest: Some(plan), setting, phase });
         }
         _ => return None,
     };
-    Some(Prepared { generation, next: next.map(|c| PreparedConfig::prepare(c, &current, timing)), selftest: None })
+    let next = next.map(|c| PreparedConfig::prepare(c, &current, timing));
+    Some(Prepared { generation, next, selftest: None, setting, phase })
 }
 
 /// Applies a command to the controller (on the host, in one go).
 pub fn apply(cmd: Command<'_>, ctl: &mut Controller) -> Outcome {
     let pre = prepare(&cmd, *ctl.config(), ctl.config_generation(), ctl.timing());
-    apply_prepared(cmd, pre, ctl)
+    apply_prepared(cmd, pre.as_ref(), ctl)
 }
 
 fn refused((field, text): (Option<&'static str>, &'static str)) -> Outcome {
@@ -173,8 +183,10 @@ fn refused((field, text): (Option<&'static str>, &'static str)) -> Outcome {
 }
 
 /// Applies a command prepared by `prepare`: short, no formatting, no
-/// derivation (the firmware holds the tick's lock for this only).
-pub fn apply_prepared(cmd: Command<'_>, pre: Option<Prepared>, ctl: &mut Controller) -> Outcome {
+/// derivation (the firmware holds the tick's lock for this only), and
+/// `pre` by reference: the settings and their figures are copied once,
+/// into the controller, where they change.
+pub fn apply_prepared(cmd: Command<'_>, pre: Option<&Prepared>, ctl: &mut Controller) -> Outcome {
     // (the error as (field, text), not an `Outcome`: a small Err keeps
     // the Result small; `Outcome` carries a whole status snapshot)
     let installed = |ctl: &mut Controller, phase: bool| -> Result<Config, (Option<&'static str>, &'static str)> {
@@ -186,7 +198,7 @@ pub fn apply_prepared(cmd: Command<'_>, pre: Option<Prepared>, ctl: &mut Control
             // engaged, "stop first" comes before how the value fits
             ctl.settings_may_change(phase).map_err(|r| (None, r.describe()))?;
         }
-        let next = p.next.map_err(|e| (Some(e.field), e.allowed))?;
+        let next = p.next.as_ref().map_err(|e| (Some(e.field), e.allowed))?;
         ctl.install_config(next).map_err(|r| (None, r.describe()))?;
         Ok(*next.config())
     };
@@ -195,8 +207,8 @@ pub fn apply_prepared(cmd: Command<'_>, pre: Option<Prepared>, ctl: &mut Control
         Command::Bad(msg) => Outcome::Error(msg),
         Command::GetAll => Outcome::All(*ctl.config()),
         Command::Get(name) => Outcome::Value(*ctl.config(), name),
-        Command::Set(name, _) => match installed(ctl, name == "phase") {
-            Ok(c) => Outcome::Value(c, NAMES.iter().find(|n| **n == name).copied().unwrap_or("name")),
+        Command::Set(..) => match installed(ctl, pre.is_some_and(|p| p.phase)) {
+            Ok(c) => Outcome::Value(c, pre.map_or("name", |p| p.setting)),
             Err(e) => refused(e),
         },
         Command::Engage => match ctl.engage() {

@@ -566,6 +566,7 @@ mod x_axis_tests;
 pub use activity::{Asked, Divide};
 pub use commands::{changes_the_cutter, check_table, prepare_cam, PreparedConfig, Status};
 pub use jog::JogPlan;
+pub use lost::ShaftGap;
 pub use stall::Stall;
 
 #[cfg(test)]

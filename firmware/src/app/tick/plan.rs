@@ -27,8 +27,8 @@
 //!   emulator's jobs), a plan that late means something is wrong.
 //! - the register programs that must run inside the tick they were made
 //!   for, an arm (`program::arm`'s `Sync` on TIM11's count and UIF), stay
-//!   in the tick (`tick::run`): this handler only writes the ring, and
-//!   halts.
+//!   in the tick (`Generator::begin`): this handler only writes the ring,
+//!   the first window after an arm too, and halts.
 
 use super::{heard_of_halts, Io, IO, NDTR_LEAD, STEPS_LATE};
 use crate::app::drivers;
@@ -142,7 +142,7 @@ fn make(io: &mut Io) {
     }
     let timing = io.core.derived().steps;
     // (a tick that found this plan late and halted counted it: not twice)
-    if io.steps.tick(&plan, false, &timing, &mut Mmio).is_err() && lates() == lates_before {
+    if io.steps.write_plan(&plan, &timing, &mut Mmio).is_err() && lates() == lates_before {
         STEPS_LATE.fetch_add(1, Ordering::Relaxed);
     }
     NDTR_LEAD.store(io.steps.ndtr_lead(), Ordering::Relaxed);

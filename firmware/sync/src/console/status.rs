@@ -5,7 +5,7 @@ pub(super) mod angle;
 
 use super::Reply;
 use crate::config::Config;
-use crate::controller::{Controller, Status};
+use crate::controller::{Controller, ShaftGap, Status};
 use crate::state::Fault;
 use core::fmt::Write;
 
@@ -20,9 +20,9 @@ pub struct Snapshot {
     /// the points of the cam table fitted to the X axis, if one is (at most
     /// CAM_POINTS, 1024; a u16 keeps `Outcome` small)
     pub cam_points: Option<u16>,
-    /// with a cutter encoder: the shaft's distance from the steps sent,
-    /// thousandths of a step (`lost-steps`)
-    pub lost_milli_steps: Option<i64>,
+    /// with a cutter encoder: the shaft's distance from the steps sent
+    /// (`lost-steps`), divided into steps when the line is written
+    pub shaft_gap: Option<ShaftGap>,
 }
 
 impl Snapshot {
@@ -33,7 +33,7 @@ impl Snapshot {
             tick_hz: ctl.derived().tick_hz,
             fault: ctl.fault(),
             cam_points: ctl.x_axis().map(|x| x.cam.points().len() as u16),
-            lost_milli_steps: ctl.lost_milli_steps(),
+            shaft_gap: ctl.shaft_gap(),
         }
     }
 
@@ -68,8 +68,8 @@ impl Snapshot {
         if let Some(n) = self.cam_points {
             let _ = write!(out, " cam={n}");
         }
-        if let Some(m) = self.lost_milli_steps {
-            let _ = write!(out, " shaft_err_steps={}", Milli(m));
+        if let Some(g) = self.shaft_gap {
+            let _ = write!(out, " shaft_err_steps={}", Milli(g.milli_steps()));
         }
         if let Some(f) = self.fault {
             let _ = write!(out, " reason=\"{}\"", f.reason());

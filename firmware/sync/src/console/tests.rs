@@ -86,7 +86,7 @@ fn a_set_prepared_outside_the_lock_installs_what_apply_would() {
     let cmd = parse(b"set ratio 5/2");
     let pre = prepare(&cmd, *b.config(), b.config_generation(), b.timing());
     apply(cmd, &mut a);
-    apply_prepared(cmd, pre, &mut b);
+    apply_prepared(cmd, pre.as_ref(), &mut b);
     assert_eq!(a.config(), b.config());
     assert_eq!(a.derived(), b.derived(), "the figures derived outside are the ones installed");
 }
@@ -98,7 +98,7 @@ fn a_set_prepared_from_stale_settings_changes_nothing() {
     let pre = prepare(&cmd, *c.config(), c.config_generation(), c.timing());
     assert_eq!(say(&mut c, "set ratio 5/2").0, "ok ratio=5/2"); // another change lands in between
     let before = *c.config();
-    let (reply, _) = render(&apply_prepared(cmd, pre, &mut c));
+    let (reply, _) = render(&apply_prepared(cmd, pre.as_ref(), &mut c));
     assert!(reply.starts_with("error: the settings changed meanwhile"), "{reply}");
     assert_eq!(*c.config(), before);
 }

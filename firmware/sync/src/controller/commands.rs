@@ -230,15 +230,18 @@ impl Controller {
     /// Replaces the settings. While running only the phase offset may
     /// change (a nudge, smoothed by the follower's limits).
     pub fn set_config(&mut self, c: Config) -> Result<(), Refusal> {
-        self.install_config(PreparedConfig::prepare(c, &self.config, self.timing))
+        self.install_config(&PreparedConfig::prepare(c, &self.config, self.timing))
     }
 
     /// `set_config` with its figures derived beforehand, outside the tick's
     /// lock (`Derived::new` costs about 1 400 instructions; the swap here is
     /// short). `p` was prepared from the settings in force: the caller
-    /// checks `config_generation` is the one it prepared from.
-    pub fn install_config(&mut self, p: PreparedConfig) -> Result<(), Refusal> {
+    /// checks `config_generation` is the one it prepared from. By
+    /// reference: only what changes is copied (the settings, and their
+    /// figures while idle), under the tick's lock on the MCU.
+    pub fn install_config(&mut self, p: &PreparedConfig) -> Result<(), Refusal> {
         let PreparedConfig { config: c, derived: d, only_phase, another_cutter } = p;
+        let (only_phase, another_cutter) = (*only_phase, *another_cutter);
         self.settings_may_change(only_phase)?;
         if another_cutter && self.x.is_some() {
             return Err(Refusal::CamFitted);
@@ -249,7 +252,7 @@ impl Controller {
             warn!("cpr changed: the X cam table no longer fits, X axis off");
             self.x = None;
         }
-        self.config = c;
+        self.config = *c;
         self.config_generation = self.config_generation.wrapping_add(1);
         if running {
             // A phase nudge is a move the follower makes within its limits,
@@ -263,7 +266,7 @@ impl Controller {
             self.d.phase_offset_q16 = d.phase_offset_q16;
             return Ok(());
         }
-        self.d = d;
+        self.d = *d;
         // The speed is measured afresh (its sign follows `dir`), but the
         // time since the encoder's last count is the encoder's, whatever
         // the settings: a lathe at rest stays at rest (`lathe_at_rest`).

@@ -77,14 +77,36 @@ impl Controller {
         }
     }
 
-    /// The shaft's distance from the books, thousandths of a step (status;
-    /// a division, so not for the tick), with a cutter encoder on a stepper.
-    pub fn lost_milli_steps(&self) -> Option<i64> {
-        let cpr = self.config.cutter_encoder_cpr as i64;
+    /// The shaft's distance from the books, as the books hold it (a copy:
+    /// `ShaftGap::milli_steps` divides, outside any lock), with a cutter
+    /// encoder on a stepper.
+    pub fn shaft_gap(&self) -> Option<ShaftGap> {
+        let cpr = self.config.cutter_encoder_cpr;
         let stepper = self.config.drive == crate::config::DriveKind::Stepper;
+        (cpr != 0 && stepper).then_some(ShaftGap { diff: self.lost.diff, cpr })
+    }
+
+    /// `shaft_gap` in thousandths of a step (a division, so not for the tick).
+    pub fn lost_milli_steps(&self) -> Option<i64> {
+        self.shaft_gap().map(|g| g.milli_steps())
+    }
+}
+
+/// The shaft's distance from the steps sent, in the books' units (steps ×
+/// cpr − counts × motor steps, `LostSteps::diff`), with the cutter encoder's
+/// cpr that turns it into steps.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct ShaftGap {
+    pub diff: i64,
+    pub cpr: u32,
+}
+
+impl ShaftGap {
+    /// Thousandths of a step.
+    pub fn milli_steps(&self) -> i64 {
         // (clamped to ±2^52 so ×1000 fits an i64: a shaft that far off has
-        // tripped long before)
-        (cpr != 0 && stepper).then(|| self.lost.diff.clamp(-(1 << 52), 1 << 52) * 1000 / cpr)
+        // tripped long before; max(1): no division by zero)
+        self.diff.clamp(-(1 << 52), 1 << 52) * 1000 / (self.cpr.max(1) as i64)
     }
 }
 

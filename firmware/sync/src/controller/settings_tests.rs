@@ -8,7 +8,7 @@ use crate::config::Config;
 
 fn install(r: &mut Rig, name: &str, value: &str) -> Result<(), Refusal> {
     let c = r.c.config().with(name, value).unwrap();
-    r.c.install_config(PreparedConfig::prepare(c, r.c.config(), Timing::FIRMWARE))
+    r.c.install_config(&PreparedConfig::prepare(c, r.c.config(), Timing::FIRMWARE))
 }
 
 #[test]

@@ -116,7 +116,7 @@ fn a_start_prepared_from_stale_settings_changes_nothing() {
     let cmd = parse(b"selftest start 500");
     let pre = prepare(&cmd, *c.config(), c.config_generation(), c.timing());
     assert_eq!(reply(&mut c, "set ratio 5/2"), "ok ratio=5/2"); // lands in between
-    let (r, _) = render(&apply_prepared(cmd, pre, &mut c));
+    let (r, _) = render(&apply_prepared(cmd, pre.as_ref(), &mut c));
     assert!(r.starts_with("error: the settings changed meanwhile"), "{r}");
     assert_eq!((c.state(), c.selftest_running()), (State::Idle, false));
 }

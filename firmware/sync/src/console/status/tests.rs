@@ -27,7 +27,7 @@ fn snapshot(v_q32: i64, phase_error_q16: i64, fault: Option<Fault>) -> Snapshot 
         ticks: 7,
     };
     let config = Config::default().with("max-rpm", "600").unwrap().with("ratio", "11/3").unwrap();
-    Snapshot { status, config, tick_hz: TICK_HZ, fault, cam_points: None, lost_milli_steps: None }
+    Snapshot { status, config, tick_hz: TICK_HZ, fault, cam_points: None, shaft_gap: None }
 }
 
 fn line(s: &Snapshot) -> std::string::String {
@@ -77,7 +77,7 @@ fn the_idle_line_reads_as_the_manual_shows_it() {
         tick_hz: TICK_HZ,
         fault: None,
         cam_points: None,
-        lost_milli_steps: None,
+        shaft_gap: None,
     };
     assert_eq!(
         line(&s),
@@ -182,7 +182,7 @@ fn the_longest_status_line_fits_a_reply() {
             tick_hz: TICK_HZ,
             fault: Some(Fault::LostSteps),
             cam_points: Some(1024),
-            lost_milli_steps: Some(i64::MIN),
+            shaft_gap: Some(crate::controller::ShaftGap { diff: i64::MIN, cpr: 1 }),
         };
         let l = line(&s);
         assert!(l.ends_with(&std::format!("reason=\"{}\"", Fault::LostSteps.reason())), "cut: {l}");
