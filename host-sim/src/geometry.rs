@@ -66,6 +66,10 @@ impl Direction {
 /// Most edges a cutter may have (the planner's and the CLI's limit).
 pub const MAX_EDGES: u32 = 12;
 
+/// The lengths a setup takes, mm: a micron (finer is no lathe's) to ten
+/// metres (a lathe, not a bridge). The CLI's length flags take the same.
+pub const LENGTH_MM: (f64, f64) = (0.001, 10_000.0);
+
 /// One polygon-turning setup: Foale's five variables.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Setup {
@@ -84,6 +88,15 @@ pub struct SetupError {
     pub allowed: String,
 }
 
+/// Why `Setup::check` refuses a setup.
+#[derive(Clone, Debug)]
+pub enum Refusal {
+    /// a value out of its range
+    Setting(SetupError),
+    /// the section is nearly round
+    Round(Roundness),
+}
+
 fn positive_finite(v: f64) -> bool {
     v.is_finite() && v > 0.0
 }
@@ -92,8 +105,13 @@ impl Setup {
     /// Checks every field; the error names the CLI flag it came from.
     pub fn validate(&self) -> Result<(), SetupError> {
         let err = |field, allowed: &str| Err(SetupError { field, allowed: allowed.to_string() });
-        if !positive_finite(self.cutter_radius_mm) {
-            return err("cutter-radius", "must be a finite length > 0 mm");
+        // in the flag's own range and words: a cutter `setups` assumes
+        // (5 x the stock) is refused here as `geometry` refuses the flag
+        if !(LENGTH_MM.0..=LENGTH_MM.1).contains(&self.cutter_radius_mm) {
+            return Err(SetupError {
+                field: "cutter-radius",
+                allowed: format!("must be a number in {}..={} mm", LENGTH_MM.0, LENGTH_MM.1),
+            });
         }
         if !positive_finite(self.stock_radius_mm) {
             return err("stock-radius", "must be a finite length > 0 mm");
@@ -119,6 +137,19 @@ impl Setup {
             return err("edges", "must be a whole number in 1..=12");
         }
         Ok(())
+    }
+
+    /// `geometry`'s whole check of a setup: each value in its range
+    /// (`validate`), then a section that is a polygon, not a circle
+    /// (`Roundness`); Ok with the section judged. `setups` lists only what
+    /// it passes, so that no row it prints is one `geometry` refuses.
+    pub fn check(&self) -> Result<Section, Refusal> {
+        self.validate().map_err(Refusal::Setting)?;
+        let (round, section) = Roundness::of_setup(self);
+        match round.is_round() {
+            true => Err(Refusal::Round(round)),
+            false => Ok(section),
+        }
     }
 
     pub fn gr(&self) -> f64 {

@@ -1,7 +1,7 @@
 //! The setup planner: every (ratio, edges, direction) that cuts N flats,
 //! with what a machinist needs to choose between them.
 
-use crate::geometry::{Direction, Roundness, Section, Setup};
+use crate::geometry::{Direction, Refusal, Section, Setup, SetupError};
 use polyturn_sync::ratio::gcd;
 use polyturn_sync::Ratio;
 use std::collections::HashMap;
@@ -45,22 +45,36 @@ pub fn default_cutter(stock: f64) -> f64 {
 }
 
 /// What the planner found: the setups that cut the polygon, flattest
-/// first, and how many more it left out as nearly round (`Roundness`).
+/// first, and how many more it left out because `geometry` refuses them
+/// (`Setup::check`): as nearly round, or for a value out of its range.
 pub struct Plan {
     pub found: Vec<Candidate>,
     pub round: usize,
+    /// each value refused, once, with how many setups it left out
+    pub refused: Vec<(SetupError, usize)>,
+}
+
+impl Plan {
+    fn leave_out(&mut self, why: Refusal) {
+        match why {
+            Refusal::Round(_) => self.round += 1,
+            Refusal::Setting(e) => match self.refused.iter_mut().find(|(seen, _)| *seen == e) {
+                Some((_, n)) => *n += 1,
+                None => self.refused.push((e, 1)),
+            },
+        }
+    }
 }
 
 pub fn plan(req: &Request) -> Plan {
     let r1 = req.cutter_radius.unwrap_or_else(|| default_cutter(req.stock_radius));
-    let mut out = Vec::new();
-    let mut round = 0;
+    let mut out = Plan { found: Vec::new(), round: 0, refused: Vec::new() };
     // The section depends on the ratio and the sense but not on the edges:
     // it is one tip's pass and its N rotations, N = `sides` for every
     // candidate. Candidates whose r·Z is the same product share the ratio
     // N/(r·Z) (2/3 × 3 edges in 1 turn, 2/3 × 1 edge over 3 turns), so
     // their figures are computed once.
-    let mut figures: HashMap<(Ratio, bool), Figures> = HashMap::new();
+    let mut figures: HashMap<(Ratio, bool), Result<Figures, Refusal>> = HashMap::new();
     for edges in 1..=req.max_edges {
         for revs in 1..=req.max_revolutions {
             // GR·Z = N/r  →  GR = N/(r·Z), with gcd(N, r) = 1 so that N flats
@@ -81,24 +95,30 @@ pub fn plan(req: &Request) -> Plan {
                     edges,
                     direction,
                 };
-                let f =
-                    *figures.entry((ratio, direction == Direction::Same)).or_insert_with(|| Figures::of(&setup, req));
-                // what `geometry` would refuse as nearly round is no setup
-                match f.round {
-                    true => round += 1,
-                    false => out.push(candidate(&setup, req, f)),
+                // `geometry`'s check, once per shared section; the values
+                // that vary between the candidates sharing it (the edges)
+                // checked for each
+                let judged = setup.validate().map_err(Refusal::Setting).and_then(|()| {
+                    figures
+                        .entry((ratio, direction == Direction::Same))
+                        .or_insert_with(|| Figures::of(&setup, req))
+                        .clone()
+                });
+                match judged {
+                    Ok(f) => out.found.push(candidate(&setup, req, f)),
+                    Err(why) => out.leave_out(why),
                 }
             }
         }
     }
-    out.sort_by(|a, b| {
+    out.found.sort_by(|a, b| {
         let flat = |c: &Candidate| (c.flat_deviation.abs() * 1e4).round() as i64; // 0.1 µm bins
         flat(a)
             .cmp(&flat(b))
             .then(a.cutter_rpm.partial_cmp(&b.cutter_rpm).unwrap_or(std::cmp::Ordering::Equal))
             .then(a.revolutions.cmp(&b.revolutions))
     });
-    Plan { found: out, round }
+    out
 }
 
 /// What a candidate's section tells: flatness, corners, smallest cutter.
@@ -107,21 +127,16 @@ struct Figures {
     flat_deviation: f64,
     corners_sharp: bool,
     min_cutter_radius: Option<f64>,
-    /// the section is nearly round (`Roundness`), judged as `geometry` judges it
-    round: bool,
 }
 
 impl Figures {
-    fn of(setup: &Setup, req: &Request) -> Figures {
+    /// The figures of a setup `geometry` takes (`Setup::check`), else why not.
+    fn of(setup: &Setup, req: &Request) -> Result<Figures, Refusal> {
+        setup.check()?;
         let sector = Section::ideal_sector(setup, 256);
         let (flat_deviation, corners_sharp) = flatness(&sector);
         let min_cutter_radius = if req.cutter_radius.is_none() { min_cutter(setup, req.tolerance) } else { None };
-        // judged on the bins `geometry` judges on (a flat's deviation moves
-        // with them by a few %, where a section is on the edge); a sector's
-        // summary is the whole section's, its period being 2π/N
-        let judged = Section::ideal_sector(setup, Section::default_bins(setup.sides()));
-        let round = Roundness::of(&judged.summary(), setup.depth_mm).is_round();
-        Figures { flat_deviation, corners_sharp, min_cutter_radius, round }
+        Ok(Figures { flat_deviation, corners_sharp, min_cutter_radius })
     }
 }
 

@@ -4,7 +4,7 @@
 use super::errors::{CliError, CliResult};
 use super::measure::{Cut, Stock};
 use super::values::{direction, length_mm, ratio, setting};
-use crate::geometry::{Direction, Roundness, Section, Setup};
+use crate::geometry::{Direction, Refusal, Roundness, Section, Setup};
 use polyturn_sync::config::table::EDGES;
 use polyturn_sync::Ratio;
 
@@ -47,28 +47,28 @@ impl SetupArgs {
             edges: self.edges,
             direction: self.direction,
         };
-        setup.validate().map_err(|e| CliError::flag(e.field, e.allowed))?;
-        let (round, section) = Roundness::of_setup(&setup);
-        if round.is_round() {
-            return Err(match round_whatever_the_cutter(&setup) {
-                true => round_error(
-                    "ratio",
-                    format!(
-                        "cuts a nearly round section with {} edges with any cutter up to 100 x the stock radius",
-                        setup.edges
-                    ),
-                    &round,
-                    "a larger ratio turns the cutter fast enough to cut flats",
+        let round = match setup.check() {
+            Ok(section) => return Ok((setup, section)),
+            Err(Refusal::Setting(e)) => return Err(CliError::flag(e.field, e.allowed)),
+            Err(Refusal::Round(round)) => round,
+        };
+        Err(match round_whatever_the_cutter(&setup) {
+            true => round_error(
+                "ratio",
+                format!(
+                    "cuts a nearly round section with {} edges with any cutter up to 100 x the stock radius",
+                    setup.edges
                 ),
-                false => round_error(
-                    "cutter-radius",
-                    "is too small for this depth: the section is nearly round".into(),
-                    &round,
-                    "a larger cutter gives flatter sides",
-                ),
-            });
-        }
-        Ok((setup, section))
+                &round,
+                "a larger ratio turns the cutter fast enough to cut flats",
+            ),
+            false => round_error(
+                "cutter-radius",
+                "is too small for this depth: the section is nearly round".into(),
+                &round,
+                "a larger cutter gives flatter sides",
+            ),
+        })
     }
 }
 
@@ -77,8 +77,10 @@ impl SetupArgs {
 /// fault, not the cutter (at 1/1000 the cutter barely turns, and its tip
 /// shaves a circle).
 fn round_whatever_the_cutter(setup: &Setup) -> bool {
+    // (the setup passed `validate`, so this cutter exceeds its depth; it
+    // may pass the longest --cutter-radius, being no flag's)
     let big = Setup { cutter_radius_mm: 100.0 * setup.stock_radius_mm, ..*setup };
-    big.validate().is_ok() && Roundness::of_setup(&big).0.is_round()
+    Roundness::of_setup(&big).0.is_round()
 }
 
 fn round_error(flag: &'static str, what: String, round: &Roundness, fix: &str) -> CliError {

@@ -59,7 +59,7 @@ pub struct SetupsArgs {
 
 pub fn run(a: SetupsArgs) -> CliResult<String> {
     let req = request(&a)?;
-    let crate::planner::Plan { found, round } = plan(&req);
+    let crate::planner::Plan { found, round, refused } = plan(&req);
     let limits = Limits { tip_speed: a.max_tip_speed, cutter_rpm: a.max_cutter_rpm };
     let cutter = Cutter::of(&req);
     let lines = found.first().map(|c| reproduce::lines(&a, cutter.radius, c));
@@ -72,6 +72,7 @@ pub fn run(a: SetupsArgs) -> CliResult<String> {
             "{round} more left out: with this cutter their section is nearly round, and geometry refuses them (a larger --cutter-radius gives flatter sides)"
         ));
     }
+    notes.extend(refused.iter().map(|(e, n)| cutter.left_out(*n, e)));
     let r = Report { req: &req, found: &found, cutter, lines, limits, notes, warnings };
     Ok(if a.json { r.json().to_string() } else { r.human() })
 }

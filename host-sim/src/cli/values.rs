@@ -37,8 +37,8 @@ pub fn length_mm() -> impl Parser<f64> {
     within(LENGTH_MM.0, LENGTH_MM.1, "mm")
 }
 
-/// The lengths a length flag takes, mm: a micron to ten metres.
-pub const LENGTH_MM: (f64, f64) = (0.001, 10_000.0);
+/// The lengths a length flag takes, mm: a setup's own (`Setup::validate`).
+pub use crate::geometry::LENGTH_MM;
 
 /// A lathe speed: at least 1 rpm (slower is no cut), at most `hi`.
 pub fn rpm(hi: f64) -> impl Parser<f64> {

@@ -8,6 +8,7 @@ use super::{Section, SectionSummary, Setup};
 pub const ROUND_FRACTION: f64 = 0.5;
 
 /// How round a section is, and the words that say so.
+#[derive(Clone, Debug)]
 pub struct Roundness {
     /// 0 a clean polygon, 1 a circle
     pub fraction: f64,

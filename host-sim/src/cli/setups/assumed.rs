@@ -1,6 +1,7 @@
 //! What the planner assumed, said: the cutter radius
 //! the figures are for and why, and what each "-" in the table means.
 
+use crate::geometry::SetupError;
 use crate::planner::{default_cutter, Candidate, Request, MIN_CUTTER_SCAN as MIN_R1_SCAN};
 
 /// The cutter radius the figures are for, and why that one.
@@ -21,6 +22,19 @@ impl Cutter {
                         .into(),
                 ),
             },
+        }
+    }
+
+    /// The note for `n` setups left out for a value `geometry` refuses:
+    /// the flag and its range, and, where the value is the assumed
+    /// cutter's, that a cutter given is not assumed.
+    pub fn left_out(&self, n: usize, e: &SetupError) -> String {
+        let note = format!("{n} more left out: geometry refuses them: --{} {}", e.field, e.allowed);
+        match (e.field, &self.assumed) {
+            ("cutter-radius", Some(_)) => {
+                format!("{note} (got the assumed {} mm, 5 x the stock radius): give --cutter-radius", self.radius)
+            }
+            _ => note,
         }
     }
 

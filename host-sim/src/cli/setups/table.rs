@@ -23,10 +23,12 @@ impl Report<'_> {
     pub fn human(&self) -> String {
         let req = self.req;
         if self.found.is_empty() {
-            return format!(
+            // what was left out, and why, is said here too
+            let none = format!(
                 "no setup cuts {} sides within --max-edges {} and --max-ratio {}",
                 req.sides, req.max_edges, req.max_ratio
             );
+            return std::iter::once(&none).chain(&self.notes).cloned().collect::<Vec<_>>().join("\n");
         }
         let mut s = format!(
             "{} setups for {} sides from stock diameter {} mm, depth {:.3} mm (flattest first):\n{}\n",

@@ -100,3 +100,69 @@ fn setups_geometry_would_refuse_as_round_are_left_out_and_counted() {
     assert!(run(&geometry["polyturn ".len()..]).is_ok(), "{geometry}");
     assert_eq!(v["warnings"].as_array().map(Vec::len), Some(0), "{v}");
 }
+
+/// Every row `setups` prints (the whole table, not only the first row's
+/// line) with the cutter it was worked out for: `geometry`'s line for it,
+/// checked as `geometry` checks it; None where geometry takes it.
+fn rows_geometry_refuses(line: &str) -> Vec<String> {
+    let v = json(line);
+    let given = line.split_whitespace().collect::<Vec<_>>();
+    let flag = |name: &str| given.iter().position(|w| *w == name).map(|i| format!("{name} {}", given[i + 1]));
+    let stock = flag("--stock-radius").or(flag("--stock-diameter")).unwrap();
+    let cut = flag("--depth").or(flag("--across-flats")).unwrap();
+    let r1 = v["cutter_radius"].as_f64().unwrap();
+    let rows = v["setups"].as_array().unwrap();
+    rows.iter()
+        .filter_map(|row| {
+            let g = format!(
+                "geometry --cutter-radius {r1} {stock} {cut} --ratio {} --edges {} --direction {}",
+                row["ratio"].as_str().unwrap(),
+                row["edges"],
+                row["direction"].as_str().unwrap()
+            );
+            run(&g).err().map(|e| format!("{g}: {e}"))
+        })
+        .collect()
+}
+
+#[test]
+fn a_degenerate_section_or_an_assumed_cutter_past_the_longest_length_is_left_out_and_counted() {
+    // a cut 0.998 of the stock radius deep: the section is 2 µm across,
+    // and geometry refuses it as round
+    let deep = "setups --sides 20 --stock-radius 0.5 --depth 0.499 --max-edges 6";
+    assert_eq!(rows_geometry_refuses(deep), Vec::<String>::new());
+    assert!(json(deep)["notes"].to_string().contains("more left out: with this cutter their section is nearly round"));
+    // 2 500 mm stock: the assumed cutter, 5 x, is past --cutter-radius's 10 000 mm
+    let big = "setups --sides 6 --stock-radius 2500 --depth 100";
+    assert_eq!(rows_geometry_refuses(big), Vec::<String>::new());
+    let text = run(big).unwrap();
+    assert!(
+        text.contains("more left out: geometry refuses them: --cutter-radius must be a number in 0.001..=10000 mm"),
+        "{text}"
+    );
+    assert!(text.contains("give --cutter-radius"), "{text}");
+    // given, it is the machinist's own cutter, and the rows come back
+    assert!(json(&format!("{big} --cutter-radius 9000"))["setups"].as_array().is_some_and(|r| !r.is_empty()));
+}
+
+/// For any request in the flags' ranges, from a fine cut to one all but
+/// through the bar and from a pin to a 20 m bar, every row printed is one
+/// `geometry` takes as printed.
+#[test]
+fn every_row_setups_prints_is_one_geometry_takes() {
+    use proptest::prelude::*;
+    let cfg = ProptestConfig { cases: 24, ..ProptestConfig::default() };
+    proptest!(cfg, |(sides in 2u32..=24, log_r2 in -2.0f64..4.0, through in prop::sample::select(vec![0.05, 0.5, 0.9, 0.99, 0.998, 0.9995]),
+                     max_edges in 1u32..=6, turns in 1u32..=3, cutter in prop::option::of(1.02f64..20.0), diameter in any::<bool>())| {
+        let r2 = (10f64.powf(log_r2) * 1000.0).round() / 1000.0;
+        let depth = (r2 * through * 1000.0).floor() / 1000.0;
+        prop_assume!(depth >= 0.001 && depth < r2);
+        let stock = if diameter { format!("--stock-diameter {}", 2.0 * r2) } else { format!("--stock-radius {r2}") };
+        let mut line = format!("setups --sides {sides} {stock} --depth {depth} --max-edges {max_edges} --max-revolutions {turns}");
+        if let Some(k) = cutter {
+            line += &format!(" --cutter-radius {}", ((depth * k * 1000.0).ceil() / 1000.0).min(10_000.0));
+        }
+        let refused = rows_geometry_refuses(&line);
+        prop_assert!(refused.is_empty(), "{line}: {refused:#?}");
+    });
+}
