@@ -57,17 +57,10 @@ fn top_speed_that_fits(f: Facts, current: &Config, a: &GuidedArgs, ask: &mut dyn
         Err(e) => e.trim_start_matches("these settings do not fit together: ").to_string(),
     };
     if order(MAX_RPM.lo).is_err() {
-        return Ok(f); // not the speed: said as before, when they are sent
+        // not the speed: the stepper itself, or said as before when sent
+        return no_speed_fits(&f, current, a).map_or(Ok(f), Err);
     }
-    // the highest speed that fits (a lower one always fits where a higher does)
-    let (mut lo, mut hi) = (MAX_RPM.lo, f.max_rpm);
-    while hi - lo > 1 {
-        let mid = lo + (hi - lo) / 2;
-        match order(mid) {
-            Ok(_) => lo = mid,
-            Err(_) => hi = mid,
-        }
-    }
+    let lo = highest(MAX_RPM.lo, f.max_rpm, |rpm| order(rpm).is_ok());
     let at = format!("at the board's ratio {} ({why})", current.ratio);
     if a.non_interactive {
         return Err(CliError::flag("max-lathe-rpm", format!("must be <= {lo} rpm {at} (got {})", f.max_rpm)));
@@ -75,6 +68,66 @@ fn top_speed_that_fits(f: Facts, current: &Config, a: &GuidedArgs, ask: &mut dyn
     ask.say(&format!("{} rpm is too fast {at}: at most {lo} rpm", f.max_rpm));
     let max_rpm = ask.number("The lathe's fastest speed, rpm", Some(lo), MAX_RPM.lo, lo)?;
     Ok(Facts { max_rpm, ..f })
+}
+
+/// The highest n in lo..hi that `fits`, where `fits(lo)` holds and
+/// `fits(hi)` does not (a lower n fits wherever a higher one does).
+fn highest(mut lo: u32, mut hi: u32, fits: impl Fn(u32) -> bool) -> u32 {
+    while hi - lo > 1 {
+        let mid = lo + (hi - lo) / 2;
+        match fits(mid) {
+            true => lo = mid,
+            false => hi = mid,
+        }
+    }
+    lo
+}
+
+/// A stepper no lathe speed fits, however slow: its steps a cutter turn
+/// too many for the board's ratio and step rate, or its driver's pulse
+/// too long for that rate. Refused naming what sets it and its bound,
+/// found by the board's own rule (`send_order`); None when neither is at
+/// fault (said as before, when the settings are sent).
+fn no_speed_fits(f: &Facts, current: &Config, a: &GuidedArgs) -> Option<CliError> {
+    if f.bldc.is_some() {
+        return None; // a BLDC's rate follows its counts: the speed is at fault
+    }
+    let fits = |g: Facts| figures::send_order(current, &changes(&Facts { max_rpm: MAX_RPM.lo, ..g })).is_ok();
+    if f.steps > 1 && fits(Facts { steps: 1, ..f.clone() }) {
+        let most = highest(1, f.steps, |steps| fits(Facts { steps, ..f.clone() }));
+        return Some(too_many_steps(f, current, a, most));
+    }
+    let pulse = f.pulse_ns.filter(|&p| p > PULSE.lo && fits(Facts { pulse_ns: Some(PULSE.lo), ..f.clone() }))?;
+    let most = highest(PULSE.lo, pulse, |p| fits(Facts { pulse_ns: Some(p), ..f.clone() }));
+    let why = format!(
+        "with the board's max-rate of {} steps/s: a step is a pulse high and as long low (got {pulse})",
+        current.max_step_rate_hz
+    );
+    Some(match a.non_interactive {
+        true => CliError::flag("pulse-ns", format!("must be at most {most} ns {why}")),
+        false => CliError(format!("setup: the driver's STEP pulse must be at most {most} ns {why}; nothing sent")),
+    })
+}
+
+/// `no_speed_fits`' refusal of a stepper's steps a cutter turn: in the
+/// flags that make them, or the interview's words.
+fn too_many_steps(f: &Facts, current: &Config, a: &GuidedArgs, most: u32) -> CliError {
+    let why = format!(
+        "at the board's ratio {}: max-rpm x ratio x steps/60 must not exceed its max-rate of {} steps/s even at {} rpm",
+        current.ratio, current.max_step_rate_hz, MAX_RPM.lo
+    );
+    if !a.non_interactive {
+        return CliError(format!(
+            "setup: the motor's steps per cutter turn (full steps x microsteps x belt) must be at most {most} {why} (got {}); nothing sent",
+            f.steps
+        ));
+    }
+    let (full, micro) = (a.motor_steps.unwrap_or(MOTOR_STEPS), a.microsteps.unwrap_or(MICROSTEPS));
+    let reduction = a.reduction.map_or("1".to_string(), |r| r.to_string());
+    CliError(format!(
+        "--motor-steps x --microsteps x --reduction must make at most {most} steps per cutter turn {why} (got {full} x {micro} x {reduction} = {})",
+        f.steps
+    ))
 }
 
 /// A board with a cam table fitted refuses another cutter under it (the

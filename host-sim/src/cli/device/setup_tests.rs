@@ -433,3 +433,47 @@ fn every_prompt_takes_the_consoles_range_and_asks_again() {
     assert!(refused[4].contains("0..=100000"), "{refused:?}");
     assert!(out.contains("saving"), "{out}");
 }
+
+/// A stepper too fine for the board's ratio even at the slowest lathe
+/// speed (1 rpm) is refused naming the flags that make its steps and
+/// their bound, and nothing is sent.
+#[test]
+fn a_stepper_no_lathe_speed_fits_is_refused_naming_its_flags() {
+    let mut s = session(FakeDevice::new());
+    for set in ["set max-rpm 1", "set steps 200", "set ratio 1000"] {
+        s.ask(set).unwrap();
+    }
+    let before = *s.io.ctl.config();
+    // 200 x 512 steps a turn at ratio 1000: 1.7 MHz at 1 rpm, 200 kHz allowed
+    let e = run(
+        &mut s,
+        &args("--non-interactive --encoder-lines 600 --microsteps 512 --max-lathe-rpm 600 --no-save"),
+        &mut Scripted::new(&[]),
+    )
+    .unwrap_err();
+    assert_eq!(
+        e.0,
+        "--motor-steps x --microsteps x --reduction must make at most 12000 steps per cutter turn at the board's ratio 1000: max-rpm x ratio x steps/60 must not exceed its max-rate of 200000 steps/s even at 1 rpm (got 200 x 512 x 1 = 102400)"
+    );
+    assert!(sent(&s).iter().filter(|l| l.starts_with("set ")).count() == 3, "{:?}", sent(&s));
+    assert_eq!(*s.io.ctl.config(), before);
+}
+
+/// So is a driver whose pulse is too long for the board's step rate.
+#[test]
+fn a_driver_pulse_no_step_rate_fits_is_refused_naming_its_flag() {
+    let mut s = session(FakeDevice::new());
+    // 5 µs high and 5 low: 100 kHz, where the board's max-rate is 200 kHz
+    let e = run(
+        &mut s,
+        &args("--non-interactive --encoder-lines 600 --motor-steps 10 --microsteps 1 --max-lathe-rpm 600 --pulse-ns 5000 --no-save"),
+        &mut Scripted::new(&[]),
+    )
+    .unwrap_err();
+    assert_eq!(
+        e.0,
+        "--pulse-ns must be at most 2500 ns with the board's max-rate of 200000 steps/s: a step is a pulse high and as long low (got 5000)"
+    );
+    assert!(sent(&s).iter().all(|l| !l.starts_with("set ")), "{:?}", sent(&s));
+    assert_eq!(*s.io.ctl.config(), Config::default());
+}
