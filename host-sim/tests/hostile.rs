@@ -280,3 +280,26 @@ fn compensate_says_no_speed_below_the_floor_and_no_negative_zero() {
     assert_eq!(code, 0, "{err}");
     assert!(out.starts_with("flats straightened: deviation +0.0087 mm -> +0.0000 mm"), "{out}");
 }
+
+/// An encoder so coarse that the compensating X motion repeats every
+/// lathe count (6 counts a turn, 6 flats a turn) leaves no room for the
+/// board's table of at least 2 points: one sentence naming --encoder-cpr
+/// and what it must do, exit 2, no file.
+#[test]
+fn an_encoder_whose_table_repeats_every_count_is_refused_in_one_sentence() {
+    let dir = std::env::temp_dir().join(format!("polyturn-cpr6-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let file = dir.join("flats.json");
+    let line = format!(
+        "compensate --cutter-radius 50 --stock-radius 10 --depth 2 --ratio 3 --edges 2 --direction same --rpm 25 --x-max-speed 12.5 --x-max-accel 5000 --encoder-cpr 6 --table {}",
+        file.display()
+    );
+    let (code, out, err) = polyturn(&words(&line));
+    assert_eq!((code, out.as_str()), (2, ""), "{err}");
+    assert_eq!(
+        err.trim_end(),
+        "error: --encoder-cpr must give the X motion at least 2 lathe counts a repeat, one for each of the at least 2 points of the board's cam table: at 6 counts a turn it repeats every count; give an encoder of more counts a turn, in 4..=1000000 (got 6)"
+    );
+    assert!(!file.exists(), "no file is written");
+    std::fs::remove_dir_all(&dir).unwrap();
+}

@@ -79,13 +79,30 @@ pub fn rates(max_speed: f64, max_accel: f64, spm: f64) -> CliResult<(u32, u32)> 
     Ok(((max_speed * spm) as u32, (max_accel * spm) as u32))
 }
 
+/// A table with no room for the board's 2 points a table at least, a
+/// lathe count each: the X motion repeats within a count (6 flats a turn
+/// on a 6-count encoder), which only a finer encoder mends.
+fn too_few_counts(table: &CamFile) -> CliError {
+    let every = match table.period_counts {
+        1 => "every count".to_string(),
+        p => format!("every {p} counts"),
+    };
+    CliError::flag(
+        "encoder-cpr",
+        format!(
+            "must give the X motion at least 2 lathe counts a repeat, one for each of the at least 2 points of the board's cam table: at {} counts a turn it repeats {every}; give an encoder of more counts a turn, in {}..={} (got {})",
+            table.counts_per_rev, CPR.lo, CPR.hi, table.counts_per_rev
+        ),
+    )
+}
+
 /// The board's own checks of a table (`controller::check_table`): its
 /// points and period (`Cam::check`), and what they ask of the axis it
 /// declares (`cam_upload::motion`), refused naming the flag that fixes it.
 pub fn board_takes(table: &CamFile) -> CliResult<()> {
     Cam::check(&table.points, table.period_counts).map_err(|e| match e {
         CamError::Step => CliError::flag("steps-per-mm", format!("is too fine for this path: {}", e.describe())),
-        CamError::Points | CamError::Period => CliError::flag("encoder-cpr", e.describe()),
+        CamError::Points | CamError::Period => too_few_counts(table),
     })?;
     polyturn_sync::cam_upload::motion::check(&table.header(), &table.points).map_err(|e| match e {
         MotionError::Rate { .. } => CliError::flag("x-max-speed", e.to_string()),
