@@ -4,6 +4,7 @@
 
 use super::errors::{escaped, CliError, CliResult};
 use crate::noncircular::table::{CamFile, FORMAT, STEPS_PER_MM};
+use polyturn_sync::cam::CAM_POINTS;
 use polyturn_sync::cam_upload::check_axis;
 use polyturn_sync::console::tag::TAG_DIGITS;
 use polyturn_sync::controller::check_table;
@@ -97,9 +98,38 @@ fn declared(table: &CamFile) -> Result<(), String> {
         made_for(c)?;
         whole_passes(c, table)?;
     }
+    axis_and_period(table)?;
     let h = table.header();
     check_axis(&h, polyturn_sync::Timing::FIRMWARE.tick_hz)?;
     check_table(&h, &table.points).map_err(|e| e.to_string())
+}
+
+/// The X axis, the period and the point count a table declares, each
+/// refused naming its field and range: the board's own checks below
+/// (`check_axis`, `Cam::check`) say the same in the console's words.
+fn axis_and_period(table: &CamFile) -> Result<(), String> {
+    let top = polyturn_sync::cam_upload::X_MAX_RATE_HZ;
+    if !(1..=top).contains(&table.max_rate_hz) {
+        return Err(format!(
+            "max_rate_hz must be 1..={top} steps/s: the board emits at most one X step per two ticks (got {})",
+            table.max_rate_hz
+        ));
+    }
+    if table.max_accel == 0 {
+        return Err(format!("max_accel must be 1..={} steps/s^2 (got 0)", u32::MAX));
+    }
+    let n = table.points.len();
+    if !(2..=CAM_POINTS).contains(&n) {
+        return Err(format!("points must hold 2..={CAM_POINTS} values (got {n})"));
+    }
+    if (table.period_counts as usize) < n {
+        return Err(format!(
+            "period_counts must be {n}..={} lathe counts: at least one for each of the {n} points (got {})",
+            u32::MAX,
+            table.period_counts
+        ));
+    }
+    Ok(())
 }
 
 /// A compensating table's cutter as the console takes its settings: a

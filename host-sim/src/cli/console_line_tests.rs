@@ -56,11 +56,42 @@ fn an_encoder_or_an_x_axis_the_board_refuses_is_refused_here() {
         e,
         "upload-cam: 't.json' is refused: counts_per_rev must be 4..=1000000 counts per lathe rev (the console's cpr; got 0)"
     );
+}
+
+/// The X axis, the period and the points a table declares are refused
+/// naming the table's own field and its range, not the console's words.
+#[test]
+fn an_x_axis_a_period_or_a_point_count_the_board_refuses_is_named_by_its_field() {
+    let refused =
+        |t: CamFile| checked(&t).unwrap_err().trim_start_matches("upload-cam: 't.json' is refused: ").to_string();
     let top = polyturn_sync::cam_upload::X_MAX_RATE_HZ;
-    for (rate, accel) in [(0, 1_000), (top + 1, 1_000), (top, 0)] {
-        let e = checked(&CamFile { max_rate_hz: rate, max_accel: accel, ..octagon() }).unwrap_err();
-        let want = format!("cam max-rate must be 1..={top} steps/s (one X step per two ticks), max-accel > 0");
-        assert!(e.ends_with(&want), "{e}");
+    for rate in [0, top + 1] {
+        assert_eq!(
+            refused(CamFile { max_rate_hz: rate, ..octagon() }),
+            format!(
+                "max_rate_hz must be 1..={top} steps/s: the board emits at most one X step per two ticks (got {rate})"
+            )
+        );
+    }
+    assert_eq!(
+        refused(CamFile { max_accel: 0, ..octagon() }),
+        format!("max_accel must be 1..={} steps/s^2 (got 0)", u32::MAX)
+    );
+    let n = octagon().points.len();
+    assert_eq!(
+        refused(CamFile { period_counts: n as u32 - 1, ..octagon() }),
+        format!(
+            "period_counts must be {n}..={} lathe counts: at least one for each of the {n} points (got {})",
+            u32::MAX,
+            n - 1
+        )
+    );
+    for points in [vec![5], vec![0; 1025]] {
+        let got = points.len();
+        assert_eq!(
+            refused(CamFile { points, period_counts: 2400, ..octagon() }),
+            format!("points must hold 2..=1024 values (got {got})")
+        );
     }
 }
 
