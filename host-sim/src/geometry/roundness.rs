@@ -20,9 +20,13 @@ impl Roundness {
         self.fraction > ROUND_FRACTION
     }
 
-    /// The exact model's section of `setup`, judged (what `geometry` draws).
+    /// The exact model's section of `setup`, judged (what `geometry` draws):
+    /// each bin solved on the pass, one sector tiled round
+    /// (`Section::ideal_tiled`). A polyline through the pass (`ideal`) is
+    /// as good on a real section but not on one a few µm across, and costs
+    /// `setups`, which judges every row, many times more.
     pub fn of_setup(setup: &Setup) -> (Roundness, Section) {
-        let section = Section::ideal(setup, Section::default_bins(setup.sides()));
+        let section = Section::ideal_tiled(setup, Section::default_bins(setup.sides()));
         (Roundness::of(&section.summary(), setup.depth_mm), section)
     }
 
