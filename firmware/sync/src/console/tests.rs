@@ -305,3 +305,17 @@ fn a_cam_table_waits_for_idle_and_a_lathe_at_rest() {
     assert!(matches!(running, Some(CamWait::Running)), "{running:?}");
     assert_eq!(std::format!("{}", running.unwrap()), "stop first: the cam changes only while idle");
 }
+
+/// Engaged, a value that does not fit is told "stop first" (it could not
+/// change now anyway), but the phase, which may change while running, is
+/// told its range.
+#[test]
+fn engaged_a_bad_value_is_told_to_stop_first_and_a_bad_phase_its_range() {
+    let mut c = ctl();
+    assert_eq!(say(&mut c, "engage").0, "ok engaging");
+    let steps = say(&mut c, "set steps 0").0;
+    assert!(steps.starts_with("error: stop first"), "{steps}");
+    let phase = say(&mut c, "set phase 1e9").0;
+    assert!(phase.starts_with("error: phase"), "{phase}");
+    assert_eq!(say(&mut c, "set phase 5").0, "ok phase=5.000", "the name as the console spells it");
+}
