@@ -207,10 +207,11 @@ impl Generator {
     /// after one, or the arm, whose register program holds only inside its
     /// tick (`program::arm`'s `Sync`). True if the output is armed and this
     /// tick's plan is to be written (`write_plan`). That may come after the
-    /// tick returns, if it ends before the next tick's instant: the DMA
-    /// reads the window's first segment no earlier (after an arm, at TIM1's
-    /// first update, which is that instant; later, at the start of the
-    /// window before's last segment, inside that window).
+    /// tick returns, if it ends before the DMA reads the window's first
+    /// segment: after an arm, at TIM1's first update, the next tick's
+    /// instant; later, at the start of the window before's last segment,
+    /// up to `MIN_SEGMENT` before that instant. (`write_plan` halts if the
+    /// DMA got there first: a step lost and a fault, never a wrong step.)
     pub fn begin(&mut self, halt: bool, t: &StepTiming, bus: &mut impl Bus) -> Result<bool, Fail> {
         self.release_due(bus);
         if halt {

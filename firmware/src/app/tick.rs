@@ -79,7 +79,7 @@ pub const PERIOD: u32 = TIMER_HZ / board::TICK_HZ;
 /// Ticks whose segments the DMA reached before they were written, or
 /// whose step plan was not made by the next tick (`plan::late`).
 static STEPS_LATE: AtomicU32 = AtomicU32::new(0);
-/// `Generator::ndtr_lead` of the last arm, for the bench's log.
+/// `Generator::ndtr_lead`, learnt at boot, for the bench's log.
 static NDTR_LEAD: AtomicU32 = AtomicU32::new(0);
 /// Ticks whose interrupt never ran (`check_ticks`), since boot.
 static TICKS_LOST: AtomicU32 = AtomicU32::new(0);
@@ -116,6 +116,8 @@ pub fn start(config: Config, mut pins: OutputPins) {
     let mut steps = Generator::new(drivers::ring_address());
     // STEP/DIR driven quietly from now on, the ring silent: before any tick
     steps.prepare(core.derived().steps.tick_len, &mut Mmio);
+    // (learnt once, here: the log says what the probe saw, armed or not)
+    NDTR_LEAD.store(steps.ndtr_lead(), Ordering::Relaxed);
     drivers::set_halt_pulse(core.derived().steps.pulse);
     tick_timer();
     // the saved BLDC interface (its frame set up at boot), scaled to the
@@ -438,7 +440,7 @@ pub fn steps_late() -> u32 {
     STEPS_LATE.load(Ordering::Relaxed)
 }
 
-/// 1 if DMA2's NDTR counted the preloaded word at the last arm, else 0.
+/// 1 if DMA2's NDTR counted the preloaded word at the boot's probe, else 0.
 pub fn ndtr_lead() -> u32 {
     NDTR_LEAD.load(Ordering::Relaxed)
 }

@@ -3,7 +3,7 @@
 //! The plan made at tick k fills window k + 2 (`polyturn_sync::steps::pipe`):
 //! it has a tick's slack the rest of the tick has not, so it runs after the
 //! tick returns, as grbl plans its segments outside the step interrupt
-//! (`Controller::plan_steps`, then `Generator::tick`'s RAM writes). The tick
+//! (`Controller::plan_steps`, then `Generator::write_plan`'s RAM writes). The tick
 //! pends this handler; nothing but the E-stop and the next tick outranks
 //! it (`board::PRIORITIES`; the global critical section masks only the
 //! levels below it, `cs.rs`), so it runs as the tick returns, and the tick
@@ -30,7 +30,7 @@
 //!   in the tick (`Generator::begin`): this handler only writes the ring,
 //!   the first window after an arm too, and halts.
 
-use super::{heard_of_halts, Io, IO, NDTR_LEAD, STEPS_LATE};
+use super::{heard_of_halts, Io, IO, STEPS_LATE};
 use crate::app::drivers;
 use crate::app::mmio::Mmio;
 use core::sync::atomic::{AtomicU32, AtomicU8, Ordering};
@@ -145,5 +145,4 @@ fn make(io: &mut Io) {
     if io.steps.write_plan(&plan, &timing, &mut Mmio).is_err() && lates() == lates_before {
         STEPS_LATE.fetch_add(1, Ordering::Relaxed);
     }
-    NDTR_LEAD.store(io.steps.ndtr_lead(), Ordering::Relaxed);
 }
