@@ -81,11 +81,14 @@ pub struct Generator {
     release_in: u32,
     /// the arm's register programs, made once (`Armer`)
     armer: Armer,
+    /// `program::quiet` applied since the last halt: the arm's first half,
+    /// made a tick before its second (`begin`), so that no tick makes both
+    quieted: bool,
 }
 
 /// `program::quiet` and `program::arm` for one tick length, made at boot
-/// and kept: made in the tick that arms, their 26 operations were stored
-/// to the stack before they were applied, on the tick's worst path.
+/// and kept: made in the tick that arms, their 26 operations would be
+/// stored to the stack before they were applied, on the tick's worst path.
 struct Armer {
     tick_len: u32,
     quiet: [Op; 16],
@@ -125,6 +128,7 @@ impl Generator {
             // (remade for the real tick length by `prepare`, or by the
             // first arm)
             armer: Armer::new(ring, 2),
+            quieted: false,
         }
     }
 
@@ -142,8 +146,10 @@ impl Generator {
     /// the ring silent. Zeroed RAM is no silence: CCR1 = 0 holds STEP high.
     pub fn prepare(&mut self, tick_len: u32, bus: &mut impl Bus) {
         self.armer = Armer::new(self.ring, tick_len);
-        let _ = apply(&self.armer.quiet, bus);
+        self.quieted = apply(&self.armer.quiet, bus).is_ok();
         self.silence(bus);
+        // (the probe leaves TIM1 as `quiet` left it, the stream off: the
+        // first arm needs only its second half)
         self.lead = probe_lead(self.ring, bus);
     }
 
@@ -172,6 +178,7 @@ impl Generator {
     /// re-arms at the next tick that has no halt.
     pub fn halted_elsewhere(&mut self, t: &StepTiming) {
         self.armed = false;
+        self.quieted = false;
         self.silent = false;
         self.silence_next = 0;
         self.release_in = program::release_ticks(t.pulse, t.tick_len);
@@ -233,6 +240,11 @@ impl Generator {
                 self.silence_some(bus);
                 return Err(Fail::ArmLate);
             }
+            if !self.quieted || self.armer.tick_len != t.tick_len {
+                // the arm's first half this tick, its second the next (this
+                // tick's plan is not emitted: the books catch any step in it)
+                return self.quieten(t, bus).map(|()| false);
+            }
             self.arm(t, bus)?;
         }
         Ok(true)
@@ -277,11 +289,25 @@ impl Generator {
         Ok(())
     }
 
-    fn arm(&mut self, t: &StepTiming, bus: &mut impl Bus) -> Result<(), Fail> {
+    /// The arm's first half (`program::quiet`: everything stopped, STEP
+    /// low, a silent segment loaded), for this tick length.
+    fn quieten(&mut self, t: &StepTiming, bus: &mut impl Bus) -> Result<(), Fail> {
         if self.armer.tick_len != t.tick_len {
             self.armer = Armer::new(self.ring, t.tick_len);
         }
-        if apply(&self.armer.quiet, bus).is_err() || apply(&self.armer.arm, bus).is_err() {
+        if apply(&self.armer.quiet, bus).is_err() {
+            self.halt(t, bus);
+            (self.silent, self.silence_next) = (true, RING_ENTRIES); // the stream never ran on the ring
+            return Err(Fail::ArmLate);
+        }
+        self.quieted = true;
+        Ok(())
+    }
+
+    /// The arm's second half, a tick or more after `quieten` (nothing
+    /// since undid it: a halt clears `quieted`).
+    fn arm(&mut self, t: &StepTiming, bus: &mut impl Bus) -> Result<(), Fail> {
+        if apply(&self.armer.arm, bus).is_err() {
             self.halt(t, bus);
             (self.silent, self.silence_next) = (true, RING_ENTRIES); // the stream never ran on the ring
             return Err(Fail::ArmLate);

@@ -125,9 +125,9 @@ fn a_halted_generator_writes_nothing_until_it_re_arms() {
     bus.writes.clear();
     g.tick(&StepPlan::default(), true, &T, &mut bus).unwrap();
     assert!(bus.writes.is_empty(), "not armed: nothing to halt");
-    // arm: stream off, TIM11 at 0, no update; NDTR full and TIM1 without
-    // an update (the reading of NDTR); NDTR full, stream on, NDTR full
-    bus.reads = vec![0, 0, 0, program::RING_WORDS, 0, program::RING_WORDS, 1, program::RING_WORDS];
+    // arm (quietened at boot): TIM11 at 0, no update; NDTR full and TIM1
+    // without an update (the reading of NDTR); NDTR full, stream on, NDTR full
+    bus.reads = vec![0, 0, program::RING_WORDS, 0, program::RING_WORDS, 1, program::RING_WORDS];
     g.tick(&StepPlan::default(), false, &T, &mut bus).unwrap();
     assert!(g.armed());
     let n = bus.writes.len();
@@ -169,7 +169,7 @@ fn a_segment_whose_burst_is_under_way_is_not_silenced() {
     g.prepare(T.tick_len, &mut bus);
     // arm: the stream reads as stopped, TIM11 at 100 and no update, NDTR
     // full with TIM1 not yet updated; then NDTR full, the stream on, NDTR full
-    bus.reads = vec![0, 100, 0, program::RING_WORDS, 0, program::RING_WORDS, 1, program::RING_WORDS];
+    bus.reads = vec![100, 0, program::RING_WORDS, 0, program::RING_WORDS, 1, program::RING_WORDS];
     g.tick(&StepPlan::default(), false, &T, &mut bus).unwrap();
     for _ in 0..2 {
         bus.reads = vec![program::RING_WORDS, 1, program::RING_WORDS];
@@ -195,7 +195,7 @@ fn an_arm_in_the_tick_leaves_its_first_window_to_the_plan() {
     let in_ring = |a: u32| (ring..ring + program::RING_WORDS * 4).contains(&a);
     let p = plan(0, 3 << 16, 0, &Prev::idle(Dir::Forward), &T); // three steps (Q16)
     assert!(p.count > 0, "a window with steps in it");
-    let arm_reads = vec![0, 100, 0, program::RING_WORDS, 0, program::RING_WORDS, 1, program::RING_WORDS];
+    let arm_reads = vec![100, 0, program::RING_WORDS, 0, program::RING_WORDS, 1, program::RING_WORDS];
     let prepared = || {
         let mut g = Generator::new(ring);
         let mut bus = Script::default();
@@ -229,7 +229,7 @@ fn arm_reading(boot: u32, ndtr: u32, uif: u32, now: u32) -> (u32, Result<(), Fai
     // quiet's wait for the stream, the probe's NDTR, its wait for the stream
     let mut bus = Script { reads: vec![0, boot, 0], ..Default::default() };
     g.prepare(T.tick_len, &mut bus);
-    bus.reads = vec![0, 100, 0, ndtr, uif, ndtr, 1, ndtr];
+    bus.reads = vec![100, 0, ndtr, uif, ndtr, 1, ndtr];
     let armed = g.tick(&StepPlan::default(), false, &T, &mut bus);
     bus.reads = vec![now, 1, now];
     let before = bus.writes.len();
@@ -289,7 +289,7 @@ fn after_a_halt_each_tick_silences_a_share_and_the_ring_is_silent_before_it_re_a
     let mut g = Generator::new(0x2000_0000);
     let mut bus = Script::default();
     g.prepare(T.tick_len, &mut bus);
-    bus.reads = vec![0, 0, 0, program::RING_WORDS, 0, program::RING_WORDS, 1, program::RING_WORDS];
+    bus.reads = vec![0, 0, program::RING_WORDS, 0, program::RING_WORDS, 1, program::RING_WORDS];
     g.tick(&StepPlan::default(), false, &T, &mut bus).unwrap();
     g.halted_elsewhere(&T); // the E-stop interrupt halted it
     let share = SILENCE_PER_TICK * program::BURST_WORDS as usize;
@@ -325,4 +325,33 @@ fn fillers_outlast_the_watchdog() {
     let silent_us = fillers * Entry::filler().cycles() as u64 * 1_000_000 / 96_000_000;
     let watchdog_us = crate::iwdg::period_us(crate::iwdg::WATCHDOG_US, crate::iwdg::LSI_MIN_HZ) as u64;
     assert!(silent_us > watchdog_us + 1_000_000, "{fillers} fillers, {silent_us} µs, watchdog {watchdog_us} µs");
+}
+
+/// An arm is two register programs: after a halt, `quiet` in one tick and
+/// `arm` in the next, so that no tick pays for both (the boot's `prepare`
+/// quietens, so the first arm is one tick). The quietening tick writes no
+/// ring entry and arms nothing; its plan is not emitted.
+#[test]
+fn after_a_halt_the_arm_quietens_in_one_tick_and_arms_in_the_next() {
+    let ring = 0x2000_0000;
+    let writes = |ops: &[Op]| ops.iter().filter(|op| matches!(op, Op::Write(..))).count();
+    let mut g = Generator::new(ring);
+    let mut bus = Script::default();
+    g.prepare(T.tick_len, &mut bus);
+    g.halted_elsewhere(&T);
+    while !g.silent {
+        g.tick(&StepPlan::default(), true, &T, &mut bus).unwrap();
+    }
+    for _ in 0..program::release_ticks(T.pulse, T.tick_len) {
+        g.tick(&StepPlan::default(), true, &T, &mut bus).unwrap();
+    }
+    bus.writes.clear();
+    assert_eq!(g.begin(false, &T, &mut bus), Ok(false), "quietened, not armed");
+    assert!(!g.armed());
+    assert_eq!(bus.writes.len(), writes(&program::quiet(T.tick_len, 0)), "quiet's writes alone: {:?}", bus.writes);
+    bus.writes.clear();
+    bus.reads = vec![100, 0, program::RING_WORDS, 0];
+    assert_eq!(g.begin(false, &T, &mut bus), Ok(true), "armed the tick after");
+    assert!(!bus.writes.iter().any(|w| w.0 == program::TIM1 + program::EGR), "no quieting (its UG) in the arming tick");
+    assert!(!bus.writes.iter().any(|w| (ring..ring + program::RING_WORDS * 4).contains(&w.0)), "no ring entry");
 }
