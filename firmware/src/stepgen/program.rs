@@ -149,7 +149,7 @@ pub const RING_WORDS: u32 = super::RING_ENTRIES as u32 * BURST_WORDS;
 /// Stops everything and drives the outputs quietly: STEP low (forced),
 /// DIR at `dir_level`, loaded by UG with DMA requests off. At boot, so the
 /// pins are driven from then on (AF1 with the timer's outputs off would
-/// leave them floating, §12.4.9), and as the first part of `arm`.
+/// leave them floating, §12.4.9), and a tick before each `arm` after a halt.
 pub const fn quiet(tick_len: u32, dir_level: u32) -> [Op; 16] {
     [
         // stop: no requests, stream off and drained, counter stopped, STEP low
@@ -193,7 +193,8 @@ pub const fn probe(ring: u32) -> [Op; 5] {
 pub const PROBE_END: [Op; 3] =
     [Op::Write(S5CR, S5CR_RUN), Op::WaitClear { addr: S5CR, mask: DMA_EN, polls: 64 }, Op::Write(HIFCR, STREAM5_FLAGS)];
 
-/// (Re-)arms the output from any state, after `quiet`. The DMA ring at
+/// (Re-)arms the output once `quiet` has run, nothing since undoing it (a
+/// tick before, or at boot: `Generator::begin`). The DMA ring at
 /// `ring` must be silent. The counter runs one segment to the end of the
 /// current tick (its count set from TIM11's, `Sync`), then a silent tick,
 /// then the ring's first entry: the plan made in this tick, as
