@@ -41,7 +41,7 @@ use polyturn_sync::Ratio;
 use std::f64::consts::PI;
 
 /// Relative sense of rotation of cutter and work.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
 #[serde(rename_all = "lowercase")]
 pub enum Direction {
     Same,

@@ -183,6 +183,8 @@ fn compensate_writes_a_table_the_board_takes_and_refuses_one_it_could_not_run() 
     assert!(out.contains("allows up to 28.7 rpm") && out.contains("table 400 points over 400 lathe counts"), "{out}");
     // the file is what `device upload-cam` reads, and the board's checks take it
     let text = std::fs::read_to_string(&table).unwrap();
+    // the cutter it was made for, its sense included (`dir` on the board)
+    assert!(text.contains(r#""cutter":{"ratio":"3","edges":2,"direction":"same"}"#), "{text}");
     let t = polyturn_host::cli::console_line::cam_table("flats.json", &text).expect("upload-cam takes it");
     assert_eq!((t.counts_per_rev, t.period_counts, t.max_rate_hz, t.max_accel), (2400, 400, 10_000, 4_000_000));
     assert!(polyturn_sync::controller::check_table(&t.header(), &t.points).is_ok());

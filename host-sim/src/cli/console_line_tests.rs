@@ -100,7 +100,10 @@ fn an_x_axis_a_period_or_a_point_count_the_board_refuses_is_named_by_its_field()
 #[test]
 fn a_cutter_no_board_takes_or_an_unknown_field_is_refused_naming_it() {
     use crate::noncircular::table::MadeFor;
-    let with = |ratio: &str, edges: u32| CamFile { cutter: Some(MadeFor { ratio: ratio.into(), edges }), ..octagon() };
+    let with = |ratio: &str, edges: u32| CamFile {
+        cutter: Some(MadeFor { ratio: ratio.into(), edges, direction: None }),
+        ..octagon()
+    };
     // 8/3 x 3: 8 passes a turn, 300 counts each, the octagon's 900 three
     assert!(checked(&with("8/3", 3)).is_ok());
     // a ratio the board takes only with other settings is still a ratio
@@ -119,13 +122,28 @@ fn a_cutter_no_board_takes_or_an_unknown_field_is_refused_naming_it() {
     assert!(e.contains("unknown field `bogus`"), "{e}");
 }
 
+/// A compensating table's sense is one the board's `dir` takes, refused
+/// naming the field and the two it may be.
+#[test]
+fn a_cutter_sense_no_board_takes_is_refused_naming_the_field() {
+    let with = |direction: &str| {
+        let cutter = format!(r#""cutter":{{"ratio":"8/3","edges":3,"direction":"{direction}"}},"points""#);
+        serde_json::to_string(&octagon()).unwrap().replacen(r#""points""#, &cutter, 1)
+    };
+    let e = cam_table("t.json", &with("sideways")).unwrap_err().0;
+    let want = "upload-cam: 't.json' is not a polyturn cam table: cutter.direction: unknown variant `sideways`, expected `same` or `opposite`";
+    assert!(e.starts_with(want), "{e}");
+    let t = cam_table("t.json", &with("opposite")).unwrap();
+    assert_eq!(serde_json::to_value(&t.cutter).unwrap()["direction"], "opposite");
+}
+
 /// A compensating table's period is a whole number of its cutter's
 /// passes: else its X motion slips against the cutter a little each pass.
 #[test]
 fn a_period_that_is_no_whole_number_of_the_cutters_passes_is_refused() {
     use crate::noncircular::table::MadeFor;
     let with = |ratio: &str, edges: u32, period_counts: u32| CamFile {
-        cutter: Some(MadeFor { ratio: ratio.into(), edges }),
+        cutter: Some(MadeFor { ratio: ratio.into(), edges, direction: None }),
         period_counts,
         ..octagon()
     };

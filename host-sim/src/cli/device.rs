@@ -290,7 +290,7 @@ fn read_table(file: &std::path::Path) -> CliResult<crate::noncircular::table::Ca
 }
 
 /// A table fits only the encoder and the tool it was made for: a
-/// compensating table the ratio and edges of its cutter, a single-point
+/// compensating table the ratio, edges and sense of its cutter, a single-point
 /// tool's no cutter at all.
 /// Refused, naming what differs and sending nothing, when the board's differ.
 fn same_tool<P: Read + Write>(s: &mut Session<P>, table: &crate::noncircular::table::CamFile) -> CliResult<()> {
@@ -299,7 +299,8 @@ fn same_tool<P: Read + Write>(s: &mut Session<P>, table: &crate::noncircular::ta
         Ok(reply.split_once('=').map(|(_, v)| v.trim().to_string()).unwrap_or_default())
     };
     let (cpr, ratio, edges, drive) = (setting("cpr")?, setting("ratio")?, setting("edges")?, setting("drive")?);
-    let board = crate::noncircular::table::Board { cpr: &cpr, ratio: &ratio, edges: &edges, drive: &drive };
+    let dir = setting("dir")?;
+    let board = crate::noncircular::table::Board { cpr: &cpr, ratio: &ratio, edges: &edges, drive: &drive, dir: &dir };
     table.fits(&board).map_err(|e| CliError(format!("upload-cam: {e}")))
 }
 

@@ -20,7 +20,7 @@ pub fn cam_file(setup: &Setup, plan: &Plan, counts_per_rev: u32, steps_per_mm: f
         max_rate_hz: rates.0,
         max_accel: rates.1,
         points,
-        cutter: Some(MadeFor { ratio: setup.ratio.to_string(), edges: setup.edges }),
+        cutter: Some(MadeFor { ratio: setup.ratio.to_string(), edges: setup.edges, direction: Some(setup.direction) }),
     }
 }
 

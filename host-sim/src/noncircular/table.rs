@@ -3,6 +3,7 @@
 //! core interpolates it (linear between points, whole steps).
 
 use super::path::ToolPath;
+use crate::geometry::Direction;
 use polyturn_sync::cam::CAM_POINTS;
 use polyturn_sync::cam_upload::{checksum, CamHeader};
 use serde::{Deserialize, Serialize};
@@ -30,30 +31,55 @@ pub struct CamFile {
 }
 
 /// A compensating X motion repeats with the cutter's passes, so it fits
-/// only the ratio and edges it was planned for: `device upload-cam`
+/// only the ratio, edges and sense it was planned for: `device upload-cam`
 /// checks them against the board's before it sends anything.
 #[derive(Clone, Debug, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct MadeFor {
     pub ratio: String,
     pub edges: u32,
+    /// the cutter's sense against the lathe's (`same` or `opposite`, the
+    /// board's `dir`): the edges sweep the stock the other way round in
+    /// the other sense, so the X motion differs. Optional so that a table
+    /// written without it still parses; it is then refused (`fits`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub direction: Option<Direction>,
 }
 
 impl MadeFor {
-    /// Whether a board set to `ratio` and `edges` (as its console says
-    /// them) cuts with the cutter this table was made for; if not, why.
-    pub fn fits(&self, ratio: &str, edges: &str) -> Result<(), String> {
+    /// Whether a board set to `ratio`, `edges` and `dir` (as its console
+    /// says them) cuts with the cutter this table was made for; if not, why.
+    pub fn fits(&self, ratio: &str, edges: &str, dir: &str) -> Result<(), String> {
         let same_ratio = match (polyturn_sync::Ratio::parse(ratio), polyturn_sync::Ratio::parse(&self.ratio)) {
             (Ok(a), Ok(b)) => a == b,
             _ => false,
         };
-        if same_ratio && edges == self.edges.to_string() {
-            return Ok(());
+        if !same_ratio || edges != self.edges.to_string() {
+            return Err(format!(
+                "the table was made for ratio {} with {} edges, the board is set to ratio {ratio} with {edges} edges: set ratio and edges on the board {CAM_OFF}, or make the table for its setup (nothing sent)",
+                self.ratio, self.edges
+            ));
         }
-        Err(format!(
-            "the table was made for ratio {} with {} edges, the board is set to ratio {ratio} with {edges} edges: set ratio and edges on the board {CAM_OFF}, or make the table for its setup (nothing sent)",
-            self.ratio, self.edges
-        ))
+        self.same_sense(dir)
+    }
+
+    /// A table without its sense is refused rather than guessed: the X
+    /// motion of the wrong sense cuts another section, and once the table
+    /// is fitted the board refuses `set dir`, so the mismatch could not
+    /// even be put right on the board.
+    fn same_sense(&self, dir: &str) -> Result<(), String> {
+        match self.direction {
+            Some(d) if d.name() == dir => Ok(()),
+            Some(d) => Err(format!(
+                "the table was made for direction {} (the cutter turning {} the lathe), the board is set to dir={dir}: set dir {} on the board {CAM_OFF}, or make the table with --direction {dir} (nothing sent)",
+                d.name(),
+                if d == Direction::Same { "the same way as" } else { "the opposite way to" },
+                d.name()
+            )),
+            None => Err(format!(
+                "the table does not say which sense its cutter turns (cutter.direction, which polyturn compensate --table writes; an older polyturn did not), and its X motion fits only one: make it again with polyturn compensate --direction {dir} --table FILE for the board's dir={dir} (nothing sent)"
+            )),
+        }
     }
 }
 
@@ -64,6 +90,8 @@ pub struct Board<'a> {
     pub ratio: &'a str,
     pub edges: &'a str,
     pub drive: &'a str,
+    /// the cutter's sense, `same` or `opposite`
+    pub dir: &'a str,
 }
 
 /// The way out of a fitted table, for advice that changes the cutter (the
@@ -87,7 +115,7 @@ impl CamFile {
                 "the table straightens the flats of a turning cutter (ratio {} with {} edges), the board is set to drive=none: set drive stepper or bldc {CAM_OFF}, or make a single-point tool's table with polyturn cam (nothing sent)",
                 c.ratio, c.edges
             )),
-            (Some(c), false) => c.fits(b.ratio, b.edges),
+            (Some(c), false) => c.fits(b.ratio, b.edges, b.dir),
             (None, true) => Ok(()),
             (None, false) => Err(format!(
                 "the table is a single-point tool's (polyturn cam), the board is set to drive={}: set drive none first {CAM_OFF}, so that no cutter turns while X cuts the section (nothing sent)",
@@ -101,9 +129,13 @@ impl CamFile {
         let value = |key: &str| {
             get_reply.split_whitespace().find_map(|w| w.split_once('=').filter(|(k, _)| *k == key).map(|(_, v)| v))
         };
-        match (value("cpr"), value("ratio"), value("edges"), value("drive")) {
-            (Some(cpr), Some(ratio), Some(edges), Some(drive)) => self.fits(&Board { cpr, ratio, edges, drive }),
-            _ => Err("the board's cpr, ratio, edges and drive could not be read (get): connect to it first".into()),
+        match (value("cpr"), value("ratio"), value("edges"), value("drive"), value("dir")) {
+            (Some(cpr), Some(ratio), Some(edges), Some(drive), Some(dir)) => {
+                self.fits(&Board { cpr, ratio, edges, drive, dir })
+            }
+            _ => {
+                Err("the board's cpr, ratio, edges, drive and dir could not be read (get): connect to it first".into())
+            }
         }
     }
 }

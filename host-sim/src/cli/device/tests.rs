@@ -107,6 +107,81 @@ fn a_compensating_table_goes_only_to_a_board_set_for_its_ratio_and_edges() {
     assert!(e.starts_with("upload-cam: the table straightens the flats of a turning cutter (ratio 3 with 2 edges), the board is set to drive=none"), "{e}");
 }
 
+/// The 3:1 x 2 flats table `polyturn compensate --table` writes for a
+/// cutter turning `direction` to the lathe.
+fn flats_table(direction: crate::geometry::Direction) -> crate::noncircular::table::CamFile {
+    use crate::geometry::Setup;
+    let setup = Setup {
+        cutter_radius_mm: 50.0,
+        stock_radius_mm: 10.0,
+        depth_mm: 2.0,
+        ratio: polyturn_sync::Ratio::parse("3").unwrap(),
+        edges: 2,
+        direction,
+    };
+    let plan = crate::compensate::plan(&setup, 20.0, 12.5, 5000.0);
+    crate::compensate::table::cam_file(&setup, &plan, 2400, 800.0, (10_000, 4_000_000))
+}
+
+/// A board set for the flats table's ratio and edges, its cutter turning
+/// `dir` to the lathe.
+fn board_for_flats(dir: &str) -> Session<FakeDevice> {
+    let mut s = session(FakeDevice::new());
+    for line in ["set max-rpm 600", "set ratio 3", "set edges 2", &format!("set dir {dir}")] {
+        s.ask(line).unwrap();
+    }
+    s
+}
+
+/// The other sense sweeps the stock the other way round, so a compensating
+/// table goes only to a board turning its cutter in the sense it was made
+/// for; refused before anything is sent, naming both.
+#[test]
+fn a_compensating_table_goes_only_to_a_board_turning_its_cutter_the_sense_it_was_made_for() {
+    use crate::geometry::Direction;
+    let mut s = board_for_flats("opposite");
+    let e = upload(&mut s, &flats_table(Direction::Same)).unwrap_err().0;
+    assert_eq!(e, "upload-cam: the table was made for direction same (the cutter turning the same way as the lathe), the board is set to dir=opposite: set dir same on the board (after polyturn device cam-off, if a table is fitted), or make the table with --direction opposite (nothing sent)");
+    let e = s.ask("cam end 00000000").unwrap_err().0;
+    assert!(e.contains("cam begin"), "no table was begun: {e}");
+    let r = upload(&mut s, &flats_table(Direction::Opposite)).unwrap();
+    assert!(r.starts_with("ok cam "), "{r}");
+    let mut s = board_for_flats("same");
+    let e = upload(&mut s, &flats_table(Direction::Opposite)).unwrap_err().0;
+    assert!(e.starts_with("upload-cam: the table was made for direction opposite (the cutter turning the opposite way to the lathe), the board is set to dir=same: set dir opposite on the board"), "{e}");
+    assert!(upload(&mut s, &flats_table(Direction::Same)).unwrap().starts_with("ok cam "));
+}
+
+/// The web page checks a table against the board's whole `get` reply
+/// (`fits_settings`): the same refusal of the other sense.
+#[test]
+fn the_pages_check_refuses_a_compensating_table_for_the_other_sense_too() {
+    use crate::geometry::Direction;
+    let mut s = board_for_flats("opposite");
+    let get = s.ask("get").unwrap();
+    let e = flats_table(Direction::Same).fits_settings(&get).unwrap_err();
+    assert!(e.starts_with("the table was made for direction same (the cutter turning the same way as the lathe), the board is set to dir=opposite"), "{e}");
+    assert_eq!(flats_table(Direction::Opposite).fits_settings(&get), Ok(()));
+}
+
+/// A compensating table written without its sense (an older polyturn's)
+/// still parses, but is refused rather than guessed at: the wrong sense
+/// cuts another section, and the board refuses `set dir` once it is fitted.
+#[test]
+fn a_compensating_table_that_does_not_say_its_sense_is_refused_saying_how_to_remake_it() {
+    let table = flats_table(crate::geometry::Direction::Same);
+    let text = serde_json::to_string(&table).unwrap().replace(",\"direction\":\"same\"", "");
+    assert!(!text.contains("direction"), "{text}");
+    let old = crate::cli::console_line::cam_table("old.json", &text).expect("an older table parses");
+    for dir in ["same", "opposite"] {
+        let mut s = board_for_flats(dir);
+        let e = upload(&mut s, &old).unwrap_err().0;
+        assert_eq!(e, format!("upload-cam: the table does not say which sense its cutter turns (cutter.direction, which polyturn compensate --table writes; an older polyturn did not), and its X motion fits only one: make it again with polyturn compensate --direction {dir} --table FILE for the board's dir={dir} (nothing sent)"));
+        let e = s.ask("cam end 00000000").unwrap_err().0;
+        assert!(e.contains("cam begin"), "no table was begun: {e}");
+    }
+}
+
 /// The board checks the points against the X axis the table declares
 /// before it stores anything (the host checks first: this is the board's
 /// own check, for a table sent past it).
