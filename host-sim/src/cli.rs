@@ -34,7 +34,7 @@ pub mod web;
 pub mod x_table;
 
 use clap::{CommandFactory, FromArgMatches, Parser, Subcommand};
-pub use errors::{CliError, CliResult};
+pub use errors::{CliError, CliResult, Failed};
 
 pub const VERSION: &str = env!("CARGO_PKG_VERSION");
 
@@ -85,6 +85,12 @@ pub enum Command {
 /// Runs one command line (without the program name); Ok(text) to print,
 /// or Err for exit status 2.
 pub fn dispatch(argv: &[String]) -> CliResult<String> {
+    dispatch_reported(argv).map_err(|f| f.error)
+}
+
+/// `dispatch`, keeping the report of a command that failed after making
+/// it (`Failed`): what the `polyturn` binary prints.
+pub fn dispatch_reported(argv: &[String]) -> Result<String, Failed> {
     let parsed = command()
         .try_get_matches_from(std::iter::once("polyturn".to_string()).chain(argv.iter().cloned()))
         .and_then(|m| Cli::from_arg_matches(&m));
@@ -92,11 +98,11 @@ pub fn dispatch(argv: &[String]) -> CliResult<String> {
         errors::Parsed::Run(cli) => cli,
         errors::Parsed::Print(text) => return Ok(text),
     };
-    match cli.command {
+    Ok(match cli.command {
+        Command::Simulate(a) => return simulate::run_cli(a),
         Command::Demo(a) => simulate::demo(a),
         Command::Geometry(a) => geometry::run(a),
         Command::Setups(a) => setups::run(a),
-        Command::Simulate(a) => simulate::run_cli(a),
         #[cfg(feature = "device")]
         Command::Device(a) => device::run(a),
         Command::Sequence(a) => sequence::run(a),
@@ -108,7 +114,7 @@ pub fn dispatch(argv: &[String]) -> CliResult<String> {
         Command::Web(a) => web::run(a),
         Command::Image(a) => image::run(a),
         Command::Completions { shell } => Ok(completions(shell)),
-    }
+    }?)
 }
 
 /// The command line, with negative numbers taken as values at every depth

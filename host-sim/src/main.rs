@@ -4,7 +4,7 @@ use std::process::ExitCode;
 
 fn main() -> ExitCode {
     let argv: Vec<String> = std::env::args().skip(1).collect();
-    match polyturn_host::cli::dispatch(&argv) {
+    match polyturn_host::cli::dispatch_reported(&argv) {
         Ok(text) => match print(&text) {
             Ok(()) => ExitCode::SUCCESS,
             // the reader took what it wanted (`polyturn ... | head`)
@@ -13,7 +13,13 @@ fn main() -> ExitCode {
             // caller asked for it, which is no success
             Err(e) => fail(&format!("the report could not be written to standard output: {e}")),
         },
-        Err(e) => fail(&e.0),
+        // the run's report, then why it failed: the failure is the exit
+        // status and stderr's line whatever became of the report
+        Err(polyturn_host::cli::Failed { report: Some(text), error }) => {
+            let _ = print(&text);
+            fail(&error.0)
+        }
+        Err(f) => fail(&f.error.0),
     }
 }
 

@@ -48,6 +48,29 @@ fn a_simulation_that_never_cut_says_so_and_why_and_exits_non_zero() {
     assert!(out.contains("6 sides") && out.contains("faults: none"), "{out}");
 }
 
+/// An RC ESC cannot brake: the cut is whole, but as the lathe runs down
+/// the cutter coasts behind it and the controller latches a following
+/// error. The run fails (exit 2), saying which fault, when and what to do,
+/// and its report (with the fault) still goes to stdout.
+#[test]
+fn a_run_whose_controller_latched_a_fault_after_the_cut_fails_saying_when_and_what_to_do() {
+    let esc = "simulate --cutter-radius 50 --stock-radius 10 --depth 2 --ratio 2 --edges 3 --direction same --rpm 600 --revolutions 10 --drive bldc --bldc-out esc400";
+    let (code, out, err) = polyturn(&format!("{esc} --json"));
+    assert_eq!(code, 2, "{out}{err}");
+    assert_eq!(err.lines().count(), 1, "{err}");
+    assert!(err.starts_with("error: simulate: the controller latched a following-error fault at "), "{err}");
+    assert!(
+        err.contains(" s, after the cut was whole, while the lathe ran down from 600 rpm at 1200 rpm/s: the cutter fell behind: an RC ESC (esc400) cannot brake, so the cutter coasts down slower than the lathe stops; stop the cutter (`stop` on the board) before stopping the lathe, or drive it with one that brakes (a spindle driver, --bldc-out pwm)"),
+        "{err}"
+    );
+    let report: serde_json::Value = serde_json::from_str(&out).expect("the report, whole");
+    assert_eq!(report["faults"][0]["kind"], "following-error", "{out}");
+    // the human report says it too, and the run still fails
+    let (code, out, err) = polyturn(esc);
+    assert_eq!(code, 2, "{out}{err}");
+    assert!(out.contains("following-error") && err.contains("after the cut was whole"), "{out}{err}");
+}
+
 /// A lathe encoder whose every count jumps the cutter's target past the
 /// following-error limit is named as the cause, not the motor.
 #[test]

@@ -6,8 +6,12 @@ use serde_json::{json, Value};
 
 /// `polyturn <args>` as `{"out": ..., "files": {...}}`, or the error line.
 pub fn run_args(args: &[String]) -> Result<String, String> {
-    let out = polyturn_host::cli::dispatch(args).map_err(|e| e.0)?;
-    Ok(json!({"out": out, "files": captured()}).to_string())
+    let ran = polyturn_host::cli::dispatch(args);
+    // taken whatever the outcome: a run that fails after writing its files
+    // (a simulation whose controller latched a fault) must not leave them
+    // to be handed out with the next command's
+    let files = captured();
+    Ok(json!({"out": ran.map_err(|e| e.0)?, "files": files}).to_string())
 }
 
 #[cfg(target_family = "wasm")]

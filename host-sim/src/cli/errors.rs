@@ -18,6 +18,22 @@ impl CliError {
 
 pub type CliResult<T> = Result<T, CliError>;
 
+/// A command that failed, with the report it made first where it ran to
+/// the end (a simulation whose controller latched a fault): the report
+/// still goes to stdout, so that a script reading `--json` gets it whole,
+/// and the one-line error to stderr with exit status 2.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Failed {
+    pub report: Option<String>,
+    pub error: CliError,
+}
+
+impl From<CliError> for Failed {
+    fn from(error: CliError) -> Failed {
+        Failed { report: None, error }
+    }
+}
+
 /// What clap's verdict on a command line becomes.
 pub enum Parsed<T> {
     Run(T),

@@ -6,7 +6,7 @@ mod alive;
 mod refused;
 
 use super::cutters::{refuse_others, For};
-use super::errors::{CliError, CliResult};
+use super::errors::{CliError, CliResult, Failed};
 use super::output::Outputs;
 use super::setup_args::SetupArgs;
 use super::values::{bldc_out, drive, out_file, pwm_hz, rpm, setting, whole, whole32, within};
@@ -146,7 +146,9 @@ fn fit_bldc(sc: &mut Scenario, a: &SimulateArgs) -> CliResult<()> {
         .map_err(|e| refused::setting(e, sc, a))
 }
 
-pub fn run_cli(a: SimulateArgs) -> CliResult<String> {
+/// A run that cut nothing, too little or not the polygon fails with no
+/// report; one whose controller latched a fault anyway fails with it.
+pub fn run_cli(a: SimulateArgs) -> Result<String, Failed> {
     let sc = scenario_from(&a)?;
     #[cfg(not(target_family = "wasm"))]
     let r = alive::run_alive(&sc, a.revolutions, a.rpm);
@@ -154,17 +156,21 @@ pub fn run_cli(a: SimulateArgs) -> CliResult<String> {
     let r = run(&sc);
     let r = r.map_err(CliError)?;
     if r.cut_turns == 0.0 {
-        return Err(refused::nothing_cut(&sc, &r, &a));
+        return Err(refused::nothing_cut(&sc, &r, &a).into());
     }
     if let Some(e) = refused::cut_short(&sc, &r, &a).or_else(|| refused::missed(&sc, &r, &a)) {
-        return Err(e);
+        return Err(e.into());
     }
     let mut files = Outputs::default();
     if let Some(path) = &a.svg {
         files.add("svg", path, report::svg(&sc, &r))?;
     }
     let written = files.write()?;
-    Ok(written.report(if a.json { report::json(&sc, &r).to_string() } else { report::human(&sc, &r) }))
+    let report = written.report(if a.json { report::json(&sc, &r).to_string() } else { report::human(&sc, &r) });
+    match refused::latched(&sc, &r, &a) {
+        Some(error) => Err(Failed { report: Some(report), error }),
+        None => Ok(report),
+    }
 }
 
 #[derive(clap::Args, Debug)]

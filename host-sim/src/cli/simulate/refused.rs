@@ -51,6 +51,54 @@ pub fn missed(sc: &Scenario, r: &SimResult, a: &SimulateArgs) -> Option<CliError
     })
 }
 
+/// A run whose controller latched a fault failed, however well it cut: on
+/// the board the cutter stopped there and waits for `clear`. Said with
+/// which fault, when, and what the machinist can do.
+pub fn latched(sc: &Scenario, r: &SimResult, a: &SimulateArgs) -> Option<CliError> {
+    let &(tick, f) = r.faults.first()?;
+    let at =
+        format!("simulate: the controller latched a {} fault at {:.2} s", f.name(), tick as f64 / sc.tick_hz as f64);
+    // the lathe stops once the cut is whole (`Scenario::standard`): a
+    // fault after that came while it ran down
+    if r.cut_turns < a.revolutions {
+        return Some(CliError(format!(
+            "{at}, {:.2} of the {} lathe turns into the cut, which stopped there ({})",
+            r.cut_turns,
+            a.revolutions,
+            f.reason()
+        )));
+    }
+    let stops = sc.lathe.legs.last().map_or(0.0, |l| l.accel_rpm_per_s);
+    Some(CliError(format!(
+        "{at}, after the cut was whole, while the lathe ran down from {} rpm at {stops} rpm/s: {}",
+        a.rpm,
+        run_down(sc, f)
+    )))
+}
+
+/// Why a fault came in the lathe's run-down, and the way round it: the
+/// cutter follows the lathe down only as fast as its drive slows it.
+fn run_down(sc: &Scenario, f: polyturn_sync::Fault) -> String {
+    const STOP_FIRST: &str = "stop the cutter (`stop` on the board) before stopping the lathe";
+    if f != polyturn_sync::Fault::FollowingError {
+        return f.reason().into();
+    }
+    match (sc.core.drive, sc.core.bldc_out) {
+        (polyturn_sync::DriveKind::Bldc, BldcOut::Pwm) => format!(
+            "the cutter fell behind: its drive (--bldc-tau {} ms) cannot slow it as fast as the lathe stops; {STOP_FIRST}, or use a faster spindle driver",
+            sc.core.bldc_tau_ms
+        ),
+        (polyturn_sync::DriveKind::Bldc, out) => format!(
+            "the cutter fell behind: an RC ESC ({}) cannot brake, so the cutter coasts down slower than the lathe stops; {STOP_FIRST}, or drive it with one that brakes (a spindle driver, --bldc-out pwm)",
+            out.name()
+        ),
+        _ => format!(
+            "the cutter fell behind: it cannot slow as fast as the lathe stops within its max-accel {} steps/s²; {STOP_FIRST}, or raise --max-accel",
+            sc.core.max_accel_steps_per_s2
+        ),
+    }
+}
+
 /// A setting the simulated board refuses, named by the flag it came from
 /// (the board's `max-rpm` is --rpm and 30 %: the ripple's headroom).
 pub fn setting(e: ConfigError, sc: &Scenario, a: &SimulateArgs) -> CliError {
