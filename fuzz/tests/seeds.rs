@@ -85,8 +85,8 @@ fn files() -> Vec<(String, Vec<u8>)> {
     for (name, c) in records {
         add(&format!("corpus/settings/seed-{name}"), &codec::encode(&c));
     }
-    // found by the `decoding_is_one_to_one` promise: decoded to 2/1 and
-    // re-encoded to other bytes (now DecodeError::NonCanonical)
+    // the `decoding_is_one_to_one` promise: an unreduced ratio decodes to
+    // 2/1 and would re-encode to other bytes (DecodeError::NonCanonical)
     add("regressions/settings/unreduced-ratio-4-2", &with_ratio_terms(4, 2));
     add("regressions/settings/unreduced-ratio-2-8", &with_ratio_terms(2, 8));
     // what the `settings` target found from the seeds above in under a

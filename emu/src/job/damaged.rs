@@ -1,5 +1,5 @@
 //! Scenario (k): a damaged image does not run. The real release image is
-//! flashed damaged three ways, as a reviewer's mutants of it were: its last
+//! flashed damaged three ways, the ways a flash goes wrong: its last
 //! 11.8 KB erased (a write cut short), a byte of its vector table changed
 //! (an unused interrupt's entry, so that the CPU still starts), a byte of
 //! its `.rodata` changed. Each boots; the image's own check

@@ -141,8 +141,8 @@ fn an_upload_with_points_2_pow_23_apart_is_refused_before_it_is_saved() {
 
 #[test]
 fn a_phase_nudge_while_synced_is_a_move_not_a_following_error() {
-    // found by fuzzing (fuzz/fuzz_targets/tick.rs): `ok phase=10.000`, then
-    // a following-error fault on the next tick with the lathe at rest
+    // `ok phase=10.000` must not be followed by a following-error fault on
+    // the next tick with the lathe at rest
     let mut c = ctl();
     c.engage().unwrap();
     for _ in 0..3 {
