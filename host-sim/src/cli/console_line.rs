@@ -57,12 +57,20 @@ pub fn cam_table(name: &str, text: &str) -> CliResult<CamFile> {
     // the field at fault named by its path (`cutter.edges`, `points[3]`),
     // not only by its line and column
     let de = &mut serde_json::Deserializer::from_str(text);
-    let table: CamFile = serde_path_to_error::deserialize(de).map_err(|e| {
+    let table: CamFile = serde_path_to_error::deserialize(&mut *de).map_err(|e| {
         let at = match e.path().to_string().as_str() {
             "." | "" => String::new(),
             p => format!("{p}: "),
         };
         CliError(format!("upload-cam: '{name}' is not a polyturn cam table: {at}{}", escaped(&e.inner().to_string())))
+    })?;
+    // one table a file: anything after it (a second table pasted on) is
+    // refused, not left unsent
+    de.end().map_err(|e| {
+        CliError(format!(
+            "upload-cam: '{name}' is not a polyturn cam table: it holds more after the table ({})",
+            escaped(&e.to_string())
+        ))
     })?;
     if table.format != FORMAT {
         return Err(CliError(format!(

@@ -179,3 +179,32 @@ fn a_number_out_of_its_fields_type_is_named_by_its_field() {
         assert!(e.starts_with(&format!("upload-cam: 't.json' is not a polyturn cam table: {want}")), "{e}");
     }
 }
+
+/// A file is one table: a second pasted after it, or any text, is refused
+/// (the first would be sent and the rest silently left); white space
+/// after it, as an editor leaves, is taken.
+#[test]
+fn anything_after_the_table_is_refused_and_trailing_white_space_taken() {
+    let one = serde_json::to_string(&octagon()).unwrap();
+    for tail in [one.as_str(), "xyz", "{}", "0"] {
+        let e = cam_table("t.json", &format!("{one}\n{tail}")).unwrap_err().0;
+        assert!(
+            e.starts_with("upload-cam: 't.json' is not a polyturn cam table: it holds more after the table ("),
+            "{e}"
+        );
+    }
+    assert_eq!(cam_table("t.json", &format!("{one}\n \t\r\n")).map_err(|e| e.0), Ok(octagon()));
+}
+
+/// An X axis declared far slower than the table's own path, though each
+/// point is within a step of its neighbour: refused with the figure the
+/// spans of the path need.
+#[test]
+fn a_table_declaring_an_axis_slower_than_its_path_is_refused() {
+    let t = CamFile { max_accel: 1, ..octagon() };
+    let e = checked(&t).unwrap_err();
+    assert!(e.starts_with("upload-cam: 't.json' is refused: cam table: a bend of "), "{e}");
+    assert!(e.contains("beyond its max-accel 1 steps/s^2"), "{e}");
+    let e = checked(&CamFile { max_rate_hz: 1, ..octagon() }).unwrap_err();
+    assert!(e.contains("apart move ") && e.contains("beyond its max-rate 1 steps/s"), "{e}");
+}

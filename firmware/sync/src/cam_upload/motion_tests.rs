@@ -38,7 +38,7 @@ fn a_jump_between_neighbours_no_x_axis_can_make_is_refused_with_its_figures() {
     let e = check(&header(1024), &points).unwrap_err();
     let apart = (points[500] - points[499]).max(points[500] - points[501]) as u32;
     let needs_hz = ((apart as u64 - 1) * 1024).div_ceil(60);
-    assert_eq!(e, MotionError::Rate { apart, needs_hz, max_hz: X_MAX_RATE_HZ });
+    assert_eq!(e, MotionError::Rate { span: 1, apart, needs_hz, max_hz: X_MAX_RATE_HZ });
     assert_eq!(
         format!("{e}"),
         format!("cam table: neighbouring points {apart} steps apart need {needs_hz} X steps/s at 1 lathe rpm, beyond its max-rate {X_MAX_RATE_HZ} steps/s (a table must be followed at 1 rpm or faster)")
@@ -57,7 +57,7 @@ fn a_jump_between_neighbours_no_x_axis_can_make_is_refused_with_its_figures() {
 fn the_rate_is_taken_up_to_its_limit_and_the_rounding_is_allowed_for() {
     let h = CamHeader { max_rate_hz: 100, max_accel: 1_000, ..header(2) };
     assert_eq!(check(&h, &[0, 3_001]), Ok(()), "3 000 steps in 30 s: 100 steps/s");
-    assert_eq!(check(&h, &[0, 3_002]), Err(MotionError::Rate { apart: 3_002, needs_hz: 101, max_hz: 100 }));
+    assert_eq!(check(&h, &[0, 3_002]), Err(MotionError::Rate { span: 1, apart: 3_002, needs_hz: 101, max_hz: 100 }));
     assert_eq!(check(&h, &[5, 6]), Ok(()), "a step of rounding");
 }
 
@@ -71,7 +71,7 @@ fn a_bend_sharper_than_the_x_axis_accelerates_is_refused_with_its_figures() {
     let needs = (198u64 * 1024 * 1024).div_ceil(3_600);
     assert_eq!(needs, 57_672);
     let e = check(&h, &zigzag).unwrap_err();
-    assert_eq!(e, MotionError::Accel { bend: 200, needs, max: 10_000 });
+    assert_eq!(e, MotionError::Accel { span: 1, bend: 200, needs, max: 10_000 });
     assert!(format!("{e}").starts_with("cam table: a bend of 200 steps at a point needs 57672 X steps/s^2 at 1 lathe rpm, beyond its max-accel 10000 steps/s^2"), "{e}");
     assert_eq!(check(&CamHeader { max_accel: 57_672, ..h }, &zigzag), Ok(()));
 }
@@ -81,7 +81,7 @@ fn a_bend_sharper_than_the_x_axis_accelerates_is_refused_with_its_figures() {
 fn the_step_from_the_last_point_to_the_first_counts() {
     let ramp: Vec<i32> = (0..1024).map(|i| i * 4).collect();
     let e = check(&header(1024), &ramp).unwrap_err();
-    assert!(matches!(e, MotionError::Rate { apart: 4_092, .. }), "{e:?}");
+    assert!(matches!(e, MotionError::Rate { span: 1, apart: 4_092, .. }), "{e:?}");
 }
 
 /// Fine encoders, coarse tables: the products stay within 128 bits and the
@@ -100,8 +100,53 @@ fn extreme_headers_give_figures_not_overflows() {
 /// them: each names the limit the points exceed.
 #[test]
 fn each_motion_refusal_describes_the_limit_it_exceeds() {
-    let rate = MotionError::Rate { apart: 2, needs_hz: 3, max_hz: 1 };
-    let accel = MotionError::Accel { bend: 2, needs: 3, max: 1 };
+    let rate = MotionError::Rate { span: 1, apart: 2, needs_hz: 3, max_hz: 1 };
+    let accel = MotionError::Accel { span: 4, bend: 2, needs: 3, max: 1 };
     assert_eq!(rate.describe(), "cam table: its points need more than its max-rate even at 1 lathe rpm");
     assert_eq!(accel.describe(), "cam table: its points need more than its max-accel even at 1 lathe rpm");
+}
+
+/// A dense table moves a step or less between neighbours, all within the
+/// rounding's allowance at span 1. 1 024 points of a 1 mm wave (800 steps)
+/// over one turn: at 1 rpm its path peaks at 800 · 2π / 60 = 83.8 steps/s
+/// and 800 · (2π / 60)² = 8.77 steps/s², which the spans find (each a lower
+/// bound, the rounding taken off), so an axis declared slower or weaker
+/// than that is refused.
+#[test]
+fn a_dense_table_is_measured_over_spans_so_a_slow_axis_is_refused() {
+    let wave = smooth();
+    let (d1, d2) =
+        wave.windows(3).fold((0, 0), |(a, b), w| (a.max((w[1] - w[0]).abs()), b.max((w[2] - 2 * w[1] + w[0]).abs())));
+    assert!(d1 <= 5 && d2 <= 2, "neighbours alone show no motion past the rounding: {d1} {d2}");
+    let e = check(&CamHeader { max_rate_hz: 60, ..header(1024) }, &wave).unwrap_err();
+    let MotionError::Rate { span, needs_hz, .. } = e else { panic!("{e:?}") };
+    assert!(span > 1 && (70..=84).contains(&needs_hz), "{e:?}");
+    assert!(format!("{e}").starts_with(&format!("cam table: points {span} apart move ")), "{e}");
+    assert_eq!(
+        check(&CamHeader { max_rate_hz: 84, max_accel: 8, ..header(1024) }, &wave)
+            .map_err(|e| matches!(e, MotionError::Accel { .. })),
+        Err(true)
+    );
+    let e = check(&CamHeader { max_rate_hz: 84, max_accel: 5, ..header(1024) }, &wave).unwrap_err();
+    let MotionError::Accel { span, needs, .. } = e else { panic!("{e:?}") };
+    assert!(span > 1 && (6..=9).contains(&needs), "{e:?}");
+    assert_eq!(
+        check(&CamHeader { max_rate_hz: 84, max_accel: 9, ..header(1024) }, &wave),
+        Ok(()),
+        "what the path needs is taken"
+    );
+}
+
+/// A table whose every point is within a step of its neighbour but which
+/// climbs 1 000 steps in a turn and falls back: the climb over the longest
+/// span is the speed.
+#[test]
+fn a_ramp_of_single_steps_is_a_speed_over_its_span() {
+    let tri: Vec<i32> = (0..1024).map(|i: i32| if i < 512 { i * 2 } else { (1024 - i) * 2 }).collect();
+    let h = CamHeader { max_rate_hz: 10, max_accel: u32::MAX, ..header(1024) };
+    // 2 steps a segment, a segment 60 / 1 024 s: 34.1 steps/s, the spans'
+    // (512 · 2 − 1) / 30 s = 34.1
+    let e = check(&h, &tri).unwrap_err();
+    assert!(matches!(e, MotionError::Rate { needs_hz: 34 | 35, .. }), "{e:?}");
+    assert_eq!(check(&CamHeader { max_rate_hz: 35, ..h }, &tri), Ok(()));
 }

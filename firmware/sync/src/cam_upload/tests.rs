@@ -112,7 +112,7 @@ fn a_number_with_a_sign_or_leading_zeros_is_refused_in_every_field() {
 #[test]
 fn a_table_refusal_displays_its_reason() {
     assert_eq!(format!("{}", TableRefusal::Text("cam: no upload in progress")), "cam: no upload in progress");
-    let m = motion::MotionError::Rate { apart: 125, needs_hz: 20_000, max_hz: 9_600 };
+    let m = motion::MotionError::Rate { span: 1, apart: 125, needs_hz: 20_000, max_hz: 9_600 };
     let shown = format!("{}", TableRefusal::Motion(m));
     assert_eq!(shown, format!("{m}"));
     assert!(shown.contains("125 steps apart need 20000 X steps/s"), "{shown}");
