@@ -15,17 +15,19 @@ const MARKER_TEXT_MAX: usize = 80;
 /// when `any_image` lets an image without a marker through). A polyturn
 /// image must be sealed (an unmarked one has no seal to check).
 pub fn image(base: u32, bytes: &[u8], any_image: bool) -> Result<Option<String>, Refusal> {
-    vectors(base, bytes)?;
+    // a marked image's seal first: an image cut short is told so, not by
+    // whichever vector its missing bytes broke
     match markers(bytes)? {
         Some((chip, _)) if chip != CHIP => {
             Err(Refusal::new(format!("must be a polyturn image for the {CHIP}"), format!("made for the {chip}")))
         }
         Some((_, version)) => {
             seal::check(bytes)?;
+            vectors(base, bytes)?;
             fits(base, bytes)?;
             Ok(Some(version))
         }
-        None if any_image => Ok(None),
+        None if any_image => vectors(base, bytes).map(|()| None),
         None => Err(Refusal::new(
             format!("must be a polyturn image for the {CHIP}, marked 'polyturn-image:{CHIP}:VERSION' (--any-image writes another program)"),
             "no polyturn-image marker: another program, or a polyturn image cut short",

@@ -26,7 +26,7 @@ pub fn parse(file: &[u8]) -> Result<(u32, Vec<u8>), Refusal> {
         if ended {
             return Err(Refusal::new(HEX_RULE, format!("line {n} comes after the end-of-file record")));
         }
-        let record = Record::from_record_string(line).map_err(|e| Refusal::new(HEX_RULE, format!("line {n}: {e}")))?;
+        let record = Record::from_record_string(line).map_err(|e| Refusal::new(HEX_RULE, format!("line {n}: {}", unread(e))))?;
         match record {
             Record::Data { offset, value } => {
                 // a record wraps within its 64 KiB segment (I32HEX), which
@@ -119,4 +119,16 @@ pub fn write(image: &Image) -> Result<String, Refusal> {
     records.push(Record::EndOfFile);
     ihex::create_object_file_representation(&records)
         .map_err(|e| Refusal::new("must be writable as Intel HEX", e.to_string()))
+}
+
+/// Why a record could not be read. The `ihex` crate's checksum message
+/// names the sum it computed as the one found: told here the other way
+/// round, the file's byte first.
+fn unread(e: ihex::ReaderError) -> String {
+    match e {
+        ihex::ReaderError::ChecksumMismatch(computed, in_file) => {
+            format!("checksum {in_file:02X} does not match the record, whose bytes make {computed:02X}")
+        }
+        e => e.to_string(),
+    }
 }

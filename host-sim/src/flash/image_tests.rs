@@ -189,7 +189,7 @@ fn malformed_or_overlapping_hex_is_refused_naming_the_line() {
     let ok = hex_of(&[(FLASH_BASE, &bytes)]);
     let bad_sum = ok.replacen(":10000000", ":10000001", 1);
     let cases = [
-        (bad_sum, "line 2: invalid checksum"),
+        (bad_sum, "line 2: checksum "),
         (ok.replace(":00000001FF", ""), "no end-of-file record (cut short?)"),
         (format!("{ok}\n{}", record(0, 0x40, &[0])), "line 7 comes after the end-of-file record"),
         (ok.replacen(":020000040800F2", ":020000020000FC", 1), "line 1 is an 8086 segment record"),
@@ -331,4 +331,34 @@ fn an_unmarked_image_needs_its_always_enabled_handlers_in_the_image() {
     assert!(r.rule.ends_with("or 0 (never enabled)") && r.found.starts_with("SysTick"), "{r:?}");
     // reserved words are not read
     assert!(with(7, 0xDEAD_BEEF).is_ok());
+}
+
+/// The checksum refusal names the byte the file holds as its checksum, and
+/// the one its record's bytes make.
+#[test]
+fn a_bad_hex_checksum_names_the_files_byte_and_the_records_sum() {
+    let ok = hex_of(&[(FLASH_BASE, &unsealed(16))]);
+    let line2 = ok.lines().nth(1).unwrap();
+    let right = &line2[line2.len() - 2..];
+    let wrong = if right == "AB" { "AC" } else { "AB" };
+    let bad = ok.replacen(line2, &format!("{}{wrong}", &line2[..line2.len() - 2]), 1);
+    let r = refused(bad.as_bytes(), Format::Hex, false);
+    assert!(r.found.ends_with(&format!("line 2: checksum {wrong} does not match the record, whose bytes make {right}")), "{r:?}");
+}
+
+/// An image cut in half whose HardFault handler lay in the half cut off:
+/// told by its seal as cut short, not by the vector its missing bytes
+/// broke.
+#[test]
+fn an_image_cut_short_is_told_so_before_its_vectors() {
+    let mut raw = unsealed(4096);
+    raw[12..16].copy_from_slice(&(FLASH_BASE + 3001).to_le_bytes()); // HardFault
+    let whole = {
+        let mut b = raw.clone();
+        super::seal::seal(&mut b);
+        b
+    };
+    assert!(from_bytes(&whole, Format::Bin, false).is_ok());
+    let r = refused(&whole[..2048], Format::Bin, false);
+    assert_eq!(r.found, "no seal at its end, 2048 bytes (cut short, or not made by `polyturn image`)");
 }
