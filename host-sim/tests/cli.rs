@@ -132,6 +132,34 @@ fn a_closed_pipe_ends_quietly_not_with_a_panic() {
     assert!(out.status.success());
 }
 
+/// A drawing sent to stdout (`--svg -`) whose reader closed the pipe ends
+/// as the report does, exit 0; a stdout that refuses it (a full disk) is
+/// named `stdout`, not `-`.
+#[test]
+fn a_drawing_to_stdout_ends_quietly_at_a_closed_pipe_and_names_stdout_when_refused() {
+    use std::process::Stdio;
+    let args = ["geometry", "--cutter-radius", "50", "--stock-diameter", "20", "--depth", "1.5", "--ratio", "2"];
+    let args = [&args[..], &["--edges", "3", "--direction", "same", "--svg", "-"]].concat();
+    let mut child = Command::new(env!("CARGO_BIN_EXE_polyturn"))
+        .args(&args)
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    drop(child.stdout.take()); // `| head` gone before the drawing is written
+    let out = child.wait_with_output().unwrap();
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success() && !err.contains("error"), "{err}");
+    #[cfg(target_os = "linux")]
+    {
+        let full = std::fs::OpenOptions::new().write(true).open("/dev/full").expect("/dev/full");
+        let out = Command::new(env!("CARGO_BIN_EXE_polyturn")).args(&args).stdout(full).output().unwrap();
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(2), "{err}");
+        assert!(err.starts_with("error: --svg could not write to stdout: No space left on device"), "{err}");
+    }
+}
+
 const OCTAGON: &str = "cam --sides 8 --inscribed-radius 20 --x-max-speed 12 --x-max-accel 2000";
 
 #[test]

@@ -118,7 +118,10 @@ impl Outputs {
             staged::unstage(staged);
             CliError::flag(o.flag, why)
         };
-        let could_not = |o: &Output, e: std::io::Error| format!("could not write '{}': {e}", shown(&o.given));
+        let could_not = |o: &Output, e: std::io::Error| match o.target {
+            Target::Stdout => format!("could not write to stdout: {e}"),
+            _ => format!("could not write '{}': {e}", shown(&o.given)),
+        };
         for o in &self.files {
             if let Target::File(path) = &o.target {
                 #[cfg(unix)]
@@ -155,8 +158,12 @@ fn unstaged(target: &Target, bytes: &[u8], wait: std::time::Duration) -> std::io
         Target::File(_) => Ok(()),
         Target::Stdout => {
             let mut out = std::io::stdout().lock();
-            out.write_all(bytes)?;
-            out.flush()
+            // a reader that closed the pipe (`| head`) took what it wanted:
+            // no error, as for the report
+            match out.write_all(bytes).and_then(|()| out.flush()) {
+                Err(e) if e.kind() == std::io::ErrorKind::BrokenPipe => Ok(()),
+                r => r,
+            }
         }
         Target::Stream(path) => stream::write(path, bytes, wait),
     }
