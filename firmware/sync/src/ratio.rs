@@ -35,7 +35,7 @@ impl RatioError {
     /// One line for a machinist: what was wrong and what is allowed.
     pub fn describe(self) -> &'static str {
         match self {
-            RatioError::Syntax => "must be an integer, p/q, p:q or a decimal like 2.5",
+            RatioError::Syntax => "must be an integer, p/q, p:q or a decimal like 2.5 (up to 6 decimals)",
             RatioError::NotPositive => "must be greater than 0",
             RatioError::ZeroDenominator => "has a zero denominator",
             RatioError::TooLarge => "needs numerator and denominator in 1..=1000 after reduction",

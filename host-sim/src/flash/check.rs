@@ -27,8 +27,15 @@ pub fn image(base: u32, bytes: &[u8], any_image: bool) -> Result<Option<String>,
             fits(base, bytes)?;
             Ok(Some(version))
         }
-        None if any_image => vectors(base, bytes).map(|()| None),
-        None => Err(Refusal::new(
+        None => vectors(base, bytes).and_then(|()| unmarked(any_image)),
+    }
+}
+
+/// An image without a polyturn marker: taken only with `--any-image`.
+fn unmarked(any_image: bool) -> Result<Option<String>, Refusal> {
+    match any_image {
+        true => Ok(None),
+        false => Err(Refusal::new(
             format!("must be a polyturn image for the {CHIP}, marked 'polyturn-image:{CHIP}:VERSION' (--any-image writes another program)"),
             "no polyturn-image marker: another program, or a polyturn image cut short",
         )),

@@ -26,7 +26,8 @@ pub fn parse(file: &[u8]) -> Result<(u32, Vec<u8>), Refusal> {
         if ended {
             return Err(Refusal::new(HEX_RULE, format!("line {n} comes after the end-of-file record")));
         }
-        let record = Record::from_record_string(line).map_err(|e| Refusal::new(HEX_RULE, format!("line {n}: {}", unread(e))))?;
+        let record =
+            Record::from_record_string(line).map_err(|e| Refusal::new(HEX_RULE, format!("line {n}: {}", unread(e))))?;
         match record {
             Record::Data { offset, value } => {
                 // a record wraps within its 64 KiB segment (I32HEX), which

@@ -343,7 +343,10 @@ fn a_bad_hex_checksum_names_the_files_byte_and_the_records_sum() {
     let wrong = if right == "AB" { "AC" } else { "AB" };
     let bad = ok.replacen(line2, &format!("{}{wrong}", &line2[..line2.len() - 2]), 1);
     let r = refused(bad.as_bytes(), Format::Hex, false);
-    assert!(r.found.ends_with(&format!("line 2: checksum {wrong} does not match the record, whose bytes make {right}")), "{r:?}");
+    assert!(
+        r.found.ends_with(&format!("line 2: checksum {wrong} does not match the record, whose bytes make {right}")),
+        "{r:?}"
+    );
 }
 
 /// An image cut in half whose HardFault handler lay in the half cut off:

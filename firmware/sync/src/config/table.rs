@@ -85,9 +85,9 @@ pub const DIVIDE: Span = DIVIDE_AND_REFUSAL.0;
 pub const DIVIDE_REFUSAL: &str = DIVIDE_AND_REFUSAL.1;
 
 pub const RATIO: &str =
-    "an integer, p/q, p:q or a decimal like 2.5, numerator and denominator 1..=1000 after reduction";
+    "an integer, p/q, p:q or a decimal like 2.5 (up to 6 decimals), numerator and denominator 1..=1000 after reduction";
 pub const DIR: &str = "same or opposite";
-pub const PHASE: &str = "-360..=360 degrees of the cutter";
+pub const PHASE: &str = "-360..=360 degrees of the cutter, up to 3 decimals";
 pub const DRIVE: &str = "stepper, bldc or none";
 pub const ENABLE: &str = "high or low (the active level)";
 pub const BLDC_OUT: &str = "esc50, esc400, oneshot125 or pwm";

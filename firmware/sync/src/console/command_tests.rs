@@ -110,7 +110,10 @@ fn set_ratio_takes_the_shops_colon_and_get_shows_it_as_before() {
     }
     let before = *c.config();
     assert_eq!(say(&mut c, "set ratio 1:0").0, "error: ratio has a zero denominator");
-    assert_eq!(say(&mut c, "set ratio 2:1:1").0, "error: ratio must be an integer, p/q, p:q or a decimal like 2.5");
+    assert_eq!(
+        say(&mut c, "set ratio 2:1:1").0,
+        "error: ratio must be an integer, p/q, p:q or a decimal like 2.5 (up to 6 decimals)"
+    );
     assert_eq!(*c.config(), before);
 }
 
@@ -123,6 +126,20 @@ fn the_other_values_of_the_word_settings_read_back() {
     assert_eq!(say(&mut c, "get phase").0, "ok phase=0.000", "no sign on zero");
     assert_eq!(say(&mut c, "set phase -0.5").0, "ok phase=-0.500");
     assert_eq!(say(&mut c, "set phase 0.005").0, "ok phase=0.005");
+}
+
+/// A value inside the range but with more decimals than the setting keeps
+/// is told the limit, not only the range it is within.
+#[test]
+fn too_many_decimals_are_told_the_decimals_allowed() {
+    let mut c = ctl();
+    let before = *c.config();
+    assert_eq!(say(&mut c, "set phase 1.2345").0, "error: phase -360..=360 degrees of the cutter, up to 3 decimals");
+    assert_eq!(
+        say(&mut c, "set ratio 2.0000001").0,
+        "error: ratio must be an integer, p/q, p:q or a decimal like 2.5 (up to 6 decimals)"
+    );
+    assert_eq!(*c.config(), before);
 }
 
 #[test]

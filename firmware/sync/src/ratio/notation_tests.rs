@@ -48,5 +48,5 @@ fn one_separator_only_and_not_both() {
 
 #[test]
 fn the_syntax_refusal_names_both_separators() {
-    assert_eq!(RatioError::Syntax.describe(), "must be an integer, p/q, p:q or a decimal like 2.5");
+    assert_eq!(RatioError::Syntax.describe(), "must be an integer, p/q, p:q or a decimal like 2.5 (up to 6 decimals)");
 }
