@@ -477,3 +477,63 @@ fn a_driver_pulse_no_step_rate_fits_is_refused_naming_its_flag() {
     assert!(sent(&s).iter().all(|l| !l.starts_with("set ")), "{:?}", sent(&s));
     assert_eq!(*s.io.ctl.config(), Config::default());
 }
+
+/// A BLDC setup on a 1 000-count encoder at 3 000 rpm: max-rate 50 000
+/// counts/s and ferror 4 counts, the board's then.
+const SLOW_BLDC: &str = "--non-interactive --drive bldc --bldc-out pwm --encoder-lines 600 --max-lathe-rpm 1000 --cutter-encoder-cpr 1000 --cutter-max-rpm 3000 --no-save";
+
+/// A stepper's setup after a BLDC's puts back what the BLDC's set that
+/// binds a stepper (`max-rate`, `ferror`), sends them and shows them: the
+/// stepper is judged by its own rate, not the BLDC's full speed.
+#[test]
+fn a_stepper_setup_after_a_bldc_puts_back_the_steppers_max_rate_and_ferror() {
+    let mut s = session(FakeDevice::new());
+    run(&mut s, &args(SLOW_BLDC), &mut Scripted::new(&[])).unwrap();
+    assert_eq!((s.io.ctl.config().max_step_rate_hz, s.io.ctl.config().following_error_limit_steps), (50_000, 4));
+    let stepper = "--non-interactive --encoder-lines 600 --max-lathe-rpm 1000 --no-save";
+    let out = run(&mut s, &args(stepper), &mut Scripted::new(&[])).unwrap_or_else(|e| panic!("{}", e.0));
+    let (c, d) = (*s.io.ctl.config(), Config::default());
+    assert_eq!(
+        (c.drive, c.max_step_rate_hz, c.max_lathe_rpm),
+        (polyturn_sync::DriveKind::Stepper, d.max_step_rate_hz, 1_000)
+    );
+    assert_eq!(c.following_error_limit_steps, d.following_error_limit_steps);
+    let set = out.lines().next().unwrap();
+    assert!(set.contains(&format!("max-rate={}", d.max_step_rate_hz)), "{out}");
+    assert!(set.contains(&format!("ferror={}", d.following_error_limit_steps)), "{out}");
+}
+
+/// A stepper's own max-rate, set by hand, stays through its setup.
+#[test]
+fn a_stepper_setup_keeps_a_steppers_own_max_rate() {
+    let mut s = session(FakeDevice::new());
+    s.ask("set max-rpm 600").unwrap();
+    s.ask("set max-rate 150000").unwrap();
+    let out = run(
+        &mut s,
+        &args("--non-interactive --encoder-lines 600 --max-lathe-rpm 600 --no-save"),
+        &mut Scripted::new(&[]),
+    )
+    .unwrap();
+    assert_eq!(s.io.ctl.config().max_step_rate_hz, 150_000);
+    assert!(!out.contains("max-rate="), "{out}");
+}
+
+/// The interview too: its lathe speed and start rate are bounded by the
+/// stepper's rate, and what it saves is a stepper's.
+#[test]
+fn the_interview_after_a_bldc_setup_sets_up_a_stepper_not_the_bldcs_rates() {
+    let mut s = hand_turned();
+    run(&mut s, &args(SLOW_BLDC), &mut Scripted::new(&[])).unwrap();
+    let mut answers = INTERVIEW.to_vec();
+    answers[12] = "100000"; // a start rate past the BLDC's 50 000
+    let out =
+        run(&mut s, &args(""), &mut Scripted::new(&answers)).unwrap_or_else(|e| panic!("{e:?} after {:?}", sent(&s)));
+    let (c, d) = (*s.io.ctl.config(), Config::default());
+    assert_eq!(
+        (c.max_step_rate_hz, c.following_error_limit_steps),
+        (d.max_step_rate_hz, d.following_error_limit_steps)
+    );
+    assert_eq!((c.max_lathe_rpm, c.start_rate_hz), (1_000, 100_000), "{out}");
+    assert!(out.contains("ferror=") && out.contains("max-rate="), "{out}");
+}
