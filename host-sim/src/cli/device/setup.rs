@@ -24,6 +24,9 @@ pub fn run<P: Read + Write>(s: &mut Session<P>, a: &GuidedArgs, ask: &mut dyn As
     let facts = if a.non_interactive { from_flags(a)? } else { interview(s, a, ask)? };
     let (_, current) = read_back(s)?;
     let facts = Facts { after_bldc: facts.bldc.is_none() && current.drive == DriveKind::Bldc, ..facts };
+    if a.non_interactive {
+        within_the_step_rate(&facts, &current, a)?;
+    }
     let facts = top_speed_that_fits(facts, &current, a, ask)?;
     let (order, next) = figures::send_order(&current, &changes(&facts)).map_err(CliError)?;
     cam_keeps_its_cutter(s, &current, &next)?;
@@ -69,6 +72,39 @@ fn top_speed_that_fits(f: Facts, current: &Config, a: &GuidedArgs, ask: &mut dyn
     ask.say(&format!("{} rpm is too fast {at}: at most {lo} rpm", f.max_rpm));
     let max_rpm = ask.number("The lathe's fastest speed, rpm", Some(lo), MAX_RPM.lo, lo)?;
     Ok(Facts { max_rpm, ..f })
+}
+
+/// A stepper's `--start-rate` and STEP pulse against the step rate it
+/// will have, by the board's rules (`start-rate <= max-rate`, `max-rate x
+/// 2 x pulse <= 1 s`): every flag at fault named in one refusal, with its
+/// bound and the value given, rather than the first rule the board trips.
+fn within_the_step_rate(f: &Facts, current: &Config, a: &GuidedArgs) -> CliResult<()> {
+    if f.bldc.is_some() {
+        return Ok(());
+    }
+    let max = stepper_max_rate(current);
+    let mut faults = Vec::new();
+    if let Some(r) = f.start_rate.filter(|&r| r > max) {
+        faults.push(format!("--start-rate must be at most {max} steps/s, the board's max-rate (got {r})"));
+    }
+    let most = (1_000_000_000 / (2 * max as u64).max(1)) as u32;
+    if let Some(p) = f.pulse_ns.filter(|&p| p > most) {
+        faults.push(pulse_too_long(a, most, p, max));
+    }
+    match faults.is_empty() {
+        true => Ok(()),
+        false => Err(CliError(faults.join("; "))),
+    }
+}
+
+/// A STEP pulse too long for the step rate, in the flag given: the
+/// hidden `--pulse-us` in microseconds, with the nanoseconds it made.
+fn pulse_too_long(a: &GuidedArgs, most: u32, ns: u32, max: u32) -> String {
+    let why = format!("with the board's max-rate of {max} steps/s: a step is a pulse high and as long low");
+    match a.pulse_us {
+        Some(us) => format!("--pulse-us must be at most {} us {why} (got {us}, {ns} ns rounded up)", most as f64 / 1e3),
+        None => format!("--pulse-ns must be at most {most} ns {why} (got {ns})"),
+    }
 }
 
 /// The highest n in lo..hi that `fits`, where `fits(lo)` holds and

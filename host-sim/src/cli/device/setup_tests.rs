@@ -77,7 +77,7 @@ fn a_start_rate_is_set_and_the_summary_says_what_catches_a_start_too_fast() {
     s.ask("set max-rpm 600").unwrap();
     s.ask("set max-rate 100000").unwrap();
     let e = run(&mut s, &args(&format!("{base} --start-rate 150000")), &mut Scripted::new(&[])).unwrap_err();
-    assert!(e.0.contains("start-rate must not exceed max-rate"), "{}", e.0);
+    assert_eq!(e.0, "--start-rate must be at most 100000 steps/s, the board's max-rate (got 150000)");
     assert!(!sent(&s).iter().any(|l| l.starts_with("set start-rate")), "{:?}", sent(&s));
 }
 
@@ -536,4 +536,46 @@ fn the_interview_after_a_bldc_setup_sets_up_a_stepper_not_the_bldcs_rates() {
     );
     assert_eq!((c.max_lathe_rpm, c.start_rate_hz), (1_000, 100_000), "{out}");
     assert!(out.contains("ferror=") && out.contains("max-rate="), "{out}");
+}
+
+/// A start rate past the board's max-rate is refused naming the flag,
+/// the bound and the value; with a pulse too long as well, both flags.
+#[test]
+fn a_start_rate_past_max_rate_is_refused_naming_it_and_a_bad_pulse_too() {
+    let base = "--non-interactive --encoder-lines 600 --max-lathe-rpm 1000 --no-save";
+    let mut s = session(FakeDevice::new());
+    let e = run(&mut s, &args(&format!("{base} --start-rate 250000")), &mut Scripted::new(&[])).unwrap_err();
+    assert_eq!(e.0, "--start-rate must be at most 200000 steps/s, the board's max-rate (got 250000)");
+    let e = run(&mut s, &args(&format!("{base} --start-rate 250000 --pulse-ns 100000")), &mut Scripted::new(&[]))
+        .unwrap_err();
+    assert!(e.0.starts_with("--start-rate must be at most 200000 steps/s, the board's max-rate (got 250000); --pulse-ns must be at most 2500 ns"), "{}", e.0);
+    assert!(e.0.ends_with("(got 100000)"), "{}", e.0);
+    assert!(sent(&s).iter().all(|l| !l.starts_with("set ")), "{:?}", sent(&s));
+    assert_eq!(*s.io.ctl.config(), Config::default());
+}
+
+/// `--pulse-us` is refused in its own words and the value typed.
+#[test]
+fn a_pulse_in_microseconds_too_long_is_refused_naming_pulse_us() {
+    let mut s = session(FakeDevice::new());
+    let flags = "--non-interactive --encoder-lines 600 --max-lathe-rpm 1000 --pulse-us 2.5000001 --no-save";
+    let e = run(&mut s, &args(flags), &mut Scripted::new(&[])).unwrap_err();
+    assert!(
+        e.0.starts_with("--pulse-us must be at most 2.5 us with the board's max-rate of 200000 steps/s"),
+        "{}",
+        e.0
+    );
+    assert!(e.0.ends_with("(got 2.5000001, 2501 ns rounded up)"), "{}", e.0);
+    assert_eq!(*s.io.ctl.config(), Config::default());
+}
+
+/// The flags of `--non-interactive` are refused before any port is
+/// opened: a wrong port does not hide them.
+#[test]
+fn a_non_interactive_setups_flags_are_refused_before_the_port_is_opened() {
+    let line = |l: &str| crate::cli::dispatch(&l.split(' ').map(String::from).collect::<Vec<_>>()).unwrap_err().0;
+    let e = line("device --port /nonexistent-port setup --non-interactive --drive bldc --motor-steps 200 --encoder-lines 600 --max-lathe-rpm 1000");
+    assert!(e.starts_with("--motor-steps is for a stepper"), "{e}");
+    let e = line("device --port /nonexistent-port setup --non-interactive --encoder-lines 600");
+    assert!(e.starts_with("--max-lathe-rpm is needed"), "{e}");
 }
