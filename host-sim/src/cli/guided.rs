@@ -274,10 +274,15 @@ fn start_rate_line(c: &polyturn_sync::Config) -> String {
 pub fn summary(c: &polyturn_sync::Config, sent: &[(String, String)]) -> String {
     let set: Vec<String> = sent.iter().map(|(n, v)| format!("{n}={v}")).collect();
     let (n, d) = figures::steps_per_count(c);
+    // a BLDC's `steps` and `max-rate` are its encoder's counts
+    let (per_count, rate) = match c.drive {
+        polyturn_sync::DriveKind::Bldc => ("cutter encoder counts per lathe encoder count", "counts/s"),
+        _ => ("motor steps per encoder count", "steps/s"),
+    };
     let mut out = vec![
         format!("set: {}", set.join(" ")),
-        format!("at ratio {}: {n}/{d} motor steps per encoder count", c.ratio),
-        format!("fastest lathe speed (max-rate {} steps/s, max-rpm {}):", c.max_step_rate_hz, c.max_lathe_rpm),
+        format!("at ratio {}: {n}/{d} {per_count}", c.ratio),
+        format!("fastest lathe speed (max-rate {} {rate}, max-rpm {}):", c.max_step_rate_hz, c.max_lathe_rpm),
     ];
     for &(num, den, what) in COMMON_RATIOS {
         let r = if den == 1 { format!("{num}") } else { format!("{num}/{den}") };
@@ -293,7 +298,7 @@ pub fn summary(c: &polyturn_sync::Config, sent: &[(String, String)]) -> String {
         out.push(start_rate_line(c));
     }
     if c.drive == polyturn_sync::DriveKind::Bldc {
-        out.extend(bldc::lines(c));
+        out.extend(bldc::lines(c, sent.iter().any(|(n, _)| n == "bldc-tau")));
     }
     out.join("\n")
 }

@@ -579,3 +579,23 @@ fn a_non_interactive_setups_flags_are_refused_before_the_port_is_opened() {
     let e = line("device --port /nonexistent-port setup --non-interactive --encoder-lines 600");
     assert!(e.starts_with("--max-lathe-rpm is needed"), "{e}");
 }
+
+/// A time constant given as measured is not called the default, even at
+/// the default's value; and a BLDC's figures are its encoder's counts,
+/// not motor steps.
+#[test]
+fn a_bldc_summary_takes_a_given_time_constant_and_speaks_of_encoder_counts() {
+    let mut s = session(FakeDevice::new());
+    let out = run(&mut s, &args(&format!("{BLDC} --bldc-out pwm --bldc-tau 20")), &mut Scripted::new(&[])).unwrap();
+    assert_eq!(s.io.ctl.config().bldc_tau_ms, 20);
+    assert!(!out.contains("bldc-tau is still the default"), "{out}");
+    assert!(!out.contains("motor steps") && !out.contains("steps/s"), "{out}");
+    assert!(
+        out.contains("cutter encoder counts per lathe encoder count") && out.contains("max-rate 200000 counts/s"),
+        "{out}"
+    );
+    // not given: the default is pointed out
+    let mut s = session(FakeDevice::new());
+    let out = run(&mut s, &args(&format!("{BLDC} --bldc-out pwm")), &mut Scripted::new(&[])).unwrap();
+    assert!(out.contains("bldc-tau is still the default"), "{out}");
+}
