@@ -263,3 +263,18 @@ fn a_cut_a_fault_stopped_names_the_fault_not_the_revolutions() {
         assert!(err.contains(cause) && !err.contains("give --revolutions"), "{flags}: {err}");
     }
 }
+
+/// A start rate past what the simulated motor pulls in loses the steps
+/// of the jump: named as `--start-rate`, with the motor's pull-in.
+#[test]
+fn a_start_rate_the_simulated_motor_cannot_pull_in_names_it() {
+    let run = "simulate --cutter-radius 50 --stock-diameter 20 --depth 1.5 --ratio 2 --edges 3 --direction same --rpm 300 --revolutions 5 --start spinning";
+    let err = refused(&format!("{run} --start-rate 40000"), "simulate: the polygon was not cut");
+    assert!(
+        err.contains("--start-rate 40000") && err.contains("pulls in at once from rest, at most 19649 steps/s"),
+        "{err}"
+    );
+    assert!(!err.contains("--motor-steps"), "{err}");
+    let (code, _, err) = polyturn(&format!("{run} --start-rate 20000"));
+    assert_eq!(code, 0, "{err}");
+}

@@ -77,19 +77,31 @@ pub fn missed(sc: &Scenario, r: &SimResult, a: &SimulateArgs) -> Option<CliError
     let depth = sc.setup.depth_mm;
     (r.max_profile_deviation > MISSED_SHARE * depth).then(|| {
         CliError(format!(
-            "simulate: the polygon was not cut: the section is {:.0} µm from the ideal, {:.0} % of the {depth} mm depth of cut; the cutter's phase error while cutting reached {:.1} steps ({}; got --ripple {} at {} rpm)",
+            "simulate: the polygon was not cut: the section is {:.0} µm from the ideal, {:.0} % of the {depth} mm depth of cut; the cutter's phase error while cutting reached {:.1} steps ({})",
             r.max_profile_deviation * 1000.0,
             r.max_profile_deviation / depth * 100.0,
             r.max_error_steps_cutting,
-            if sc.core.drive == polyturn_sync::DriveKind::Bldc {
-                "lower --ripple or --rpm, or drive the cutter with a stepper"
-            } else {
-                "raise --motor-steps, or lower --ripple or --rpm"
-            },
-            a.ripple,
-            a.rpm
+            missed_because(sc, a)
         ))
     })
+}
+
+/// What to change when the polygon was missed: a start rate past what
+/// the simulated motor pulls in loses the steps of its jump, silently
+/// (no fault: nothing counts them); else the speed the cutter follows.
+fn missed_because(sc: &Scenario, a: &SimulateArgs) -> String {
+    let pull_in = crate::sim::pull_in_hz(sc.motor_max_rate_hz, sc.motor_max_accel, 1.0 / sc.tick_hz as f64);
+    let start = sc.core.start_rate_hz;
+    match sc.core.drive {
+        polyturn_sync::DriveKind::Bldc => {
+            format!("lower --ripple or --rpm, or drive the cutter with a stepper; got --ripple {} at {} rpm", a.ripple, a.rpm)
+        }
+        _ if f64::from(start) > pull_in => format!(
+            "--start-rate {start} is past what the simulated motor pulls in at once from rest, at most {:.0} steps/s: the jump to it lost steps; lower --start-rate",
+            pull_in.floor()
+        ),
+        _ => format!("raise --motor-steps, or lower --ripple or --rpm; got --ripple {} at {} rpm", a.ripple, a.rpm),
+    }
 }
 
 /// A run whose controller latched a fault failed, however well it cut: on
