@@ -18,6 +18,7 @@ mod x_out;
 pub use cut::CutRecorder;
 pub use run::run;
 pub use run::start_edges;
+pub use stepper::pull_in_hz;
 
 use crate::geometry::Setup;
 use lathe::LatheProfile;

@@ -234,3 +234,47 @@ fn compensate_takes_the_boards_flags_only_with_a_table() {
         assert!(err.contains("describes the board's table: give --table FILE with it"), "{err}");
     }
 }
+
+/// A run that fails on a latched fault writes no file: an `--svg` already
+/// there is kept as it was.
+#[test]
+fn a_run_that_latched_a_fault_writes_no_file() {
+    let dir = std::env::temp_dir().join(format!("polyturn-latched-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let svg = dir.join("f.svg");
+    std::fs::write(&svg, "keep").unwrap();
+    let esc = "simulate --cutter-radius 50 --stock-radius 10 --depth 2 --ratio 2 --edges 3 --direction same --rpm 600 --revolutions 10 --drive bldc --bldc-out esc400";
+    let (code, out, err) = polyturn(&format!("{esc} --svg {}", svg.display()));
+    assert_eq!(code, 2, "{out}{err}");
+    assert!(err.contains("latched a following-error fault"), "{err}");
+    assert!(!out.contains("wrote"), "{out}");
+    assert!(std::fs::read_to_string(&svg).unwrap() == "keep", "the file was written over");
+}
+
+/// A cut stopped by a latched fault is told by that fault and the flag
+/// behind it, not as too few --revolutions.
+#[test]
+fn a_cut_a_fault_stopped_names_the_fault_not_the_revolutions() {
+    let run = "simulate --cutter-radius 50 --stock-diameter 20 --depth 1.5 --ratio 2 --edges 3 --direction same --rpm 300 --revolutions 50";
+    for (flags, cause) in
+        [("--start spinning --drive bldc --bldc-out esc50", "--bldc-out esc50"), ("--ripple 0.5", "--ripple 0.5")]
+    {
+        let err = refused(&format!("{run} {flags}"), "simulate: the cut is not whole: the controller latched a ");
+        assert!(err.contains(cause) && !err.contains("give --revolutions"), "{flags}: {err}");
+    }
+}
+
+/// A start rate past what the simulated motor pulls in loses the steps
+/// of the jump: named as `--start-rate`, with the motor's pull-in.
+#[test]
+fn a_start_rate_the_simulated_motor_cannot_pull_in_names_it() {
+    let run = "simulate --cutter-radius 50 --stock-diameter 20 --depth 1.5 --ratio 2 --edges 3 --direction same --rpm 300 --revolutions 5 --start spinning";
+    let err = refused(&format!("{run} --start-rate 40000"), "simulate: the polygon was not cut");
+    assert!(
+        err.contains("--start-rate 40000") && err.contains("pulls in at once from rest, at most 19649 steps/s"),
+        "{err}"
+    );
+    assert!(!err.contains("--motor-steps"), "{err}");
+    let (code, _, err) = polyturn(&format!("{run} --start-rate 20000"));
+    assert_eq!(code, 0, "{err}");
+}

@@ -160,6 +160,11 @@ pub fn run(a: DeviceArgs) -> CliResult<String> {
     if let Some(l) = &line {
         session::check_command(l)?;
     }
+    if let DeviceCommand::Setup(g) = &a.command {
+        if g.non_interactive {
+            crate::cli::guided::from_flags(g)?;
+        }
+    }
     let table = match &a.command {
         DeviceCommand::UploadCam { file } => Some(read_table(file)?),
         _ => None,

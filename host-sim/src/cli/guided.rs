@@ -95,6 +95,9 @@ pub struct Facts {
     /// a BLDC cutter's drive (`steps` is then its encoder's counts); None:
     /// a stepper
     pub bldc: Option<bldc::BldcFacts>,
+    /// a stepper set up on a board that holds a BLDC: the BLDC's
+    /// `max-rate` and `ferror` go back to a stepper's (`stepper_rates`)
+    pub after_bldc: bool,
 }
 
 /// A stepper's motor and driver unless told: 200 full steps, 16 microsteps.
@@ -155,6 +158,7 @@ pub fn from_flags(a: &GuidedArgs) -> CliResult<Facts> {
         cutter_cpr: a.cutter_encoder_cpr,
         start_rate: a.start_rate,
         bldc: None,
+        after_bldc: false,
     };
     match a.drive {
         DriveKind::Bldc => bldc_facts(a, stepper),
@@ -205,6 +209,9 @@ pub fn changes(f: &Facts) -> Vec<(String, String)> {
         Some(b) => c.extend(bldc::changes(b)),
         None => c.push(("drive".into(), "stepper".into())),
     }
+    if f.bldc.is_none() && f.after_bldc {
+        c.extend(stepper_rates());
+    }
     if let Some(p) = f.pulse_ns {
         c.push(("pulse".into(), p.to_string()));
     }
@@ -220,6 +227,27 @@ pub fn changes(f: &Facts) -> Vec<(String, String)> {
         c.push(("start-rate".into(), r.to_string()));
     }
     c
+}
+
+/// What a BLDC's setup sets that binds a stepper, as a stepper's
+/// defaults: `max-rate` (the BLDC's full speed in encoder counts/s, bounding
+/// the stepper's steps and the lathe's speed) and `ferror` (twice the
+/// BLDC's promise in counts, a few steps for a stepper).
+pub fn stepper_rates() -> [(String, String); 2] {
+    let d = polyturn_sync::Config::default();
+    [
+        ("max-rate".to_string(), d.max_step_rate_hz.to_string()),
+        ("ferror".to_string(), d.following_error_limit_steps.to_string()),
+    ]
+}
+
+/// The step rate a stepper's setup leaves on the board: a BLDC's
+/// full speed is put back to a stepper's (`stepper_rates`).
+pub fn stepper_max_rate(current: &polyturn_sync::Config) -> u32 {
+    match current.drive {
+        DriveKind::Bldc => polyturn_sync::Config::default().max_step_rate_hz,
+        _ => current.max_step_rate_hz,
+    }
 }
 
 /// Whether the lost-step alarm watches the cutter: a shaft encoder on a
@@ -246,10 +274,15 @@ fn start_rate_line(c: &polyturn_sync::Config) -> String {
 pub fn summary(c: &polyturn_sync::Config, sent: &[(String, String)]) -> String {
     let set: Vec<String> = sent.iter().map(|(n, v)| format!("{n}={v}")).collect();
     let (n, d) = figures::steps_per_count(c);
+    // a BLDC's `steps` and `max-rate` are its encoder's counts
+    let (per_count, rate) = match c.drive {
+        polyturn_sync::DriveKind::Bldc => ("cutter encoder counts per lathe encoder count", "counts/s"),
+        _ => ("motor steps per encoder count", "steps/s"),
+    };
     let mut out = vec![
         format!("set: {}", set.join(" ")),
-        format!("at ratio {}: {n}/{d} motor steps per encoder count", c.ratio),
-        format!("fastest lathe speed (max-rate {} steps/s, max-rpm {}):", c.max_step_rate_hz, c.max_lathe_rpm),
+        format!("at ratio {}: {n}/{d} {per_count}", c.ratio),
+        format!("fastest lathe speed (max-rate {} {rate}, max-rpm {}):", c.max_step_rate_hz, c.max_lathe_rpm),
     ];
     for &(num, den, what) in COMMON_RATIOS {
         let r = if den == 1 { format!("{num}") } else { format!("{num}/{den}") };
@@ -265,7 +298,7 @@ pub fn summary(c: &polyturn_sync::Config, sent: &[(String, String)]) -> String {
         out.push(start_rate_line(c));
     }
     if c.drive == polyturn_sync::DriveKind::Bldc {
-        out.extend(bldc::lines(c));
+        out.extend(bldc::lines(c, sent.iter().any(|(n, _)| n == "bldc-tau")));
     }
     out.join("\n")
 }

@@ -158,19 +158,21 @@ pub fn run_cli(a: SimulateArgs) -> Result<String, Failed> {
     if r.cut_turns == 0.0 {
         return Err(refused::nothing_cut(&sc, &r, &a).into());
     }
-    if let Some(e) = refused::cut_short(&sc, &r, &a).or_else(|| refused::missed(&sc, &r, &a)) {
+    // a fault that stopped the cut is why it is short, not --revolutions
+    let short = || refused::stopped_by_fault(&sc, &r, &a).or_else(|| refused::cut_short(&sc, &r, &a));
+    if let Some(e) = short().or_else(|| refused::missed(&sc, &r, &a)) {
         return Err(e.into());
+    }
+    let report = if a.json { report::json(&sc, &r).to_string() } else { report::human(&sc, &r) };
+    // a failed run writes no file (tools.md): the report alone says it
+    if let Some(error) = refused::latched(&sc, &r, &a) {
+        return Err(Failed { report: Some(report), error });
     }
     let mut files = Outputs::default();
     if let Some(path) = &a.svg {
         files.add("svg", path, report::svg(&sc, &r))?;
     }
-    let written = files.write()?;
-    let report = written.report(if a.json { report::json(&sc, &r).to_string() } else { report::human(&sc, &r) });
-    match refused::latched(&sc, &r, &a) {
-        Some(error) => Err(Failed { report: Some(report), error }),
-        None => Ok(report),
-    }
+    Ok(files.write()?.report(report))
 }
 
 #[derive(clap::Args, Debug)]

@@ -116,6 +116,20 @@ impl Stepper {
     }
 }
 
+/// The fastest rate the rotor takes at once from rest (its pull-in), in
+/// the model of `Stepper::execute`: the rate averaged over 1 ms and over
+/// 2 ms part by the acceleration, and a jump of R from rest parts them by
+/// R((1-b)^k - (1-a)^k) after k ticks (a, b each tick's share of 1 and 2
+/// ms); past `max_accel` (or past `max_rate_hz`) the rotor stalls.
+pub fn pull_in_hz(max_rate_hz: f64, max_accel: f64, dt: f64) -> f64 {
+    let (a, b) = ((dt / 1e-3).min(1.0), (dt / 2e-3).min(1.0));
+    let apart = (1..1_000).map(|k| (1.0 - b).powi(k) - (1.0 - a).powi(k)).fold(0.0, f64::max);
+    match apart > 0.0 {
+        true => (max_accel * 1e-3 / apart).min(max_rate_hz),
+        false => max_rate_hz,
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

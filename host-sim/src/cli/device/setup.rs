@@ -13,9 +13,9 @@ use super::prompt::{retry, Ask};
 use super::session::{ok_or_device_error, Session};
 use crate::cli::errors::{CliError, CliResult};
 pub use crate::cli::guided::GuidedArgs;
-use crate::cli::guided::{changes, from_flags, summary, Facts, MICROSTEPS, MOTOR_STEPS};
+use crate::cli::guided::{changes, from_flags, stepper_max_rate, summary, Facts, MICROSTEPS, MOTOR_STEPS};
 use polyturn_sync::config::table::{CPR, CUTTER_CPR, DIR_SETUP, MAX_RPM, PULSE, START_RATE};
-use polyturn_sync::{Config, Sense};
+use polyturn_sync::{Config, DriveKind, Sense};
 use std::io::{Read, Write};
 
 mod drive;
@@ -23,6 +23,10 @@ mod drive;
 pub fn run<P: Read + Write>(s: &mut Session<P>, a: &GuidedArgs, ask: &mut dyn Ask) -> CliResult<String> {
     let facts = if a.non_interactive { from_flags(a)? } else { interview(s, a, ask)? };
     let (_, current) = read_back(s)?;
+    let facts = Facts { after_bldc: facts.bldc.is_none() && current.drive == DriveKind::Bldc, ..facts };
+    if a.non_interactive {
+        within_the_step_rate(&facts, &current, a)?;
+    }
     let facts = top_speed_that_fits(facts, &current, a, ask)?;
     let (order, next) = figures::send_order(&current, &changes(&facts)).map_err(CliError)?;
     cam_keeps_its_cutter(s, &current, &next)?;
@@ -70,6 +74,39 @@ fn top_speed_that_fits(f: Facts, current: &Config, a: &GuidedArgs, ask: &mut dyn
     Ok(Facts { max_rpm, ..f })
 }
 
+/// A stepper's `--start-rate` and STEP pulse against the step rate it
+/// will have, by the board's rules (`start-rate <= max-rate`, `max-rate x
+/// 2 x pulse <= 1 s`): every flag at fault named in one refusal, with its
+/// bound and the value given, rather than the first rule the board trips.
+fn within_the_step_rate(f: &Facts, current: &Config, a: &GuidedArgs) -> CliResult<()> {
+    if f.bldc.is_some() {
+        return Ok(());
+    }
+    let max = stepper_max_rate(current);
+    let mut faults = Vec::new();
+    if let Some(r) = f.start_rate.filter(|&r| r > max) {
+        faults.push(format!("--start-rate must be at most {max} steps/s, the board's max-rate (got {r})"));
+    }
+    let most = (1_000_000_000 / (2 * max as u64).max(1)) as u32;
+    if let Some(p) = f.pulse_ns.filter(|&p| p > most) {
+        faults.push(pulse_too_long(a, most, p, max));
+    }
+    match faults.is_empty() {
+        true => Ok(()),
+        false => Err(CliError(faults.join("; "))),
+    }
+}
+
+/// A STEP pulse too long for the step rate, in the flag given: the
+/// hidden `--pulse-us` in microseconds, with the nanoseconds it made.
+fn pulse_too_long(a: &GuidedArgs, most: u32, ns: u32, max: u32) -> String {
+    let why = format!("with the board's max-rate of {max} steps/s: a step is a pulse high and as long low");
+    match a.pulse_us {
+        Some(us) => format!("--pulse-us must be at most {} us {why} (got {us}, {ns} ns rounded up)", most as f64 / 1e3),
+        None => format!("--pulse-ns must be at most {most} ns {why} (got {ns})"),
+    }
+}
+
 /// The highest n in lo..hi that `fits`, where `fits(lo)` holds and
 /// `fits(hi)` does not (a lower n fits wherever a higher one does).
 fn highest(mut lo: u32, mut hi: u32, fits: impl Fn(u32) -> bool) -> u32 {
@@ -101,7 +138,7 @@ fn no_speed_fits(f: &Facts, current: &Config, a: &GuidedArgs) -> Option<CliError
     let most = highest(PULSE.lo, pulse, |p| fits(Facts { pulse_ns: Some(p), ..f.clone() }));
     let why = format!(
         "with the board's max-rate of {} steps/s: a step is a pulse high and as long low (got {pulse})",
-        current.max_step_rate_hz
+        stepper_max_rate(current)
     );
     Some(match a.non_interactive {
         true => CliError::flag("pulse-ns", format!("must be at most {most} ns {why}")),
@@ -112,9 +149,10 @@ fn no_speed_fits(f: &Facts, current: &Config, a: &GuidedArgs) -> Option<CliError
 /// `no_speed_fits`' refusal of a stepper's steps a cutter turn: in the
 /// flags that make them, or the interview's words.
 fn too_many_steps(f: &Facts, current: &Config, a: &GuidedArgs, most: u32) -> CliError {
-    let why = format!(
+    let why =
+        format!(
         "at the board's ratio {}: max-rpm x ratio x steps/60 must not exceed its max-rate of {} steps/s even at {} rpm",
-        current.ratio, current.max_step_rate_hz, MAX_RPM.lo
+        current.ratio, stepper_max_rate(current), MAX_RPM.lo
     );
     if !a.non_interactive {
         return CliError(format!(
@@ -223,6 +261,7 @@ fn interview<P: Read + Write>(s: &mut Session<P>, a: &GuidedArgs, ask: &mut dyn 
         cutter_cpr: None,
         start_rate: None,
         bldc,
+        after_bldc: false,
     };
     match f.bldc {
         Some(_) => Ok(f),
@@ -291,10 +330,10 @@ fn shaft_encoder(ask: &mut dyn Ask, a: &GuidedArgs) -> CliResult<u32> {
     ask.number(q, a.cutter_encoder_cpr.filter(|&n| n != 0), CUTTER_CPR.lo, CUTTER_CPR.hi)
 }
 
-/// The motor's start rate, up to the board's `max-rate` (the rule the
+/// The motor's start rate, up to the stepper's `max-rate` (the rule the
 /// board holds it to): 0, off, unless the machinist has found it.
 fn start_rate<P: Read + Write>(s: &mut Session<P>, ask: &mut dyn Ask, a: &GuidedArgs) -> CliResult<u32> {
-    let max = read_back(s)?.1.max_step_rate_hz.min(START_RATE.hi);
+    let max = stepper_max_rate(&read_back(s)?.1).min(START_RATE.hi);
     let q = "The motor's start rate with the cutter fitted, steps/s: engaged at rest, the cutter then starts at the lathe's speed (0 if unsure: every change ramps; find it on the bench)";
     ask.number(q, Some(a.start_rate.unwrap_or(0).min(max)), START_RATE.lo, max)
 }

@@ -77,7 +77,7 @@ fn a_start_rate_is_set_and_the_summary_says_what_catches_a_start_too_fast() {
     s.ask("set max-rpm 600").unwrap();
     s.ask("set max-rate 100000").unwrap();
     let e = run(&mut s, &args(&format!("{base} --start-rate 150000")), &mut Scripted::new(&[])).unwrap_err();
-    assert!(e.0.contains("start-rate must not exceed max-rate"), "{}", e.0);
+    assert_eq!(e.0, "--start-rate must be at most 100000 steps/s, the board's max-rate (got 150000)");
     assert!(!sent(&s).iter().any(|l| l.starts_with("set start-rate")), "{:?}", sent(&s));
 }
 
@@ -476,4 +476,126 @@ fn a_driver_pulse_no_step_rate_fits_is_refused_naming_its_flag() {
     );
     assert!(sent(&s).iter().all(|l| !l.starts_with("set ")), "{:?}", sent(&s));
     assert_eq!(*s.io.ctl.config(), Config::default());
+}
+
+/// A BLDC setup on a 1 000-count encoder at 3 000 rpm: max-rate 50 000
+/// counts/s and ferror 4 counts, the board's then.
+const SLOW_BLDC: &str = "--non-interactive --drive bldc --bldc-out pwm --encoder-lines 600 --max-lathe-rpm 1000 --cutter-encoder-cpr 1000 --cutter-max-rpm 3000 --no-save";
+
+/// A stepper's setup after a BLDC's puts back what the BLDC's set that
+/// binds a stepper (`max-rate`, `ferror`), sends them and shows them: the
+/// stepper is judged by its own rate, not the BLDC's full speed.
+#[test]
+fn a_stepper_setup_after_a_bldc_puts_back_the_steppers_max_rate_and_ferror() {
+    let mut s = session(FakeDevice::new());
+    run(&mut s, &args(SLOW_BLDC), &mut Scripted::new(&[])).unwrap();
+    assert_eq!((s.io.ctl.config().max_step_rate_hz, s.io.ctl.config().following_error_limit_steps), (50_000, 4));
+    let stepper = "--non-interactive --encoder-lines 600 --max-lathe-rpm 1000 --no-save";
+    let out = run(&mut s, &args(stepper), &mut Scripted::new(&[])).unwrap_or_else(|e| panic!("{}", e.0));
+    let (c, d) = (*s.io.ctl.config(), Config::default());
+    assert_eq!(
+        (c.drive, c.max_step_rate_hz, c.max_lathe_rpm),
+        (polyturn_sync::DriveKind::Stepper, d.max_step_rate_hz, 1_000)
+    );
+    assert_eq!(c.following_error_limit_steps, d.following_error_limit_steps);
+    let set = out.lines().next().unwrap();
+    assert!(set.contains(&format!("max-rate={}", d.max_step_rate_hz)), "{out}");
+    assert!(set.contains(&format!("ferror={}", d.following_error_limit_steps)), "{out}");
+}
+
+/// A stepper's own max-rate, set by hand, stays through its setup.
+#[test]
+fn a_stepper_setup_keeps_a_steppers_own_max_rate() {
+    let mut s = session(FakeDevice::new());
+    s.ask("set max-rpm 600").unwrap();
+    s.ask("set max-rate 150000").unwrap();
+    let out = run(
+        &mut s,
+        &args("--non-interactive --encoder-lines 600 --max-lathe-rpm 600 --no-save"),
+        &mut Scripted::new(&[]),
+    )
+    .unwrap();
+    assert_eq!(s.io.ctl.config().max_step_rate_hz, 150_000);
+    assert!(!out.contains("max-rate="), "{out}");
+}
+
+/// The interview too: its lathe speed and start rate are bounded by the
+/// stepper's rate, and what it saves is a stepper's.
+#[test]
+fn the_interview_after_a_bldc_setup_sets_up_a_stepper_not_the_bldcs_rates() {
+    let mut s = hand_turned();
+    run(&mut s, &args(SLOW_BLDC), &mut Scripted::new(&[])).unwrap();
+    let mut answers = INTERVIEW.to_vec();
+    answers[12] = "100000"; // a start rate past the BLDC's 50 000
+    let out =
+        run(&mut s, &args(""), &mut Scripted::new(&answers)).unwrap_or_else(|e| panic!("{e:?} after {:?}", sent(&s)));
+    let (c, d) = (*s.io.ctl.config(), Config::default());
+    assert_eq!(
+        (c.max_step_rate_hz, c.following_error_limit_steps),
+        (d.max_step_rate_hz, d.following_error_limit_steps)
+    );
+    assert_eq!((c.max_lathe_rpm, c.start_rate_hz), (1_000, 100_000), "{out}");
+    assert!(out.contains("ferror=") && out.contains("max-rate="), "{out}");
+}
+
+/// A start rate past the board's max-rate is refused naming the flag,
+/// the bound and the value; with a pulse too long as well, both flags.
+#[test]
+fn a_start_rate_past_max_rate_is_refused_naming_it_and_a_bad_pulse_too() {
+    let base = "--non-interactive --encoder-lines 600 --max-lathe-rpm 1000 --no-save";
+    let mut s = session(FakeDevice::new());
+    let e = run(&mut s, &args(&format!("{base} --start-rate 250000")), &mut Scripted::new(&[])).unwrap_err();
+    assert_eq!(e.0, "--start-rate must be at most 200000 steps/s, the board's max-rate (got 250000)");
+    let e = run(&mut s, &args(&format!("{base} --start-rate 250000 --pulse-ns 100000")), &mut Scripted::new(&[]))
+        .unwrap_err();
+    assert!(e.0.starts_with("--start-rate must be at most 200000 steps/s, the board's max-rate (got 250000); --pulse-ns must be at most 2500 ns"), "{}", e.0);
+    assert!(e.0.ends_with("(got 100000)"), "{}", e.0);
+    assert!(sent(&s).iter().all(|l| !l.starts_with("set ")), "{:?}", sent(&s));
+    assert_eq!(*s.io.ctl.config(), Config::default());
+}
+
+/// `--pulse-us` is refused in its own words and the value typed.
+#[test]
+fn a_pulse_in_microseconds_too_long_is_refused_naming_pulse_us() {
+    let mut s = session(FakeDevice::new());
+    let flags = "--non-interactive --encoder-lines 600 --max-lathe-rpm 1000 --pulse-us 2.5000001 --no-save";
+    let e = run(&mut s, &args(flags), &mut Scripted::new(&[])).unwrap_err();
+    assert!(
+        e.0.starts_with("--pulse-us must be at most 2.5 us with the board's max-rate of 200000 steps/s"),
+        "{}",
+        e.0
+    );
+    assert!(e.0.ends_with("(got 2.5000001, 2501 ns rounded up)"), "{}", e.0);
+    assert_eq!(*s.io.ctl.config(), Config::default());
+}
+
+/// The flags of `--non-interactive` are refused before any port is
+/// opened: a wrong port does not hide them.
+#[test]
+fn a_non_interactive_setups_flags_are_refused_before_the_port_is_opened() {
+    let line = |l: &str| crate::cli::dispatch(&l.split(' ').map(String::from).collect::<Vec<_>>()).unwrap_err().0;
+    let e = line("device --port /nonexistent-port setup --non-interactive --drive bldc --motor-steps 200 --encoder-lines 600 --max-lathe-rpm 1000");
+    assert!(e.starts_with("--motor-steps is for a stepper"), "{e}");
+    let e = line("device --port /nonexistent-port setup --non-interactive --encoder-lines 600");
+    assert!(e.starts_with("--max-lathe-rpm is needed"), "{e}");
+}
+
+/// A time constant given as measured is not called the default, even at
+/// the default's value; and a BLDC's figures are its encoder's counts,
+/// not motor steps.
+#[test]
+fn a_bldc_summary_takes_a_given_time_constant_and_speaks_of_encoder_counts() {
+    let mut s = session(FakeDevice::new());
+    let out = run(&mut s, &args(&format!("{BLDC} --bldc-out pwm --bldc-tau 20")), &mut Scripted::new(&[])).unwrap();
+    assert_eq!(s.io.ctl.config().bldc_tau_ms, 20);
+    assert!(!out.contains("bldc-tau is still the default"), "{out}");
+    assert!(!out.contains("motor steps") && !out.contains("steps/s"), "{out}");
+    assert!(
+        out.contains("cutter encoder counts per lathe encoder count") && out.contains("max-rate 200000 counts/s"),
+        "{out}"
+    );
+    // not given: the default is pointed out
+    let mut s = session(FakeDevice::new());
+    let out = run(&mut s, &args(&format!("{BLDC} --bldc-out pwm")), &mut Scripted::new(&[])).unwrap();
+    assert!(out.contains("bldc-tau is still the default"), "{out}");
 }

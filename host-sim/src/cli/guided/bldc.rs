@@ -139,12 +139,14 @@ pub const ESC50_WARNING: &str = "warning: bldc-out esc50: an RC ESC fed 50 times
 /// `bldc-tau` still at its default: the gains fit a drive nobody measured.
 pub const TAU_UNMEASURED: &str = "bldc-tau is still the default 20 ms: measure the drive's (the bench procedure, \"The BLDC drive\") so the phase loop's gains fit it";
 
-pub fn lines(c: &Config) -> Vec<String> {
+/// What the drive holds; `tau_given`: `bldc-tau` was set now, measured,
+/// so its value is no default even where it equals one.
+pub fn lines(c: &Config, tau_given: bool) -> Vec<String> {
     let mut out = vec![match c.bldc_out {
         BldcOut::Esc50 => ESC50_WARNING.to_string(),
         o => format!("{}; {}", what(o, c.pwm_hz), expect(o, c.motor_steps_per_rev)),
     }];
-    if c.bldc_tau_ms == Config::default().bldc_tau_ms {
+    if !tau_given && c.bldc_tau_ms == Config::default().bldc_tau_ms {
         out.push(TAU_UNMEASURED.to_string());
     }
     out
@@ -188,8 +190,8 @@ mod tests {
 
     #[test]
     fn esc50_is_a_warning_and_the_others_say_what_they_hold() {
-        assert_eq!(lines(&with("esc50", "79")), [ESC50_WARNING]);
-        let pwm = &lines(&with("pwm", "2"))[0];
+        assert_eq!(lines(&with("esc50", "79"), false), [ESC50_WARNING]);
+        let pwm = &lines(&with("pwm", "2"), false)[0];
         assert!(pwm.contains("at 1000 Hz") && !pwm.contains("warning"), "{pwm}");
         // 0.7° of the default 3 200 counts: 6.2, so 7 counts; ferror 2 x
         // 0.7° is 12.4, so 13 counts
@@ -198,11 +200,11 @@ mod tests {
             "{pwm}"
         );
         for out in ["esc400", "oneshot125"] {
-            let l = lines(&with(out, "79"));
+            let l = lines(&with(out, "79"), false);
             assert!(l[0].contains(out) && l[0].contains("cannot brake"), "{l:?}");
         }
         // 2° of 3 200 counts is 17.8; twice it 35.6, so 36
-        let esc = &lines(&with("esc400", "79"))[0];
+        let esc = &lines(&with("esc400", "79"), false)[0];
         assert!(esc.contains("2.0° while cutting (18 counts") && esc.ends_with("ferror 36 counts"), "{esc}");
     }
 
@@ -250,7 +252,7 @@ mod tests {
 
     #[test]
     fn an_unmeasured_time_constant_is_pointed_out() {
-        assert_eq!(lines(&with("pwm", "20")).last().unwrap(), TAU_UNMEASURED);
-        assert_eq!(lines(&with("pwm", "19")).len(), 1);
+        assert_eq!(lines(&with("pwm", "20"), false).last().unwrap(), TAU_UNMEASURED);
+        assert_eq!(lines(&with("pwm", "19"), false).len(), 1);
     }
 }

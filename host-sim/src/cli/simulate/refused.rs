@@ -23,6 +23,47 @@ pub fn cut_short(sc: &Scenario, r: &SimResult, a: &SimulateArgs) -> Option<CliEr
     })
 }
 
+/// A cut a latched fault stopped before every side was cut: said by that
+/// fault, when, and the flag behind it; more --revolutions would not help.
+pub fn stopped_by_fault(sc: &Scenario, r: &SimResult, a: &SimulateArgs) -> Option<CliError> {
+    let &(tick, f) = r.faults.first()?;
+    let (_, turns) = sc.setup.pattern();
+    (r.cut_turns < f64::from(turns)).then(|| {
+        CliError(format!(
+            "simulate: the cut is not whole: the controller latched a {} fault at {:.2} s, {:.2} lathe turns into the cut, which stopped there: {}",
+            f.name(),
+            tick as f64 / sc.tick_hz as f64,
+            r.cut_turns,
+            fault_cause(sc, a, f)
+        ))
+    })
+}
+
+/// What made a fault while cutting, by the flag that set it: a ripple
+/// past max-accel, a lathe encoder too coarse, or the BLDC's drive.
+fn fault_cause(sc: &Scenario, a: &SimulateArgs, f: polyturn_sync::Fault) -> String {
+    let need = sc.ripple_accel(a.rpm);
+    let max = sc.core.max_accel_steps_per_s2 as f64;
+    if need > max {
+        return format!(
+            "the lathe's speed ripple (--ripple {}) asks the cutter for up to {need:.0} steps/s², past its max-accel {max} (lower --ripple or --rpm, or raise --max-accel)",
+            a.ripple
+        );
+    }
+    if let Some(coarse) = coarse_encoder(sc) {
+        return coarse;
+    }
+    match (sc.core.drive, sc.core.bldc_out) {
+        (polyturn_sync::DriveKind::Bldc, BldcOut::Esc50) => "--bldc-out esc50: an RC ESC fed 50 times a second cannot hold the cutter's phase (use esc400 or oneshot125, or a spindle driver, --bldc-out pwm)".into(),
+        (polyturn_sync::DriveKind::Bldc, out) if f == polyturn_sync::Fault::FollowingError => format!(
+            "the cutter fell behind: its drive too slow for the lathe (--bldc-out {}, --bldc-tau {} ms)",
+            out.name(),
+            sc.core.bldc_tau_ms
+        ),
+        _ => f.reason().into(),
+    }
+}
+
 /// The share of the depth of cut past which a section is no polygon of
 /// this setup: its flats are further from the ideal than half the metal
 /// the cutter was to take.
@@ -36,19 +77,31 @@ pub fn missed(sc: &Scenario, r: &SimResult, a: &SimulateArgs) -> Option<CliError
     let depth = sc.setup.depth_mm;
     (r.max_profile_deviation > MISSED_SHARE * depth).then(|| {
         CliError(format!(
-            "simulate: the polygon was not cut: the section is {:.0} µm from the ideal, {:.0} % of the {depth} mm depth of cut; the cutter's phase error while cutting reached {:.1} steps ({}; got --ripple {} at {} rpm)",
+            "simulate: the polygon was not cut: the section is {:.0} µm from the ideal, {:.0} % of the {depth} mm depth of cut; the cutter's phase error while cutting reached {:.1} steps ({})",
             r.max_profile_deviation * 1000.0,
             r.max_profile_deviation / depth * 100.0,
             r.max_error_steps_cutting,
-            if sc.core.drive == polyturn_sync::DriveKind::Bldc {
-                "lower --ripple or --rpm, or drive the cutter with a stepper"
-            } else {
-                "raise --motor-steps, or lower --ripple or --rpm"
-            },
-            a.ripple,
-            a.rpm
+            missed_because(sc, a)
         ))
     })
+}
+
+/// What to change when the polygon was missed: a start rate past what
+/// the simulated motor pulls in loses the steps of its jump, silently
+/// (no fault: nothing counts them); else the speed the cutter follows.
+fn missed_because(sc: &Scenario, a: &SimulateArgs) -> String {
+    let pull_in = crate::sim::pull_in_hz(sc.motor_max_rate_hz, sc.motor_max_accel, 1.0 / sc.tick_hz as f64);
+    let start = sc.core.start_rate_hz;
+    match sc.core.drive {
+        polyturn_sync::DriveKind::Bldc => {
+            format!("lower --ripple or --rpm, or drive the cutter with a stepper; got --ripple {} at {} rpm", a.ripple, a.rpm)
+        }
+        _ if f64::from(start) > pull_in => format!(
+            "--start-rate {start} is past what the simulated motor pulls in at once from rest, at most {:.0} steps/s: the jump to it lost steps; lower --start-rate",
+            pull_in.floor()
+        ),
+        _ => format!("raise --motor-steps, or lower --ripple or --rpm; got --ripple {} at {} rpm", a.ripple, a.rpm),
+    }
 }
 
 /// A run whose controller latched a fault failed, however well it cut: on
