@@ -66,7 +66,7 @@ pub fn guided_setup(args: Vec<String>, settings: &str) -> Result<String, String>
 pub fn cam_lines(name: &str, text: &str, settings: &str) -> Result<Vec<String>, String> {
     let table = polyturn_host::cli::console_line::cam_table(name, text).map_err(|e| e.0)?;
     table.fits_settings(settings).map_err(|e| format!("upload-cam: {e}"))?;
-    Ok(table.upload_lines())
+    Ok(table.upload_lines(polyturn_host::cli::console_line::COMMAND_MAX))
 }
 
 /// The longest command line the board takes (tag excluded).

@@ -81,7 +81,7 @@ pub fn cam_table(name: &str, text: &str) -> CliResult<CamFile> {
     }
     declared(&table).map_err(|e| CliError(format!("upload-cam: '{name}' is refused: {e}")))?;
     // every line must go as one console line: checked before the port opens
-    for line in table.upload_lines() {
+    for line in table.upload_lines(COMMAND_MAX) {
         check_command(&line).map_err(|e| CliError(format!("upload-cam: '{name}' cannot be sent: {}", e.0)))?;
     }
     Ok(table)

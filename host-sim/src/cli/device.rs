@@ -322,7 +322,7 @@ pub(crate) fn send_table<P: Read + Write>(
     s: &mut Session<P>,
     table: &crate::noncircular::table::CamFile,
 ) -> CliResult<String> {
-    let lines = table.upload_lines();
+    let lines = table.upload_lines(super::console_line::COMMAND_MAX);
     let mut last = String::new();
     for (i, line) in lines.iter().enumerate() {
         let wait = if i + 1 == lines.len() { FLASH_WAIT.max(s.timeout) } else { s.timeout };

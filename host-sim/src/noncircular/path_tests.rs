@@ -129,10 +129,28 @@ fn the_upload_lines_deliver_the_table_to_the_core_intact() {
     let (p, _) = sharp(8, 20.0);
     let table = build(&p, 2400, 800.0, (9_600, 1_600_000));
     let mut up = Box::new(polyturn_sync::cam_upload::CamUpload::default());
-    for line in table.upload_lines() {
-        assert!(line.len() <= 96, "fits the console's line buffer: {line}");
+    for line in table.upload_lines(88) {
+        assert!(line.len() <= 88, "fits the console's line buffer: {line}");
         up.line(line.strip_prefix("cam").unwrap()).unwrap();
     }
     let (h, points) = up.table().expect("complete and checked");
     assert_eq!((h.period_counts, points), (900, &table.points[..]));
+}
+
+/// Values of ten digits and a sign do not fit eight to a line: the lines
+/// take fewer, each within the length given, and the table arrives intact.
+#[test]
+fn long_values_go_fewer_to_a_line_and_arrive_intact() {
+    let (p, _) = sharp(8, 20.0);
+    let mut table = build(&p, 2400, 800.0, (9_600, 1_600_000));
+    table.points.iter_mut().for_each(|v| *v = -2_000_000_000);
+    let lines = table.upload_lines(88);
+    let mut up = Box::new(polyturn_sync::cam_upload::CamUpload::default());
+    for line in &lines {
+        assert!(line.len() <= 88, "{} > 88: {line}", line.len());
+        up.line(line.strip_prefix("cam").unwrap()).unwrap();
+    }
+    assert!(lines.len() > 2 + table.points.len() / 8, "fewer than 8 values a line");
+    let (_, points) = up.table().expect("complete and checked");
+    assert_eq!(points, &table.points[..]);
 }

@@ -198,14 +198,24 @@ impl CamFile {
     }
 
     /// The console lines that upload this table (see the sync core's
-    /// `cam_upload`): begin, data in chunks of 8, end with the CRC-32.
-    pub fn upload_lines(&self) -> Vec<String> {
+    /// `cam_upload`): begin, data (up to 8 values a line, fewer where long
+    /// values would make a line longer than `max_len`), end with the CRC-32.
+    pub fn upload_lines(&self, max_len: usize) -> Vec<String> {
         let h = self.header();
         let [p, period, cpr, rate, accel] = h.words();
         let mut lines = vec![format!("cam begin {p} {period} {cpr} {rate} {accel}")];
-        for (k, chunk) in self.points.chunks(8).enumerate() {
-            let values: Vec<String> = chunk.iter().map(i32::to_string).collect();
-            lines.push(format!("cam data {} {}", 8 * k, values.join(" ")));
+        let mut at = 0;
+        while at < self.points.len() {
+            let mut line = format!("cam data {at}");
+            for (k, v) in self.points[at..].iter().take(8).enumerate() {
+                let v = format!(" {v}");
+                if k > 0 && line.len() + v.len() > max_len {
+                    break;
+                }
+                line.push_str(&v);
+                at += 1;
+            }
+            lines.push(line);
         }
         lines.push(format!("cam end {:08x}", checksum(&h, &self.points)));
         lines

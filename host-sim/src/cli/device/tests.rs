@@ -50,7 +50,7 @@ fn a_cam_table_uploads_through_the_real_console() {
     let axis = Axis { rpm: 12.0, max_speed: 12.0, max_accel: 2000.0 };
     let Outcome::Sharp(path, _) = plan(Polygon { sides: 8, apothem_mm: 20.0 }, 3, axis) else { panic!("sharp") };
     let table = crate::noncircular::table::build(&path, 2400, 800.0, (9_600, 1_600_000));
-    for line in table.upload_lines() {
+    for line in table.upload_lines(COMMAND_MAX) {
         assert!(line.len() <= COMMAND_MAX, "{} > {COMMAND_MAX}: {line}", line.len());
     }
     let mut s = session(FakeDevice::new());
