@@ -1,6 +1,6 @@
 //! polyturn's firmware image on an emulated STM32F411 (`bash .ci/emu`).
 //!
-//! usage: polyturn-emu ELF [-v] [--only=usb | --only=jobs | --job=NAME | --pty [--lathe-rpm RPM]]
+//! usage: polyturn-emu ELF [-v] [--only=usb | --only=jobs | --job=NAME | --part=1|2 | --pty [--lathe-rpm RPM]]
 //!        polyturn-emu --bench ELF [--cap-cycles=N] [--profile]
 //!
 //! Scenarios (each from reset, flash erased, so default settings):
@@ -12,6 +12,9 @@
 //!    `status` and `set cpr 0` and reads the replies. `--only=usb` runs just this.
 //! 4. the jobs (`jobs`): `--only=jobs` runs just these, `--job=c` just those
 //!    whose name begins so; (k) `job::damaged`: a damaged image does not run.
+//!
+//! `--part=1` runs 1 to 3 and the jobs outside the table, `--part=2` the job
+//! table: two processes that share the checks at about equal wall time.
 //!
 //! `--pty` instead boots, enumerates and serves the console on a pseudo-terminal
 //! whose path it prints (`usb::pty`); with `--lathe-rpm RPM` the lathe turns at
@@ -92,27 +95,24 @@ fn main() {
     }
     let wall = Instant::now();
     let mut r = Report::default();
-    let only_usb = args.iter().any(|a| a == "--only=usb");
-    // --job=c: just the jobs whose name begins so (implies --only=jobs)
-    let job = args.iter().find_map(|a| a.strip_prefix("--job="));
-    let only_jobs = job.is_some() || args.iter().any(|a| a == "--only=jobs");
-    let mut total = if only_usb || only_jobs { 0 } else { scenarios(&image, &mut r).unwrap_or_else(exit) };
-    if !only_jobs {
+    let sel = Select::of(&args);
+    let mut total = if sel.scenarios() { scenarios(&image, &mut r).unwrap_or_else(exit) } else { 0 };
+    if sel.usb() {
         total += usb::scenario::run(&image, &mut r).unwrap_or_else(exit);
         total += job::save::run(&image, &mut r).unwrap_or_else(exit);
         total += job::selftest::run(&image, &mut r).unwrap_or_else(exit);
     }
-    if !only_usb {
-        total += jobs::run_all(&image, &mut r, job.unwrap_or("")).unwrap_or_else(exit);
-        if job.is_none_or(|j| "h bldc".starts_with(j)) {
-            total += job::bldc::run(&image, &mut r).unwrap_or_else(exit);
-        }
-        if job.is_none_or(|j| "k damaged".starts_with(j)) {
-            total += job::damaged::run(&image, &mut r).unwrap_or_else(exit);
-        }
-        if job.is_none_or(|j| "divide".starts_with(j)) {
-            total += job::divide::run(&image, &mut r).unwrap_or_else(exit);
-        }
+    if sel.table() {
+        total += jobs::run_all(&image, &mut r, sel.job.unwrap_or("")).unwrap_or_else(exit);
+    }
+    if sel.other("h bldc") {
+        total += job::bldc::run(&image, &mut r).unwrap_or_else(exit);
+    }
+    if sel.other("k damaged") {
+        total += job::damaged::run(&image, &mut r).unwrap_or_else(exit);
+    }
+    if sel.other("divide") {
+        total += job::divide::run(&image, &mut r).unwrap_or_else(exit);
     }
     println!(
         "emulated {total} cycles ({:.1} ms of MCU time) in {:.1} s wall; {} check(s) failed",
@@ -121,6 +121,49 @@ fn main() {
         r.failed
     );
     std::process::exit(if r.failed == 0 { 0 } else { 1 });
+}
+
+/// Which checks a run makes: all by default; `--only=usb`, `--only=jobs`
+/// and `--job=NAME` narrow them. `--part=1` and `--part=2` split them into
+/// halves of about equal wall time, for two processes on two cores
+/// (`.ci/emu`): the scenarios, the USB console and the jobs outside the
+/// table; and the job table.
+struct Select<'a> {
+    only_usb: bool,
+    only_jobs: bool,
+    /// `--job=c`: just the jobs whose name begins so (implies --only=jobs)
+    job: Option<&'a str>,
+    part: Option<u8>,
+}
+
+impl<'a> Select<'a> {
+    fn of(args: &'a [String]) -> Self {
+        let job = args.iter().find_map(|a| a.strip_prefix("--job="));
+        let part = args.iter().find_map(|a| a.strip_prefix("--part=")).map(|p| match p {
+            "1" => 1,
+            "2" => 2,
+            _ => exit_with("--part: 1 or 2 (half the checks each)"),
+        });
+        let only_jobs = job.is_some() || args.iter().any(|a| a == "--only=jobs");
+        Select { only_usb: args.iter().any(|a| a == "--only=usb"), only_jobs, job, part }
+    }
+
+    fn scenarios(&self) -> bool {
+        !self.only_usb && !self.only_jobs && self.part != Some(2)
+    }
+
+    fn usb(&self) -> bool {
+        !self.only_jobs && self.part != Some(2)
+    }
+
+    fn table(&self) -> bool {
+        !self.only_usb && self.part != Some(1)
+    }
+
+    /// A job outside the table, by its name.
+    fn other(&self, name: &str) -> bool {
+        !self.only_usb && self.part != Some(2) && self.job.is_none_or(|j| name.starts_with(j))
+    }
 }
 
 /// The image jumped to ST's ROM bootloader (`dfu`): exit 3 if, when it asked for

@@ -83,9 +83,9 @@ fn steepest(points: &[i32], k: usize) -> (u64, u64) {
 }
 
 /// The spans the motion is measured over: 1, 2, 4 … segments, while two
-/// spans fit in the period.
+/// spans fit in the period (the neighbours always).
 fn spans(n: usize) -> impl Iterator<Item = usize> {
-    core::iter::successors(Some(1usize), |k| k.checked_mul(2)).take_while(move |&k| k == 1 || 2 * k <= n)
+    core::iter::successors(Some(1usize), |k| k.checked_mul(2)).take_while(move |&k| 2 * k <= n.max(2))
 }
 
 /// The most a span of the table needs: (steps/s, span, apart) and

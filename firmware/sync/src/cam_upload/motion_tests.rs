@@ -150,3 +150,19 @@ fn a_ramp_of_single_steps_is_a_speed_over_its_span() {
     assert!(matches!(e, MotionError::Rate { needs_hz: 34 | 35, .. }), "{e:?}");
     assert_eq!(check(&CamHeader { max_rate_hz: 35, ..h }, &tri), Ok(()));
 }
+
+/// Spans that need the same are told by the shortest: four points over a
+/// turn, at 1 rpm a segment 15 s. [0, 2, 4, 2]: 2 steps a segment (one of
+/// rounding) and 4 over two (three of motion) both need 1 step/s, once
+/// rounded up; bends of 4 at a point and 8 over two points both 1 step/s².
+/// An axis of 0 is refused by span 1, with its figures.
+#[test]
+fn spans_that_need_the_same_are_told_by_the_shortest_and_span_two_counts() {
+    let h = CamHeader { max_rate_hz: 0, max_accel: 0, ..header(4) };
+    assert_eq!(check(&h, &[0, 2, 4, 2]), Err(MotionError::Rate { span: 1, apart: 2, needs_hz: 1, max_hz: 0 }));
+    let h = CamHeader { max_rate_hz: 1, ..h };
+    assert_eq!(check(&h, &[0, 2, 4, 2]), Err(MotionError::Accel { span: 1, bend: 4, needs: 1, max: 0 }));
+    // [0, 1, 2, 1]: neighbours a step apart need nothing; two apart, 1 step/s
+    let h = CamHeader { max_rate_hz: 0, max_accel: u32::MAX, ..header(4) };
+    assert_eq!(check(&h, &[0, 1, 2, 1]), Err(MotionError::Rate { span: 2, apart: 2, needs_hz: 1, max_hz: 0 }));
+}
