@@ -5,6 +5,8 @@ mod advice;
 #[cfg(test)]
 mod advice_tests;
 mod assumed;
+#[cfg(test)]
+mod geometry_tests;
 mod reproduce;
 mod table;
 #[cfg(test)]

@@ -146,12 +146,16 @@ impl Section {
             let rel = phi - mid;
             (r * rel.cos(), r * rel.sin(), r)
         };
-        // Walk out from the middle to each end: a corner or the stock.
+        // Every sample of the flat, once: the walks to its ends and the
+        // search for its worst point read the same points.
         let steps = (half / step).round() as i64;
-        let end = |dir: f64| {
-            let mut last = point(mid);
+        let points: Vec<_> = (-steps..=steps).map(|i| point(mid + step * i as f64)).collect();
+        let at = |i: i64| points[(i + steps) as usize];
+        // Walk out from the middle to each end: a corner or the stock.
+        let end = |dir: i64| {
+            let mut last = at(0);
             for i in 1..=steps {
-                let p = point(mid + dir * step * i as f64);
+                let p = at(dir * i);
                 if p.2 >= stock {
                     return last;
                 }
@@ -159,15 +163,14 @@ impl Section {
             }
             last
         };
-        let (a, b) = (end(-1.0), end(1.0));
+        let (a, b) = (end(-1), end(1));
         let (dx, dy) = (b.0 - a.0, b.1 - a.1);
         let len = dx.hypot(dy);
         if len < 2.0 * step * self.stock_radius {
             return 0.0; // the flat is narrower than the sampling: no chord to measure from
         }
         let mut worst: f64 = 0.0;
-        for i in -steps..=steps {
-            let p = point(mid + step * i as f64);
+        for &p in &points {
             if p.2 >= stock || p.1 < a.1.min(b.1) || p.1 > a.1.max(b.1) {
                 continue;
             }
