@@ -11,6 +11,9 @@ pub struct Section {
     pub sides: u32,
     pub stock_radius: f64,
     pub envelope: Envelope,
+    /// every flat the same bins (one sector, or one tiled round the
+    /// circle): flat 0 stands for all; false for a simulated cut
+    pub periodic: bool,
 }
 
 /// The figures of a section (all lengths in mm).
@@ -53,7 +56,7 @@ impl Section {
     pub fn ideal_sector(setup: &Setup, bins_per_side: usize) -> Section {
         let n = setup.sides().max(1);
         let envelope = super::sector::sector_envelope(setup, bins_per_side);
-        Section { sides: n, stock_radius: setup.stock_radius_mm, envelope }
+        Section { sides: n, stock_radius: setup.stock_radius_mm, envelope, periodic: true }
     }
 
     /// The section cut by one pass's path (work-frame points, flat 0 in
@@ -84,7 +87,7 @@ impl Section {
         for i in 0..total {
             env.radius[i] = one.radius[i % bins_per_side];
         }
-        Section { sides: n, stock_radius: setup.stock_radius_mm, envelope: env }
+        Section { sides: n, stock_radius: setup.stock_radius_mm, envelope: env, periodic: true }
     }
 
     /// Bins per flat that keep the whole circle under ~2^18 samples.
@@ -128,9 +131,11 @@ impl Section {
         self.radius_at(self.flat_middle(j) + PI / self.sides as f64)
     }
 
-    /// The signed deviation with the largest magnitude over all flats.
+    /// The signed deviation with the largest magnitude over all flats
+    /// (flat 0's where every flat has its bins).
     fn worst_flat_deviation(&self) -> f64 {
-        (0..self.sides).map(|j| self.flat_deviation(j)).fold(0.0, |acc, d| if d.abs() > acc.abs() { d } else { acc })
+        let flats = if self.periodic { 1 } else { self.sides };
+        (0..flats).map(|j| self.flat_deviation(j)).fold(0.0, |acc, d| if d.abs() > acc.abs() { d } else { acc })
     }
 
     /// Largest distance of flat j from the chord joining its ends (the
