@@ -144,11 +144,22 @@ impl Setup {
     /// (`Roundness`); Ok with the section judged. `setups` lists only what
     /// it passes, so that no row it prints is one `geometry` refuses.
     pub fn check(&self) -> Result<Section, Refusal> {
+        self.check_summed().map(|(section, _)| section)
+    }
+
+    /// The figures `geometry` prints for a setup it takes: its checked
+    /// section's summary. `setups` prints these for each row.
+    pub fn summary(&self) -> Result<SectionSummary, Refusal> {
+        self.check_summed().map(|(_, summary)| summary)
+    }
+
+    /// `check`, with the section's summary it was judged by.
+    fn check_summed(&self) -> Result<(Section, SectionSummary), Refusal> {
         self.validate().map_err(Refusal::Setting)?;
-        let (round, section) = Roundness::of_setup(self);
+        let (round, section, summary) = Roundness::of_setup_summed(self);
         match round.is_round() {
             true => Err(Refusal::Round(round)),
-            false => Ok(section),
+            false => Ok((section, summary)),
         }
     }
 

@@ -1,7 +1,7 @@
 //! The setup planner: every (ratio, edges, direction) that cuts N flats,
 //! with what a machinist needs to choose between them.
 
-use crate::geometry::{Direction, Refusal, Section, Setup, SetupError};
+use crate::geometry::{Direction, Refusal, Section, Setup, SetupError, LENGTH_MM};
 use polyturn_sync::ratio::gcd;
 use polyturn_sync::Ratio;
 use std::collections::HashMap;
@@ -130,21 +130,13 @@ struct Figures {
 }
 
 impl Figures {
-    /// The figures of a setup `geometry` takes (`Setup::check`), else why not.
+    /// The figures `geometry` prints for a setup it takes
+    /// (`Setup::summary`), else why it refuses it.
     fn of(setup: &Setup, req: &Request) -> Result<Figures, Refusal> {
-        setup.check()?;
-        let sector = Section::ideal_sector(setup, 256);
-        let (flat_deviation, corners_sharp) = flatness(&sector);
+        let s = setup.summary()?;
         let min_cutter_radius = if req.cutter_radius.is_none() { min_cutter(setup, req.tolerance) } else { None };
-        Ok(Figures { flat_deviation, corners_sharp, min_cutter_radius })
+        Ok(Figures { flat_deviation: s.flat_deviation, corners_sharp: s.corners_sharp, min_cutter_radius })
     }
-}
-
-/// `Section::ideal(setup, bins).summary()`'s flat deviation and sharp
-/// corners, from one sector solved on the pass ([`Section::ideal_sector`]):
-/// every flat reads the same bins, so flat 0 and corner 0 stand for all.
-fn flatness(s: &Section) -> (f64, bool) {
-    (s.flat_deviation(0), s.corner_radius(0) < s.stock_radius - 1e-9)
 }
 
 fn candidate(setup: &Setup, req: &Request, f: Figures) -> Candidate {
@@ -172,35 +164,140 @@ fn candidate(setup: &Setup, req: &Request, f: Figures) -> Candidate {
 /// radius (`setups` names it where it finds none).
 pub const MIN_CUTTER_SCAN: f64 = 100.0;
 
-/// Scans cutter radii from R2/2 to 100·R2 (geometric steps, then bisection).
+/// The largest cutter radius `min_cutter` tries for stock of radius `r2`:
+/// [`MIN_CUTTER_SCAN`] times it, or the largest `geometry` takes.
+pub fn min_cutter_scan_top(r2: f64) -> f64 {
+    (r2 * MIN_CUTTER_SCAN).min(LENGTH_MM.1)
+}
+
+/// `geometry`'s flat deviation of `setup` with cutter radius `r1` (the
+/// one computation it prints: `Setup::summary`), None where it refuses it.
+fn deviation(setup: &Setup, r1: f64) -> Option<f64> {
+    Setup { cutter_radius_mm: r1, ..*setup }.summary().ok().map(|s| s.flat_deviation)
+}
+
+/// Whether `geometry` takes `setup` with cutter radius `r1` and finds its
+/// flats within `tol`.
+fn meets(setup: &Setup, r1: f64, tol: f64) -> bool {
+    deviation(setup, r1).is_some_and(|d| d.abs() <= tol)
+}
+
+/// The smallest cutter radius, from R2/2 (or just over the depth) up to
+/// [`min_cutter_scan_top`], that `geometry` takes with flats within `tol`,
+/// rounded up to 3 significant figures (a size to make, printed whole).
+/// The one-sector estimate finds it in a fraction of the time where it
+/// agrees with `geometry` (sharp corners); where `geometry` finds its
+/// answer out of `tol`, or it finds none, `geometry`'s own figure is
+/// searched.
 fn min_cutter(setup: &Setup, tol: f64) -> Option<f64> {
-    let dev = |r1: f64| flatness(&Section::ideal_sector(&Setup { cutter_radius_mm: r1, ..*setup }, 128)).0.abs();
-    // No smaller than the depth: a cutter whose radius does not exceed it
-    // would have its axis inside the bar (`Setup::validate`).
-    let lo0 = (setup.stock_radius_mm * 0.5).max(setup.depth_mm * 1.01);
-    let hi0 = setup.stock_radius_mm * MIN_CUTTER_SCAN;
-    let mut prev = lo0;
-    if dev(lo0) <= tol {
-        return Some(lo0);
-    }
-    let mut r = lo0;
-    while r < hi0 {
-        r *= 1.25;
-        if dev(r) <= tol {
-            let (mut lo, mut hi) = (prev, r);
-            for _ in 0..20 {
-                let mid = 0.5 * (lo + hi);
-                if dev(mid) <= tol {
-                    hi = mid
-                } else {
-                    lo = mid
-                }
-            }
-            return Some(hi);
+    let estimate = estimated_min_cutter(setup, tol).map(round_up_3).filter(|&r| meets(setup, r, tol));
+    estimate.or_else(|| searched_min_cutter(setup, tol))
+}
+
+/// The least radius whose one-sector estimate of the flats is within
+/// `tol`: geometric steps, then bisection. Only a guess: `geometry` judges
+/// the section over the whole circle at its own bins, and a round-cornered
+/// section's flats may come out 0.9 mm apart.
+fn estimated_min_cutter(setup: &Setup, tol: f64) -> Option<f64> {
+    let dev = |r1: f64| {
+        let s = Section::ideal_sector(&Setup { cutter_radius_mm: r1, ..*setup }, 128);
+        s.flat_deviation(0).abs()
+    };
+    let top = min_cutter_scan_top(setup.stock_radius_mm);
+    let mut r = (setup.stock_radius_mm * 0.5).max(setup.depth_mm * 1.01).max(LENGTH_MM.0);
+    let mut prev = r;
+    while dev(r) > tol {
+        if r >= top {
+            return None;
         }
         prev = r;
+        r = (r * 1.25).min(top);
+    }
+    let mut lo = prev;
+    for _ in 0..20 {
+        let mid = 0.5 * (lo + r);
+        if dev(mid) <= tol {
+            r = mid
+        } else {
+            lo = mid
+        }
+    }
+    Some(r)
+}
+
+/// [`min_cutter`] on `geometry`'s figure:
+/// geometric steps, then bisection between the last that fails and the
+/// first that meets it, then rounded up. The deviation need not fall
+/// monotonically with the radius: where it changes sign between two steps,
+/// the radii between are searched for one within `tol`; and each answer
+/// is checked as given, one that fails once rounded being given unrounded.
+fn searched_min_cutter(setup: &Setup, tol: f64) -> Option<f64> {
+    // No smaller than the depth: a cutter whose radius does not exceed it
+    // would have its axis inside the bar (`Setup::validate`).
+    let top = min_cutter_scan_top(setup.stock_radius_mm);
+    let mut r = (setup.stock_radius_mm * 0.5).max(setup.depth_mm * 1.01).max(LENGTH_MM.0);
+    let mut failed: Option<(f64, Option<f64>)> = None;
+    loop {
+        let dev = deviation(setup, r);
+        if dev.is_some_and(|d| d.abs() <= tol) {
+            break;
+        }
+        let sign_change = match (failed, dev) {
+            (Some((lo, Some(d0))), Some(d1)) if (d0 > 0.0) != (d1 > 0.0) => crossing(setup, lo, d0, r, tol),
+            _ => None,
+        };
+        if let Some(x) = sign_change {
+            r = x;
+            break;
+        }
+        if r >= top {
+            return None;
+        }
+        failed = Some((r, dev));
+        r = (r * 1.5).min(top);
+    }
+    if let Some((mut lo, _)) = failed {
+        // 9 halvings of a 50 % step: 0.1 %, inside the rounding
+        for _ in 0..9 {
+            let mid = 0.5 * (lo + r);
+            if meets(setup, mid, tol) {
+                r = mid
+            } else {
+                lo = mid
+            }
+        }
+    }
+    let rounded = round_up_3(r);
+    Some(if meets(setup, rounded, tol) { rounded } else { r })
+}
+
+/// A radius between `lo` (deviation `d_lo`, out of `tol`) and `hi` (out of
+/// it on the other side) whose deviation is within `tol`, by bisection on
+/// the sign; None if `geometry` refuses one on the way or none is found.
+fn crossing(setup: &Setup, mut lo: f64, d_lo: f64, mut hi: f64, tol: f64) -> Option<f64> {
+    // 16 halvings of a 50 % step: 8 ppm of the radius
+    for _ in 0..16 {
+        let mid = 0.5 * (lo + hi);
+        let d = deviation(setup, mid)?;
+        if d.abs() <= tol {
+            return Some(mid);
+        }
+        if (d > 0.0) == (d_lo > 0.0) {
+            lo = mid
+        } else {
+            hi = mid
+        }
     }
     None
+}
+
+/// `r` rounded up to 3 significant figures, as the nearest float to its
+/// decimal (so it prints as those figures).
+fn round_up_3(r: f64) -> f64 {
+    let unit = 10f64.powi(r.log10().floor() as i32 - 2);
+    let up = (r / unit).ceil() * unit;
+    let decimals = (2 - r.log10().floor() as i32).max(0) as usize;
+    format!("{up:.decimals$}").parse().unwrap_or(r).max(r)
 }
 
 #[cfg(test)]
@@ -284,7 +381,7 @@ mod tests {
             direction: Direction::Same,
         };
         let r = min_cutter(&setup, 0.05).expect("some cutter flattens a 1:1 triangle to 50 µm");
-        let dev = |r1| Section::ideal(&Setup { cutter_radius_mm: r1, ..setup }, 128).summary().flat_deviation.abs();
+        let dev = |r1| Setup { cutter_radius_mm: r1, ..setup }.summary().unwrap().flat_deviation.abs();
         assert!(dev(r) <= 0.05 && dev(r * 0.97) > 0.05, "{r}");
     }
 }

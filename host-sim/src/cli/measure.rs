@@ -31,6 +31,27 @@ impl Stock {
         }
     }
 
+    /// R2, mm, refused naming the flag given where it is too thin for any
+    /// cut: a depth of at least a micron (the least `--depth` takes) that
+    /// leaves some stock needs R2 over a micron.
+    pub fn radius_for_a_cut(&self) -> CliResult<f64> {
+        let r2 = self.radius()?;
+        if r2 > LENGTH_MM.0 {
+            return Ok(r2);
+        }
+        let (flag, least, got) = match self.stock_radius {
+            Some(r) => ("stock-radius", LENGTH_MM.0, r),
+            None => ("stock-diameter", 2.0 * LENGTH_MM.0, 2.0 * r2),
+        };
+        Err(CliError::flag(
+            flag,
+            format!(
+                "must be more than {least} mm for any cut: a depth of cut of at least {} mm that leaves some stock (got {got})",
+                LENGTH_MM.0
+            ),
+        ))
+    }
+
     /// The flag as it was given, to write a command line back.
     pub fn as_given(&self) -> String {
         match (self.stock_radius, self.stock_diameter) {
@@ -71,7 +92,9 @@ impl Cut {
                 ),
             )),
             (None, Some(d)) if d < r2 => Ok(d),
-            (None, Some(_)) => Err(CliError::flag("depth", format!("must be > 0 and < the stock radius ({r2} mm)"))),
+            (None, Some(d)) => {
+                Err(CliError::flag("depth", format!("must be > 0 and < the stock radius ({r2} mm) (got {d})")))
+            }
             _ => Err(CliError("give exactly one of --across-flats AF or --depth DOC".into())),
         }
     }

@@ -38,7 +38,7 @@ impl SetupArgs {
 
     /// `setup`, and the ideal section its roundness check computed.
     pub fn setup_and_section(&self) -> CliResult<(Setup, Section)> {
-        let stock_radius_mm = self.stock.radius()?;
+        let stock_radius_mm = self.stock.radius_for_a_cut()?;
         let setup = Setup {
             cutter_radius_mm: self.cutter_radius,
             stock_radius_mm,

@@ -5,6 +5,8 @@ mod advice;
 #[cfg(test)]
 mod advice_tests;
 mod assumed;
+#[cfg(test)]
+mod geometry_tests;
 mod reproduce;
 mod table;
 #[cfg(test)]
@@ -79,7 +81,7 @@ pub fn run(a: SetupsArgs) -> CliResult<String> {
 
 /// The planner's request, each flag checked against the others.
 fn request(a: &SetupsArgs) -> CliResult<Request> {
-    let r2 = a.stock.radius()?;
+    let r2 = a.stock.radius_for_a_cut()?;
     let depth = a.cut.depth(r2)?;
     if let Some(r1) = a.cutter_radius.filter(|&r1| r1 <= depth) {
         return Err(CliError::flag(

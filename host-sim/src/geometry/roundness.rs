@@ -26,8 +26,15 @@ impl Roundness {
     /// as good on a real section but not on one a few µm across, and costs
     /// `setups`, which judges every row, many times more.
     pub fn of_setup(setup: &Setup) -> (Roundness, Section) {
+        let (round, section, _) = Roundness::of_setup_summed(setup);
+        (round, section)
+    }
+
+    /// [`Roundness::of_setup`] with the section's summary it judged by.
+    pub fn of_setup_summed(setup: &Setup) -> (Roundness, Section, SectionSummary) {
         let section = Section::ideal_tiled(setup, Section::default_bins(setup.sides()));
-        (Roundness::of(&section.summary(), setup.depth_mm), section)
+        let summary = section.summary();
+        (Roundness::of(&summary, setup.depth_mm), section, summary)
     }
 
     /// From three sides up, a circle has N "flats" too, each bulging

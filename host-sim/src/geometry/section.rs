@@ -11,6 +11,9 @@ pub struct Section {
     pub sides: u32,
     pub stock_radius: f64,
     pub envelope: Envelope,
+    /// every flat the same bins (one sector, or one tiled round the
+    /// circle): flat 0 stands for all; false for a simulated cut
+    pub periodic: bool,
 }
 
 /// The figures of a section (all lengths in mm).
@@ -53,7 +56,7 @@ impl Section {
     pub fn ideal_sector(setup: &Setup, bins_per_side: usize) -> Section {
         let n = setup.sides().max(1);
         let envelope = super::sector::sector_envelope(setup, bins_per_side);
-        Section { sides: n, stock_radius: setup.stock_radius_mm, envelope }
+        Section { sides: n, stock_radius: setup.stock_radius_mm, envelope, periodic: true }
     }
 
     /// The section cut by one pass's path (work-frame points, flat 0 in
@@ -84,7 +87,7 @@ impl Section {
         for i in 0..total {
             env.radius[i] = one.radius[i % bins_per_side];
         }
-        Section { sides: n, stock_radius: setup.stock_radius_mm, envelope: env }
+        Section { sides: n, stock_radius: setup.stock_radius_mm, envelope: env, periodic: true }
     }
 
     /// Bins per flat that keep the whole circle under ~2^18 samples.
@@ -128,9 +131,11 @@ impl Section {
         self.radius_at(self.flat_middle(j) + PI / self.sides as f64)
     }
 
-    /// The signed deviation with the largest magnitude over all flats.
+    /// The signed deviation with the largest magnitude over all flats
+    /// (flat 0's where every flat has its bins).
     fn worst_flat_deviation(&self) -> f64 {
-        (0..self.sides).map(|j| self.flat_deviation(j)).fold(0.0, |acc, d| if d.abs() > acc.abs() { d } else { acc })
+        let flats = if self.periodic { 1 } else { self.sides };
+        (0..flats).map(|j| self.flat_deviation(j)).fold(0.0, |acc, d| if d.abs() > acc.abs() { d } else { acc })
     }
 
     /// Largest distance of flat j from the chord joining its ends (the
@@ -146,12 +151,16 @@ impl Section {
             let rel = phi - mid;
             (r * rel.cos(), r * rel.sin(), r)
         };
-        // Walk out from the middle to each end: a corner or the stock.
+        // Every sample of the flat, once: the walks to its ends and the
+        // search for its worst point read the same points.
         let steps = (half / step).round() as i64;
-        let end = |dir: f64| {
-            let mut last = point(mid);
+        let points: Vec<_> = (-steps..=steps).map(|i| point(mid + step * i as f64)).collect();
+        let at = |i: i64| points[(i + steps) as usize];
+        // Walk out from the middle to each end: a corner or the stock.
+        let end = |dir: i64| {
+            let mut last = at(0);
             for i in 1..=steps {
-                let p = point(mid + dir * step * i as f64);
+                let p = at(dir * i);
                 if p.2 >= stock {
                     return last;
                 }
@@ -159,15 +168,14 @@ impl Section {
             }
             last
         };
-        let (a, b) = (end(-1.0), end(1.0));
+        let (a, b) = (end(-1), end(1));
         let (dx, dy) = (b.0 - a.0, b.1 - a.1);
         let len = dx.hypot(dy);
         if len < 2.0 * step * self.stock_radius {
             return 0.0; // the flat is narrower than the sampling: no chord to measure from
         }
         let mut worst: f64 = 0.0;
-        for i in -steps..=steps {
-            let p = point(mid + step * i as f64);
+        for &p in &points {
             if p.2 >= stock || p.1 < a.1.min(b.1) || p.1 > a.1.max(b.1) {
                 continue;
             }

@@ -134,7 +134,12 @@ impl CutRecorder {
     }
 
     pub fn section(&self) -> Section {
-        Section { sides: self.setup.sides(), stock_radius: self.setup.stock_radius_mm, envelope: self.env.clone() }
+        Section {
+            sides: self.setup.sides(),
+            stock_radius: self.setup.stock_radius_mm,
+            envelope: self.env.clone(),
+            periodic: false,
+        }
     }
 }
 

@@ -64,7 +64,35 @@ fn an_across_flats_not_under_the_stock_diameter_is_refused_naming_it() {
     let e = run(&format!("simulate {REST} --stock-radius 10 --across-flats 25 --rpm 300 --revolutions 1")).unwrap_err();
     assert!(e.starts_with("--across-flats "), "{e}");
     let e = run(&format!("geometry {REST} --stock-diameter 20 --depth 10")).unwrap_err();
-    assert_eq!(e, "--depth must be > 0 and < the stock radius (10 mm)");
+    assert_eq!(e, "--depth must be > 0 and < the stock radius (10 mm) (got 10)");
+}
+
+#[test]
+fn stock_too_thin_for_any_cut_is_refused_naming_the_stock_flag_given() {
+    let tail = "--ratio 2 --edges 3 --direction same";
+    for cmd in [
+        "setups --sides 8".to_string(),
+        format!("geometry --cutter-radius 50 {tail}"),
+        format!("simulate --cutter-radius 50 {tail} --rpm 300 --revolutions 1"),
+        format!("compensate --cutter-radius 50 {tail} --rpm 100 --x-max-speed 200 --x-max-accel 20000"),
+    ] {
+        for cut in ["--depth 0.001", "--across-flats 0.001"] {
+            let e = run(&format!("{cmd} --stock-diameter 0.002 {cut}")).unwrap_err();
+            assert_eq!(
+                e,
+                "--stock-diameter must be more than 0.002 mm for any cut: a depth of cut of at least 0.001 mm that leaves some stock (got 0.002)",
+                "{cmd} {cut}"
+            );
+            let e = run(&format!("{cmd} --stock-radius 0.001 {cut}")).unwrap_err();
+            assert_eq!(
+                e,
+                "--stock-radius must be more than 0.001 mm for any cut: a depth of cut of at least 0.001 mm that leaves some stock (got 0.001)",
+                "{cmd} {cut}"
+            );
+        }
+    }
+    // the least stock that allows a cut is taken
+    assert!(run("setups --sides 8 --stock-diameter 0.0021 --depth 0.001").is_ok());
 }
 
 #[test]

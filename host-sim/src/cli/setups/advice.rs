@@ -44,7 +44,7 @@ pub fn row(c: &Candidate, l: &Limits) -> Vec<String> {
         out.push(format!("cutter speed {v:.0} rpm is above --max-cutter-rpm {}", l.cutter_rpm));
     }
     if let Some(v) = c.min_cutter_radius.filter(|&v| v > MAX_CUTTER_RADIUS_MM) {
-        out.push(format!("smallest cutter radius {v:.1} mm is more than a lathe swings ({MAX_CUTTER_RADIUS_MM} mm)"));
+        out.push(format!("smallest cutter radius {v} mm is more than a lathe swings ({MAX_CUTTER_RADIUS_MM} mm)"));
     }
     out
 }

@@ -2,7 +2,7 @@
 //! the figures are for and why, and what each "-" in the table means.
 
 use crate::geometry::SetupError;
-use crate::planner::{default_cutter, Candidate, Request, MIN_CUTTER_SCAN as MIN_R1_SCAN};
+use crate::planner::{default_cutter, min_cutter_scan_top, Candidate, Request};
 
 /// The cutter radius the figures are for, and why that one.
 pub struct Cutter {
@@ -57,8 +57,8 @@ pub fn notes(found: &[Candidate], req: &Request) -> Vec<String> {
         notes.push(match req.cutter_radius {
             Some(_) => "\"-\" in min R1 mm: the smallest cutter is worked out only when the cutter radius is assumed (no --cutter-radius)".into(),
             None => format!(
-                "\"-\" in min R1 mm: no cutter radius up to {} mm ({MIN_R1_SCAN} x the stock radius) keeps the flats within --tolerance {} mm",
-                MIN_R1_SCAN * req.stock_radius,
+                "\"-\" in min R1 mm: no cutter radius up to {} mm keeps the flats within --tolerance {} mm in a section geometry takes",
+                min_cutter_scan_top(req.stock_radius),
                 req.tolerance
             ),
         });

@@ -93,6 +93,7 @@ fn row(c: &Candidate) -> String {
         if c.corners_sharp { "sharp" } else { "round" },
         opt(c.cutter_rpm, 0),
         opt(c.peak_tip_speed, 2),
-        opt(c.min_cutter_radius, 1)
+        // as the planner rounded it: a figure `geometry` is checked with
+        c.min_cutter_radius.map(|r| r.to_string()).unwrap_or_else(|| "-".into())
     )
 }

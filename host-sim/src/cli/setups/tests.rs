@@ -82,7 +82,7 @@ fn every_dash_in_the_table_is_explained_by_a_note() {
     }
     let text = run("setups --sides 6 --stock-radius 20 --depth 3 --rpm 300").unwrap();
     assert!(text.contains(
-        "no cutter radius up to 2000 mm (100 x the stock radius) keeps the flats within --tolerance 0.01 mm"
+        "no cutter radius up to 2000 mm keeps the flats within --tolerance 0.01 mm in a section geometry takes"
     ));
     let given = run("setups --sides 6 --stock-radius 10 --depth 1.5 --cutter-radius 50").unwrap();
     assert!(given.contains("worked out only when the cutter radius is assumed (no --cutter-radius)"), "{given}");
