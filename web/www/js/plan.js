@@ -52,7 +52,7 @@ function notes(r) {
 function row(s, r, f, show) {
   const tr = document.createElement('tr');
   const cells = [s.ratio, s.edges, s.direction, s.revolutions, fixed(s.flat_deviation, 4),
-    s.corners_sharp ? 'sharp' : 'round', fixed(s.cutter_rpm, 0), fixed(s.peak_tip_speed, 2), fixed(s.min_cutter_radius, 1),
+    s.corners_sharp ? 'sharp' : 'round', fixed(s.cutter_rpm, 0), fixed(s.peak_tip_speed, 2), s.min_cutter_radius ?? '–',
     s.warnings.join('; ')];
   tr.replaceChildren(...cells.map((c) => {
     const td = document.createElement('td');

@@ -100,7 +100,7 @@ async function smallestCutter(form) {
       '--tolerance', shared.tolerance, '--max-edges', 12, '--max-revolutions', 12,
       '--max-ratio', Math.ceil(Number(eval_ratio(g.ratio))) + 1]);
     const row = r.setups.find((x) => x.ratio === g.ratio && x.edges === g.edges && x.direction === g.direction);
-    text = row?.min_cutter_radius ? `${fixed(row.min_cutter_radius, 1)} mm for ${shared.tolerance} mm` : 'none within 1000 mm';
+    text = row?.min_cutter_radius ? `${row.min_cutter_radius} mm for ${shared.tolerance} mm` : 'no cutter within range';
   } catch (e) {
     text = '–';
   }
