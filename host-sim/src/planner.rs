@@ -204,7 +204,7 @@ fn estimated_min_cutter(setup: &Setup, tol: f64) -> Option<f64> {
         s.flat_deviation(0).abs()
     };
     let top = min_cutter_scan_top(setup.stock_radius_mm);
-    let mut r = (setup.stock_radius_mm * 0.5).max(setup.depth_mm * 1.01).max(LENGTH_MM.0);
+    let mut r = scan_start(setup);
     let mut prev = r;
     while dev(r) > tol {
         if r >= top {
@@ -213,16 +213,28 @@ fn estimated_min_cutter(setup: &Setup, tol: f64) -> Option<f64> {
         prev = r;
         r = (r * 1.25).min(top);
     }
-    let mut lo = prev;
-    for _ in 0..20 {
-        let mid = 0.5 * (lo + r);
-        if dev(mid) <= tol {
-            r = mid
+    Some(bisect(prev, r, 20, |mid| dev(mid) <= tol))
+}
+
+/// The first radius either scan tries: R2/2, but no smaller than the depth
+/// (a cutter whose radius does not exceed it would have its axis inside
+/// the bar, `Setup::validate`) nor than `geometry` takes.
+fn scan_start(setup: &Setup) -> f64 {
+    (setup.stock_radius_mm * 0.5).max(setup.depth_mm * 1.01).max(LENGTH_MM.0)
+}
+
+/// The least radius in (`lo`, `hi`] that `ok` takes, to `halvings`
+/// bisections, where `ok(hi)` holds and `ok(lo)` does not.
+fn bisect(mut lo: f64, mut hi: f64, halvings: u32, ok: impl Fn(f64) -> bool) -> f64 {
+    for _ in 0..halvings {
+        let mid = 0.5 * (lo + hi);
+        if ok(mid) {
+            hi = mid
         } else {
             lo = mid
         }
     }
-    Some(r)
+    hi
 }
 
 /// [`min_cutter`] on `geometry`'s figure:
@@ -232,10 +244,8 @@ fn estimated_min_cutter(setup: &Setup, tol: f64) -> Option<f64> {
 /// the radii between are searched for one within `tol`; and each answer
 /// is checked as given, one that fails once rounded being given unrounded.
 fn searched_min_cutter(setup: &Setup, tol: f64) -> Option<f64> {
-    // No smaller than the depth: a cutter whose radius does not exceed it
-    // would have its axis inside the bar (`Setup::validate`).
     let top = min_cutter_scan_top(setup.stock_radius_mm);
-    let mut r = (setup.stock_radius_mm * 0.5).max(setup.depth_mm * 1.01).max(LENGTH_MM.0);
+    let mut r = scan_start(setup);
     let mut failed: Option<(f64, Option<f64>)> = None;
     loop {
         let dev = deviation(setup, r);
@@ -256,16 +266,9 @@ fn searched_min_cutter(setup: &Setup, tol: f64) -> Option<f64> {
         failed = Some((r, dev));
         r = (r * 1.5).min(top);
     }
-    if let Some((mut lo, _)) = failed {
+    if let Some((lo, _)) = failed {
         // 9 halvings of a 50 % step: 0.1 %, inside the rounding
-        for _ in 0..9 {
-            let mid = 0.5 * (lo + r);
-            if meets(setup, mid, tol) {
-                r = mid
-            } else {
-                lo = mid
-            }
-        }
+        r = bisect(lo, r, 9, |mid| meets(setup, mid, tol));
     }
     let rounded = round_up_3(r);
     Some(if meets(setup, rounded, tol) { rounded } else { r })
