@@ -317,6 +317,7 @@ impl Chip {
         self.now += lead.model as u64;
         self.bound += lead.bound as u64;
         (self.blk, self.blk_bound, self.block) = (self.now, self.bound, (addr, size));
+        self.probe.trail_block(self.blk, self.blk_bound);
         self.now += body.model as u64;
         self.bound += body.bound as u64;
     }

@@ -36,6 +36,43 @@ pub struct Probe {
     /// CPU cycles to stall at the plan handler's first read of DMA2 stream
     /// 5's NDTR (`job::planlate`): the plan still running at the next tick
     pub stall_in_plan: Option<u64>,
+    /// the self-test's index handler timed (`IndexTiming`), when a job asks
+    pub index: Option<IndexTiming>,
+}
+
+/// From TIM9's update event to the self-test's index write (`quadgen`'s
+/// `LATENCY_MAX` bounds it), on both clocks. The event falls inside a
+/// block; the bound's clock at it is taken at the start of the last block
+/// that began no later (`trail`), which can only lengthen the figure.
+#[derive(Default)]
+pub struct IndexTiming {
+    /// (model, bound) at the start of recent blocks, oldest first
+    trail: std::collections::VecDeque<(u64, u64)>,
+    pub writes: u64,
+    pub worst_model: u64,
+    pub worst_bound: u64,
+}
+
+/// Block starts kept: more than any handler's latency spans.
+const TRAIL: usize = 1 << 14;
+
+impl IndexTiming {
+    fn bound_at(&self, t: u64) -> Option<u64> {
+        let i = self.trail.partition_point(|&(m, _)| m <= t);
+        (i > 0).then(|| self.trail[i - 1].1)
+    }
+}
+
+impl Probe {
+    /// A block starts at these (model, bound) cycles.
+    pub fn trail_block(&mut self, now: u64, bound: u64) {
+        if let Some(ix) = self.index.as_mut() {
+            if ix.trail.len() == TRAIL {
+                ix.trail.pop_front();
+            }
+            ix.trail.push_back((now, bound));
+        }
+    }
 }
 
 /// A handler's runs, from its request's entry to its return (the return's
@@ -95,6 +132,10 @@ pub fn tick_exc() -> usize {
 
 pub fn plan_exc() -> usize {
     16 + svd::irq(polyturn_firmware::board::PLAN_IRQ)
+}
+
+fn tim9_exc() -> usize {
+    16 + svd::irq("TIM1_BRK_TIM9")
 }
 
 fn exti_exc() -> usize {
@@ -158,6 +199,9 @@ pub fn on_read(c: &mut Chip, word: u32) {
 /// After a bus write: fires `trip_on_write` if this is its write. The
 /// interrupt the change pends is taken at the end of the block (`fire`).
 pub fn on_write(c: &mut Chip, word: u32, value: u32) {
+    if word == polyturn_firmware::quadgen::program::GPIOA_BSRR && c.active.last() == Some(&tim9_exc()) {
+        index_written(c);
+    }
     if word == TIM1_CR1 && value & 1 == 0 && c.probe.edge_at.is_some() && c.probe.step_timer_stopped.is_none() {
         c.probe.step_timer_stopped = Some(c.now);
         c.probe.stopped_bound = Some(c.bound);
@@ -188,4 +232,16 @@ fn fire(c: &mut Chip, (port, pin, level): Trip) {
     c.pin_edges(port, edges);
     c.update_lines();
     c.deadline = 0;
+}
+
+/// The self-test's handler wrote the index: its time from TIM9's update
+/// event on both clocks, the worst kept.
+fn index_written(c: &mut Chip) {
+    let at = c.mcu.tim9_uif_at();
+    let (now, bound) = (c.now, c.bound);
+    let Some(ix) = c.probe.index.as_mut() else { return };
+    let Some(from) = ix.bound_at(at) else { return };
+    ix.writes += 1;
+    ix.worst_model = ix.worst_model.max(now.saturating_sub(at));
+    ix.worst_bound = ix.worst_bound.max(bound.saturating_sub(from));
 }

@@ -7,10 +7,10 @@ use super::*;
 use std::vec::Vec;
 
 const SELF_TEST: [Segment; 5] = [
-    Segment::Ramp { from: 0, to: 600, ms: 200 },
-    Segment::Hold { rpm: 600, ms: 100 },
-    Segment::Hold { rpm: -600, ms: 100 },
-    Segment::Ramp { from: -600, to: 0, ms: 150 },
+    Segment::Ramp { from: 0, to: 300, ms: 200 },
+    Segment::Hold { rpm: 300, ms: 100 },
+    Segment::Hold { rpm: -300, ms: 100 },
+    Segment::Ramp { from: -300, to: 0, ms: 150 },
     Segment::Hold { rpm: 0, ms: 10 },
 ];
 
@@ -20,8 +20,8 @@ fn periods(cpr: u32, segments: &[Segment]) -> Vec<Period> {
 
 #[test]
 fn max_rpm_follows_the_index_bound() {
-    assert_eq!(MAX_COUNT_RATE, 31_914);
-    assert_eq!(max_rpm(2400), 797);
+    assert_eq!(MAX_COUNT_RATE, 12_786);
+    assert_eq!(max_rpm(2400), 319);
     assert_eq!(PSC_MAX, 3);
 }
 
@@ -29,8 +29,8 @@ fn max_rpm_follows_the_index_bound() {
 fn cpr_must_be_even_and_speed_within_the_bound() {
     assert_eq!(Profile::new(2401, &SELF_TEST).err(), Some(Error::Cpr(2401)));
     assert_eq!(Profile::new(2, &SELF_TEST).err(), Some(Error::Cpr(2)));
-    let fast = [Segment::Hold { rpm: 10, ms: 1 }, Segment::Ramp { from: 0, to: -798, ms: 1 }];
-    assert_eq!(Profile::new(2400, &fast).err(), Some(Error::TooFast { segment: 1, max_rpm: 797 }));
+    let fast = [Segment::Hold { rpm: 10, ms: 1 }, Segment::Ramp { from: 0, to: -320, ms: 1 }];
+    assert_eq!(Profile::new(2400, &fast).err(), Some(Error::TooFast { segment: 1, max_rpm: 319 }));
 }
 
 #[test]
@@ -57,13 +57,13 @@ fn periods_follow_the_profile_in_time_and_speed() {
     let total: u64 = ps.iter().map(|p| p.clocks() as u64).sum();
     let want = 560 * (TIMER_HZ as u64 / 1000);
     assert!(total >= want && total < want + MAX_CLOCKS, "{total}");
-    // in the hold at 600 rpm: 24 000 counts/s, two per period
+    // in the hold at 300 rpm: 12 000 counts/s, two per period
     let mut t = 0u64;
     for p in &ps {
         let ms = t / 96_000;
         if (205..295).contains(&ms) {
             assert_eq!(p.motion, Motion::Forward);
-            assert_eq!(p.clocks(), 8_000, "at {ms} ms");
+            assert_eq!(p.clocks(), 16_000, "at {ms} ms");
         }
         if (305..395).contains(&ms) {
             assert_eq!(p.motion, Motion::Reverse);

@@ -110,6 +110,9 @@ pub struct Mcu {
     /// transfer as soon as a DMA request is triggered"): when it is enabled and
     /// after each transfer. `None` while the stream is off.
     prefetched: Option<u32>,
+    /// The cycle in which TIM9 last set UIF (what its update interrupt
+    /// answers), for an emulator timing the handler from the event
+    tim9_uif_at: u64,
 }
 
 impl PartialEq for Mcu {
@@ -138,6 +141,7 @@ impl Mcu {
             sram: vec![0; addr::SRAM_SIZE as usize],
             edges: Vec::new(),
             pins: [false; 4],
+            tim9_uif_at: 0,
             dma_lost: 0,
             dma_transfers: 0,
             quiescent: false,
@@ -189,7 +193,11 @@ impl Mcu {
         self.tim1.step();
         self.tim2.step(self.tim1.trgo);
         self.tim11.step();
+        let uif_sets = self.tim9.uif_sets;
         self.tim9.step();
+        if self.tim9.uif_sets != uif_sets {
+            self.tim9_uif_at = self.cycle;
+        }
         self.sync_dma();
         while self.dma.next_due <= self.cycle {
             self.dma_transfer();

@@ -31,7 +31,7 @@ use crate::state::{Fault, State};
 /// The generator's fastest count rate (`polyturn_firmware::quadgen::
 /// MAX_COUNT_RATE`, equal by a firmware test): its index is written by an
 /// interrupt, which needs time.
-pub const GENERATOR_MAX_COUNT_RATE: u32 = 31_914;
+pub const GENERATOR_MAX_COUNT_RATE: u32 = 12_786;
 /// The speed of the holds when none is asked for (capped by the limits).
 pub const DEFAULT_RPM: u32 = 300;
 /// The rests with checks: the profile's legs 0, 4 and 8.

@@ -72,7 +72,7 @@ fn the_books_of_a_whole_plan_come_back_to_zero_and_end_stopped() {
 /// results.
 #[test]
 fn preparing_ahead_changes_no_write() {
-    let plan = Plan::new(797, 2400, 1_000);
+    let plan = Plan::new(super::super::max_rpm(2400), 2400, 1_000);
     let (mut ahead, _) = start(&plan).unwrap();
     let (mut late, _) = start(&plan).unwrap();
     let mut updates = 0;

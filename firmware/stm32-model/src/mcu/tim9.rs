@@ -20,6 +20,10 @@ impl Mcu {
     pub fn tim9_uif_sets(&self) -> u64 {
         self.tim9.uif_sets
     }
+    /// The cycle in which TIM9 last set UIF (0 before it ever did).
+    pub fn tim9_uif_at(&self) -> u64 {
+        self.tim9_uif_at
+    }
 
     /// Runs until TIM9 sets UIF once more (true; `cycle()` is then the cycle that set
     /// it) or until `limit` (false). The NVIC is not modelled: this is where a test

@@ -18,15 +18,15 @@ fn reply(c: &mut Controller, line: &str) -> std::string::String {
 #[test]
 fn start_engages_and_says_what_to_wire_and_how_long() {
     let mut c = ctl(Config::default());
-    let r = reply(&mut c, "selftest start 500");
+    let r = reply(&mut c, "selftest start 250");
     assert_eq!(
         r,
-        "ok selftest started rpm=500 cpr=2400 seconds=11.2: jumpers PA2-PA6, PA3-PA7, PA4-PB0 and PB14 to GND; the cutter turns; selftest shows the figures"
+        "ok selftest started rpm=250 cpr=2400 seconds=11.2: jumpers PA2-PA6, PA3-PA7, PA4-PB0 and PB14 to GND; the cutter turns; selftest shows the figures"
     );
     assert_eq!(c.state(), State::Engaging);
-    assert_eq!(c.selftest_plan().map(|(_, p)| p.rpm), Some(500));
+    assert_eq!(c.selftest_plan().map(|(_, p)| p.rpm), Some(250));
     let r = reply(&mut c, "selftest");
-    assert!(r.starts_with("ok selftest running t=0.0/11.2 leg=rest rests=0/3 rpm=500"), "{r}");
+    assert!(r.starts_with("ok selftest running t=0.0/11.2 leg=rest rests=0/3 rpm=250"), "{r}");
     let r = reply(&mut c, "selftest start");
     assert_eq!(r, "error: stop first (and clear any fault): the self-test engages the gearbox");
 }
@@ -45,15 +45,15 @@ fn stop_ends_it_as_stopped_and_ramps_the_cutter_down() {
 #[test]
 fn the_rpm_is_refused_outside_what_the_generator_and_settings_allow() {
     let mut c = ctl(Config::default());
-    // 31 914 counts/s at 2400 counts a turn: 797 rpm
+    // 12 786 counts/s at 2400 counts a turn: 319 rpm
     assert_eq!(
-        reply(&mut c, "selftest start 798"),
-        "error: selftest start rpm: 1..=797 (the generator, max-rpm and max-rate allow)"
+        reply(&mut c, "selftest start 320"),
+        "error: selftest start rpm: 1..=319 (the generator, max-rpm and max-rate allow)"
     );
-    assert!(reply(&mut c, "selftest start 999999").contains("1..=797"), "six digits are a number, out of range");
+    assert!(reply(&mut c, "selftest start 999999").contains("1..=319"), "six digits are a number, out of range");
     assert_eq!(
         reply(&mut c, "selftest start 0"),
-        "error: selftest start rpm: 1..=797 (the generator, max-rpm and max-rate allow)"
+        "error: selftest start rpm: 1..=319 (the generator, max-rpm and max-rate allow)"
     );
     let slow = Config::default().with("max-rpm", "200").unwrap();
     let mut c = ctl(slow);
