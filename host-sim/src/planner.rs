@@ -39,9 +39,14 @@ pub struct Request {
 }
 
 /// Cutter radius used for the figures when none is given: 5 × stock,
-/// Foale's examples' proportion (50 mm cutter, 10 mm work).
+/// Foale's examples' proportion (50 mm cutter, 10 mm work), as the
+/// shortest decimal a machinist would type for it: 5 x a radius given in
+/// decimals is not exact in binary (1.1500000000000001 for 5 x 0.23), and
+/// the lines printed to reproduce a row would carry it. 12 significant
+/// figures lie far below any length the tools measure.
 pub fn default_cutter(stock: f64) -> f64 {
-    5.0 * stock
+    let r = 5.0 * stock;
+    format!("{r:.11e}").parse().unwrap_or(r)
 }
 
 /// What the planner found: the setups that cut the polygon, flattest

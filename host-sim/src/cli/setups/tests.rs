@@ -66,6 +66,16 @@ fn an_assumed_cutter_is_said_with_why_and_a_given_one_is_not_called_assumed() {
 }
 
 #[test]
+fn an_assumed_cutter_is_printed_as_a_machinist_would_type_it() {
+    // 5 x 0.23 and 5 x 0.00105 are not exact in binary
+    for (stock, want) in [("0.46", "1.15"), ("0.14", "0.35"), ("0.0021", "0.00525")] {
+        let out = run(&format!("setups --sides 6 --stock-diameter {stock} --depth 0.001 --max-edges 3")).unwrap();
+        assert!(out.contains(&format!("\ncutter radius {want} mm assumed")), "{out}");
+        assert!(out.contains(&format!("--cutter-radius {want} ")), "{out}");
+    }
+}
+
+#[test]
 fn every_dash_in_the_table_is_explained_by_a_note() {
     for line in [
         "setups --sides 6 --stock-radius 20 --depth 3 --rpm 300",
