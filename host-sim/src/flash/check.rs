@@ -91,9 +91,21 @@ fn vectors(base: u32, bytes: &[u8]) -> Result<(), Refusal> {
         return Err(Refusal::new(rule, format!("reset address 0x{reset:08x}, inside the vector table")));
     }
     if entry < code || entry >= end {
-        return Err(Refusal::new(rule, format!("reset address 0x{reset:08x}")));
+        return Err(Refusal::new(rule, format!("reset address 0x{reset:08x}{}", past_the_end(entry, end))));
     }
     handlers(&word, code, end)
+}
+
+/// Why a handler at `entry` is not in the image ending at `end`, when
+/// the image may be cut short: the address lies past the file's end but
+/// inside the flash the image may take (an image cut in half keeps its
+/// vectors and loses the code they point at). Else nothing to add.
+fn past_the_end(entry: u64, end: u64) -> String {
+    if entry >= end && entry < u64::from(APP_END) {
+        format!(", past the file's end at 0x{end:08x}: cut short")
+    } else {
+        String::new()
+    }
 }
 
 /// The system exceptions' vectors (PM0214 §2.3.4, Table 17: words 2 to
@@ -122,7 +134,8 @@ fn handlers(word: &dyn Fn(usize) -> Option<u32>, code: u64, end: u64) -> Result<
             let rule = format!(
                 "must have a {name} handler address that is Thumb code (odd) in the image after its vector table, 0x{code:08x}..0x{end:08x}{may}"
             );
-            return Err(Refusal::new(rule, format!("{name} address 0x{v:08x} (vector table word {n})")));
+            let past = if v & 1 == 1 { past_the_end(u64::from(v & !1), end) } else { String::new() };
+            return Err(Refusal::new(rule, format!("{name} address 0x{v:08x} (vector table word {n}){past}")));
         }
     }
     Ok(())

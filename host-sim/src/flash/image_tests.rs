@@ -159,6 +159,24 @@ fn a_vector_table_that_cannot_start_is_refused() {
 }
 
 #[test]
+fn a_vector_past_the_files_end_is_told_as_an_image_cut_short() {
+    // handlers in the second half of a 4 KiB image, the file cut in half
+    // (its marker, at the end, gone with it)
+    let late = FLASH_BASE + 3001;
+    let mut bytes = image_with(4096, SP, RESET, b"");
+    bytes[12..16].copy_from_slice(&late.to_le_bytes());
+    bytes.truncate(2048);
+    let r = refused(&bytes, Format::Bin, false);
+    assert!(r.rule.contains("HardFault"), "{r:?}");
+    assert_eq!(
+        r.found,
+        "HardFault address 0x08000bb9 (vector table word 3), past the file's end at 0x08000800: cut short"
+    );
+    let r = refused(&image_with(2048, SP, late, b""), Format::Bin, false);
+    assert_eq!(r.found, "reset address 0x08000bb9, past the file's end at 0x08000800: cut short");
+}
+
+#[test]
 fn the_marker_names_the_chip_and_only_any_image_lets_none_through() {
     let other = image_with(4096, SP, RESET, b"polyturn-image:stm32f103c8:0.1.0\0");
     for any in [false, true] {
