@@ -107,6 +107,7 @@ fn declared(table: &CamFile) -> Result<(), String> {
         whole_passes(c, table)?;
     }
     axis_and_period(table)?;
+    neighbours(&table.points)?;
     let h = table.header();
     check_axis(&h, polyturn_sync::Timing::FIRMWARE.tick_hz)?;
     check_table(&h, &table.points).map_err(|e| e.to_string())
@@ -136,6 +137,25 @@ fn axis_and_period(table: &CamFile) -> Result<(), String> {
             u32::MAX,
             table.period_counts
         ));
+    }
+    Ok(())
+}
+
+/// The first two neighbouring points (the last and the first too: the
+/// table repeats) the board's interpolation cannot span, named with their
+/// values: `Cam::check`'s rule, which tells no index.
+fn neighbours(points: &[i32]) -> Result<(), String> {
+    const SPAN: i64 = 1 << 23;
+    let n = points.len();
+    for i in 0..n {
+        let j = (i + 1) % n;
+        let (a, b) = (points[i], points[j]);
+        if (i64::from(b) - i64::from(a)).abs() >= SPAN {
+            let wrap = if j == 0 { " (the last and the first: the table repeats)" } else { "" };
+            return Err(format!(
+                "points[{i}] and points[{j}] must be less than {SPAN} (2^23) steps apart, the board's interpolation's range{wrap} (got {a} and {b})"
+            ));
+        }
     }
     Ok(())
 }

@@ -49,6 +49,27 @@ fn a_jump_no_x_axis_can_make_is_refused_with_the_boards_figures() {
     assert_eq!(checked(&t).unwrap_err(), format!("upload-cam: 't.json' is refused: {core}"));
 }
 
+/// Points the board's arithmetic cannot interpolate between (2^23 steps
+/// apart or more) are named with their values, the wrap from the last to
+/// the first too.
+#[test]
+fn neighbouring_points_too_far_apart_are_named_with_their_values() {
+    let mut t = octagon();
+    t.points[7] = i32::MIN;
+    assert_eq!(
+        checked(&t).unwrap_err(),
+        format!(
+            "upload-cam: 't.json' is refused: points[6] and points[7] must be less than 8388608 (2^23) steps apart, the board's interpolation's range (got {} and -2147483648)",
+            t.points[6]
+        )
+    );
+    // each step 4 200 000, the wrap back 8 400 000
+    let t = CamFile { points: vec![0, 4_200_000, 8_400_000], ..octagon() };
+    let e = checked(&t).unwrap_err();
+    assert!(e.contains("points[2] and points[0] must be less than 8388608 (2^23) steps apart"), "{e}");
+    assert!(e.contains("the table repeats") && e.ends_with("(got 8400000 and 0)"), "{e}");
+}
+
 #[test]
 fn an_encoder_or_an_x_axis_the_board_refuses_is_refused_here() {
     let e = checked(&CamFile { counts_per_rev: 0, ..octagon() }).unwrap_err();
