@@ -311,8 +311,14 @@ fn stepper_driver<P: Read + Write>(
     a: &GuidedArgs,
     f: Facts,
 ) -> CliResult<Facts> {
-    let q = "The driver's shortest STEP pulse, ns (its datasheet; 2500 if unsure)";
-    let pulse_ns = Some(ask.number(q, Some(2500), PULSE.lo, PULSE.hi)?);
+    // within what the board's max-rate allows (a step is a pulse high and
+    // as long low), asked again there rather than refused after the rest
+    let rate = stepper_max_rate(&read_back(s)?.1);
+    let most = (1_000_000_000 / (2 * u64::from(rate)).max(1)).clamp(u64::from(PULSE.lo), u64::from(PULSE.hi)) as u32;
+    let q = format!(
+        "The driver's shortest STEP pulse, ns (its datasheet; 2500 if unsure; at most {most} at the board's max-rate of {rate} steps/s)"
+    );
+    let pulse_ns = Some(ask.number(&q, Some(2500.min(most)), PULSE.lo, most)?);
     let q = "The driver's DIR setup time, ns (5000 if unsure)";
     let dir_setup_ns = Some(ask.number(q, Some(5000), DIR_SETUP.lo, DIR_SETUP.hi)?);
     let cutter_cpr = Some(shaft_encoder(ask, a)?);

@@ -413,6 +413,7 @@ fn every_prompt_takes_the_consoles_range_and_asks_again() {
         "20000", // past max-rpm's 10 000
         "1000",
         "500000", // a pulse past the console's 100 000 ns
+        "5000",   // a step of 10 µs: past the board's max-rate of 200 000
         "2500",
         "200000", // a DIR setup past 100 000 ns
         "5000",
@@ -426,11 +427,14 @@ fn every_prompt_takes_the_consoles_range_and_asks_again() {
     let c = *s.io.ctl.config();
     assert_eq!((c.motor_steps_per_rev, c.max_lathe_rpm, c.step_pulse_ns, c.dir_setup_ns), (3_200, 1_000, 2_500, 5_000));
     let refused: Vec<&String> = ask.said.iter().filter(|l| l.starts_with("refused: ")).collect();
-    assert_eq!(refused.len(), 5, "{:?}", ask.said);
+    assert_eq!(refused.len(), 6, "{:?}", ask.said);
     assert!(refused[0].contains("1..=1000000 steps per cutter rev"), "{refused:?}");
     assert!(refused[1].contains("not a whole number"), "{refused:?}");
-    assert!(refused[2].contains("1..=10000") && refused[3].contains("100..=100000"), "{refused:?}");
-    assert!(refused[4].contains("0..=100000"), "{refused:?}");
+    // the pulse asked within what the board's max-rate allows: a step is
+    // a pulse high and as long low
+    assert!(refused[2].contains("1..=10000") && refused[3].contains("100..=2500"), "{refused:?}");
+    assert!(refused[4].contains("100..=2500"), "{refused:?}");
+    assert!(refused[5].contains("0..=100000"), "{refused:?}");
     assert!(out.contains("saving"), "{out}");
 }
 
