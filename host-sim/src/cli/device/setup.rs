@@ -75,20 +75,28 @@ fn top_speed_that_fits(f: Facts, current: &Config, a: &GuidedArgs, ask: &mut dyn
 }
 
 /// A stepper's `--start-rate` and STEP pulse against the step rate it
-/// will have, by the board's rules (`start-rate <= max-rate`, `max-rate x
-/// 2 x pulse <= 1 s`): every flag at fault named in one refusal, with its
-/// bound and the value given, rather than the first rule the board trips.
+/// will have, by the board's own rules (`send_order`: `start-rate <=
+/// max-rate`, `max-rate x 2 x pulse <= 1 s`): every flag at fault named in
+/// one refusal, with its bound and the value given, rather than the first
+/// rule the board trips. Each is judged with the other at its least, at
+/// the slowest lathe (the speed's own bound is `top_speed_that_fits`').
 fn within_the_step_rate(f: &Facts, current: &Config, a: &GuidedArgs) -> CliResult<()> {
     if f.bldc.is_some() {
         return Ok(());
     }
+    let least = Facts { max_rpm: MAX_RPM.lo, start_rate: Some(START_RATE.lo), pulse_ns: Some(PULSE.lo), ..f.clone() };
+    let fits = |g: Facts| figures::send_order(current, &changes(&g)).is_ok();
+    if !fits(least.clone()) {
+        return Ok(()); // not these two: the steps (`no_speed_fits`)
+    }
     let max = stepper_max_rate(current);
     let mut faults = Vec::new();
-    if let Some(r) = f.start_rate.filter(|&r| r > max) {
-        faults.push(format!("--start-rate must be at most {max} steps/s, the board's max-rate (got {r})"));
+    if let Some(r) = f.start_rate.filter(|&r| !fits(Facts { start_rate: Some(r), ..least.clone() })) {
+        let most = highest(START_RATE.lo, r, |x| fits(Facts { start_rate: Some(x), ..least.clone() }));
+        faults.push(format!("--start-rate must be at most {most} steps/s, the board's max-rate (got {r})"));
     }
-    let most = (1_000_000_000 / (2 * max as u64).max(1)) as u32;
-    if let Some(p) = f.pulse_ns.filter(|&p| p > most) {
+    if let Some(p) = f.pulse_ns.filter(|&p| !fits(Facts { pulse_ns: Some(p), ..least.clone() })) {
+        let most = highest(PULSE.lo, p, |x| fits(Facts { pulse_ns: Some(x), ..least.clone() }));
         faults.push(pulse_too_long(a, most, p, max));
     }
     match faults.is_empty() {
