@@ -155,18 +155,22 @@ impl Generator {
 
     /// Silences the whole ring (RAM only; the stream must be off).
     fn silence(&mut self, bus: &mut impl Bus) {
-        self.silence_next = 0;
-        while !self.silence_some(bus) {}
+        for i in 0..RING_ENTRIES {
+            self.put_whole(i, &Entry::filler(), bus);
+        }
+        (self.silence_next, self.silent) = (RING_ENTRIES, true);
     }
 
     /// Silences the next `SILENCE_PER_TICK` entries (the stream must be off);
-    /// true once the whole ring is silent. A tick after a halt does a share:
-    /// the whole ring at once cost 8 339 instructions on the real image in the
-    /// emulator (`bash .ci/emu`, the E-stop job), two ticks' time.
+    /// true once the whole ring is silent. A tick after a halt does a share,
+    /// each entry as a taken one is silenced (`silence_taken`: ARR, RCR and
+    /// CCR1; PSC is 0 in every entry from the ring's first fill, `silence`,
+    /// and CCR2 a DIR level that moves nothing without a step): the whole
+    /// ring at once would take longer than a tick.
     fn silence_some(&mut self, bus: &mut impl Bus) -> bool {
         let end = (self.silence_next + SILENCE_PER_TICK).min(RING_ENTRIES);
         for i in self.silence_next..end {
-            self.put_whole(i, &Entry::filler(), bus);
+            silence_taken(self.ring, i, bus);
         }
         self.silence_next = end;
         self.silent = end == RING_ENTRIES;

@@ -292,7 +292,9 @@ fn after_a_halt_each_tick_silences_a_share_and_the_ring_is_silent_before_it_re_a
     bus.reads = vec![0, 0, program::RING_WORDS, 0, program::RING_WORDS, 1, program::RING_WORDS];
     g.tick(&StepPlan::default(), false, &T, &mut bus).unwrap();
     g.halted_elsewhere(&T); // the E-stop interrupt halted it
-    let share = SILENCE_PER_TICK * program::BURST_WORDS as usize;
+                            // ARR, RCR and CCR1 of each entry: PSC stays 0 from the first fill,
+                            // CCR2 a DIR level that moves nothing without a step
+    let share = SILENCE_PER_TICK * 3;
     let ticks = RING_ENTRIES / SILENCE_PER_TICK;
     let mut silenced = std::collections::BTreeSet::new();
     for k in 0..ticks {
@@ -301,9 +303,14 @@ fn after_a_halt_each_tick_silences_a_share_and_the_ring_is_silent_before_it_re_a
         // (the ring's words; the halted pulse's release is TIM1's)
         bus.writes.retain(|w| (0x2000_0000..0x2002_0000).contains(&w.0));
         assert_eq!(bus.writes.len(), share, "tick {k}: one share, not the whole ring");
-        silenced.extend(bus.writes.iter().map(|w| w.0));
+        silenced.extend(bus.writes.iter().copied());
     }
-    assert_eq!(silenced.len(), RING_ENTRIES * program::BURST_WORDS as usize, "every word of the ring");
+    assert_eq!(silenced.len(), RING_ENTRIES * 3, "ARR, RCR and CCR1 of every entry");
+    let f = Entry::filler();
+    for &(addr, value) in &silenced {
+        let word = (addr - 0x2000_0000) / 4 % program::BURST_WORDS;
+        assert_eq!(Some(value), [None, Some(f.arr), Some(f.rcr), Some(f.ccr1), None][word as usize], "{addr:#x}");
+    }
     bus.writes.clear();
     g.tick(&StepPlan::default(), true, &T, &mut bus).unwrap();
     assert!(bus.writes.is_empty(), "silent: nothing more to do");
