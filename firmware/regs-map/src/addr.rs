@@ -31,6 +31,12 @@ pub const TIM11: u32 = 0x4001_4800;
 pub const GPIOA: u32 = 0x4002_0000;
 /// GPIOB base (AHB1), RM0383 §2.3 Table 1.
 pub const GPIOB: u32 = 0x4002_0400;
+/// GPIOC base (AHB1), RM0383 §2.3 Table 1.
+pub const GPIOC: u32 = 0x4002_0800;
+/// CRC calculation unit base (AHB1), RM0383 §2.3 Table 1.
+pub const CRC: u32 = 0x4002_3000;
+/// RCC base (AHB1), RM0383 §2.3 Table 1.
+pub const RCC: u32 = 0x4002_3800;
 /// Flash interface registers' base (AHB1), RM0383 §2.3 Table 1.
 pub const FLASH_R: u32 = 0x4002_3C00;
 /// DMA2 base (AHB1), RM0383 §2.3 Table 1.
@@ -184,15 +190,46 @@ pub const DMA2_S5FCR: u32 = DMA2 + dma_off::sxfcr(5);
 
 /// GPIO register offsets (RM0383 §8.4.11 register map).
 pub mod gpio_off {
+    /// GPIOx_MODER (§8.4.1)
+    pub const MODER: u32 = 0x00;
+    /// GPIOx_OTYPER (§8.4.2)
+    pub const OTYPER: u32 = 0x04;
+    /// GPIOx_OSPEEDR (§8.4.3)
+    pub const OSPEEDR: u32 = 0x08;
+    /// GPIOx_PUPDR (§8.4.4)
+    pub const PUPDR: u32 = 0x0C;
     /// GPIOx_IDR (§8.4.5)
     pub const IDR: u32 = 0x10;
+    /// GPIOx_ODR (§8.4.6)
+    pub const ODR: u32 = 0x14;
     /// GPIOx_BSRR (§8.4.7)
     pub const BSRR: u32 = 0x18;
+    /// GPIOx_LCKR (§8.4.8)
+    pub const LCKR: u32 = 0x1C;
+    /// GPIOx_AFRL, GPIOx_AFRH (§8.4.9, §8.4.10)
+    pub const AFRL: u32 = 0x20;
+    pub const AFRH: u32 = 0x24;
 }
 
 pub const GPIOA_IDR: u32 = GPIOA + gpio_off::IDR;
 pub const GPIOA_BSRR: u32 = GPIOA + gpio_off::BSRR;
 pub const GPIOB_IDR: u32 = GPIOB + gpio_off::IDR;
+
+/// CRC unit register offsets (RM0383 §4.4.4 register map).
+pub mod crc_off {
+    /// CRC_DR (§4.4.1)
+    pub const DR: u32 = 0x00;
+    /// CRC_IDR (§4.4.2)
+    pub const IDR: u32 = 0x04;
+    /// CRC_CR (§4.4.3)
+    pub const CR: u32 = 0x08;
+}
+
+pub const CRC_DR: u32 = CRC + crc_off::DR;
+pub const CRC_CR: u32 = CRC + crc_off::CR;
+
+/// RCC_AHB1ENR (RM0383 §6.3.9: offset 0x30).
+pub const RCC_AHB1ENR: u32 = RCC + 0x30;
 
 /// Flash interface register offsets (RM0383 §3.8.7 register map).
 pub mod flash_off {

@@ -268,3 +268,19 @@ mod dma;
 mod flash;
 pub use dma::{dma_cr, dma_fcr, dma_isr, hifcr};
 pub use flash::{flash_cr, flash_keyr, flash_sr};
+
+/// CRC_CR (RM0383 §4.4.3).
+pub mod crc_cr {
+    use super::{bit, Field};
+    /// DR back to 0xFFFF_FFFF; cleared by hardware
+    pub const RESET: Field = bit(0);
+}
+
+/// RCC_AHB1ENR (RM0383 §6.3.9): the clock enables of the ports and the CRC unit.
+pub mod rcc_ahb1enr {
+    use super::{bit, Field};
+    pub const GPIOAEN: Field = bit(0);
+    pub const GPIOBEN: Field = bit(1);
+    pub const GPIOCEN: Field = bit(2);
+    pub const CRCEN: Field = bit(12);
+}

@@ -22,6 +22,9 @@ fn base_addresses_and_sram_match_metapac() {
         (a(pac::TIM11.as_ptr()), TIM11),
         (a(pac::GPIOA.as_ptr()), GPIOA),
         (a(pac::GPIOB.as_ptr()), GPIOB),
+        (a(pac::GPIOC.as_ptr()), GPIOC),
+        (a(pac::CRC.as_ptr()), CRC),
+        (a(pac::RCC.as_ptr()), RCC),
         (a(pac::FLASH.as_ptr()), FLASH_R),
         (a(pac::DMA2.as_ptr()), DMA2),
     ];
@@ -177,6 +180,31 @@ fn dma_register_addresses_match_metapac() {
         (a(s.m0ar().as_ptr()), DMA2_S5M0AR),
         (a(s.m1ar().as_ptr()), DMA2_S5M1AR),
         (a(s.fcr().as_ptr()), DMA2_S5FCR),
+    ];
+    for (pac_addr, ours) in pairs {
+        assert_eq!(pac_addr, ours, "{ours:#010x}");
+    }
+}
+
+#[test]
+fn gpio_crc_and_rcc_register_addresses_match_metapac() {
+    let g = pac::GPIOA;
+    let pairs = [
+        (a(g.moder().as_ptr()), GPIOA + gpio_off::MODER),
+        (a(g.otyper().as_ptr()), GPIOA + gpio_off::OTYPER),
+        (a(g.ospeedr().as_ptr()), GPIOA + gpio_off::OSPEEDR),
+        (a(g.pupdr().as_ptr()), GPIOA + gpio_off::PUPDR),
+        (a(g.idr().as_ptr()), GPIOA + gpio_off::IDR),
+        (a(g.odr().as_ptr()), GPIOA + gpio_off::ODR),
+        (a(g.bsrr().as_ptr()), GPIOA + gpio_off::BSRR),
+        (a(g.lckr().as_ptr()), GPIOA + gpio_off::LCKR),
+        (a(g.afr(0).as_ptr()), GPIOA + gpio_off::AFRL),
+        (a(g.afr(1).as_ptr()), GPIOA + gpio_off::AFRH),
+        (a(pac::GPIOC.bsrr().as_ptr()), GPIOC + gpio_off::BSRR),
+        (a(pac::CRC.dr().as_ptr()), CRC_DR),
+        (a(pac::CRC.idr().as_ptr()), CRC + crc_off::IDR),
+        (a(pac::CRC.cr().as_ptr()), CRC_CR),
+        (a(pac::RCC.ahb1enr().as_ptr()), RCC_AHB1ENR),
     ];
     for (pac_addr, ours) in pairs {
         assert_eq!(pac_addr, ours, "{ours:#010x}");
