@@ -83,14 +83,6 @@ fn the_settings_sectors_are_where_the_manual_puts_sectors_6_and_7() {
 }
 
 #[test]
-fn the_programs_addresses_and_bits_are_the_models() {
-    assert_eq!((fp::KEYR, fp::SR, fp::CR, fp::KEY1, fp::KEY2), (KEYR, SR, CR, KEY1, KEY2));
-    assert_eq!((fp::SR_EOP, fp::SR_ERRORS, fp::SR_BSY), (SR_EOP, SR_ERRORS, SR_BSY));
-    assert_eq!((fp::CR_SER, fp::CR_SNB_SHIFT, fp::CR_STRT, fp::CR_LOCK), (CR_SER, CR_SNB_SHIFT, CR_STRT, CR_LOCK));
-    assert_eq!(fp::CR_PSIZE_X32, 2 << CR_PSIZE_SHIFT);
-}
-
-#[test]
 fn the_lock_program_locks_after_a_program_that_stopped_early() {
     let mut cpu = Cpu(Flash::new(EraseTime::Typical));
     let program = erase_sector(SettingsSector::Seven);

@@ -359,24 +359,3 @@ fn stop_freezes_both_outputs() {
     assert_eq!((mcu.edges().len(), (mcu.pa2(), mcu.pa3())), (n, levels));
     assert!(!index.last().unwrap().1, "index left high");
 }
-
-#[test]
-fn the_generator_uses_the_models_addresses() {
-    assert_eq!(prog::TIM9, addr::TIM9);
-    let pairs = [
-        (prog::CR1, addr::TIM9_CR1),
-        (prog::DIER, addr::TIM9_DIER),
-        (prog::SR, addr::TIM9_SR),
-        (prog::EGR, addr::TIM9_EGR),
-        (prog::CCMR1, addr::TIM9_CCMR1),
-        (prog::CCER, addr::TIM9_CCER),
-        (prog::CNT, addr::TIM9_CNT),
-        (prog::PSC, addr::TIM9_PSC),
-        (prog::ARR, addr::TIM9_ARR),
-        (prog::CCR1, addr::TIM9_CCR1),
-        (prog::CCR2, addr::TIM9_CCR2),
-    ];
-    for (ours, model) in pairs {
-        assert_eq!(ours, model);
-    }
-}

@@ -5,15 +5,11 @@
 
 use crate::chip::Chip;
 use crate::machine::Machine;
-use polyturn_stm32_model::addr::{off, TIM2};
+/// TIM3 (lathe), TIM4 (cutter), TIM2 (steps emitted) and GPIOB_IDR (the
+/// E-stop and the alarm); TIM3's CCR3 (RM0383 §13.4.15) is the lathe count
+/// latched at the index.
+use polyturn_stm32_model::addr::{off, GPIOB_IDR, TIM2, TIM3, TIM4};
 use polyturn_sync::TickInput;
-
-/// TIM3 (lathe), TIM4 (cutter) and GPIOB, by the SVD's base addresses.
-const TIM3: u32 = 0x4000_0400;
-const TIM4: u32 = 0x4000_0800;
-const GPIOB_IDR: u32 = 0x4002_0410;
-/// TIMx_CCR3 (RM0383 §13.4.15): the lathe count latched at the index.
-const CCR3: u32 = 0x3C;
 
 /// A port B pin's number by its signal's name in `board::PINS` (the E-stop and
 /// the drive alarm are read through GPIOB_IDR).
@@ -128,7 +124,7 @@ impl Tape {
         }
         match word {
             w if w == TIM3 + off::CNT => p.lathe = p.lathe.or(v),
-            w if w == TIM3 + CCR3 => p.index = p.index.or(v),
+            w if w == TIM3 + off::CCR3 => p.index = p.index.or(v),
             w if w == TIM2 + off::CNT => p.emitted = p.emitted.or(v),
             w if w == TIM4 + off::CNT => p.cutter = p.cutter.or(v),
             GPIOB_IDR => p.idr = p.idr.or(Some(value)),

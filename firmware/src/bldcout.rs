@@ -35,17 +35,14 @@
 //! spindle driver's stop brakes. BLDC_DIR gives drivers that have a DIR
 //! input the wired sense, so `dir` can change without rewiring.
 
-use crate::regs::fields::{ccer, ccmr1, cr1, egr};
 use crate::regs::Op;
+use polyturn_regs::bits::{ccer, ccmr, cr1, egr, ocm};
 use polyturn_sync::config::bldc_out::{pwm_prescaler, TIMER_HZ};
 use polyturn_sync::config::{BldcOut, Config};
 
-pub const TIM10: u32 = 0x4001_4400;
-/// TIM10's registers (§14.5.12): at the offsets TIM1's have (the step
-/// output's, `stepgen::program`).
-pub mod off {
-    pub use crate::stepgen::program::{ARR, CCER, CCMR1, CCR1, CR1, EGR, PSC};
-}
+/// TIM10 (RM0383 §2.3 Table 1); its registers (§14.5.12) sit at the
+/// offsets TIM1's have.
+pub use polyturn_regs::addr::{off, TIM10};
 
 /// The timer's setting for one interface, and its command's scale.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -167,10 +164,10 @@ pub fn stop_ops(stop: u32) -> [Op; 5] {
 
 /// TIM10_CCMR1 (§14.5.5) for one write of the stop and the set-up's head:
 /// PWM mode 1, CCR1 not preloaded (a write takes effect at once).
-pub const CCMR1_STOPPED: u32 = ccmr1::OC1M.val(ccmr1::PWM1);
+pub const CCMR1_STOPPED: u32 = ccmr::OC1M.val(ocm::PWM1);
 /// At all other times: PWM mode 1, CCR1 preloaded (OC1PE, taken at each
 /// update: one whole pulse a frame).
-pub const CCMR1_LIVE: u32 = CCMR1_STOPPED | ccmr1::OC1PE.mask();
+pub const CCMR1_LIVE: u32 = CCMR1_STOPPED | ccmr::OC1PE.mask();
 
 mod interlock;
 pub use interlock::Interlock;

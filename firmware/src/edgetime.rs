@@ -57,23 +57,12 @@ const _: () = {
     assert!(tick_cycles == STAMPS_PER_TICK as u32 * (TIM5_CLOCK_HZ / STAMP_HZ));
 };
 
-/// Register blocks (RM0383 §2.3 Table 1); TIM11 is the tick's, as the
-/// step output programs it.
-pub const TIM3: u32 = 0x4000_0400;
-pub const TIM5: u32 = 0x4000_0C00;
-pub use crate::stepgen::program::TIM11;
-pub const GPIOA: u32 = 0x4002_0000;
+/// Register blocks (RM0383 §2.3 Table 1; TIM11 is the tick's, as the
+/// step output programs it), their registers' offsets (§13.4.21,
+/// §14.5.12), and GPIOA_IDR (§8.4.5).
+pub use polyturn_regs::addr::{off, GPIOA, GPIOA_IDR, TIM11, TIM3, TIM5};
 
-/// Timer register offsets (§13.4.21, §14.5.12): the step output's, and the
-/// two of channel 3 that only the edge times use.
-pub mod off {
-    pub use crate::stepgen::program::{ARR, CCER, CCMR1, CCR1, CNT, CR1, CR2, SMCR, SR};
-    pub const CCMR2: u32 = 0x1C;
-    pub const CCR3: u32 = 0x3C;
-}
-
-/// GPIOA_IDR (§8.4.5) and A's and B's bits in it (PA6, PA7: `board::PINS`).
-pub const GPIOA_IDR: u32 = GPIOA + 0x10;
+/// A's and B's bits in GPIOA_IDR (PA6, PA7: `board::PINS`).
 pub const A_PIN: u32 = 6;
 pub const B_PIN: u32 = 7;
 

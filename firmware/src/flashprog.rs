@@ -8,18 +8,13 @@
 //! the flash interface (`polyturn_stm32_model::flash`, tests/flash_erase.rs).
 
 use crate::board::SYSCLK_HZ;
-use crate::regs::fields::{flash_cr, flash_sr};
 use crate::regs::Op;
+use polyturn_regs::bits::{flash_cr, flash_sr};
 
-/// FLASH interface registers (RM0383 §2.3 Table 1, §3.8.7 register map;
-/// tests/flash_erase.rs compares them with the model's).
-pub const FLASH_R: u32 = 0x4002_3C00;
-pub const KEYR: u32 = FLASH_R + 0x04;
-pub const SR: u32 = FLASH_R + 0x0C;
-pub const CR: u32 = FLASH_R + 0x10;
+/// FLASH interface registers (RM0383 §2.3 Table 1, §3.8.7 register map).
+pub use polyturn_regs::addr::{FLASH_CR as CR, FLASH_KEYR as KEYR, FLASH_R, FLASH_SR as SR};
 /// The unlock keys (§3.5.1).
-pub const KEY1: u32 = 0x4567_0123;
-pub const KEY2: u32 = 0xCDEF_89AB;
+pub use polyturn_regs::bits::flash_keyr::{KEY1, KEY2};
 /// FLASH_SR (§3.8.4): EOP, the error flags (OPERR, WRPERR, PGAERR, PGPERR,
 /// PGSERR, RDERR), BSY.
 pub const SR_EOP: u32 = flash_sr::EOP.mask();

@@ -19,7 +19,7 @@ pub const MEMRMP_SRAM: u32 = 0b11;
 
 /// The SRAM's own address of its alias at 0 (RM0383 §2.3, Table 1): where
 /// the code's bytes are copied for address `a` of the section to read them.
-pub const SRAM_BASE: u32 = 0x2000_0000;
+pub use polyturn_regs::addr::SRAM_BASE;
 
 /// Bytes of SRAM the code may take (`memory.x`'s RAMCODE; the rest is RAM).
 pub const RAMCODE_SIZE: u32 = 48 * 1024;

@@ -3,9 +3,9 @@
 //! volatile pointers); the host runs the same program through a model of
 //! the peripheral written from RM0383 (`polyturn-stm32-model`). Used by the
 //! step output (`stepgen::program`) and the settings' sector erase
-//! (`flashprog`).
-
-pub mod fields;
+//! (`flashprog`). The programs' words are spelt in `polyturn_regs`: the
+//! manual's addresses and fields, which that crate's tests check against
+//! ST's SVD (stm32-metapac), and which the model decodes too.
 
 /// One bus operation.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

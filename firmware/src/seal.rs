@@ -19,6 +19,7 @@
 //! LEDs ([`led_on`]) until the board is flashed again.
 
 use crate::regs::Bus;
+use polyturn_regs::bits::{crc_cr, rcc_ahb1enr};
 
 /// "PTIM" as the word the flash holds (little-endian).
 pub const MAGIC: u32 = u32::from_le_bytes(*b"PTIM");
@@ -30,18 +31,16 @@ pub const FLASH_BASE: u32 = 0x0800_0000;
 pub const APP_END: u32 = FLASH_BASE + 256 * 1024;
 
 /// The CRC unit (§2.3 Table 1: 0x4002_3000) and its registers (§4.4).
-pub const CRC_BASE: u32 = 0x4002_3000;
-pub const CRC_DR: u32 = CRC_BASE;
-pub const CRC_CR: u32 = CRC_BASE + 0x08;
+pub use polyturn_regs::addr::{CRC as CRC_BASE, CRC_CR, CRC_DR};
 /// CRC_CR.RESET (§4.4.3): DR back to 0xFFFF_FFFF.
-pub const CR_RESET: u32 = 1;
+pub const CR_RESET: u32 = crc_cr::RESET.mask();
 
 /// RCC_AHB1ENR (§6.3.9, RCC at 0x4002_3800 + 0x30): GPIOAEN bit 0,
 /// GPIOCEN bit 2, CRCEN bit 12.
-pub const RCC_AHB1ENR: u32 = 0x4002_3830;
-pub const GPIOAEN: u32 = 1 << 0;
-pub const GPIOCEN: u32 = 1 << 2;
-pub const CRCEN: u32 = 1 << 12;
+pub use polyturn_regs::addr::RCC_AHB1ENR;
+pub const GPIOAEN: u32 = rcc_ahb1enr::GPIOAEN.mask();
+pub const GPIOCEN: u32 = rcc_ahb1enr::GPIOCEN.mask();
+pub const CRCEN: u32 = rcc_ahb1enr::CRCEN.mask();
 
 /// The CRC a sealed image carries, computed in software as the host writes
 /// it: the CRC unit's algorithm (RM0383 §4.3: polynomial 0x04C11DB7, MSB
@@ -126,12 +125,11 @@ pub fn probes_own(bus: &mut impl Bus, damage: Damage) -> bool {
     damage == Damage::Unsealed && bus.read(DHCSR) & C_DEBUGEN != 0
 }
 
-/// The status LEDs: PC13 (active low) and PA10 (active high), `board.rs`.
-pub const GPIOA: u32 = 0x4002_0000;
-pub const GPIOC: u32 = 0x4002_0800;
-/// GPIOx_MODER (§8.4.1, offset 0) and GPIOx_BSRR (§8.4.7, offset 0x18).
-pub const MODER: u32 = 0x00;
-pub const BSRR: u32 = 0x18;
+/// The status LEDs' ports: PC13 (active low) and PA10 (active high),
+/// `board.rs`; GPIOx_MODER (§8.4.1, offset 0) and GPIOx_BSRR (§8.4.7,
+/// offset 0x18).
+pub use polyturn_regs::addr::gpio_off::{BSRR, MODER};
+pub use polyturn_regs::addr::{GPIOA, GPIOC};
 
 /// The cycle counter, which times the damaged light whatever the loop
 /// around it costs: DCB_DEMCR.TRCENA (ARMv7-M ARM C1.6.5, bit 24) lets

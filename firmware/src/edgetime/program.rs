@@ -5,11 +5,11 @@
 //! TIM3's words are whole: every input-channel bit the lathe encoder needs
 //! is here (the A/B filters, the index on channel 3, the count captured on
 //! channel 1), so the model sees exactly what the MCU has. Bits: §13.4.1 to
-//! §13.4.9; the model's tests check the fields against ST's SVD.
+//! §13.4.9; `polyturn_regs`' tests check the fields against ST's SVD.
 
 use super::{off, TIM3, TIM5};
-use crate::regs::fields::{ccer, ccmr_in, cr1, cr2, smcr, sr};
 pub use crate::regs::{apply, Bus, Op};
+use polyturn_regs::bits::{ccer, ccmr_in, cr1, cr2, smcr, sr};
 
 // TIM3_SMCR (§13.4.3): SMS = 011, encoder mode 3 (both inputs counted),
 // TS unused (000).

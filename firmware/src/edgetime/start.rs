@@ -18,8 +18,8 @@
 //! starts, without edge times (the boot log says why).
 
 use super::{off, A_PIN, B_PIN, GPIOA_IDR, TIM11, TIM3, TIM5};
-use crate::regs::fields::cr1;
 use crate::regs::{apply, Bus, Op};
+use polyturn_regs::bits::{cr1, sr};
 use polyturn_sync::edges::EdgeClock;
 
 /// Tries at reading TIM3's count and the pins with the lathe between counts.
@@ -109,7 +109,7 @@ pub fn start_tick(bus: &mut impl Bus) -> Option<u16> {
 pub(super) const TICK_CYCLES: u32 = crate::clocks::CLOCKS.apb2_timer_hz() / crate::board::TICK_HZ;
 pub(super) const STAMP_CYCLES: u32 = super::TIM5_CLOCK_HZ / super::STAMP_HZ;
 /// TIM11_SR.UIF (§14.5.3): an update the tick has not answered yet.
-const UIF: u32 = crate::regs::fields::sr::UIF.mask();
+const UIF: u32 = sr::UIF.mask();
 
 /// The stamp of the instant of the next tick the core runs, TIM11 running
 /// (under the tick's lock: no tick comes in between). Right after TIM5

@@ -2,28 +2,20 @@
 //!
 //! Addresses: RM0383 §2.3 Table 1 (TIM9 0x4001_4000, GPIOA 0x4002_0000),
 //! §14.4.13 (TIM9 register map), §8.4.11 (GPIO register map). Bits: the
-//! register descriptions of §14.4 and §8.4.7; the model's tests check TIM9's
-//! against ST's SVD (stm32-metapac).
+//! register descriptions of §14.4 and §8.4.7. Both are `polyturn_regs`',
+//! checked there against ST's SVD (stm32-metapac).
 
 use super::period::Period;
-use crate::regs::fields::{ccer, ccmr1, cr1, dier, egr, sr};
 pub use crate::regs::{apply, Bus, Op};
+use polyturn_regs::bits::{ccer, ccmr, cr1, dier, egr, ocm, sr};
 
-pub const TIM9: u32 = 0x4001_4000;
-pub const CR1: u32 = TIM9;
-pub const DIER: u32 = TIM9 + 0x0C;
-pub const SR: u32 = TIM9 + 0x10;
-pub const EGR: u32 = TIM9 + 0x14;
-pub const CCMR1: u32 = TIM9 + 0x18;
-pub const CCER: u32 = TIM9 + 0x20;
-pub const CNT: u32 = TIM9 + 0x24;
-pub const PSC: u32 = TIM9 + 0x28;
-pub const ARR: u32 = TIM9 + 0x2C;
-pub const CCR1: u32 = TIM9 + 0x34;
-pub const CCR2: u32 = TIM9 + 0x38;
+pub use polyturn_regs::addr::{
+    TIM9, TIM9_ARR as ARR, TIM9_CCER as CCER, TIM9_CCMR1 as CCMR1, TIM9_CCR1 as CCR1, TIM9_CCR2 as CCR2,
+    TIM9_CNT as CNT, TIM9_CR1 as CR1, TIM9_DIER as DIER, TIM9_EGR as EGR, TIM9_PSC as PSC, TIM9_SR as SR,
+};
 
 /// GPIOA_BSRR (§8.4.7): bit y sets ODRy, bit 16 + y resets it, atomically.
-pub const GPIOA_BSRR: u32 = 0x4002_0000 + 0x18;
+pub use polyturn_regs::addr::GPIOA_BSRR;
 /// The index output: PA4.
 pub const INDEX_PIN: u32 = 4;
 
@@ -46,11 +38,11 @@ const UG: u32 = egr::UG.mask();
 // when TIMx_CNT = TIMx_CCR1"), 100 force inactive ("OC1REF is forced low").
 // OCxPE: "TIMx_CCR1 preload value is loaded in the active register at each
 // update event".
-const OC1_TOGGLE: u32 = ccmr1::OC1M.val(ccmr1::TOGGLE);
-const OC2_TOGGLE: u32 = ccmr1::OC2M.val(ccmr1::TOGGLE);
-const OC1_LOW: u32 = ccmr1::OC1M.val(ccmr1::FORCE_INACTIVE);
-const OC2_LOW: u32 = ccmr1::OC2M.val(ccmr1::FORCE_INACTIVE);
-const PRELOADS: u32 = ccmr1::OC1PE.mask() | ccmr1::OC2PE.mask();
+const OC1_TOGGLE: u32 = ccmr::OC1M.val(ocm::TOGGLE);
+const OC2_TOGGLE: u32 = ccmr::OC2M.val(ocm::TOGGLE);
+const OC1_LOW: u32 = ccmr::OC1M.val(ocm::FORCE_INACTIVE);
+const OC2_LOW: u32 = ccmr::OC2M.val(ocm::FORCE_INACTIVE);
+const PRELOADS: u32 = ccmr::OC1PE.mask() | ccmr::OC2PE.mask();
 pub const CCMR1_LOW: u32 = OC1_LOW | OC2_LOW | PRELOADS;
 pub const CCMR1_TOGGLE: u32 = OC1_TOGGLE | OC2_TOGGLE | PRELOADS;
 // TIM9_CCER (§14.4.7): CC1E bit 0, CC2E bit 4 ("OC1 signal is output on the

@@ -5,43 +5,24 @@
 //!
 //! Addresses: RM0383 §2.3 (memory map), §12.4.21 (TIM1 register map),
 //! §13.4.21 (TIM2), §14.5.12 (TIM11), §9.5.11 (DMA). Bit positions: the
-//! register descriptions of the same chapters; the model's tests check
-//! them against ST's SVD (stm32-metapac).
+//! register descriptions of the same chapters. Both are `polyturn_regs`',
+//! checked there against ST's SVD (stm32-metapac).
 
-use crate::regs::fields::{bdtr, ccer, ccmr1, cr1, cr2, dcr, dier, dma_cr, egr, hifcr, smcr, sr};
 pub use crate::regs::{apply, Bus, Op};
+use polyturn_regs::bits::{bdtr, ccer, ccmr, cr1, cr2, dcr, dier, dma_cr, egr, hifcr, ocm, smcr, sr};
 
-pub const TIM1: u32 = 0x4001_0000;
-pub const TIM2: u32 = 0x4000_0000;
-pub const TIM11: u32 = 0x4001_4800;
-pub const DMA2: u32 = 0x4002_6400;
+pub use polyturn_regs::addr::{DMA2, TIM1, TIM11, TIM2};
 
 // timer register offsets (§12.4.21)
-pub const CR1: u32 = 0x00;
-pub const CR2: u32 = 0x04;
-pub const SMCR: u32 = 0x08;
-pub const DIER: u32 = 0x0C;
-pub const EGR: u32 = 0x14;
-pub const CCMR1: u32 = 0x18;
-pub const CCER: u32 = 0x20;
-pub const CNT: u32 = 0x24;
-pub const PSC: u32 = 0x28;
-pub const ARR: u32 = 0x2C;
-pub const RCR: u32 = 0x30;
-pub const CCR1: u32 = 0x34;
-pub const CCR2: u32 = 0x38;
-pub const BDTR: u32 = 0x44;
-pub const SR: u32 = 0x10;
-pub const DCR: u32 = 0x48;
-pub const DMAR: u32 = 0x4C;
+pub use polyturn_regs::addr::off::{
+    ARR, BDTR, CCER, CCMR1, CCR1, CCR2, CNT, CR1, CR2, DCR, DIER, DMAR, EGR, PSC, RCR, SMCR, SR,
+};
 
 // DMA2 stream 5 (§9.5.11: SxCR at 0x10 + 0x18 × x)
-pub const HIFCR: u32 = DMA2 + 0x0C;
-pub const S5CR: u32 = DMA2 + 0x10 + 0x18 * 5;
-pub const S5NDTR: u32 = DMA2 + 0x14 + 0x18 * 5;
-pub const S5PAR: u32 = DMA2 + 0x18 + 0x18 * 5;
-pub const S5M0AR: u32 = DMA2 + 0x1C + 0x18 * 5;
-pub const S5FCR: u32 = DMA2 + 0x24 + 0x18 * 5;
+pub use polyturn_regs::addr::{
+    DMA2_HIFCR as HIFCR, DMA2_S5CR as S5CR, DMA2_S5FCR as S5FCR, DMA2_S5M0AR as S5M0AR, DMA2_S5NDTR as S5NDTR,
+    DMA2_S5PAR as S5PAR,
+};
 
 // TIMx_CR1 (§12.4.1). URS: only an overflow sets UIF and requests DMA, so
 // a UG never starts a burst (UIF set by a UG could otherwise request one
@@ -61,10 +42,10 @@ const UDE: u32 = dier::UDE.mask();
 // TIMx_EGR.UG (§12.4.6)
 const UG: u32 = egr::UG.mask();
 // TIMx_CCMR1 output (§12.4.7): OC1M bits 6:4, OC1PE bit 3, OC2M 14:12, OC2PE 11
-const OC1_PWM2: u32 = ccmr1::OC1M.val(ccmr1::PWM2);
-const OC1_FORCE_LOW: u32 = ccmr1::OC1M.val(ccmr1::FORCE_INACTIVE);
-const OC2_PWM1: u32 = ccmr1::OC2M.val(ccmr1::PWM1);
-const PRELOADS: u32 = ccmr1::OC1PE.mask() | ccmr1::OC2PE.mask();
+const OC1_PWM2: u32 = ccmr::OC1M.val(ocm::PWM2);
+const OC1_FORCE_LOW: u32 = ccmr::OC1M.val(ocm::FORCE_INACTIVE);
+const OC2_PWM1: u32 = ccmr::OC2M.val(ocm::PWM1);
+const PRELOADS: u32 = ccmr::OC1PE.mask() | ccmr::OC2PE.mask();
 /// STEP in PWM mode 2 (low until CCR1, then high to the end of the
 /// segment); DIR in PWM mode 1 (high while CNT < CCR2)
 pub const CCMR1_RUN: u32 = OC1_PWM2 | OC2_PWM1 | PRELOADS;

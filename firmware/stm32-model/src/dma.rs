@@ -1,7 +1,7 @@
 //! DMA2 stream 5 (RM0383 chapter 9) as TIM1_UP's memory-to-peripheral channel: direct
 //! mode, single transfers, DIR = 01, CHSEL = 6. "DMA2 request mapping" (§9.3.3/§9.3.4,
 //! RM0090 §10.3.3 Table 43): stream 5, channel 6 = TIM1_UP (also checked against
-//! stm32-metapac's DMA metadata in tests/metapac.rs).
+//! stm32-metapac's DMA metadata, in `polyturn-regs`' tests).
 
 mod regs;
 

@@ -14,36 +14,38 @@
 
 use crate::unmodelled;
 
-/// FLASH interface base (AHB1), RM0383 §2.3 Table 1.
-pub const FLASH_R: u32 = 0x4002_3C00;
-/// Register offsets, RM0383 §3.8.7 register map.
-pub const KEYR: u32 = FLASH_R + 0x04;
-pub const SR: u32 = FLASH_R + 0x0C;
-pub const CR: u32 = FLASH_R + 0x10;
-/// FLASH_KEYR keys, §3.5.1.
-pub const KEY1: u32 = 0x4567_0123;
-pub const KEY2: u32 = 0xCDEF_89AB;
+/// FLASH interface base (AHB1), RM0383 §2.3 Table 1, and its registers (§3.8.7
+/// register map); the keys of FLASH_KEYR, §3.5.1.
+pub use polyturn_regs::addr::{FLASH_CR as CR, FLASH_KEYR as KEYR, FLASH_R, FLASH_SR as SR};
+pub use polyturn_regs::bits::flash_keyr::{KEY1, KEY2};
+use polyturn_regs::bits::{flash_cr, flash_sr};
 /// FLASH_SR bits, §3.8.4.
-pub const SR_EOP: u32 = 1 << 0;
-pub const SR_ERRORS: u32 = 0b1_1111_0010; // OPERR, WRPERR, PGAERR, PGPERR, PGSERR, RDERR
-pub const SR_BSY: u32 = 1 << 16;
-pub const SR_PGSERR: u32 = 1 << 7;
-pub const SR_PGPERR: u32 = 1 << 6;
-pub const SR_PGAERR: u32 = 1 << 5;
+pub const SR_EOP: u32 = flash_sr::EOP.mask();
+/// OPERR, WRPERR, PGAERR, PGPERR, PGSERR, RDERR
+pub const SR_ERRORS: u32 = flash_sr::OPERR.mask()
+    | flash_sr::WRPERR.mask()
+    | flash_sr::PGAERR.mask()
+    | flash_sr::PGPERR.mask()
+    | flash_sr::PGSERR.mask()
+    | flash_sr::RDERR.mask();
+pub const SR_BSY: u32 = flash_sr::BSY.mask();
+pub const SR_PGSERR: u32 = flash_sr::PGSERR.mask();
+pub const SR_PGPERR: u32 = flash_sr::PGPERR.mask();
+pub const SR_PGAERR: u32 = flash_sr::PGAERR.mask();
 /// Programming one word at ×32, DS10314 table "Flash memory programming"
 /// t_prog: 16 µs typical, 100 µs max.
 const PROG_NS: (u64, u64) = (16_000, 100_000);
 /// FLASH_CR bits, §3.8.5.
-pub const CR_PG: u32 = 1 << 0;
-pub const CR_SER: u32 = 1 << 1;
-pub const CR_MER: u32 = 1 << 2;
-pub const CR_SNB_SHIFT: u32 = 3;
-pub const CR_SNB: u32 = 0xF << CR_SNB_SHIFT;
-pub const CR_PSIZE_SHIFT: u32 = 8;
-pub const CR_PSIZE: u32 = 0b11 << CR_PSIZE_SHIFT;
-pub const CR_STRT: u32 = 1 << 16;
-pub const CR_EOPIE: u32 = 1 << 24;
-pub const CR_LOCK: u32 = 1 << 31;
+pub const CR_PG: u32 = flash_cr::PG.mask();
+pub const CR_SER: u32 = flash_cr::SER.mask();
+pub const CR_MER: u32 = flash_cr::MER.mask();
+pub const CR_SNB_SHIFT: u32 = flash_cr::SNB.shift;
+pub const CR_SNB: u32 = flash_cr::SNB.mask();
+pub const CR_PSIZE_SHIFT: u32 = flash_cr::PSIZE.shift;
+pub const CR_PSIZE: u32 = flash_cr::PSIZE.mask();
+pub const CR_STRT: u32 = flash_cr::STRT.mask();
+pub const CR_EOPIE: u32 = flash_cr::EOPIE.mask();
+pub const CR_LOCK: u32 = flash_cr::LOCK.mask();
 /// FLASH_CR's reset value: locked (§3.8.5).
 const CR_RESET: u32 = CR_LOCK;
 

@@ -42,8 +42,6 @@
 //! and interrupt-enable bits are kept; delivering the interrupts is [`chip`]'s NVIC's
 //! and the emulator's.
 
-pub mod addr;
-pub mod bits;
 pub mod chip;
 mod dma;
 pub mod encoder;
@@ -56,6 +54,9 @@ mod tim9;
 mod timebase;
 
 pub use mcu::{Edge, Mcu, NdtrReading, Params, PinId};
+/// The register addresses and fields the model decodes: the firmware's own
+/// table (`polyturn-regs`, checked against ST's SVD there).
+pub use polyturn_regs::{addr, bits};
 
 /// What OCxREF does when OCxM is switched into a PWM mode while the timer runs.
 ///

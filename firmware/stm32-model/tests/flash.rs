@@ -1,7 +1,6 @@
 //! The flash interface model, one test per statement of RM0383 §3.5/§3.8
-//! (and DS10314's erase times), and its addresses and bits against ST's SVD.
+//! (and DS10314's erase times).
 use polyturn_stm32_model::flash::*;
-use stm32_metapac as pac;
 
 const MS: u64 = 1_000_000;
 
@@ -118,44 +117,4 @@ fn strt_without_ser_starts_nothing() {
     f.write(CR, 2 << CR_PSIZE_SHIFT | CR_STRT);
     assert!(f.erases.is_empty());
     assert_eq!(f.read(SR) & SR_BSY, 0);
-}
-
-fn a<T>(p: *mut T) -> u32 {
-    p as usize as u32
-}
-
-#[test]
-fn flash_addresses_and_bits_match_metapac() {
-    let fl = pac::FLASH;
-    assert_eq!((a(fl.keyr().as_ptr()), a(fl.sr().as_ptr()), a(fl.cr().as_ptr())), (KEYR, SR, CR));
-    let cr = |f: fn(&mut pac::flash::regs::Cr)| {
-        let mut r = pac::flash::regs::Cr(0);
-        f(&mut r);
-        r.0
-    };
-    assert_eq!(cr(|r| r.set_ser(true)), CR_SER);
-    assert_eq!(cr(|r| r.set_snb(0xF)), CR_SNB);
-    assert_eq!(cr(|r| r.set_psize(pac::flash::vals::Psize::PSIZE32)), 2 << CR_PSIZE_SHIFT);
-    assert_eq!(cr(|r| r.set_psize(pac::flash::vals::Psize::from_bits(3))), CR_PSIZE);
-    assert_eq!(cr(|r| r.set_strt(true)), CR_STRT);
-    assert_eq!(cr(|r| r.set_eopie(true)), CR_EOPIE);
-    assert_eq!(cr(|r| r.set_lock(true)), CR_LOCK);
-    assert_eq!(cr(|r| r.set_pg(true)), CR_PG);
-    assert_eq!(cr(|r| r.set_mer(true)), CR_MER);
-    let sr = |f: fn(&mut pac::flash::regs::Sr)| {
-        let mut r = pac::flash::regs::Sr(0);
-        f(&mut r);
-        r.0
-    };
-    assert_eq!(sr(|r| r.set_bsy(true)), SR_BSY);
-    assert_eq!(sr(|r| r.set_eop(true)), SR_EOP);
-    let errs = sr(|r| {
-        r.set_operr(true);
-        r.set_wrperr(true);
-        r.set_pgaerr(true);
-        r.set_pgperr(true);
-        r.set_pgserr(true);
-    });
-    // RDERR (bit 8, PCROP read error, RM0383 §3.8.4) is not in the SVD
-    assert_eq!(errs | 1 << 8, SR_ERRORS);
 }

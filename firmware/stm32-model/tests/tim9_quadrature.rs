@@ -1,63 +1,10 @@
-//! TIM9 (RM0383 chapter 14): its addresses against ST's data, its time base and its two
-//! output-compare channels, one test per manual statement; then both channels in toggle
-//! mode decoded by the encoder-interface model (`encoder`), with register values chosen
-//! here from the manual, not taken from the firmware.
+//! TIM9 (RM0383 chapter 14): its time base and its two output-compare channels, one test
+//! per manual statement; then both channels in toggle mode decoded by the
+//! encoder-interface model (`encoder`), with register values chosen here from the
+//! manual, not taken from the firmware.
 mod common;
 use common::*;
 use polyturn_stm32_model::encoder::{Counting, Encoder};
-use stm32_metapac as pac;
-
-fn a<T>(p: *mut T) -> u32 {
-    p as usize as u32
-}
-
-#[test]
-fn tim9_addresses_match_metapac() {
-    let t = pac::TIM9;
-    assert_eq!(a(t.as_ptr()), TIM9);
-    let pairs = [
-        (a(t.cr1().as_ptr()), TIM9_CR1),
-        (a(t.smcr().as_ptr()), TIM9_SMCR),
-        (a(t.dier().as_ptr()), TIM9_DIER),
-        (a(t.sr().as_ptr()), TIM9_SR),
-        (a(t.egr().as_ptr()), TIM9_EGR),
-        (a(t.ccmr_output(0).as_ptr()), TIM9_CCMR1),
-        (a(t.ccer().as_ptr()), TIM9_CCER),
-        (a(t.cnt().as_ptr()), TIM9_CNT),
-        (a(t.psc().as_ptr()), TIM9_PSC),
-        (a(t.arr().as_ptr()), TIM9_ARR),
-        (a(t.ccr(0).as_ptr()), TIM9_CCR1),
-        (a(t.ccr(1).as_ptr()), TIM9_CCR2),
-    ];
-    for (pac_addr, ours) in pairs {
-        assert_eq!(pac_addr, ours, "{ours:#010x}");
-    }
-}
-
-#[test]
-fn tim9_ccmr1_fields_match_metapac() {
-    use pac::timer::regs::CcmrOutput2ch;
-    use pac::timer::vals::Ocm;
-    for c in 0..2 {
-        let mut r = CcmrOutput2ch::default();
-        r.set_ocm(c, Ocm::TOGGLE);
-        r.set_ocpe(c, true);
-        assert_eq!(r.0, ccmr::ocm(c as u32).val(ocm::TOGGLE) | ccmr::ocpe(c as u32).mask());
-    }
-}
-
-// The pins and the vector the generator relies on: PA2 = TIM9_CH1 and PA3 = TIM9_CH2 on
-// AF3, TIM9's update on the TIM1_BRK_TIM9 vector (position 24).
-#[test]
-fn tim9_pins_and_interrupt_match_metapac() {
-    let p = pac::metadata::METADATA.peripherals.iter().find(|p| p.name == "TIM9").unwrap();
-    let pin = |name: &str| p.pins.iter().find(|x| x.pin == name).map(|x| (x.signal, x.af));
-    assert_eq!(pin("PA2"), Some(("CH1", Some(3))));
-    assert_eq!(pin("PA3"), Some(("CH2", Some(3))));
-    let up = p.interrupts.iter().find(|i| i.signal == "UP").unwrap();
-    assert_eq!(up.interrupt, "TIM1_BRK_TIM9");
-    assert_eq!(pac::Interrupt::TIM1_BRK_TIM9 as u16, 24);
-}
 
 /// Both channels in `mode`, CCRs and ARR written, outputs on.
 fn tim9(m: &mut Mcu, arr: u32, ccr: [u32; 2], ccmr1: u32) {

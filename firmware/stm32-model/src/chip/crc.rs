@@ -20,11 +20,9 @@
 //! test vector below (0x12345678 → 0xDF8A8A2B) is that reading's.
 
 /// Register offsets (§4.4.4 register map).
-pub const DR: u32 = 0x00;
-pub const IDR: u32 = 0x04;
-pub const CR: u32 = 0x08;
+pub use polyturn_regs::addr::crc_off::{CR, DR, IDR};
 /// CR bit 0 (§4.4.3).
-pub const CR_RESET: u32 = 1;
+pub const CR_RESET: u32 = polyturn_regs::bits::crc_cr::RESET.mask();
 /// §4.2.
 pub const POLY: u32 = 0x04C1_1DB7;
 /// DR after reset or CR.RESET (§4.3, §4.4.1).

@@ -7,16 +7,8 @@
 
 use super::RegFile;
 
-pub const MODER: u32 = 0x00;
-pub const OTYPER: u32 = 0x04;
-pub const OSPEEDR: u32 = 0x08;
-pub const PUPDR: u32 = 0x0C;
-pub const IDR: u32 = 0x10;
-pub const ODR: u32 = 0x14;
-pub const BSRR: u32 = 0x18;
-pub const LCKR: u32 = 0x1C;
-pub const AFRL: u32 = 0x20;
-pub const AFRH: u32 = 0x24;
+/// Register offsets (§8.4.11 register map).
+pub use polyturn_regs::addr::gpio_off::{AFRH, AFRL, BSRR, IDR, LCKR, MODER, ODR, OSPEEDR, OTYPER, PUPDR};
 
 /// MODER values (§8.4.1).
 pub const INPUT: u32 = 0;

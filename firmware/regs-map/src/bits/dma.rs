@@ -22,9 +22,12 @@ pub mod dma_cr {
     pub const PBURST: Field = Field::new(21, 2);
     pub const MBURST: Field = Field::new(23, 2);
     pub const CHSEL: Field = Field::new(25, 3);
+    /// DIR = 01: memory to peripheral
     pub const DIR_M2P: u32 = 0b01;
     pub const SIZE_HALF: u32 = 0b01;
     pub const SIZE_WORD: u32 = 0b10;
+    /// PL = 11: very high priority
+    pub const PL_VERY_HIGH: u32 = 0b11;
 }
 
 /// DMA_SxFCR (RM0383 §9.5.10) and DMA_SxNDTR (§9.5.6).
@@ -58,4 +61,12 @@ pub mod dma_isr {
     pub const fn tcif(stream: u32) -> Field {
         bit(base(stream) + 5)
     }
+}
+
+/// DMA_HIFCR (RM0383 §9.5.4): stream 5's flag clears, at its flags' bits in HISR.
+pub mod hifcr {
+    use super::super::{bit, Field};
+    pub const CFEIF5: Field = bit(6);
+    /// CDMEIF5, CTEIF5, CHTIF5 and CTCIF5, bits 8 to 11
+    pub const CDMEIF5_TO_CTCIF5: Field = Field::new(8, 4);
 }

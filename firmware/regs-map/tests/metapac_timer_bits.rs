@@ -1,7 +1,7 @@
-//! Timer bit fields the model decodes, built with `stm32-metapac`'s setters (ST's SVD
-//! data as curated by the embassy project) and compared with `bits`.
-use polyturn_stm32_model::addr::off;
-use polyturn_stm32_model::bits::*;
+//! Timer bit fields, built with `stm32-metapac`'s setters (ST's SVD data as curated
+//! by the embassy project) and compared with `bits`.
+use polyturn_regs::addr::off;
+use polyturn_regs::bits::*;
 use stm32_metapac::timer::regs;
 use stm32_metapac::timer::vals;
 
@@ -138,4 +138,46 @@ fn timer_bit_fields_match_metapac() {
     assert_eq!(bits!(Dcr1chCmp, |r| r.set_dbl(0x1F)), dcr::DBL.mask());
     assert_eq!(bits!(Dcr1chCmp, |r| r.set_dba(11)), dcr::DBA.val(off::ARR / 4));
     assert_eq!(bits!(RcrAdv, |r| r.set_rep(0xFF)), dcr::REP.mask());
+}
+
+#[test]
+fn tim9_ccmr1_fields_match_metapac() {
+    use stm32_metapac::timer::regs::CcmrOutput2ch;
+    for c in 0..2 {
+        let mut r = CcmrOutput2ch::default();
+        r.set_ocm(c, vals::Ocm::TOGGLE);
+        r.set_ocpe(c, true);
+        assert_eq!(r.0, ccmr::ocm(c as u32).val(ocm::TOGGLE) | ccmr::ocpe(c as u32).mask());
+    }
+}
+
+/// The constants named after a channel, as the register programs spell their words.
+#[test]
+fn the_named_channel_fields_match_metapac() {
+    use regs::{CcerAdv, CcmrInput2ch, CcmrOutputGp16, SrAdv, SrGp16};
+    assert_eq!(bits!(SrAdv, |r| r.set_ccif(0, true)), sr::CC1IF.mask());
+    assert_eq!(bits!(SrAdv, |r| r.set_ccif(2, true)), sr::CC3IF.mask());
+    assert_eq!(bits!(SrAdv, |r| r.set_ccof(0, true)), sr::CC1OF.mask());
+    let every = bits!(SrGp16, |r| {
+        r.set_uif(true);
+        r.set_tif(true);
+        for c in 0..4 {
+            r.set_ccif(c, true);
+            r.set_ccof(c, true);
+        }
+    });
+    assert_eq!(every, sr::GP_FLAGS, "TIM2-5 have no COMIF or BIF (§13.4.5)");
+    assert_eq!(bits!(CcmrOutputGp16, |r| r.set_ocpe(0, true)), ccmr::OC1PE.mask());
+    assert_eq!(bits!(CcmrOutputGp16, |r| r.set_ocm(0, vals::Ocm::PWM_MODE2)), ccmr::OC1M.mask());
+    assert_eq!(bits!(CcmrOutputGp16, |r| r.set_ocpe(1, true)), ccmr::OC2PE.mask());
+    assert_eq!(bits!(CcmrOutputGp16, |r| r.set_ocm(1, vals::Ocm::PWM_MODE2)), ccmr::OC2M.mask());
+    let ccs = vals::CcmrInputCcs::from_bits(3);
+    assert_eq!(bits!(CcmrInput2ch, |r| r.set_ccs(0, ccs)), ccmr_in::CC1S.mask());
+    assert_eq!(bits!(CcmrInput2ch, |r| r.set_icpsc(0, 3)), ccmr_in::IC1PSC.mask());
+    assert_eq!(bits!(CcmrInput2ch, |r| r.set_icf(0, vals::FilterValue::from_bits(15))), ccmr_in::IC1F.mask());
+    assert_eq!(bits!(CcmrInput2ch, |r| r.set_ccs(1, ccs)), ccmr_in::CC2S.mask());
+    assert_eq!(bits!(CcmrInput2ch, |r| r.set_icf(1, vals::FilterValue::from_bits(15))), ccmr_in::IC2F.mask());
+    assert_eq!(bits!(CcerAdv, |r| r.set_cce(0, true)), ccer::CC1E.mask());
+    assert_eq!(bits!(CcerAdv, |r| r.set_cce(1, true)), ccer::CC2E.mask());
+    assert_eq!(bits!(CcerAdv, |r| r.set_cce(2, true)), ccer::CC3E.mask());
 }

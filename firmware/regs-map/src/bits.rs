@@ -1,5 +1,7 @@
-//! Bit fields the model decodes, one module per register, named as in RM0383.
-//! Every field here is compared with `stm32-metapac`'s setters in `tests/metapac.rs`.
+//! Bit fields, one module per register, named as in RM0383 with its section. Every
+//! field here is compared with `stm32-metapac`'s setters in `tests/metapac_*_bits.rs`.
+//! Channels are numbered from 0 where a function takes one (`ccer::cce(0)` is CC1E); the
+//! constants named after a channel (`ccer::CC1E`) are those functions' values.
 
 /// A bit field: `width` bits starting at bit `shift`.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -12,6 +14,10 @@ impl Field {
     pub const fn new(shift: u32, width: u32) -> Field {
         Field { shift, width }
     }
+    /// The one-bit field at bit `shift`.
+    pub const fn bit(shift: u32) -> Field {
+        Field::new(shift, 1)
+    }
     /// The field's bits in place.
     pub const fn mask(self) -> u32 {
         (((1u64 << self.width) - 1) as u32) << self.shift
@@ -20,9 +26,12 @@ impl Field {
     pub const fn get(self, reg: u32) -> u32 {
         (reg & self.mask()) >> self.shift
     }
-    /// `value` placed in the field (truncated to its width).
+    /// `value` placed in the field. The value must fit: a wider one panics, at
+    /// compile time where the word is a constant, so no word is ever built with
+    /// a value cut short.
     pub const fn val(self, value: u32) -> u32 {
-        (value << self.shift) & self.mask()
+        assert!(value <= self.mask() >> self.shift, "value too wide for its field");
+        value << self.shift
     }
     /// Whether a one-bit field is set in `reg`.
     pub const fn on(self, reg: u32) -> bool {
@@ -31,7 +40,7 @@ impl Field {
 }
 
 const fn bit(n: u32) -> Field {
-    Field::new(n, 1)
+    Field::bit(n)
 }
 
 /// TIMx_CR1 (RM0383 §12.4.1, §13.4.1, §14.5.1).
@@ -120,6 +129,22 @@ pub mod sr {
     pub const fn ccof(ch: u32) -> Field {
         bit(9 + ch)
     }
+    pub const CC1IF: Field = ccif(0);
+    pub const CC3IF: Field = ccif(2);
+    pub const CC1OF: Field = ccof(0);
+    /// Every flag of a four-channel general-purpose timer (§13.4.5): UIF,
+    /// CC1IF..CC4IF, TIF, CC1OF..CC4OF (TIM2..5 have no COMIF or BIF); writing 1 to
+    /// one leaves it as it is.
+    pub const GP_FLAGS: u32 = UIF.mask()
+        | ccif(0).mask()
+        | ccif(1).mask()
+        | ccif(2).mask()
+        | ccif(3).mask()
+        | TIF.mask()
+        | ccof(0).mask()
+        | ccof(1).mask()
+        | ccof(2).mask()
+        | ccof(3).mask();
 }
 
 /// TIMx_EGR (RM0383 §12.4.6), write-only.
@@ -152,12 +177,17 @@ pub mod ccmr {
     pub const fn occe(ch: u32) -> Field {
         bit(7 + 8 * ch)
     }
+    /// CCMR1's channel 1 and 2 fields (CCMR2's channels 3 and 4 sit the same).
+    pub const OC1PE: Field = ocpe(0);
+    pub const OC1M: Field = ocm(0);
+    pub const OC2PE: Field = ocpe(1);
+    pub const OC2M: Field = ocm(1);
 }
 
 /// TIMx_CCMRx in input mode (RM0383 §13.4.7, §13.4.8); `ch` is 0 or 1 within the
 /// register (CCMR2 holds channels 3 and 4). CCxS is the same field as in output mode.
 pub mod ccmr_in {
-    use super::Field;
+    use super::{ccmr, Field};
     pub const fn icpsc(ch: u32) -> Field {
         Field::new(2 + 8 * ch, 2)
     }
@@ -172,6 +202,13 @@ pub mod ccmr_in {
     pub const CCS_TRC: u32 = 0b11;
     /// ICxF = 0011: f_SAMPLING = f_CK_INT, N = 8
     pub const ICF_CK_INT_N8: u32 = 0b0011;
+    /// CCMR1's channel 1 and 2 fields (CCMR2's CC3S, IC3PSC, IC3F sit where CC1S,
+    /// IC1PSC, IC1F do, CC4S, IC4F where CC2S, IC2F do).
+    pub const CC1S: Field = ccmr::ccs(0);
+    pub const IC1PSC: Field = icpsc(0);
+    pub const IC1F: Field = icf(0);
+    pub const CC2S: Field = ccmr::ccs(1);
+    pub const IC2F: Field = icf(1);
 }
 
 /// OCxM values (RM0383 §12.4.7).
@@ -201,6 +238,9 @@ pub mod ccer {
     pub const fn ccnp(ch: u32) -> Field {
         bit(3 + 4 * ch)
     }
+    pub const CC1E: Field = cce(0);
+    pub const CC2E: Field = cce(1);
+    pub const CC3E: Field = cce(2);
 }
 
 /// TIMx_BDTR (RM0383 §12.4.18).
@@ -225,4 +265,22 @@ pub mod dcr {
 }
 
 mod dma;
-pub use dma::{dma_cr, dma_fcr, dma_isr};
+mod flash;
+pub use dma::{dma_cr, dma_fcr, dma_isr, hifcr};
+pub use flash::{flash_cr, flash_keyr, flash_sr};
+
+/// CRC_CR (RM0383 §4.4.3).
+pub mod crc_cr {
+    use super::{bit, Field};
+    /// DR back to 0xFFFF_FFFF; cleared by hardware
+    pub const RESET: Field = bit(0);
+}
+
+/// RCC_AHB1ENR (RM0383 §6.3.9): the clock enables of the ports and the CRC unit.
+pub mod rcc_ahb1enr {
+    use super::{bit, Field};
+    pub const GPIOAEN: Field = bit(0);
+    pub const GPIOBEN: Field = bit(1);
+    pub const GPIOCEN: Field = bit(2);
+    pub const CRCEN: Field = bit(12);
+}

@@ -1,4 +1,4 @@
-//! The tests that compare the model's bit fields with ST's SVD share this.
+//! The tests that compare our bit fields with ST's SVD share this.
 
 /// Build a register value with metapac's setters and return its bits.
 macro_rules! bits {
