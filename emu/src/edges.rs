@@ -67,7 +67,7 @@ impl Bus for Playback<'_> {
 /// `app::tick::EDGE_CLOCK`: the first instant, k0 mod 4 at bit 16, on at
 /// bit 18), and k0 mod 4; `None` if it times no edges.
 pub fn clock(m: &Machine) -> Option<(EdgeClock, u16)> {
-    let v = m.static_u32("4tick10EDGE_CLOCK17h")?;
+    let v = m.static_u32("5watch10EDGE_CLOCK17h")?;
     let k0 = (v >> 16 & 3) as u16;
     let per_tick = edgetime::STAMPS_PER_TICK;
     let clock = EdgeClock { first_instant: v as u16, stamps_per_tick: per_tick, low_low_odd: k0 & 1 == 1 };

@@ -371,7 +371,7 @@ impl Machine {
     }
 
     /// A `u32` static of the image, by a part of its mangled name (e.g.
-    /// `4tick10TICKS_LOST17h`); `None` if the image has no such symbol.
+    /// `9telemetry10TICKS_LOST17h`); `None` if the image has no such symbol.
     pub fn static_u32(&self, name: &str) -> Option<u32> {
         let addr = self.image.symbols.iter().find(|(n, _)| n.contains(name)).map(|(_, &a)| a)?;
         let mut word = [0u8; 4];

@@ -53,12 +53,12 @@ pub fn hold(m: &mut Machine, at_s: f64, hold_us: u64) -> Held {
     let updates = m.chip().mcu.tim11_updates() - before;
     // a few ms for the service task's watch (every ms) to see it
     m.run(10 * MS);
-    let steps_late = m.static_u32("4tick10STEPS_LATE17h");
+    let steps_late = m.static_u32("9telemetry10STEPS_LATE17h");
     Held { hold_us, updates, clock_before, clock_after: None, steps_late, led_code: 0 }
 }
 
 pub fn counted(m: &mut Machine) -> Counted {
-    let image = m.static_u32("4tick10TICKS_LOST17h");
+    let image = m.static_u32("9telemetry10TICKS_LOST17h");
     let c = m.chip();
     let tick = crate::probe::tick_exc();
     let entries = c.entries.get(&tick).copied().unwrap_or(0);

@@ -4,105 +4,46 @@
 //! level below (`plan`). The core is shared with lower priorities under its
 //! own lock (`locked`: BASEPRI at the tick's level), not the global
 //! critical section (`cs.rs`, below the plan, which both outrank).
+//!
+//! Here the interrupt and its start; the shared state and its lock in
+//! `shared`, the edge clock's watch in `watch`, the counts for the log in
+//! `telemetry`, the step plan's handler in `plan`.
 
 mod plan;
+mod shared;
+mod telemetry;
+mod watch;
+
+pub use shared::{apply_driver_settings, fit_cam, with_core};
+use shared::{locked, Io, IO};
+pub use telemetry::{alive, ndtr_lead, steps_late, ticks};
+use telemetry::{NDTR_LEAD, STEPS_LATE, TICKS};
+pub use watch::{begin_stall, check_ticks, last_edge, restart_edges};
+use watch::{EDGES_ON, EDGE_CLOCK};
 
 use super::drivers::{self, OutputPins, TIMER_HZ};
 use super::mmio::Mmio;
 use super::{bldc, safety};
-use core::cell::RefCell;
-use core::sync::atomic::{compiler_fence, AtomicU32, Ordering};
-use cortex_m::interrupt::{CriticalSection, Mutex};
+use core::sync::atomic::{compiler_fence, Ordering};
+use cortex_m::interrupt::CriticalSection;
 use defmt::{info, warn};
 use embassy_stm32::interrupt;
 use embassy_stm32::interrupt::InterruptExt;
 use embassy_stm32::pac;
-use polyturn_firmware::bldcout::Out;
 use polyturn_firmware::board;
-use polyturn_firmware::edgetime::{self, read::Gate, watch::Watch};
+use polyturn_firmware::edgetime::{self, read::Gate};
 use polyturn_firmware::latency::Latency;
 use polyturn_firmware::stepgen::Generator;
 use polyturn_firmware::xsteps::XSteps;
 use polyturn_sync::{Config, Controller, DriveKind, TickInput, Timing};
 
-struct Io {
-    core: Controller,
-    steps: Generator,
-    pins: OutputPins,
-    x: XSteps,
-    /// `halts()` when the generator last heard of a halt made elsewhere
-    halts_seen: u32,
-    /// whether the lathe's edge registers hold an edge (`edgetime::read`)
-    gate: Gate,
-    /// the edge clock's instants against the ticks run (`check_ticks`);
-    /// none while the edge times are off, and through a save's stall
-    watch: Option<Watch>,
-    /// the BLDC drive's interface, as TIM10 is set up
-    bldc: Out,
-}
-
-/// cortex-m's Mutex: its token comes only from `locked` here, so a
-/// `critical_section::with` token (`cs.rs`, which the tick outranks)
-/// cannot open it.
-static IO: Mutex<RefCell<Option<Io>>> = Mutex::new(RefCell::new(None));
-
-/// BASEPRI masks every level numerically at or above it (PM0214 §2.1.3):
-/// the tick's level and below, not the E-stop above it.
-const TICK_MASK: u8 = board::TICK_LEVEL << 4;
-
-/// The lock on `IO`: BASEPRI raised to the tick's level, so the tick (the
-/// only other user of `IO`) waits, and the E-stop, which never touches
-/// `IO`, does not. Only short copies inside. Raised through BASEPRI_MAX,
-/// which never lowers it, so taking it where more is masked unmasks
-/// nothing; restored on the way out. Never inlined: each closure's copy is
-/// a function of this module, in SRAM with the tick (`memory.x`), so a
-/// section holding the tick off does not wait on the flash.
-#[inline(never)]
-fn locked<R>(f: impl FnOnce(&CriticalSection) -> R) -> R {
-    let old = cortex_m::register::basepri::read();
-    cortex_m::register::basepri_max::write(TICK_MASK);
-    compiler_fence(Ordering::SeqCst);
-    // SAFETY: nothing that touches `IO` can run until BASEPRI is restored
-    let r = f(unsafe { &CriticalSection::new() });
-    compiler_fence(Ordering::SeqCst);
-    // SAFETY: restores the level this section found
-    unsafe { cortex_m::register::basepri::write(old) };
-    r
-}
-static TICKS: AtomicU32 = AtomicU32::new(0);
-static LAST_SEEN: AtomicU32 = AtomicU32::new(0);
 /// When the tick ends, in cycles from its instant (`latency`).
 pub static TICK_END: Latency = Latency::new();
 pub use plan::PLAN_END;
 /// TIM11's period in cycles: the tick's instant to the next.
 pub const PERIOD: u32 = TIMER_HZ / board::TICK_HZ;
-/// Ticks whose segments the DMA reached before they were written, or
-/// whose step plan was not made by the next tick (`plan::late`).
-static STEPS_LATE: AtomicU32 = AtomicU32::new(0);
-/// `Generator::ndtr_lead`, learnt at boot, for the bench's log.
-static NDTR_LEAD: AtomicU32 = AtomicU32::new(0);
-/// Ticks whose interrupt never ran (`check_ticks`), since boot.
-static TICKS_LOST: AtomicU32 = AtomicU32::new(0);
-/// When the watch last looked (embassy's ms, read outside the lock: its
-/// clock is right there): looks further apart than `WATCH_GAP_MS` are not
-/// judged, the clock is measured again (`check_ticks`).
-static LAST_LOOK_MS: AtomicU32 = AtomicU32::new(0);
-/// Looks this far apart may alias the stamps (a look judges within 32 ms,
-/// `edgetime::watch`): the service task looks every ms, so only a hold of
-/// the whole MCU (a debugger's halt, a runaway section at the tick's
-/// level) makes such a gap, and it can hide lost ticks.
-const WATCH_GAP_MS: u32 = 20;
 
 pub const TIMING: Timing = polyturn_firmware::clocks::TIMING;
-
-/// The edge clock the start measured, for the log and the emulator's
-/// replay: `first_instant`, then k0 mod 4 (the count in state (A, B) =
-/// (0, 0), `edgetime::start::low_low`) at bit 16, and bit 18 set if the
-/// start timed edges (a clock that could not be measured again since has
-/// turned the core's off: `Controller::edge_timing`; a save tries again).
-/// 0 until the start.
-static EDGE_CLOCK: AtomicU32 = AtomicU32::new(0);
-const EDGES_ON: u32 = 1 << 18;
 
 // The stamps are embassy-time's ticks (TIM5, `edgetime`): one a µs, and a
 // whole number of them per tick, as `edgetime` assumes.
@@ -292,160 +233,4 @@ fn heard_of_halts(io: &mut Io) {
         let timing = io.core.derived().steps;
         io.steps.halted_elsewhere(&timing);
     }
-}
-
-/// After lost ticks (a save's flash erase: `Controller::end_stall` drops the
-/// core's edge clock; or a tick that never ran: `check_ticks`), the clock
-/// measured again and given back to the core, under the lock, so that its
-/// instants are the ticks it runs from here (`edgetime::start::next_instant`),
-/// and the watch on the ticks started again from the next look. If it cannot be measured the
-/// core's edge times go off, and the watch with them: a clock known to be
-/// off must not place the lathe. Nothing if the start timed no edges.
-pub fn restart_edges() {
-    let on = EDGE_CLOCK.load(Ordering::Relaxed);
-    if on & EDGES_ON == 0 {
-        return;
-    }
-    let restarted = locked(|cs| {
-        let first = edgetime::start::next_instant(&mut Mmio);
-        let mut io = IO.borrow(cs).borrow_mut();
-        let io = io.as_mut()?;
-        let Some(first) = first else {
-            io.core.stop_edges();
-            io.watch = None;
-            return Some(false);
-        };
-        let clock = edgetime::start::restarted(first, (on >> 16 & 3) as u16);
-        EDGE_CLOCK.store(clock.first_instant as u32 | (on & !0xFFFF), Ordering::Relaxed);
-        io.core.start_edges(clock);
-        // (the service task's next look starts the watch again)
-        io.watch = None;
-        Some(true)
-    });
-    if restarted == Some(false) {
-        warn!("edge times off: the tick's instant could not be measured again after lost ticks (a save's, or a tick that never ran)");
-    }
-}
-
-/// A save is about to stall the CPU (its erase): the core is told
-/// (`Controller::begin_stall`), and the watch on the ticks stops until
-/// `restart_edges` measures the clock again.
-pub fn begin_stall() {
-    locked(|cs| {
-        if let Some(io) = IO.borrow(cs).borrow_mut().as_mut() {
-            io.core.begin_stall();
-            io.watch = None;
-        }
-    });
-}
-
-/// Every ms from the service task: ticks whose interrupt never ran
-/// (`edgetime::watch`), from the next tick's instant as `next_instant`
-/// measures it and the ticks run, under the lock. Any lost puts the edge
-/// times' instants a tick early for good: the clock is measured again
-/// (`restart_edges`), as after a save.
-pub fn check_ticks() {
-    let now_ms = embassy_time::Instant::now().as_millis() as u32;
-    let gap = now_ms.wrapping_sub(LAST_LOOK_MS.swap(now_ms, Ordering::Relaxed));
-    let lost = locked(|cs| {
-        let mut io = IO.borrow(cs).borrow_mut();
-        let io = io.as_mut().filter(|io| io.core.edge_timing())?;
-        // (a measurement no try could make: looked at again next ms)
-        let next = edgetime::start::next_instant(&mut Mmio)?;
-        let ticks = TICKS.load(Ordering::Relaxed);
-        let Some(watch) = io.watch.as_mut() else {
-            // the first look since the clock was measured: judged from here
-            io.watch = Some(Watch::new(next, ticks));
-            return None;
-        };
-        // a look too far from the last cannot tell: `None`, as the watch
-        // says itself of looks 32 ms apart
-        Some(watch.look(next, ticks).filter(|_| gap <= WATCH_GAP_MS))
-    });
-    match lost {
-        Some(Some(0)) | None => {}
-        Some(Some(n)) => {
-            let total = TICKS_LOST.fetch_add(n, Ordering::Relaxed).wrapping_add(n);
-            warn!("{} tick(s) never ran ({} since boot): the edge times' clock is measured again", n, total);
-            restart_edges();
-        }
-        Some(None) => {
-            warn!("the watch on lost ticks did not look for {} ms: the edge times' clock is measured again", gap);
-            restart_edges();
-        }
-    }
-}
-
-/// The lathe's last timed edge, read as the tick reads it, with k0 mod 4
-/// (A and B low: `EDGE_CLOCK`), for the bench's log; `None` until the tick
-/// has seen a capture (the read clears CC1IF, which nothing looks at from
-/// then on).
-pub fn last_edge() -> Option<(polyturn_sync::edges::EdgeRegs, u16)> {
-    let gate = locked(|cs| IO.borrow(cs).borrow().as_ref().map(|io| io.gate));
-    if gate != Some(Gate::Open) {
-        return None;
-    }
-    let k0 = (EDGE_CLOCK.load(Ordering::Relaxed) >> 16 & 3) as u16;
-    edgetime::read::lathe(Gate::Open, &mut Mmio).1.map(|e| (e, k0))
-}
-
-/// Runs `f` on the controller (console, planning, reports).
-pub fn with_core<R>(f: impl FnOnce(&mut Controller) -> R) -> Option<R> {
-    locked(|cs| IO.borrow(cs).borrow_mut().as_mut().map(|io| f(&mut io.core)))
-}
-
-/// Fits a cam table: the points are checked outside the lock (a pass over
-/// the whole table), only the swap is under it.
-pub fn fit_cam(h: &polyturn_sync::cam_upload::CamHeader, table: &'static [i32]) -> Option<Result<(), &'static str>> {
-    let x = match polyturn_sync::controller::prepare_cam(h, table, TIMING) {
-        Ok(x) => x,
-        Err(e) => return Some(Err(e)),
-    };
-    with_core(|c| c.install_cam(h, x))
-}
-
-/// Applies the settings the drivers hold themselves (ENABLE polarity, the
-/// pulse width a halt waits out, the BLDC drive's interface and sense)
-/// after a console change, at low priority. The BLDC's scale (a 64-bit
-/// division) is worked out between two short copies under the lock: only
-/// thread mode changes the settings, and nothing else runs there meanwhile.
-pub fn apply_driver_settings() {
-    let read = |io: &Io| (*io.core.config(), io.core.derived().limits.max_velocity, io.core.derived().steps.pulse);
-    let Some((config, max_q16, pulse)) = locked(|cs| IO.borrow(cs).borrow().as_ref().map(read)) else { return };
-    let out = Out::new(&config, max_q16);
-    drivers::set_halt_pulse(pulse);
-    locked(|cs| {
-        if let Some(io) = IO.borrow(cs).borrow_mut().as_mut() {
-            io.pins.set_polarity(config.enable_active_high);
-            // (a new scale alone keeps the frame: no reprogram, whose
-            // restart would cut a frame short)
-            if !out.same_frame(&io.bldc) {
-                bldc::set_up(&out);
-            }
-            io.bldc = out;
-            bldc::set_sense(&config);
-        }
-    });
-}
-
-/// True if the tick ran since the last call (feeds the watchdog).
-pub fn alive() -> bool {
-    let now = TICKS.load(Ordering::Relaxed);
-    now != LAST_SEEN.swap(now, Ordering::Relaxed)
-}
-
-/// Ticks whose step segments were written too late (each one halted the
-/// output), since boot.
-pub fn steps_late() -> u32 {
-    STEPS_LATE.load(Ordering::Relaxed)
-}
-
-/// 1 if DMA2's NDTR counted the preloaded word at the boot's probe, else 0.
-pub fn ndtr_lead() -> u32 {
-    NDTR_LEAD.load(Ordering::Relaxed)
-}
-
-/// Ticks run since boot.
-pub fn ticks() -> u32 {
-    TICKS.load(Ordering::Relaxed)
 }
