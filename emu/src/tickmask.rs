@@ -1,5 +1,5 @@
 //! Thread-mode sections that hold off the tick: BASEPRI raised to the tick's
-//! level or above (the tick's own lock, `app/tick.rs`'s `locked`), or PRIMASK.
+//! level or above (the tick's own lock, `app/tick/shared.rs`'s `locked`), or PRIMASK.
 //! The E-stop, one level above the tick, is held off only by PRIMASK
 //! (`primask.rs`); this is what can delay the tick itself.
 //!

@@ -253,7 +253,7 @@ mod tests {
 
     #[test]
     fn the_estop_is_above_the_ticks_lock_and_the_global_critical_section() {
-        // the tick's lock (app/tick.rs) writes BASEPRI = TICK_LEVEL << 4,
+        // the tick's lock (app/tick/shared.rs) writes BASEPRI = TICK_LEVEL << 4,
         // which masks TICK_LEVEL and below (PM0214 §2.1.3): the E-stop must
         // stay deliverable under it, so it must be strictly more urgent
         let level = |n: &str| PRIORITIES.iter().find(|p| p.0 == n).unwrap().1;

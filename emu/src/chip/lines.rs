@@ -96,7 +96,7 @@ impl Chip {
     pub fn deliverable(&self, primask: bool, basepri: u32) -> Option<usize> {
         let e = self.nvic.best_pending()?;
         // a job's hold: as if BASEPRI stood at the tick's level (the tick's
-        // own lock, `app/tick.rs`), or at the plan's (the tick unmasked),
+        // own lock, `app/tick/shared.rs`), or at the plan's (the tick unmasked),
         // unless something masks more already
         let bp = basepri & 0xF0;
         let hold = if self.now < self.tick_held_until {

@@ -4,8 +4,8 @@
 //! log line (the emulator measured 7 657 instructions, 80 µs, two ticks),
 //! and embassy for its queues; neither may delay the tick, its plan or the
 //! E-stop, which touch nothing of theirs and never log (`.ci/callgraph` checks
-//! their call graphs). The state the tick shares (`tick::IO`) has its own
-//! lock, BASEPRI at the tick's level (`tick::locked`), held only for short
+//! their call graphs). The state the tick shares (`tick::shared::IO`) has its own
+//! lock, BASEPRI at the tick's level (`tick::shared::locked`), held only for short
 //! copies; the E-stop, above the tick, is masked by neither.
 //!
 //! BASEPRI (PM0214 §2.1.3): "when set to a nonzero value, it prevents the
