@@ -21,7 +21,8 @@ pub mod bus;
 pub mod exception;
 pub mod profile;
 
-use crate::cycles::insn::{Insn, Op, Program};
+use crate::cycles::insn::{Insn, Op};
+use crate::cycles::program::Program;
 use crate::cycles::timing;
 pub use crate::cycles::timing::Cost;
 use art::{line_of, Acr, Art};

@@ -6,6 +6,7 @@ mod decode;
 pub mod insn;
 mod mnemonic;
 mod operands;
+pub mod program;
 pub mod timing;
 
 #[cfg(test)]

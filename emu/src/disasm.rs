@@ -2,9 +2,21 @@
 //! llvm-objdump (rustup's llvm-tools), which uses the ELF's mapping symbols to tell
 //! code from literal pools.
 
-use crate::image::Insns;
 use std::path::{Path, PathBuf};
 use std::process::Command;
+
+/// The addresses of the instructions the harness treats specially.
+#[derive(Default)]
+pub struct Insns {
+    pub wfe: Vec<u32>,
+    pub sev: Vec<u32>,
+    pub wfi: Vec<u32>,
+    pub udf: Vec<u32>,
+    pub cpsid: Vec<u32>,
+    pub cpsie: Vec<u32>,
+    pub msr_primask: Vec<u32>,
+    pub msr_basepri: Vec<u32>,
+}
 
 fn objdump() -> Result<PathBuf, String> {
     let out = Command::new("rustc").args(["--print", "sysroot"]).output().map_err(|e| format!("rustc: {e}"))?;
@@ -20,7 +32,7 @@ fn objdump() -> Result<PathBuf, String> {
 }
 
 /// `llvm-objdump -d` of the image with the raw bytes shown (what
-/// `cycles::insn::Program::parse` and `scan` read).
+/// `cycles::program::Program::parse` and `scan` read).
 pub fn text(elf: &Path) -> Result<String, String> {
     let out = Command::new(objdump()?).arg("-d").arg(elf).output().map_err(|e| e.to_string())?;
     if !out.status.success() {

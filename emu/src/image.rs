@@ -8,20 +8,9 @@ use polyturn_host::flash::image::Format;
 use std::collections::BTreeMap;
 use std::path::Path;
 
-pub const FLASH_BASE: u32 = 0x0800_0000;
-pub const FLASH_SIZE: u32 = 512 * 1024;
+pub use crate::disasm::Insns;
 
-#[derive(Default)]
-pub struct Insns {
-    pub wfe: Vec<u32>,
-    pub sev: Vec<u32>,
-    pub wfi: Vec<u32>,
-    pub udf: Vec<u32>,
-    pub cpsid: Vec<u32>,
-    pub cpsie: Vec<u32>,
-    pub msr_primask: Vec<u32>,
-    pub msr_basepri: Vec<u32>,
-}
+pub use polyturn_stm32_model::addr::{FLASH_BASE, FLASH_SIZE};
 
 pub struct Image {
     /// (load address, bytes) of what is flashed: the release image as
@@ -36,7 +25,7 @@ pub struct Image {
     pub vectors: Vec<u32>,
     pub insns: Insns,
     /// every instruction, as the cycle clock times them (`cycles`)
-    pub program: std::rc::Rc<crate::cycles::insn::Program>,
+    pub program: std::rc::Rc<crate::cycles::program::Program>,
     /// (address it runs at, address it is loaded at, length) of each segment
     /// whose two differ (`.data`, and the code memory.x puts in SRAM)
     #[cfg_attr(not(test), allow(dead_code))]
@@ -100,7 +89,7 @@ fn load_as(path: &Path, polyturn: bool) -> Result<Image, String> {
     let vectors = raw.chunks_exact(4).map(|w| u32::from_le_bytes([w[0], w[1], w[2], w[3]])).collect();
     let listing = crate::disasm::text(path)?;
     let insns = crate::disasm::scan(&listing);
-    let program = crate::cycles::insn::Program::parse(&listing);
+    let program = crate::cycles::program::Program::parse(&listing);
     if let Some((addr, why)) = program.unknown().first() {
         return Err(format!("the cycle clock cannot time the instruction at {addr:#010x}: {why}"));
     }

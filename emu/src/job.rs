@@ -254,7 +254,7 @@ pub fn run(image: &Rc<Image>, spec: &Spec) -> Result<Outcome, String> {
     let until = m.chip().now;
     press(&mut m, STOP);
     let mut o = outcome(&mut m, spec, &sc.core, wall);
-    let clock = crate::edges::clock(&m);
+    let clock = crate::edge_times::clock(&m);
     let c = m.chip();
     if let Some(mut t) = c.tape.take() {
         t.edge_clock = clock.map(|k| k.0);

@@ -39,7 +39,7 @@ mod clock;
 mod cpu;
 mod cycles;
 mod disasm;
-mod edges;
+mod edge_times;
 mod image;
 mod job;
 mod jobs;

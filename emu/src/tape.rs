@@ -55,10 +55,10 @@ pub struct Tape {
     pub commands: Vec<(usize, Command)>,
     now: Option<Partial>,
     /// every A rise TIM3 captured and TRGO timed (`edges`)
-    pub captures: Vec<crate::edges::Capture>,
+    pub captures: Vec<crate::edge_times::Capture>,
     /// TIM5's count at TIM11's first update event: the first tick's instant
     pub first_update_stamp: Option<u16>,
-    /// the edge clock the image gave its core (`edges::clock`), set at the end
+    /// the edge clock the image gave its core (`edge_times::clock`), set at the end
     pub edge_clock: Option<polyturn_sync::edges::EdgeClock>,
     /// ticks whose edge-register reads were not the firmware's read: the first
     pub edge_read_wrong: Option<String>,
@@ -118,7 +118,7 @@ impl Tape {
         };
         let p = self.now.get_or_insert_with(|| Partial { at, ..Partial::default() });
         let v = Some(value as u16);
-        if crate::edges::is_edge_read(word) {
+        if crate::edge_times::is_edge_read(word) {
             p.edge_reads.push((word, value));
             p.edge_at = Some(now);
         }
@@ -148,7 +148,7 @@ impl Tape {
         let Some(p) = self.now.take() else { return };
         let Some(lathe) = p.lathe else { return };
         let idr = p.idr.unwrap_or(0);
-        let lathe_edge = crate::edges::pair(&p.edge_reads).unwrap_or_else(|e| {
+        let lathe_edge = crate::edge_times::pair(&p.edge_reads).unwrap_or_else(|e| {
             self.edge_read_wrong.get_or_insert(format!("tick {}: {e}", self.ticks.len()));
             None
         });

@@ -27,7 +27,7 @@ pub const MAGIC: u32 = u32::from_le_bytes(*b"PTIM");
 pub const SEAL_BYTES: u32 = 12;
 /// Flash: the image starts here (RM0383 §2.3 Table 1; memory.x ORIGIN)
 /// and may not reach the settings' sectors 6-7 (memory.x LENGTH 256K).
-pub const FLASH_BASE: u32 = 0x0800_0000;
+pub use polyturn_regs::addr::FLASH_BASE;
 pub const APP_END: u32 = FLASH_BASE + 256 * 1024;
 
 /// The CRC unit (§2.3 Table 1: 0x4002_3000) and its registers (§4.4).

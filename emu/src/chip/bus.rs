@@ -191,7 +191,7 @@ impl Chip {
         let pulses = trigger::route("TIM3", tim3, &mut [("TIM4", tim4), ("TIM5", tim5)]);
         if let (true, Some(t)) = (pulses > 0, self.tape.as_mut()) {
             let regs = EdgeRegs { count: self.gp[0].get(CCR1) as u16, stamp: self.gp[2].read(CNT) as u16 };
-            t.captures.push(crate::edges::Capture { at: self.blk, regs });
+            t.captures.push(crate::edge_times::Capture { at: self.blk, regs });
         }
     }
 

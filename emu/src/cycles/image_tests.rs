@@ -1,7 +1,8 @@
 //! The parser on the real firmware image (`cargo fw` builds it; without it
 //! these checks print a note and pass: they cannot look at what is not there).
 
-use super::insn::{Op, Program};
+use super::insn::Op;
+use super::program::Program;
 use crate::image::Image;
 use crate::machine::insn_count;
 use std::collections::BTreeMap;

@@ -1,7 +1,8 @@
 //! The parser on small llvm-objdump snippets (the layout `llvm-objdump -d`
 //! prints: address, raw halfwords, tab, mnemonic, tab, operands, comment).
 
-use super::insn::{Access, Op, Program};
+use super::insn::{Access, Op};
+use super::program::Program;
 
 /// r0 = bit 0 ... pc = bit 15
 fn regs(rs: &[u8]) -> u16 {

@@ -1,7 +1,8 @@
 //! The timing rules on short sequences; the figures are the TRM's (ARM DDI
 //! 0439D), each test naming the rule it holds.
 
-use super::insn::{Insn, Program};
+use super::insn::Insn;
+use super::program::Program;
 use super::timing::{block_cost, block_cost_after, divide, refill, unaligned, Cost};
 
 /// Instructions from `mnemonic\toperands` lines; `w:` marks a 32-bit encoding.

@@ -3,7 +3,7 @@
 //! the first rise has one, and the first tick's instant is the stamp the
 //! image's start measured.
 
-use crate::edges::Capture;
+use crate::edge_times::Capture;
 use crate::tape::Tape;
 
 /// What the check found.

@@ -38,14 +38,14 @@ pub struct Held {
 
 impl Held {
     pub fn judged(self, m: &mut Machine) -> Held {
-        let clock_after = crate::edges::clock(m).map(|c| c.0.first_instant);
+        let clock_after = crate::edge_times::clock(m).map(|c| c.0.first_instant);
         Held { clock_after, led_code: super::estop::flashes(m), ..self }
     }
 }
 
 pub fn hold(m: &mut Machine, at_s: f64, hold_us: u64) -> Held {
     m.run((at_s * 1000.0) as u64 * MS);
-    let clock_before = crate::edges::clock(m).map(|c| c.0.first_instant);
+    let clock_before = crate::edge_times::clock(m).map(|c| c.0.first_instant);
     let c = m.chip();
     let before = c.mcu.tim11_updates();
     c.tick_held_until = c.now + hold_us * (MS / 1000);

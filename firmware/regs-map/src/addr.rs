@@ -6,6 +6,12 @@
 //! DMA, §8.4.11 GPIO, §3.8.7 flash interface), each register's own section by its
 //! offset. All of them are checked against `stm32-metapac` in `tests/metapac_addr.rs`.
 
+/// The main flash memory: 512 KiB at 0x0800_0000 (RM0383 §2.3 Table 1,
+/// §3.3 Table 4: sectors 0-7 of the STM32F411xE).
+pub const FLASH_BASE: u32 = 0x0800_0000;
+/// Size of the STM32F411xE's main flash in bytes (RM0383 §3.3 Table 4).
+pub const FLASH_SIZE: u32 = 512 * 1024;
+
 /// SRAM1: 128 KiB at 0x2000_0000 (RM0383 §2.3, §2.3.1 "Embedded SRAM").
 pub const SRAM_BASE: u32 = 0x2000_0000;
 /// Size of the STM32F411xC/E SRAM in bytes (RM0383 §2.3.1).
