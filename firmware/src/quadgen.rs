@@ -38,8 +38,8 @@
 //!
 //! `LATENCY_MAX` = 7 500 cycles is the emulator's bound on the real image
 //! (`bash .ci/emu`, its `selftest … index latency` lines, which fail above
-//! it) with 10 % to spare: 6 786 cycles at 300 rpm, the tick and its plan
-//! running. The interrupt sits below the tick (level 1; the E-stop, above
+//! it) with about 20 % to spare: 6 050 cycles at 300 rpm and 6 129 at the
+//! top speed, the tick and its plan running. The interrupt sits below the tick (level 1; the E-stop, above
 //! it, is 0, and the tick's step plan below it, 2): at level 3 it waits
 //! for the E-stop's handler, the tick and its plan, the longest section
 //! under the tick's lock, embassy's TIM5 handler at the same level, every

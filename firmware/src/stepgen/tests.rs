@@ -308,7 +308,9 @@ fn after_a_halt_each_tick_silences_a_share_and_the_ring_is_silent_before_it_re_a
     // exactly ARR, RCR and CCR1 of every entry of the ring, as a filler's
     let f = Entry::filler();
     let want: std::collections::BTreeSet<(u32, u32)> = (0..RING_ENTRIES as u32)
-        .flat_map(|i| [(1, f.arr), (2, f.rcr), (3, f.ccr1)].map(|(w, v)| (0x2000_0000 + (i * program::BURST_WORDS + w) * 4, v)))
+        .flat_map(|i| {
+            [(1, f.arr), (2, f.rcr), (3, f.ccr1)].map(|(w, v)| (0x2000_0000 + (i * program::BURST_WORDS + w) * 4, v))
+        })
         .collect();
     assert_eq!(silenced, want);
     bus.writes.clear();

@@ -111,7 +111,8 @@ pub struct Mcu {
     /// after each transfer. `None` while the stream is off.
     prefetched: Option<u32>,
     /// The cycle in which TIM9 last set UIF (what its update interrupt
-    /// answers), for an emulator timing the handler from the event
+    /// answers), by an overflow or a UG, for an emulator timing the
+    /// handler from the event
     tim9_uif_at: u64,
 }
 

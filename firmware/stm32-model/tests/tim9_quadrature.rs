@@ -43,6 +43,26 @@ fn tim9_updates_every_psc_plus_one_times_arr_plus_one_cycles() {
     assert!(!sr::UIF.on(m.read(TIM9_SR)));
 }
 
+/// The cycle UIF was last set, for a handler timed from its update event:
+/// an overflow's (§14.3.2), and a UG's with URS = 0 (§14.4.1: "any of the
+/// following events generate an update interrupt … setting the UG bit"),
+/// not a UG's with URS = 1.
+#[test]
+fn the_cycle_tim9_last_set_uif_is_kept_for_an_overflow_and_a_ug() {
+    let mut m = mcu();
+    m.write(TIM9_ARR, 9);
+    m.write(TIM9_CR1, cr1::URS.mask());
+    m.write(TIM9_EGR, egr::UG.mask());
+    assert_eq!(m.tim9_uif_at(), 0, "no UIF from a UG with URS = 1");
+    m.write(TIM9_CR1, cr1::URS.mask() | cr1::CEN.mask());
+    assert!(m.run_to_tim9_update(10_000));
+    assert_eq!(m.tim9_uif_at(), m.cycle());
+    m.run_until(m.cycle() + 3);
+    m.write(TIM9_CR1, cr1::CEN.mask());
+    m.write(TIM9_EGR, egr::UG.mask());
+    assert_eq!(m.tim9_uif_at(), m.cycle(), "a UG with URS = 0 sets UIF now");
+}
+
 // §14.4.6 OC1M = 011 "Toggle - OC1REF toggles when TIMx_CNT = TIMx_CCR1", CC1IF set at
 // the match (§14.4.4); OC1 = OC1REF with CC1E = 1, CC1P = 0 (§14.4.7).
 #[test]

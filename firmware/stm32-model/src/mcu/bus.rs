@@ -25,7 +25,14 @@ impl Mcu {
             Some((addr::TIM1, o)) => self.tim1.write(o, value),
             Some((addr::TIM2, o)) => self.tim2.write(o, value),
             Some((addr::TIM11, o)) => self.tim11.write(o, value),
-            Some((addr::TIM9, o)) => self.tim9.write(o, value),
+            Some((addr::TIM9, o)) => {
+                // a UG with URS = 0 sets UIF from the write (§14.4.1, §14.4.5)
+                let uif_sets = self.tim9.uif_sets;
+                self.tim9.write(o, value);
+                if self.tim9.uif_sets != uif_sets {
+                    self.tim9_uif_at = self.cycle;
+                }
+            }
             Some((_, o)) => {
                 self.dma.write(o, value);
                 self.prefetch();
