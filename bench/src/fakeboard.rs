@@ -5,11 +5,10 @@
 //! and LF kept; tags split off and put back, `cam` lines to the upload)
 //! and as its `usb.rs` runs it (64-byte packets, CR LF after each reply,
 //! `watch` streaming until a packet that is not only line ends), with a
-//! machine (`machine.rs`) that lets time pass between commands.
+//! machine (`workshop.rs`) that lets time pass between commands.
 
-mod machine;
+mod workshop;
 
-pub use machine::{ticks_in_ms, Machine, TICK_HZ};
 use polyturn_firmware::line::{only_line_ends, route, Line, LineBuffer, Route, PACKET_MAX, TOO_LONG};
 use polyturn_sync::cam_upload::{CamUpload, Progress, TableRefusal};
 use polyturn_sync::console::{self, Action};
@@ -17,6 +16,7 @@ use polyturn_sync::controller::check_table;
 use polyturn_sync::{Config, Controller, Timing};
 use std::collections::VecDeque;
 use std::io::{ErrorKind, Read, Write};
+pub use workshop::{ticks_in_ms, Workshop, TICK_HZ};
 
 /// Control ticks between two `watch` lines: the firmware's 10 Hz.
 const WATCH_TICKS: usize = (Timing::FIRMWARE.tick_hz / 10) as usize;
@@ -34,7 +34,7 @@ pub struct FakeDevice {
     out: VecDeque<u8>,
     watching: bool,
     /// time passing between commands, if the test wants it
-    pub machine: Option<Machine>,
+    pub workshop: Option<Workshop>,
     /// every command line received, in order
     pub received: Vec<String>,
     /// the cam upload's staging buffer (the console task's, on the board)
@@ -57,7 +57,7 @@ impl FakeDevice {
             lines: LineBuffer::default(),
             out: VecDeque::new(),
             watching: false,
-            machine: None,
+            workshop: None,
             received: vec![],
             upload: Box::default(),
         }
@@ -74,7 +74,7 @@ impl FakeDevice {
         if !self.watching {
             return Vec::new();
         }
-        if let Some(m) = &mut self.machine {
+        if let Some(m) = &mut self.workshop {
             m.pass(&mut self.ctl, WATCH_TICKS);
         }
         let (reply, _) = console::handle(b"status", &mut self.ctl);
@@ -123,7 +123,7 @@ impl FakeDevice {
     /// line was, and what to do besides.
     fn answer(&mut self, line: &[u8]) -> Action {
         let text = String::from_utf8_lossy(line).to_string();
-        if let Some(m) = &mut self.machine {
+        if let Some(m) = &mut self.workshop {
             m.run(&mut self.ctl, &text);
         }
         if self.received.len() >= RECEIVED_MAX {

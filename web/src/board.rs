@@ -3,7 +3,7 @@
 //! (`polyturn_bench::fakeboard`), time passing on a machine model between
 //! commands and while `watch` streams.
 
-use polyturn_bench::fakeboard::{ticks_in_ms, FakeDevice, Machine};
+use polyturn_bench::fakeboard::{ticks_in_ms, FakeDevice, Workshop};
 use std::io::Write;
 use wasm_bindgen::prelude::*;
 
@@ -28,9 +28,9 @@ impl FakeBoard {
     #[wasm_bindgen(constructor)]
     pub fn new() -> FakeBoard {
         let mut dev = FakeDevice::new();
-        let mut machine = Machine::new(TICKS_PER_LINE);
-        machine.turn_for_check = true;
-        dev.machine = Some(machine);
+        let mut workshop = Workshop::new(TICKS_PER_LINE);
+        workshop.turn_for_check = true;
+        dev.workshop = Some(workshop);
         FakeBoard { dev }
     }
 
@@ -51,10 +51,10 @@ impl FakeBoard {
     }
 
     /// The lathe's speed when it turns by hand, counts/s
-    /// (`Machine::turn_at`), and the time that passes before each
+    /// (`Workshop::turn_at`), and the time that passes before each
     /// command, ms (the encoder check needs 1.2 s of rest and a turn).
     pub fn set_machine(&mut self, counts_per_s: u32, ms_per_line: u32) {
-        if let Some(m) = &mut self.dev.machine {
+        if let Some(m) = &mut self.dev.workshop {
             m.turn_at(counts_per_s);
             m.ticks_per_line = ticks_in_ms(u64::from(ms_per_line));
         }
@@ -63,16 +63,16 @@ impl FakeBoard {
     /// The simulated lathe's speed, rpm (0 stops it): it ramps there on the
     /// simulator's spindle model and turns the board's encoder.
     pub fn set_lathe_rpm(&mut self, rpm: f64) {
-        if let Some(m) = &mut self.dev.machine {
+        if let Some(m) = &mut self.dev.workshop {
             m.set_lathe_rpm(rpm);
         }
     }
 
     /// The machinist turns the chuck by hand by `degrees` (either way), at
-    /// a hand's pace, as the board's time passes (`Machine::turn_by_hand`):
+    /// a hand's pace, as the board's time passes (`Workshop::turn_by_hand`):
     /// to the nearest count of the simulated lathe's encoder.
     pub fn turn_by_hand(&mut self, degrees: f64) {
-        if let Some(m) = &mut self.dev.machine {
+        if let Some(m) = &mut self.dev.workshop {
             let counts = (degrees.clamp(-36_000.0, 36_000.0) * m.cpr as f64 / 360.0).round() as i64;
             m.turn_by_hand(counts);
         }

@@ -86,7 +86,7 @@ fn a_watch_ends_at_the_next_packet_and_a_packet_of_line_ends_does_not_end_it() {
 
 /// `status`'s fields as (name, value) after `ticks` pass on the machine.
 fn status_after(dev: &mut FakeDevice, seconds: f64) -> std::collections::HashMap<String, String> {
-    let m = dev.machine.as_mut().unwrap();
+    let m = dev.workshop.as_mut().unwrap();
     m.pass(&mut dev.ctl, (seconds * TICK_HZ as f64) as usize);
     let line = replies(dev, b"status\n");
     line.split_whitespace().filter_map(|kv| kv.split_once('=')).map(|(k, v)| (k.into(), v.into())).collect()
@@ -95,8 +95,8 @@ fn status_after(dev: &mut FakeDevice, seconds: f64) -> std::collections::HashMap
 #[test]
 fn a_lathe_set_turning_ramps_to_its_speed_and_the_cutter_syncs_to_it() {
     let mut dev = FakeDevice::new();
-    dev.machine = Some(Machine::new(ticks_in_ms(10)));
-    dev.machine.as_mut().unwrap().set_lathe_rpm(600.0);
+    dev.workshop = Some(Workshop::new(ticks_in_ms(10)));
+    dev.workshop.as_mut().unwrap().set_lathe_rpm(600.0);
     let s = status_after(&mut dev, 0.5);
     let half: f64 = s["lathe_rpm"].parse().unwrap();
     assert!((250.0..350.0).contains(&half), "ramping at 600 rpm/s: {s:?}");
@@ -116,10 +116,10 @@ fn a_lathe_set_turning_ramps_to_its_speed_and_the_cutter_syncs_to_it() {
     assert!((later - cutter - 7040).abs() <= 2, "{cutter} -> {later}");
     // stopped, the lathe ramps to rest and the hand on the chuck is back
     assert!(replies(&mut dev, b"stop\n").starts_with("ok"));
-    dev.machine.as_mut().unwrap().set_lathe_rpm(0.0);
+    dev.workshop.as_mut().unwrap().set_lathe_rpm(0.0);
     let s = status_after(&mut dev, 2.0);
     assert_eq!((s["state"].as_str(), s["lathe_rpm"].as_str()), ("idle", "0.0"), "{s:?}");
-    assert_eq!(dev.machine.as_ref().unwrap().lathe_rpm(), 0.0);
+    assert_eq!(dev.workshop.as_ref().unwrap().lathe_rpm(), 0.0);
 }
 
 fn field<'a>(line: &'a str, name: &str) -> &'a str {
@@ -132,18 +132,18 @@ fn field<'a>(line: &'a str, name: &str) -> &'a str {
 #[test]
 fn a_hand_turns_the_chuck_by_an_angle_either_way_and_the_board_reads_it() {
     let mut dev = FakeDevice::new();
-    dev.machine = Some(Machine::new(TICK_HZ as usize)); // 1 s of the board before each line
-    dev.machine.as_mut().unwrap().turn_by_hand(405);
+    dev.workshop = Some(Workshop::new(TICK_HZ as usize)); // 1 s of the board before each line
+    dev.workshop.as_mut().unwrap().turn_by_hand(405);
     let status = replies(&mut dev, b"status\n");
     assert_eq!((field(&status, "angle_deg"), field(&status, "angle_from")), ("60.0", "index"), "{status}");
     assert_eq!(field(&status, "fault"), "none");
-    dev.machine.as_mut().unwrap().turn_by_hand(-810);
+    dev.workshop.as_mut().unwrap().turn_by_hand(-810);
     let status = replies(&mut dev, b"status\n");
     // back 405 counts past the index at 5: 2400 - 410 from it
     assert_eq!(field(&status, "angle_deg"), "298.5", "{status}");
     // a turn takes the hand about 2 s: half a second turns 600 counts
-    dev.machine.as_mut().unwrap().ticks_per_line = TICK_HZ as usize / 2;
-    dev.machine.as_mut().unwrap().turn_by_hand(1_200);
+    dev.workshop.as_mut().unwrap().ticks_per_line = TICK_HZ as usize / 2;
+    dev.workshop.as_mut().unwrap().turn_by_hand(1_200);
     let status = replies(&mut dev, b"status\n");
     assert_eq!(field(&status, "angle_deg"), "28.5", "{status}");
 }

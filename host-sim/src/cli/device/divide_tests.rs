@@ -1,9 +1,9 @@
 //! `polyturn device divide` against the real console on a fake board whose
-//! chuck a hand turns (`Machine::turn_by_hand`).
+//! chuck a hand turns (`Workshop::turn_by_hand`).
 
 use super::divide::{divide, large, Look, Readout};
 use super::tests::{session, FakeDevice};
-use polyturn_bench::fakeboard::Machine;
+use polyturn_bench::fakeboard::Workshop;
 use std::io::Write;
 use std::sync::atomic::{AtomicBool, Ordering};
 
@@ -11,9 +11,9 @@ use std::sync::atomic::{AtomicBool, Ordering};
 /// tenth of a second for each `watch` line, none for a command.
 fn board(counts: i64) -> super::session::Session<FakeDevice> {
     let mut dev = FakeDevice::new();
-    let mut m = Machine::new(0);
+    let mut m = Workshop::new(0);
     m.turn_by_hand(counts);
-    dev.machine = Some(m);
+    dev.workshop = Some(m);
     session(dev)
 }
 

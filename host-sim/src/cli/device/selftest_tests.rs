@@ -1,18 +1,18 @@
 //! `polyturn device selftest` against the real console, on a fake board
 //! whose machine plays the firmware's own generator into the lathe input
-//! as the app does (`fake_machine`).
+//! as the app does (`Workshop`).
 
 use super::checks::selftest;
 use super::tests::{session, FakeDevice};
-use polyturn_bench::fakeboard::{ticks_in_ms, Machine};
+use polyturn_bench::fakeboard::{ticks_in_ms, Workshop};
 
 /// A board whose lathe input turns at `counts_per_s` (0: at rest), 1 s of
 /// it passing between lines.
 fn board(counts_per_s: u32) -> super::session::Session<FakeDevice> {
     let mut dev = FakeDevice::new();
-    let mut m = Machine::new(ticks_in_ms(1_000));
+    let mut m = Workshop::new(ticks_in_ms(1_000));
     m.turn_at(counts_per_s);
-    dev.machine = Some(m);
+    dev.workshop = Some(m);
     session(dev)
 }
 

@@ -6,7 +6,7 @@ use super::*;
 use crate::cli::device::prompt::Scripted;
 use crate::cli::device::tests::{session, FakeDevice};
 use clap::Parser;
-use polyturn_bench::fakeboard::{ticks_in_ms, Machine};
+use polyturn_bench::fakeboard::{ticks_in_ms, Workshop};
 use polyturn_sync::Config;
 
 #[derive(Parser)]
@@ -124,10 +124,10 @@ fn hand_turned() -> Session<FakeDevice> {
 /// check's hand still takes 4.4 s).
 fn hand_turned_at(ms: u64) -> Session<FakeDevice> {
     let mut dev = FakeDevice::new();
-    let mut m = Machine::new(ticks_in_ms(ms));
+    let mut m = Workshop::new(ticks_in_ms(ms));
     m.turn_at(2_500);
     (m.cpr, m.turn_for_check, m.check_ticks) = (2_000, true, ticks_in_ms(4_400));
-    dev.machine = Some(m);
+    dev.workshop = Some(m);
     let mut s = session(dev);
     s.timeout = std::time::Duration::from_secs(30);
     s
@@ -153,7 +153,7 @@ fn the_interview_answered_at_once_jogs_and_saves() {
 #[test]
 fn the_non_interactive_setup_saves_at_once_after_its_settings() {
     let mut dev = FakeDevice::new();
-    dev.machine = Some(Machine::new(ticks_in_ms(1)));
+    dev.workshop = Some(Workshop::new(ticks_in_ms(1)));
     let mut s = session(dev);
     s.timeout = std::time::Duration::from_millis(10);
     let a = args("--non-interactive --encoder-lines 1000 --microsteps 8 --max-lathe-rpm 600");

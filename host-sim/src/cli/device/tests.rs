@@ -213,7 +213,7 @@ fn the_board_refuses_a_table_its_x_axis_cannot_follow_with_the_figures() {
 fn a_table_not_saved_now_says_why() {
     let table = octagon_table();
     let mut dev = FakeDevice::new();
-    dev.machine = Some(polyturn_bench::fakeboard::Machine::new(polyturn_bench::fakeboard::ticks_in_ms(10)));
+    dev.workshop = Some(polyturn_bench::fakeboard::Workshop::new(polyturn_bench::fakeboard::ticks_in_ms(10)));
     let mut s = session(dev);
     s.ask("engage").unwrap();
     // the board's own refusal (the host would refuse this table for the
@@ -224,7 +224,7 @@ fn a_table_not_saved_now_says_why() {
         "device: error: stop first: the cam changes only while idle (900 points kept, run upload-cam again to send it)"
     );
     s.ask("stop").unwrap();
-    s.io.machine.as_mut().unwrap().set_lathe_rpm(60.0);
+    s.io.workshop.as_mut().unwrap().set_lathe_rpm(60.0);
     s.ask("status").unwrap();
     let e = send_table(&mut s, &table).unwrap_err().0;
     assert!(

@@ -51,7 +51,7 @@ struct Jumpered {
     cycles: u64,
 }
 
-pub struct Machine {
+pub struct Workshop {
     /// control ticks that pass before each command line is handled
     pub ticks_per_line: usize,
     /// the hand's speed on the chuck, thousandths of a count a tick
@@ -83,9 +83,9 @@ pub struct Machine {
     t: usize,
 }
 
-impl Machine {
-    pub fn new(ticks_per_line: usize) -> Machine {
-        Machine {
+impl Workshop {
+    pub fn new(ticks_per_line: usize) -> Workshop {
+        Workshop {
             ticks_per_line,
             counts_per_tick_x1000: 0,
             cpr: 2400,
