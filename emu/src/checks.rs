@@ -195,7 +195,7 @@ pub fn tick_sample(m: &mut Machine) -> (u64, u64, u64, u64) {
     let c = m.chip();
     (
         c.now,
-        c.entries.get(&crate::probe::tick_exc()).copied().unwrap_or(0),
+        c.entries.get(&crate::chip::probe::tick_exc()).copied().unwrap_or(0),
         c.mcu.tim11_updates(),
         c.probe.tick_uif_clears,
     )
@@ -228,7 +228,7 @@ pub fn safety(r: &mut Report, m: &mut Machine, name: &str, after: Outputs) {
     r.line(ok, name, &text);
 }
 
-/// Report only: the longest PRIMASK sections (see `primask.rs`) and the longest
+/// Report only: the longest PRIMASK sections (see `machine/primask.rs`) and the longest
 /// that hold off the tick (`tickmask.rs`).
 pub fn primask(r: &mut Report, m: &mut Machine) {
     let mhz = m.chip().sysclk() as f64 / 1e6;
@@ -236,7 +236,7 @@ pub fn primask(r: &mut Report, m: &mut Machine) {
     let (tick_longest, tick_ticking, tick_n) = (tm.longest, tm.ticking, tm.sections);
     let log = &m.chip().primask;
     let (longest, ticking, n) = (log.longest, log.ticking, log.sections);
-    let part = |s: crate::primask::Section| {
+    let part = |s: crate::sections::Section| {
         format!(
             "{} cycles, {} on the bound ({:.1} us) from {} ({:#010x})",
             s.cycles,

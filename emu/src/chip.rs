@@ -8,6 +8,8 @@ mod bus;
 mod flashmem;
 mod lines;
 pub mod pins;
+pub mod probe;
+pub mod tape;
 mod usb;
 
 use crate::svd;
@@ -96,7 +98,7 @@ pub struct Chip {
     pub code: Vec<u8>,
     /// times each exception was entered, by number
     pub entries: std::collections::HashMap<usize, u64>,
-    pub probe: crate::probe::Probe,
+    pub probe: crate::chip::probe::Probe,
     /// the flash array's bytes (the machine's), stores waiting to be put right,
     /// erases applied to them, and CPU cycles stalled by flash operations
     pub flash_mem: *mut u8,
@@ -107,11 +109,11 @@ pub struct Chip {
     pub jumpers: Jumpers,
     /// TIM1/TIM9 pin edges already passed through the jumpers
     mcu_edges_seen: usize,
-    pub primask: crate::primask::SectionLog,
+    pub primask: crate::sections::SectionLog,
     /// the sections that hold off the tick (`tickmask`)
-    pub tickmask: crate::primask::SectionLog,
+    pub tickmask: crate::sections::SectionLog,
     /// the tick's inputs and ENABLE, recorded when a job asks (`tape`)
-    pub tape: Option<crate::tape::Tape>,
+    pub tape: Option<crate::chip::tape::Tape>,
     /// until this cycle the tick is held off as a thread-mode section at its
     /// level would hold it (`lines::deliverable`): a job's lost tick
     pub tick_held_until: u64,

@@ -6,10 +6,9 @@
 //! passed to its core is rebuilt from those reads by the firmware's own read
 //! (`edgetime::read::lathe`), and judged against the captures.
 
-use crate::machine::Machine;
-use polyturn_firmware::edgetime::{self, off, read, TIM3, TIM5};
+use polyturn_firmware::edgetime::{off, read, TIM3, TIM5};
 use polyturn_firmware::regs::Bus;
-use polyturn_sync::edges::{EdgeClock, EdgeRegs};
+use polyturn_sync::edges::EdgeRegs;
 
 /// An A rise TIM3 captured: the cycle, TIM3_CCR1 and TIM5's count then.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -61,15 +60,4 @@ impl Bus for Playback<'_> {
         }
     }
     fn delay(&mut self, _: u32) {}
-}
-
-/// The clock the image measured at its start and gave its core (its
-/// `app::tick::EDGE_CLOCK`: the first instant, k0 mod 4 at bit 16, on at
-/// bit 18), and k0 mod 4; `None` if it times no edges.
-pub fn clock(m: &Machine) -> Option<(EdgeClock, u16)> {
-    let v = m.static_u32("5watch10EDGE_CLOCK17h")?;
-    let k0 = (v >> 16 & 3) as u16;
-    let per_tick = edgetime::STAMPS_PER_TICK;
-    let clock = EdgeClock { first_instant: v as u16, stamps_per_tick: per_tick, low_low_odd: k0 & 1 == 1 };
-    (v >> 18 & 1 == 1).then_some((clock, k0))
 }

@@ -203,7 +203,7 @@ pub fn run(image: &Rc<Image>, spec: &Spec) -> Result<Outcome, String> {
     // edge clock from the start, and a lost tick has it measured again; nor
     // where the console changes the phase, which the replay does not follow)
     if !matches!(spec.kind, Kind::EStop { .. } | Kind::LostTick { .. } | Kind::LatePlan { .. } | Kind::Busy) {
-        m.chip().tape = Some(crate::tape::Tape::default());
+        m.chip().tape = Some(crate::chip::tape::Tape::default());
     }
     m.drive(GPIOB, ESTOP, Some(false));
     m.run(100 * MS);
@@ -254,7 +254,7 @@ pub fn run(image: &Rc<Image>, spec: &Spec) -> Result<Outcome, String> {
     let until = m.chip().now;
     press(&mut m, STOP);
     let mut o = outcome(&mut m, spec, &sc.core, wall);
-    let clock = crate::edge_times::clock(&m);
+    let clock = m.edge_clock();
     let c = m.chip();
     if let Some(mut t) = c.tape.take() {
         t.edge_clock = clock.map(|k| k.0);
@@ -289,7 +289,7 @@ impl Outcome {
 fn print_profile(m: &mut Machine) {
     let image = m.image.clone();
     let Some(p) = m.chip().profile.take() else { return };
-    for (what, exc) in [("tick", crate::probe::tick_exc()), ("plan", crate::probe::plan_exc())] {
+    for (what, exc) in [("tick", crate::chip::probe::tick_exc()), ("plan", crate::chip::probe::plan_exc())] {
         if let Some(dir) = std::env::var_os("POLYTURN_EMU_PROFILE") {
             let lines: Vec<String> = p.blocks(exc).iter().map(|b| format!("{:#x} {} {}", b.0, b.1, b.2)).collect();
             let _ = std::fs::write(std::path::Path::new(&dir).join(format!("{what}.blocks")), lines.join("\n"));

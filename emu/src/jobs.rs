@@ -279,7 +279,7 @@ fn budget(r: &mut Report, o: &Outcome) {
     r.line(percent <= CEILING_PERCENT, &format!("budget {}", o.name), &text);
 }
 
-/// The image wrote its edge clock's first instant again (`edge_times::clock`).
+/// The image wrote its edge clock's first instant again (`Machine::edge_clock`).
 fn clock_moved(before: Option<u16>, after: Option<u16>) -> bool {
     before.is_some() && after.is_some() && before != after
 }

@@ -13,6 +13,10 @@
 //! the first block boundary at or after the next model event, where pending
 //! interrupts are taken (`cpu.rs`).
 
+pub mod commands;
+pub mod cpu;
+pub mod primask;
+
 use crate::chip::Chip;
 use crate::image::{Image, FLASH_BASE, FLASH_SIZE};
 use polyturn_stm32_model::addr::{SRAM_BASE, SRAM_SIZE};
@@ -175,7 +179,7 @@ impl Machine {
             };
             let write = move |uc: &mut Unicorn<Chip>, off: u64, size: usize, v: u64| {
                 uc.get_data_mut().write((base + off) as u32, size as u32, v as u32);
-                crate::cpu::after_write(uc);
+                crate::machine::cpu::after_write(uc);
                 if uc.get_data().rom_jump || uc.get_data().remap.is_some() {
                     // stop before the jump's fetch from system memory, or
                     // the next fetch at 0 from the memory it maps there
@@ -187,7 +191,7 @@ impl Machine {
         let mut m = Machine { uc, image, lathe: None, cpr: 2400, params, _flash: flash };
         m.hooks()?;
         if firmware {
-            crate::tape::hooks(&mut m)?;
+            crate::machine::commands::hooks(&mut m)?;
         }
         m.boot();
         Ok(m)
@@ -210,7 +214,7 @@ impl Machine {
             c.begin_block(addr as u32, size);
             c.pc = addr as u32;
         }))?;
-        e(self.uc.add_intr_hook(crate::cpu::interrupt))?;
+        e(self.uc.add_intr_hook(crate::machine::cpu::interrupt))?;
         let image = self.image.clone();
         e(self.uc.add_mem_hook(HookType::MEM_INVALID, 1, 0, move |uc, kind, addr, size, v| {
             let in_flash = (FLASH_BASE as u64..(FLASH_BASE + FLASH_SIZE) as u64).contains(&addr);
@@ -242,7 +246,7 @@ impl Machine {
             }))?;
         }
         self.divide_hooks()?;
-        crate::primask::hooks(self)
+        crate::machine::primask::hooks(self)
     }
 
     /// SDIV/UDIV take 2 to 12 cycles by their operands (`cycles::timing::divide`):
@@ -378,13 +382,28 @@ impl Machine {
         self.uc.mem_read(addr as u64, &mut word).ok().map(|_| u32::from_le_bytes(word))
     }
 
+    /// The clock the image measured at its start and gave its core (its
+    /// `app::tick::watch::EDGE_CLOCK`: the first instant, k0 mod 4 at bit 16, on at
+    /// bit 18), and k0 mod 4; `None` if it times no edges.
+    pub fn edge_clock(&self) -> Option<(polyturn_sync::edges::EdgeClock, u16)> {
+        let v = self.static_u32("5watch10EDGE_CLOCK17h")?;
+        let k0 = (v >> 16 & 3) as u16;
+        let per_tick = polyturn_firmware::edgetime::STAMPS_PER_TICK;
+        let clock = polyturn_sync::edges::EdgeClock {
+            first_instant: v as u16,
+            stamps_per_tick: per_tick,
+            low_low_odd: k0 & 1 == 1,
+        };
+        (v >> 18 & 1 == 1).then_some((clock, k0))
+    }
+
     /// Run `cycles` more CPU cycles (or until a fault).
     pub fn run(&mut self, cycles: u64) {
         let end = self.chip().now + cycles;
         while self.chip().now < end && self.chip().faults.is_empty() {
             self.chip().sync_to_now();
             self.lathe_edges();
-            crate::cpu::take(self);
+            crate::machine::cpu::take(self);
             let now = self.chip().now;
             let lathe = self.lathe.as_mut().and_then(|l| l.next_edge(now + SLICE)).unwrap_or(u64::MAX);
             let c = self.chip();
@@ -426,7 +445,7 @@ impl Machine {
         c.sync_to_now();
         let edges = c.gpio[port].drive(pin, level);
         c.pin_edges(port, edges);
-        crate::cpu::after_write(&mut self.uc);
+        crate::machine::cpu::after_write(&mut self.uc);
     }
 }
 

@@ -1,19 +1,15 @@
 //! Thread-mode sections that hold off the tick: BASEPRI raised to the tick's
 //! level or above (the tick's own lock, `app/tick/shared.rs`'s `locked`), or PRIMASK.
 //! The E-stop, one level above the tick, is held off only by PRIMASK
-//! (`primask.rs`); this is what can delay the tick itself.
+//! (`machine/primask.rs`); this is what can delay the tick itself.
 //!
 //! BASEPRI masks priorities numerically at or above its value when non-zero
 //! (PM0214 §2.1.3); BASEPRI_MAX only ever raises it (writes a value that is
 //! non-zero and more urgent than the current one, or anything over 0).
 
+use crate::chip::probe::TICK_PRIO;
 use crate::chip::Chip;
 use unicorn_engine::{RegisterARM as R, Unicorn};
-
-/// The tick's priority byte as the NVIC holds it (`board::TICK_LEVEL`).
-pub const TICK_PRIO: u32 = (polyturn_firmware::board::TICK_LEVEL as u32) << 4;
-/// The step plan's (`board::PLAN_LEVEL`).
-pub const PLAN_PRIO: u32 = (polyturn_firmware::board::PLAN_LEVEL as u32) << 4;
 
 /// BASEPRI after an `msr` to BASEPRI (`max` false) or BASEPRI_MAX of `value`.
 pub fn next_basepri(current: u32, value: u32, max: bool) -> u32 {
@@ -58,6 +54,7 @@ pub fn change(uc: &mut Unicorn<Chip>, t: (u64, u64), addr: u32, primask: bool, b
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::chip::probe::PLAN_PRIO;
 
     #[test]
     fn basepri_max_only_raises_and_basepri_writes_anything() {

@@ -48,7 +48,7 @@ impl Chip {
             self.fault(format!("read of {addr:#010x}: no model claims it"));
             return 0;
         };
-        crate::probe::on_read(self, word);
+        crate::chip::probe::on_read(self, word);
         self.sync();
         self.bus_wait(word, false);
         let off = word - base;
@@ -119,7 +119,7 @@ impl Chip {
             Periph::Usb => self.usb_write(off, v, m),
             Periph::Ppb => self.nvic.write(off, v, m, self.blk),
         }
-        crate::probe::on_write(self, word, v);
+        crate::chip::probe::on_write(self, word, v);
     }
 
     /// SYSCFG_MEMRMP written (§7.2.1): system memory at 0 means the image is

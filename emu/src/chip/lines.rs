@@ -100,9 +100,9 @@ impl Chip {
         // unless something masks more already
         let bp = basepri & 0xF0;
         let hold = if self.now < self.tick_held_until {
-            crate::tickmask::TICK_PRIO
+            crate::chip::probe::TICK_PRIO
         } else if self.now < self.plan_held_until {
-            crate::tickmask::PLAN_PRIO
+            crate::chip::probe::PLAN_PRIO
         } else {
             0
         };
@@ -123,13 +123,13 @@ mod tests {
     #[test]
     fn a_hold_keeps_the_pending_tick_out_until_its_end() {
         let mut c = Chip::new(Params::default());
-        let tick = crate::probe::tick_exc();
-        c.nvic.prio[tick] = crate::tickmask::TICK_PRIO as u8;
+        let tick = crate::chip::probe::tick_exc();
+        c.nvic.prio[tick] = crate::chip::probe::TICK_PRIO as u8;
         (c.nvic.pending[tick], c.nvic.enabled[tick - 16]) = (true, true);
         assert_eq!(c.deliverable(false, 0), Some(tick), "unheld: taken");
         c.tick_held_until = c.now + 100;
         assert_eq!(c.deliverable(false, 0), None, "held");
-        assert_eq!(c.deliverable(false, crate::tickmask::TICK_PRIO), None, "held, and its lock taken too");
+        assert_eq!(c.deliverable(false, crate::chip::probe::TICK_PRIO), None, "held, and its lock taken too");
         assert_eq!(c.deliverable(true, 0), None, "PRIMASK");
         c.now += 100;
         assert_eq!(c.deliverable(false, 0), Some(tick), "the hold is over");
@@ -139,9 +139,9 @@ mod tests {
     #[test]
     fn a_plan_hold_keeps_the_plan_out_and_lets_the_tick_in() {
         let mut c = Chip::new(Params::default());
-        let (tick, plan) = (crate::probe::tick_exc(), crate::probe::plan_exc());
-        c.nvic.prio[tick] = crate::tickmask::TICK_PRIO as u8;
-        c.nvic.prio[plan] = crate::tickmask::PLAN_PRIO as u8;
+        let (tick, plan) = (crate::chip::probe::tick_exc(), crate::chip::probe::plan_exc());
+        c.nvic.prio[tick] = crate::chip::probe::TICK_PRIO as u8;
+        c.nvic.prio[plan] = crate::chip::probe::PLAN_PRIO as u8;
         (c.nvic.pending[plan], c.nvic.enabled[plan - 16]) = (true, true);
         assert_eq!(c.deliverable(false, 0), Some(plan), "unheld: taken");
         c.plan_held_until = c.now + 100;

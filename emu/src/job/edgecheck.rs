@@ -3,8 +3,8 @@
 //! the first rise has one, and the first tick's instant is the stamp the
 //! image's start measured.
 
+use crate::chip::tape::Tape;
 use crate::edge_times::Capture;
-use crate::tape::Tape;
 
 /// What the check found.
 #[derive(Debug, Default)]
@@ -69,7 +69,7 @@ pub fn judge(tape: &Tape, low_low: Option<u16>) -> EdgeCheck {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::tape::TickSeen;
+    use crate::chip::tape::TickSeen;
     use polyturn_sync::edges::EdgeRegs;
     use polyturn_sync::TickInput;
 

@@ -38,14 +38,14 @@ pub struct Held {
 
 impl Held {
     pub fn judged(self, m: &mut Machine) -> Held {
-        let clock_after = crate::edge_times::clock(m).map(|c| c.0.first_instant);
+        let clock_after = m.edge_clock().map(|c| c.0.first_instant);
         Held { clock_after, led_code: super::estop::flashes(m), ..self }
     }
 }
 
 pub fn hold(m: &mut Machine, at_s: f64, hold_us: u64) -> Held {
     m.run((at_s * 1000.0) as u64 * MS);
-    let clock_before = crate::edge_times::clock(m).map(|c| c.0.first_instant);
+    let clock_before = m.edge_clock().map(|c| c.0.first_instant);
     let c = m.chip();
     let before = c.mcu.tim11_updates();
     c.tick_held_until = c.now + hold_us * (MS / 1000);
@@ -60,7 +60,7 @@ pub fn hold(m: &mut Machine, at_s: f64, hold_us: u64) -> Held {
 pub fn counted(m: &mut Machine) -> Counted {
     let image = m.static_u32("9telemetry10TICKS_LOST17h");
     let c = m.chip();
-    let tick = crate::probe::tick_exc();
+    let tick = crate::chip::probe::tick_exc();
     let entries = c.entries.get(&tick).copied().unwrap_or(0);
     let pending = (c.nvic.pending[tick] && !c.active.contains(&tick)) as u64;
     Counted { image, seen: c.mcu.tim11_updates().saturating_sub(entries + pending) }

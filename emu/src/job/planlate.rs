@@ -50,7 +50,7 @@ pub struct Late {
 
 impl Late {
     pub fn judged(self, m: &mut Machine) -> Late {
-        let clock_after = crate::edge_times::clock(m).map(|c| c.0.first_instant);
+        let clock_after = m.edge_clock().map(|c| c.0.first_instant);
         let lates = lates(m);
         Late { clock_after, lates, led_code: super::estop::flashes(m), ..self }
     }
@@ -63,7 +63,7 @@ pub fn lates(m: &Machine) -> Option<u32> {
 
 pub fn cause(m: &mut Machine, at_s: f64, how: How) -> Late {
     m.run((at_s * 1000.0) as u64 * MS);
-    let clock_before = crate::edge_times::clock(m).map(|c| c.0.first_instant);
+    let clock_before = m.edge_clock().map(|c| c.0.first_instant);
     let c = m.chip();
     (c.probe.edge_at, c.probe.step_timer_stopped) = (Some(c.now), None);
     match how {

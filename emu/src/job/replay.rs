@@ -13,7 +13,7 @@
 //! apart. That is the sampling the edge-timed position is about
 //! (`docs/src/emulator.md`), not a difference of the two builds.
 
-use crate::tape::{Command, Tape};
+use crate::chip::tape::{Command, Tape};
 use polyturn_stm32_model::{Edge, PinId};
 use polyturn_sync::steps::Dir;
 use polyturn_sync::{Config, Controller, Timing};
@@ -153,7 +153,7 @@ fn way(forward: bool) -> &'static str {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::tape::TickSeen;
+    use crate::chip::tape::TickSeen;
     use polyturn_sync::TickInput;
 
     fn edge(cycle: u64, pin: PinId, high: bool) -> Edge {

@@ -7,10 +7,10 @@
 
 use super::{ESTOP, GPIOB, MS};
 use crate::checks::Report;
+use crate::chip::probe::IndexTiming;
 use crate::chip::Jumpers;
 use crate::image::Image;
 use crate::machine::Machine;
-use crate::probe::IndexTiming;
 use crate::usb::scenario::{enumerate_on, exchange};
 use polyturn_stm32_model::Params;
 use std::rc::Rc;

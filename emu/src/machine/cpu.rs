@@ -93,7 +93,7 @@ fn enter(uc: &mut Unicorn<Chip>, exc: usize) -> bool {
     c.nvic.pending[exc] = false;
     c.active.push(exc);
     *c.entries.entry(exc).or_default() += 1;
-    crate::probe::on_enter(c, exc);
+    crate::chip::probe::on_enter(c, exc);
     let vtor = c.nvic.vtor();
     // the entry's cycles: stacking, the vector's read (`clock::exception`)
     let cost = c.meter.enter(vtor + 4 * exc as u32, c.now, c.bound);
@@ -165,6 +165,6 @@ fn exit(uc: &mut Unicorn<Chip>, exc_return: u32) {
     set(uc, R::PC, w[6] | 1);
     // the return's cycles are the meter's, held for the next instruction
     uc.get_data_mut().meter.exit();
-    crate::probe::on_return(uc.get_data_mut(), done);
+    crate::chip::probe::on_return(uc.get_data_mut(), done);
     after_write(uc); // tail-chain: taken at the next block boundary
 }

@@ -3,8 +3,7 @@
 //! it returned. The host's sync core, fed the same inputs, must make the same
 //! step stream (`job::replay`); this records them without touching the image.
 
-use crate::chip::Chip;
-use crate::machine::Machine;
+use super::Chip;
 /// TIM3 (lathe), TIM4 (cutter), TIM2 (steps emitted) and GPIOB_IDR (the
 /// E-stop and the alarm); TIM3's CCR3 (RM0383 §13.4.15) is the lathe count
 /// latched at the index.
@@ -42,7 +41,7 @@ pub enum Command {
 
 /// The controller's methods whose entry is a `Command`, by their (legacy
 /// mangled) symbol's tail: each path segment is length-prefixed.
-const COMMANDS: &[(&str, Command)] =
+pub(crate) const COMMANDS: &[(&str, Command)] =
     &[("6engage17h", Command::Engage), ("9disengage17h", Command::Disengage), ("6rebase17h", Command::Rebase)];
 
 /// The counters the image read before its first tick (`Controller::start`'s
@@ -58,35 +57,10 @@ pub struct Tape {
     pub captures: Vec<crate::edge_times::Capture>,
     /// TIM5's count at TIM11's first update event: the first tick's instant
     pub first_update_stamp: Option<u16>,
-    /// the edge clock the image gave its core (`edge_times::clock`), set at the end
+    /// the edge clock the image gave its core (`Machine::edge_clock`), set at the end
     pub edge_clock: Option<polyturn_sync::edges::EdgeClock>,
     /// ticks whose edge-register reads were not the firmware's read: the first
     pub edge_read_wrong: Option<String>,
-}
-
-/// Hooks the entry of each `COMMANDS` method of the sync core's `Controller`.
-pub fn hooks(m: &mut Machine) -> Result<(), String> {
-    for (tail, cmd) in COMMANDS {
-        let found: Vec<u32> = m
-            .image
-            .symbols
-            .iter()
-            // (not the linker's long-branch thunks to it: flash to SRAM)
-            .filter(|(n, _)| n.contains("Controller$GT$") && n.contains(tail) && !n.starts_with("__"))
-            .map(|(_, &a)| a & !1)
-            .collect();
-        let [a] = found[..] else {
-            return Err(format!("{} functions named like Controller::{}: want one", found.len(), tail));
-        };
-        let cmd = *cmd;
-        m.uc.add_code_hook(a as u64, a as u64, move |uc, _, _| {
-            if let Some(t) = uc.get_data_mut().tape.as_mut() {
-                t.commands.push((t.ticks.len(), cmd));
-            }
-        })
-        .map_err(|e| format!("unicorn: {e:?}"))?;
-    }
-    Ok(())
 }
 
 /// The reads of the tick running now; the first of each is the one

@@ -3,8 +3,8 @@
 //! change fired right after a tick returns, and the step plan's handler (its time,
 //! and a stall inside it).
 
-use crate::chip::pins::Outputs;
-use crate::chip::Chip;
+use super::pins::Outputs;
+use super::Chip;
 use crate::svd;
 use polyturn_stm32_model::addr::{off, TIM11, TIM1_CR1};
 use polyturn_stm32_model::bits::ccmr;
@@ -134,6 +134,11 @@ impl Runs {
         }
     }
 }
+
+/// The tick's priority byte as the NVIC holds it (`board::TICK_LEVEL`).
+pub const TICK_PRIO: u32 = (polyturn_firmware::board::TICK_LEVEL as u32) << 4;
+/// The step plan's (`board::PLAN_LEVEL`).
+pub const PLAN_PRIO: u32 = (polyturn_firmware::board::PLAN_LEVEL as u32) << 4;
 
 pub fn tick_exc() -> usize {
     16 + svd::irq("TIM1_TRG_COM_TIM11")

@@ -8,56 +8,6 @@ use crate::chip::Chip;
 use crate::machine::Machine;
 use unicorn_engine::{RegisterARM as R, Unicorn};
 
-#[derive(Default, Clone, Copy, Debug)]
-pub struct Section {
-    /// CPU cycles, the model's and the bound's
-    pub cycles: u64,
-    pub bound: u64,
-    pub pc: u32,
-    /// the return address when it opened: who called the function that
-    /// opened it (a lock's user)
-    pub caller: u32,
-}
-
-/// Sections of one kind: the one open, and the longest so far (of all, and
-/// of those begun with the tick's interrupt enabled).
-/// An open section: when it began (both clocks), where (pc, caller), and
-/// whether the tick's interrupt was enabled.
-type Open = ((u64, u64), (u32, u32), bool);
-
-#[derive(Default)]
-pub struct SectionLog {
-    since: Option<Open>,
-    pub longest: Section,
-    pub ticking: Section,
-    pub sections: u64,
-}
-
-impl SectionLog {
-    pub fn is_open(&self) -> bool {
-        self.since.is_some()
-    }
-
-    /// A section begins at `t` (the model's and the bound's cycle), at `pc`,
-    /// in a function called from `caller`.
-    pub fn open(&mut self, t: (u64, u64), (pc, caller): (u32, u32), tick_on: bool) {
-        self.since = Some((t, (pc, caller), tick_on));
-    }
-
-    /// The open section (if any) ends at `t`; the longest are the bound's.
-    pub fn close(&mut self, t: (u64, u64)) {
-        let Some((t0, (pc, caller), ticking)) = self.since.take() else { return };
-        let s = Section { cycles: t.0 - t0.0, bound: t.1 - t0.1, pc, caller };
-        self.sections += 1;
-        if s.bound > self.longest.bound {
-            self.longest = s;
-        }
-        if ticking && s.bound > self.ticking.bound {
-            self.ticking = s;
-        }
-    }
-}
-
 pub fn hooks(m: &mut Machine) -> Result<(), String> {
     let ins = &m.image.insns;
     let sites: Vec<(u32, Option<bool>)> = ins
@@ -133,7 +83,7 @@ fn at(uc: &mut Unicorn<Chip>, addr: u32, value: Option<bool>) {
     crate::tickmask::change(uc, t, addr, value, uc.reg_read(R::BASEPRI).unwrap_or(0) as u32);
     let c = uc.get_data();
     let tick_on = c.nvic.enabled[crate::svd::irq("TIM1_TRG_COM_TIM11")];
-    let deliverable = crate::cpu::deliverable(uc, Some(false)).is_some();
+    let deliverable = crate::machine::cpu::deliverable(uc, Some(false)).is_some();
     let lr = uc.reg_read(R::LR).unwrap_or(0) as u32 & !1;
     let c = uc.get_data_mut();
     let log = &mut c.primask;
