@@ -140,6 +140,19 @@ pub struct SimResult {
     pub cut_turns: f64,
 }
 
+/// The simulated board's `max-rpm` for a run at `rpm`: 30 % over it (the
+/// ripple's headroom), at least 60. Times 13 then / 10, not × 1.3: exact for
+/// a whole `rpm`, so `fastest_rpm_within` is its exact inverse.
+pub fn max_rpm_for(rpm: f64) -> u32 {
+    ((rpm * 13.0 / 10.0).ceil() as u32).max(60)
+}
+
+/// The fastest whole lathe speed whose `max_rpm_for` is at most `max_rpm`;
+/// None if even the least (60) is over it.
+pub fn fastest_rpm_within(max_rpm: u32) -> Option<u32> {
+    (max_rpm >= 60).then(|| max_rpm * 10 / 13)
+}
+
 impl Scenario {
     /// The CLI's run: reach `rpm`, cut for `revolutions`, decelerate to rest.
     #[allow(clippy::too_many_arguments)]
@@ -164,7 +177,7 @@ impl Scenario {
             },
             edges: setup.edges as u8,
             drive,
-            max_lathe_rpm: ((rpm * 1.3).ceil() as u32).max(60),
+            max_lathe_rpm: max_rpm_for(rpm),
             following_error_limit_steps: (motor_steps / 50).max(16),
             ..Config::default()
         };

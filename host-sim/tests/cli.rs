@@ -92,7 +92,8 @@ fn simulate_json_carries_the_contract_fields() {
 fn simulate_refuses_a_run_that_would_overspeed_the_motor() {
     let (code, _, err) = polyturn(&format!("simulate {HEX} --rpm 5000 --revolutions 3"));
     assert_eq!(code, 2);
-    assert!(err.starts_with("error: --rpm too fast"), "{err}");
+    assert!(err.starts_with("error: --rpm must be at most 1442 rpm for ratio 2 at 3200 steps a turn"), "{err}");
+    assert!(err.trim_end().ends_with("(got 5000)"), "{err}");
 }
 
 #[test]

@@ -7,9 +7,11 @@ use crate::ratio::{Ratio, RatioError};
 
 pub mod bldc_out;
 pub mod table;
+pub mod together;
 pub use bldc_out::BldcOut;
 use table::*;
 pub use table::{Span, NAMES, SETTINGS};
+pub use together::{Misfit, Rule, SetError};
 
 /// Relative sense of rotation (see the geometry model for the convention:
 /// "same" = both spindles turn the same way seen from the same end).
@@ -159,30 +161,14 @@ impl Config {
         BLDC_TAU.check(self.bldc_tau_ms).map(|_| ())
     }
 
-    /// The limits that join several settings. The error names one of them
-    /// (`with` names the one being set) and says which others take part.
+    /// The limits that join several settings (`together::Rule`). The
+    /// error names one of them (`with` names the one being set) and says
+    /// which others take part.
     fn validate_together(&self) -> Result<(), ConfigError> {
-        // A step period is one pulse high plus as long low.
-        if self.max_step_rate_hz as u64 * 2 * self.step_pulse_ns as u64 > 1_000_000_000 {
-            return Err(range("max-rate", "does not fit with the others: max-rate x 2 x pulse must not exceed 1 s (a step is a pulse high and as long low)"));
+        match Rule::ALL.into_iter().find(|r| !r.holds(self)) {
+            Some(r) => Err(r.error()),
+            None => Ok(()),
         }
-        // The motor must keep up with the lathe at its declared top speed.
-        let need = self.max_lathe_rpm as u64 * self.ratio.num() as u64 * self.motor_steps_per_rev as u64;
-        if need > 60 * self.ratio.den() as u64 * self.max_step_rate_hz as u64 {
-            return Err(range("ratio", "does not fit with the others: max-rpm x ratio x steps/60 must not exceed max-rate (the motor must keep up at the lathe's top speed)"));
-        }
-        if self.start_rate_hz > self.max_step_rate_hz {
-            return Err(range("start-rate", "does not fit with the others: start-rate must not exceed max-rate"));
-        }
-        // A BLDC drive corrected less than once per cutter revolution
-        // cannot hold its phase: at 3 000 rpm a 50 Hz ESC gets one command
-        // per cutter turn.
-        let frame_hz = self.bldc_out.frame_hz(self.pwm_hz) as u64;
-        let cutter_rev_per_min = self.max_lathe_rpm as u64 * self.ratio.num() as u64;
-        if self.drive == DriveKind::Bldc && cutter_rev_per_min > 60 * self.ratio.den() as u64 * frame_hz {
-            return Err(range("bldc-out", bldc_out::RATE));
-        }
-        Ok(())
     }
 
     /// Steps the motor needs per second at `lathe_rpm` (planning, host).
@@ -193,6 +179,28 @@ impl Config {
     /// Applies `set <name> <value>` to a copy; the original is untouched
     /// unless the whole result validates.
     pub fn with(&self, name: &str, value: &str) -> Result<Config, ConfigError> {
+        self.try_with(name, value).map_err(SetError::error)
+    }
+
+    /// `with`, a value that does not fit with the others refused as a
+    /// `Misfit`: the setting, the rule, and the settings it would have
+    /// made, from which the console states the setting's bound.
+    pub fn try_with(&self, name: &str, value: &str) -> Result<Config, SetError> {
+        let c = self.assigned(name, value)?;
+        c.validate_fields()?;
+        // Valid alone but not with the others: name the setting being set,
+        // not the one the check happens to be written for (`set steps
+        // 8000` is too fast because of the steps, as the machinist sees it).
+        // (`assigned` took the name: it is one of `NAMES`)
+        let setting = NAMES.iter().find(|n| **n == name).copied().unwrap_or("name");
+        match Misfit::of(setting, &c) {
+            Some(m) => Err(SetError::Together(m)),
+            None => Ok(c),
+        }
+    }
+
+    /// A copy with `name` set to `value`, parsed but not yet validated.
+    fn assigned(&self, name: &str, value: &str) -> Result<Config, ConfigError> {
         let mut c = *self;
         let num = |s: Span| unsigned(value.trim()).ok_or(s.error());
         match name {
@@ -217,14 +225,6 @@ impl Config {
             "pwm-hz" => c.pwm_hz = num(PWM_HZ)?,
             "bldc-tau" => c.bldc_tau_ms = num(BLDC_TAU)?,
             _ => return Err(range("name", "one of: cpr steps ratio dir edges max-rate max-accel ferror phase drive dir-setup pulse enable max-rpm cutter-cpr lost-steps start-rate bldc-out pwm-hz bldc-tau")),
-        }
-        c.validate_fields()?;
-        // Valid alone but not with the others: name the setting being set,
-        // not the one the check happens to be written for (`set steps
-        // 8000` is too fast because of the steps, as the machinist sees it).
-        if let Err(e) = c.validate_together() {
-            let field = NAMES.iter().find(|n| **n == name).copied().unwrap_or(e.field);
-            return Err(ConfigError { field, ..e });
         }
         Ok(c)
     }

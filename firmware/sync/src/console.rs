@@ -3,13 +3,14 @@
 //! `polyturn device` and by tests. Any bytes get an answer; an error never
 //! changes a setting.
 
-use crate::config::{Config, ConfigError, DriveKind, Sense, NAMES};
+use crate::config::{Config, DriveKind, Misfit, Sense, SetError, NAMES};
 use crate::controller::{Controller, PreparedConfig, Refusal};
 use crate::timing::Timing;
 use core::fmt::Write;
 
 mod checks;
 mod divide;
+mod misfit;
 pub mod number;
 // the self-test's commands, with the rest of the self-test (`crate::selftest`)
 #[path = "selftest/console.rs"]
@@ -75,6 +76,9 @@ pub enum Outcome {
     Text(&'static str),
     Error(&'static str),
     FieldError(&'static str, &'static str),
+    /// a `set` valid alone that does not fit with the others: its bound
+    /// is worked out when the reply is written
+    Misfit(Misfit),
     Value(Config, &'static str),
     All(Config),
     State(&'static str),
@@ -138,7 +142,7 @@ pub struct Prepared {
     /// the settings' generation it was derived from: the lock checks it
     /// still holds (`Controller::config_generation`)
     generation: u32,
-    next: Result<PreparedConfig, ConfigError>,
+    next: Result<PreparedConfig, SetError>,
     /// `selftest start`'s plan (it divides in 128 bits: not under the lock)
     selftest: Option<Result<crate::selftest::Plan, crate::controller::selftest::SelfTestRefusal>>,
     /// the setting a `set` names, as `NAMES` spells it, and whether it is
@@ -156,7 +160,7 @@ pub fn prepare(cmd: &Command<'_>, current: Config, generation: u32, timing: Timi
     };
     let phase = setting == "phase";
     let next = match *cmd {
-        Command::Set(name, value) => current.with(name, value),
+        Command::Set(name, value) => current.try_with(name, value),
         Command::Defaults => Ok(Config::default()),
         Command::SelfTest(SelfTestOp::Start(rpm)) => {
             let p = PreparedConfig::prepare(current, &current, timing);
@@ -175,10 +179,24 @@ pub fn apply(cmd: Command<'_>, ctl: &mut Controller) -> Outcome {
     apply_prepared(cmd, pre.as_ref(), ctl)
 }
 
-fn refused((field, text): (Option<&'static str>, &'static str)) -> Outcome {
-    match field {
-        Some(f) => Outcome::FieldError(f, text),
-        None => Outcome::Error(text),
+/// Why `apply_prepared` installed nothing: said as (field, text), or the
+/// prepared misfit (by reference: it holds a copy of the settings).
+enum NotInstalled<'a> {
+    Said(Option<&'static str>, &'static str),
+    Misfit(&'a Misfit),
+}
+
+impl From<Refusal> for NotInstalled<'_> {
+    fn from(r: Refusal) -> Self {
+        NotInstalled::Said(None, r.describe())
+    }
+}
+
+fn refused(why: NotInstalled<'_>) -> Outcome {
+    match why {
+        NotInstalled::Said(Some(f), text) => Outcome::FieldError(f, text),
+        NotInstalled::Said(None, text) => Outcome::Error(text),
+        NotInstalled::Misfit(m) => Outcome::Misfit(*m),
     }
 }
 
@@ -189,17 +207,20 @@ fn refused((field, text): (Option<&'static str>, &'static str)) -> Outcome {
 pub fn apply_prepared(cmd: Command<'_>, pre: Option<&Prepared>, ctl: &mut Controller) -> Outcome {
     // (the error as (field, text), not an `Outcome`: a small Err keeps
     // the Result small; `Outcome` carries a whole status snapshot)
-    let installed = |ctl: &mut Controller, phase: bool| -> Result<Config, (Option<&'static str>, &'static str)> {
-        let Some(p) = pre else { return Err((None, "internal: command not prepared")) };
+    let installed = |ctl: &mut Controller, phase: bool| -> Result<Config, NotInstalled<'_>> {
+        let Some(p) = pre else { return Err(NotInstalled::Said(None, "internal: command not prepared")) };
         if p.generation != ctl.config_generation() {
-            return Err((None, "the settings changed meanwhile: nothing changed, send it again"));
+            return Err(NotInstalled::Said(None, "the settings changed meanwhile: nothing changed, send it again"));
         }
         if p.next.is_err() {
             // engaged, "stop first" comes before how the value fits
-            ctl.settings_may_change(phase).map_err(|r| (None, r.describe()))?;
+            ctl.settings_may_change(phase)?;
         }
-        let next = p.next.as_ref().map_err(|e| (Some(e.field), e.allowed))?;
-        ctl.install_config(next).map_err(|r| (None, r.describe()))?;
+        let next = p.next.as_ref().map_err(|e| match e {
+            SetError::Alone(e) => NotInstalled::Said(Some(e.field), e.allowed),
+            SetError::Together(m) => NotInstalled::Misfit(m),
+        })?;
+        ctl.install_config(next)?;
         Ok(*next.config())
     };
     match cmd {
@@ -269,6 +290,7 @@ fn action(outcome: &Outcome) -> Action {
         Outcome::Text(_)
         | Outcome::Error(_)
         | Outcome::FieldError(..)
+        | Outcome::Misfit(_)
         | Outcome::Value(..)
         | Outcome::All(_)
         | Outcome::State(_)
@@ -295,6 +317,7 @@ fn write_reply(outcome: &Outcome, out: &mut Reply) {
         Outcome::FieldError(field, allowed) => {
             let _ = write!(out, "error: {field} {allowed}");
         }
+        Outcome::Misfit(m) => misfit::write(m, out),
         Outcome::Value(c, name) => {
             let _ = out.push_str("ok ");
             value_of(c, name, out);
@@ -337,37 +360,45 @@ fn get_all(c: &Config, out: &mut Reply) {
 
 /// Appends `name=value`; false for an unknown name.
 fn value_of(c: &Config, name: &str, out: &mut Reply) -> bool {
-    let _ = match name {
-        "cpr" => write!(out, "cpr={}", c.encoder_counts_per_rev),
-        "steps" => write!(out, "steps={}", c.motor_steps_per_rev),
-        "ratio" => write!(out, "ratio={}", c.ratio),
-        "dir" => write!(out, "dir={}", if c.sense == Sense::Same { "same" } else { "opposite" }),
-        "edges" => write!(out, "edges={}", c.edges),
-        "max-rate" => write!(out, "max-rate={}", c.max_step_rate_hz),
-        "max-accel" => write!(out, "max-accel={}", c.max_accel_steps_per_s2),
-        "ferror" => write!(out, "ferror={}", c.following_error_limit_steps),
+    named(c, name, '=', out)
+}
+
+/// Appends the name, `sep` and the value (`name=value` in `get`, `name
+/// value` in a sentence); false for an unknown name.
+fn named(c: &Config, name: &str, sep: char, out: &mut Reply) -> bool {
+    let Some(name) = NAMES.iter().find(|n| **n == name) else { return false };
+    let _ = write!(out, "{name}{sep}");
+    let _ = match *name {
+        "cpr" => write!(out, "{}", c.encoder_counts_per_rev),
+        "steps" => write!(out, "{}", c.motor_steps_per_rev),
+        "ratio" => write!(out, "{}", c.ratio),
+        "dir" => write!(out, "{}", if c.sense == Sense::Same { "same" } else { "opposite" }),
+        "edges" => write!(out, "{}", c.edges),
+        "max-rate" => write!(out, "{}", c.max_step_rate_hz),
+        "max-accel" => write!(out, "{}", c.max_accel_steps_per_s2),
+        "ferror" => write!(out, "{}", c.following_error_limit_steps),
         "phase" => write_mdeg(out, c.phase_offset_mdeg),
         "drive" => write!(
             out,
-            "drive={}",
+            "{}",
             match c.drive {
                 DriveKind::Stepper => "stepper",
                 DriveKind::Bldc => "bldc",
                 DriveKind::None => "none",
             }
         ),
-        "dir-setup" => write!(out, "dir-setup={}", c.dir_setup_ns),
-        "pulse" => write!(out, "pulse={}", c.step_pulse_ns),
-        "enable" => write!(out, "enable={}", if c.enable_active_high { "high" } else { "low" }),
-        "max-rpm" => write!(out, "max-rpm={}", c.max_lathe_rpm),
-        "cutter-cpr" if c.cutter_encoder_cpr == 0 => write!(out, "cutter-cpr=off"),
-        "cutter-cpr" => write!(out, "cutter-cpr={}", c.cutter_encoder_cpr),
-        "lost-steps" => write!(out, "lost-steps={}", c.lost_step_limit_steps),
-        "start-rate" => write!(out, "start-rate={}", c.start_rate_hz),
-        "bldc-out" => write!(out, "bldc-out={}", c.bldc_out.name()),
-        "pwm-hz" => write!(out, "pwm-hz={}", c.pwm_hz),
-        "bldc-tau" => write!(out, "bldc-tau={}", c.bldc_tau_ms),
-        _ => return false,
+        "dir-setup" => write!(out, "{}", c.dir_setup_ns),
+        "pulse" => write!(out, "{}", c.step_pulse_ns),
+        "enable" => write!(out, "{}", if c.enable_active_high { "high" } else { "low" }),
+        "max-rpm" => write!(out, "{}", c.max_lathe_rpm),
+        "cutter-cpr" if c.cutter_encoder_cpr == 0 => write!(out, "off"),
+        "cutter-cpr" => write!(out, "{}", c.cutter_encoder_cpr),
+        "lost-steps" => write!(out, "{}", c.lost_step_limit_steps),
+        "start-rate" => write!(out, "{}", c.start_rate_hz),
+        "bldc-out" => write!(out, "{}", c.bldc_out.name()),
+        "pwm-hz" => write!(out, "{}", c.pwm_hz),
+        "bldc-tau" => write!(out, "{}", c.bldc_tau_ms),
+        _ => Ok(()),
     };
     true
 }
@@ -375,7 +406,7 @@ fn value_of(c: &Config, name: &str, out: &mut Reply) -> bool {
 fn write_mdeg(out: &mut Reply, mdeg: i32) -> core::fmt::Result {
     let sign = if mdeg < 0 { "-" } else { "" };
     let m = mdeg.unsigned_abs();
-    write!(out, "phase={sign}{}.{:03}", m / 1000, m % 1000)
+    write!(out, "{sign}{}.{:03}", m / 1000, m % 1000)
 }
 
 pub mod tag;

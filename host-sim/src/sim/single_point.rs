@@ -47,7 +47,7 @@ fn controller(sc: &SinglePoint) -> Result<Controller, String> {
     let config = Config {
         encoder_counts_per_rev: t.counts_per_rev,
         drive: DriveKind::None,
-        max_lathe_rpm: ((sc.rpm * 1.3).ceil() as u32).max(60),
+        max_lathe_rpm: super::max_rpm_for(sc.rpm),
         ..Config::default()
     };
     config.validate().map_err(|e| format!("--{} {}", e.field, e.allowed))?;

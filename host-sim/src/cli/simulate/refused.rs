@@ -157,9 +157,7 @@ fn run_down(sc: &Scenario, f: polyturn_sync::Fault) -> String {
 pub fn setting(e: ConfigError, sc: &Scenario, a: &SimulateArgs) -> CliError {
     let c = &sc.core;
     match e.field {
-        "ratio" => CliError::flag("rpm", format!(
-            "too fast for this ratio and motor: the simulated controller allows {} rpm (--rpm + 30 % headroom), which needs {:.0} steps/s; the motor's limit is {} (lower --rpm or --motor-steps)",
-            c.max_lathe_rpm, c.motor_rate_at(c.max_lathe_rpm as f64), c.max_step_rate_hz)),
+        "ratio" => too_fast(c, a.rpm),
         "cpr" => CliError::flag("encoder-cpr", format!("{} (got {})", e.allowed, c.encoder_counts_per_rev)),
         "steps" => CliError::flag("motor-steps", format!("{} (got {})", e.allowed, c.motor_steps_per_rev)),
         // (simulate has no max-rate flag: the figure is the simulated motor's)
@@ -184,6 +182,25 @@ pub fn setting(e: ConfigError, sc: &Scenario, a: &SimulateArgs) -> CliError {
         "pwm-hz" => CliError::flag("pwm-hz", format!("{} (got {})", e.allowed, c.pwm_hz)),
         "bldc-tau" => CliError::flag("bldc-tau", format!("{} (got {})", e.allowed, c.bldc_tau_ms)),
         f => CliError::flag(f, e.allowed),
+    }
+}
+
+/// --rpm past what the motor steps at: the fastest --rpm that works, from
+/// the board's rule (max-rpm x ratio x steps / 60 <= max-rate) and the
+/// 30 % the simulated board's max-rpm adds to --rpm (`max_rpm_for`).
+fn too_fast(c: &polyturn_sync::Config, rpm: f64) -> CliError {
+    let (ratio, steps, rate) = (c.ratio, c.motor_steps_per_rev, c.max_step_rate_hz);
+    let max_rpm = 60 * u64::from(ratio.den()) * u64::from(rate) / (u64::from(ratio.num()) * u64::from(steps));
+    let why = format!("ratio {ratio} at {steps} steps a turn");
+    match crate::sim::fastest_rpm_within(u32::try_from(max_rpm).unwrap_or(u32::MAX)) {
+        Some(fastest) => CliError::flag(
+            "rpm",
+            format!("must be at most {fastest} rpm for {why} (the board's max-rate {rate} steps/s, with 30 % headroom) (got {rpm})"),
+        ),
+        None => CliError::flag(
+            "rpm",
+            format!("cannot be met at any speed: {why} needs more than the board's max-rate {rate} steps/s even at the simulated board's least max-rpm, 60 (lower --motor-steps) (got {rpm})"),
+        ),
     }
 }
 
@@ -262,3 +279,7 @@ fn coarse_encoder(sc: &Scenario) -> Option<String> {
         )
     })
 }
+
+#[cfg(test)]
+#[path = "refused_tests.rs"]
+mod tests;
