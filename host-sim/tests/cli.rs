@@ -306,12 +306,19 @@ fn an_interrupted_write_leaves_no_temporary_behind() {
         let fifo = dir.join("pipe.svg");
         assert!(Command::new("mkfifo").arg(&fifo).status().unwrap().success());
         let line = format!("{OCTAGON} --rpm 12 --table {} --svg {}", dir.join("t.json").display(), fifo.display());
-        let mut child = Command::new(env!("CARGO_BIN_EXE_polyturn"))
-            .args(line.split_whitespace())
-            .stdout(std::process::Stdio::null())
-            .stderr(std::process::Stdio::null())
-            .spawn()
-            .unwrap();
+        let mut cmd = Command::new(env!("CARGO_BIN_EXE_polyturn"));
+        cmd.args(line.split_whitespace()).stdout(std::process::Stdio::null()).stderr(std::process::Stdio::null());
+        // the signal at its default action in the child, as at a terminal:
+        // a test run under nohup (or a CI runner) inherits SIGHUP ignored
+        use std::os::unix::process::CommandExt;
+        // SAFETY: signal(2) is async-signal-safe, as pre_exec requires
+        unsafe {
+            cmd.pre_exec(move || {
+                libc::signal(sig, libc::SIG_DFL);
+                Ok(())
+            });
+        }
+        let mut child = cmd.spawn().unwrap();
         let tmp = dir.join(format!(".t.json.polyturn-{}.tmp", child.id()));
         // the table is staged before the FIFO is opened; the FIFO then waits
         // (10 s) for a reader that never comes
