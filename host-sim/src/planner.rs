@@ -191,14 +191,19 @@ const SCAN_STEP: f64 = 1.02;
 /// tolerance and change slowly with the radius.
 const LONGEST_STEP: f64 = 1.1;
 
+/// The scan's step where there is no estimate, 25 %: a nearly round
+/// section, which `geometry` refuses (the last such step is read again
+/// finely when a section comes out of it).
+const ROUND_STEP: f64 = 1.25;
+
 /// The scan's next step from radius `r`, whose estimate is `est`, the last
 /// being `prev`: as far as the trend between them (linear in ln R1) would
-/// take the deviation half way to the tolerance, from 2 % to 10 %; 10 %
-/// where there is no estimate (a nearly round section). A band the scan
+/// take the deviation half way to the tolerance, from 2 % to 10 %;
+/// [`ROUND_STEP`] where there is no estimate. A band the scan
 /// steps over without a zero crossing is one the deviation reaches
 /// against its trend, within the step.
 fn scan_step(prev: Option<(f64, f64)>, r: f64, est: Option<f64>, tol: f64) -> f64 {
-    let Some(d) = est else { return LONGEST_STEP };
+    let Some(d) = est else { return ROUND_STEP };
     let Some((r0, d0)) = prev else { return SCAN_STEP };
     let room = 0.5 * (d.abs() - tol);
     let slope = ((d - d0) / (r / r0).ln()).abs();
@@ -259,7 +264,7 @@ const ESTIMATE_BINS: usize = 128;
 /// `tol`. The scan reads the estimate from the bottom up, and stops at the
 /// first band `geometry` confirms. Its steps, relative to R1: 2 % where
 /// the flats are near `tol` or their trend is not known; longer, up to
-/// 10 %, where the trend keeps them far from it ([`scan_step`]); 10 %
+/// 10 %, where the trend keeps them far from it ([`scan_step`]); 25 %
 /// where a section has no estimate (nearly round), the last such step read
 /// again at 2 % when a section comes out of it. What it can miss: a band
 /// where the deviation crosses zero is found however narrow (it is
