@@ -1,7 +1,8 @@
 //! The setup planner: every (ratio, edges, direction) that cuts N flats,
 //! with what a machinist needs to choose between them.
 
-use crate::geometry::{Direction, Refusal, Section, Setup, SetupError, LENGTH_MM};
+use crate::geometry::roundness::ROUND_FRACTION;
+use crate::geometry::{Direction, Refusal, Roundness, Section, SectionSummary, Setup, SetupError, LENGTH_MM};
 use polyturn_sync::ratio::gcd;
 use polyturn_sync::Ratio;
 use std::collections::HashMap;
@@ -187,45 +188,216 @@ fn meets(setup: &Setup, r1: f64, tol: f64) -> bool {
     deviation(setup, r1).is_some_and(|d| d.abs() <= tol)
 }
 
-/// The smallest cutter radius, from R2/2 (or just over the depth) up to
-/// [`min_cutter_scan_top`], that `geometry` takes with flats within `tol`,
-/// rounded up to 3 significant figures (a size to make, printed whole).
-/// The one-sector estimate finds it in a fraction of the time where it
-/// agrees with `geometry` (sharp corners); where `geometry` finds its
-/// answer out of `tol`, or it finds none, `geometry`'s own figure is
-/// searched.
-fn min_cutter(setup: &Setup, tol: f64) -> Option<f64> {
-    let estimate = estimated_min_cutter(setup, tol).map(round_up_3).filter(|&r| meets(setup, r, tol));
-    estimate.or_else(|| searched_min_cutter(setup, tol))
+/// The scan's finest step, each radius 2 % over the last: where the
+/// flats are near the tolerance, or their trend is not known.
+const SCAN_STEP: f64 = 1.02;
+
+/// The scan's longest step, 10 %: where the flats are far from the
+/// tolerance and change slowly with the radius.
+const LONGEST_STEP: f64 = 1.1;
+
+/// The scan's step where there is no estimate, 25 %: a nearly round
+/// section, which `geometry` refuses (the last such step is read again
+/// finely when a section comes out of it).
+const ROUND_STEP: f64 = 1.25;
+
+/// The scan's next step from radius `r`, whose estimate is `est`, the last
+/// being `prev`: as far as the trend between them (linear in ln R1) would
+/// take the deviation half way to the tolerance, from 2 % to 10 %;
+/// [`ROUND_STEP`] where there is no estimate. A band the scan
+/// steps over without a zero crossing is one the deviation reaches
+/// against its trend, within the step.
+fn scan_step(prev: Option<(f64, f64)>, r: f64, est: Option<f64>, tol: f64) -> f64 {
+    let Some(d) = est else { return ROUND_STEP };
+    let Some((r0, d0)) = prev else { return SCAN_STEP };
+    let room = 0.5 * (d.abs() - tol);
+    let slope = ((d - d0) / (r / r0).ln()).abs();
+    if room <= 0.0 || (d > 0.0) != (d0 > 0.0) {
+        return SCAN_STEP;
+    }
+    (room / slope).exp().clamp(SCAN_STEP, LONGEST_STEP)
 }
 
-/// The least radius whose one-sector estimate of the flats is within
-/// `tol`: geometric steps, then bisection. Only a guess: `geometry` judges
-/// the section over the whole circle at its own bins, and a round-cornered
-/// section's flats may come out 0.9 mm apart.
-fn estimated_min_cutter(setup: &Setup, tol: f64) -> Option<f64> {
-    let dev = |r1: f64| {
-        let s = Section::ideal_sector(&Setup { cutter_radius_mm: r1, ..*setup }, 128);
-        s.flat_deviation(0).abs()
+/// Where the estimate is within the tolerance but `geometry` is not, the
+/// next radius `geometry` is asked about is at least this much larger (a
+/// long stretch of such radii would otherwise cost a `geometry` each).
+const CHECK_STRIDE: f64 = 1.1;
+
+/// The scan's estimate of the flat deviation with cutter radius `r1`: one
+/// sector at [`ESTIMATE_BINS`] bins, some 20 to 50 times cheaper than
+/// `geometry`'s section. With sharp corners it is `geometry`'s figure to
+/// 0.05 µm (0.2 µm where the flats are 2 mm out; measured for 3 to 12
+/// sides, R2 1 to 100 mm). With round ones each flat's ends are found to
+/// a coarser bin and it comes out mostly smaller, so that it finds the
+/// bands `geometry` has and some it has not, which `geometry` then judges.
+/// None where a flat is narrower than two bins (no chord), or where
+/// `Roundness` finds the section nearly round: `geometry` refuses it.
+fn estimate(setup: &Setup, r1: f64) -> Option<f64> {
+    let setup = Setup { cutter_radius_mm: r1, ..*setup };
+    let section = Section::ideal_sector(&setup, ESTIMATE_BINS);
+    let r = &section.envelope.radius;
+    // what `Roundness` reads, from the one sector every flat repeats
+    let s = SectionSummary {
+        sides: section.sides,
+        inscribed_radius: r.iter().copied().fold(f64::INFINITY, f64::min),
+        circumscribed_radius: r.iter().copied().fold(0.0, f64::max),
+        across_flats: None,
+        flat_deviation: section.flat_deviation(0),
+        corners_sharp: false,
     };
-    let top = min_cutter_scan_top(setup.stock_radius_mm);
-    let mut r = scan_start(setup);
-    let mut prev = r;
-    while dev(r) > tol {
+    // one or two flats are judged by their relief, which the coarser bins
+    // find less of: a margin, so that none `geometry` takes is left out
+    let margin = if section.sides <= 2 { 0.05 } else { 0.0 };
+    let round = Roundness::of(&s, setup.depth_mm).fraction > ROUND_FRACTION + margin;
+    Some(s.flat_deviation).filter(|d| !round && *d != 0.0 && d.is_finite())
+}
+
+/// Bins per flat of [`estimate`]'s sector (`geometry`'s: up to 4096).
+const ESTIMATE_BINS: usize = 128;
+
+/// The smallest cutter radius that `geometry` takes with flats within
+/// `tol`, from just over the depth up to [`min_cutter_scan_top`], rounded
+/// up to 3 significant figures (a size to make, printed whole; more
+/// figures where the band of good radii is narrower than that). Below the
+/// depth `geometry` refuses every radius (`Setup::validate`), and just
+/// over it most sections are refused as nearly round ("too small for this
+/// depth"): the scan starts there, and `geometry` judges each radius.
+///
+/// The flat deviation is not monotonic in the radius: it changes sign (a
+/// small cutter's flats bulge, a larger one's are hollow), so there may be
+/// a band of good cutters far below the radius where it creeps back within
+/// `tol`. The scan reads the estimate from the bottom up, and stops at the
+/// first band `geometry` confirms. Its steps, relative to R1: 2 % where
+/// the flats are near `tol` or their trend is not known; longer, up to
+/// 10 %, where the trend keeps them far from it ([`scan_step`]); 25 %
+/// where a section has no estimate (nearly round), the last such step read
+/// again at 2 % when a section comes out of it. What it can miss: a band
+/// where the deviation crosses zero is found however narrow (it is
+/// bisected for), unless it crosses back within the same step; a band
+/// where it only dips within `tol` is missed if narrower than the step
+/// there, 2 % of R1 near `tol` (0.06 mm at R1 = 3 mm, 0.3 mm at 15 mm);
+/// and where the estimate is within `tol` and `geometry` is not (round
+/// corners), a band of `geometry`'s narrower than 10 % ([`CHECK_STRIDE`]).
+fn min_cutter(setup: &Setup, tol: f64) -> Option<f64> {
+    let (bottom, top) = (scan_bottom(setup), min_cutter_scan_top(setup.stock_radius_mm));
+    let mut scan = Scan { bottom, top, last: bottom, prev: None, next_check: bottom, fine_until: bottom };
+    let mut r = bottom;
+    loop {
+        let est = estimate(setup, r);
+        if est.is_some() && scan.prev.is_none() && r > scan.fine_until && r > scan.last * SCAN_STEP * (1.0 + 1e-9) {
+            // out of a stretch with no estimate by a long step: read the
+            // step again finely, in case a band starts where it ends
+            scan.fine_until = r;
+            r = scan.last * SCAN_STEP;
+            continue;
+        }
+        if let Some(found) = scan.band(setup, tol, r, est) {
+            return Some(found);
+        }
         if r >= top {
             return None;
         }
-        prev = r;
-        r = (r * 1.25).min(top);
+        let step = if r < scan.fine_until { SCAN_STEP } else { scan_step(scan.prev, r, est, tol) };
+        (scan.last, scan.prev) = (r, est.map(|e| (r, e)));
+        r = (r * step).min(top);
     }
-    Some(bisect(prev, r, 20, |mid| dev(mid) <= tol))
 }
 
-/// The first radius either scan tries: R2/2, but no smaller than the depth
-/// (a cutter whose radius does not exceed it would have its axis inside
-/// the bar, `Setup::validate`) nor than `geometry` takes.
-fn scan_start(setup: &Setup) -> f64 {
-    (setup.stock_radius_mm * 0.5).max(setup.depth_mm * 1.01).max(LENGTH_MM.0)
+/// Where [`min_cutter`]'s scan is.
+struct Scan {
+    bottom: f64,
+    top: f64,
+    /// the radius it read last
+    last: f64,
+    /// that radius and its estimate, where it has one
+    prev: Option<(f64, f64)>,
+    /// where the estimate is within the tolerance and `geometry` was not,
+    /// the least radius it asks `geometry` about again
+    next_check: f64,
+    /// where it reads a stretch again finely, up to where
+    fine_until: f64,
+}
+
+impl Scan {
+    /// The smallest cutter `geometry` takes in the band the estimate finds
+    /// between the last radius and `r` (whose estimate is `est`), if any.
+    fn band(&mut self, setup: &Setup, tol: f64, r: f64, est: Option<f64>) -> Option<f64> {
+        let (lo, bottom) = (self.last, self.bottom);
+        match (est, self.prev) {
+            (Some(e), _) if e.abs() <= tol && (r >= self.next_check || entering(self.prev, tol)) => {
+                let within = match entering(self.prev, tol) {
+                    true => least(setup, tol, lo, r, bottom),
+                    false => meets(setup, r, tol).then(|| least_taken(setup, tol, lo, r, bottom)),
+                };
+                self.next_check = (r * CHECK_STRIDE).min(self.top);
+                within
+            }
+            (Some(e), Some((lo, d_lo))) if (e > 0.0) != (d_lo > 0.0) => {
+                crossing(setup, lo, d_lo, r, tol).and_then(|x| {
+                    least(setup, tol, lo, x, bottom).or_else(|| {
+                        geometry_crossing(setup, lo, r, tol).map(|g| least_taken(setup, tol, lo, g, bottom))
+                    })
+                })
+            }
+            _ => None,
+        }
+    }
+}
+
+/// Whether the estimate was out of `tol` (or none) at the last radius.
+fn entering(prev: Option<(f64, f64)>, tol: f64) -> bool {
+    prev.is_none_or(|(_, d)| d.abs() > tol)
+}
+
+/// The first radius the scan tries: just over the depth (a cutter whose
+/// radius does not exceed it would have its axis inside the bar,
+/// `Setup::validate`), and no smaller than `geometry` takes.
+fn scan_bottom(setup: &Setup) -> f64 {
+    (setup.depth_mm * 1.001).max(LENGTH_MM.0)
+}
+
+/// The least radius in (`lo`, `hi`] that `geometry` takes within `tol`,
+/// where the estimate is within it at `hi` and not at `lo`, rounded up to
+/// 3 figures; None if `geometry` does not take `hi`. The estimate's edge
+/// first, rounded: where `geometry` takes it and not the 3-figure size
+/// under it (the estimate near its figure), two of `geometry`'s sections
+/// tell it.
+fn least(setup: &Setup, tol: f64, lo: f64, hi: f64, bottom: f64) -> Option<f64> {
+    let within = |r: f64| estimate(setup, r).is_some_and(|d| d.abs() <= tol);
+    let edge = round_up_3(bisect(lo, hi, 12, within));
+    if !meets(setup, edge, tol) {
+        // `geometry`'s edge is over the estimate's
+        return meets(setup, hi, tol).then(|| least_taken(setup, tol, edge, hi, bottom));
+    }
+    let mut size = edge;
+    for _ in 0..3 {
+        let under = round_down_3(size);
+        if !meets(setup, under, tol) {
+            return Some(size);
+        }
+        size = under;
+    }
+    Some(least_taken(setup, tol, lo.min(size), size, bottom))
+}
+
+/// The least radius `geometry` takes within `tol` below `hi`, which it
+/// takes, down to `bottom`, by `geometry`'s figure alone: stepped down
+/// while the radius `lo` under it is taken too, then bisected; rounded up
+/// to 3 figures where that is still taken, else to as many as it needs.
+fn least_taken(setup: &Setup, tol: f64, mut lo: f64, mut hi: f64, bottom: f64) -> f64 {
+    let r = loop {
+        if !meets(setup, lo, tol) {
+            // 7 halvings of a 2 % step: 0.02 %, inside the rounding (0.1 %
+            // at least); of a 10 % one, 0.08 %
+            break bisect(lo, hi, 7, |mid| meets(setup, mid, tol));
+        }
+        if lo <= bottom {
+            break lo;
+        }
+        hi = lo;
+        lo = (lo / SCAN_STEP).max(bottom);
+    };
+    (3..=6).map(|figures| round_up(r, figures)).find(|&size| meets(setup, size, tol)).unwrap_or(r)
 }
 
 /// The least radius in (`lo`, `hi`] that `ok` takes, to `halvings`
@@ -242,51 +414,30 @@ fn bisect(mut lo: f64, mut hi: f64, halvings: u32, ok: impl Fn(f64) -> bool) -> 
     hi
 }
 
-/// [`min_cutter`] on `geometry`'s figure:
-/// geometric steps, then bisection between the last that fails and the
-/// first that meets it, then rounded up. The deviation need not fall
-/// monotonically with the radius: where it changes sign between two steps,
-/// the radii between are searched for one within `tol`; and each answer
-/// is checked as given, one that fails once rounded being given unrounded.
-fn searched_min_cutter(setup: &Setup, tol: f64) -> Option<f64> {
-    let top = min_cutter_scan_top(setup.stock_radius_mm);
-    let mut r = scan_start(setup);
-    let mut failed: Option<(f64, Option<f64>)> = None;
-    loop {
-        let dev = deviation(setup, r);
-        if dev.is_some_and(|d| d.abs() <= tol) {
-            break;
-        }
-        let sign_change = match (failed, dev) {
-            (Some((lo, Some(d0))), Some(d1)) if (d0 > 0.0) != (d1 > 0.0) => crossing(setup, lo, d0, r, tol),
-            _ => None,
-        };
-        if let Some(x) = sign_change {
-            r = x;
-            break;
-        }
-        if r >= top {
-            return None;
-        }
-        failed = Some((r, dev));
-        r = (r * 1.5).min(top);
-    }
-    if let Some((lo, _)) = failed {
-        // 9 halvings of a 50 % step: 0.1 %, inside the rounding
-        r = bisect(lo, r, 9, |mid| meets(setup, mid, tol));
-    }
-    let rounded = round_up_3(r);
-    Some(if meets(setup, rounded, tol) { rounded } else { r })
+/// A radius between `lo` (estimate `d_lo`, out of `tol`) and `hi` (out of
+/// it on the other side) where the estimate is within `tol`: its zero
+/// crossing, bisected for on its sign; None where it jumps across zero.
+fn crossing(setup: &Setup, lo: f64, d_lo: f64, hi: f64, tol: f64) -> Option<f64> {
+    zero_crossing(lo, d_lo, hi, tol, |r| estimate(setup, r))
 }
 
-/// A radius between `lo` (deviation `d_lo`, out of `tol`) and `hi` (out of
-/// it on the other side) whose deviation is within `tol`, by bisection on
-/// the sign; None if `geometry` refuses one on the way or none is found.
-fn crossing(setup: &Setup, mut lo: f64, d_lo: f64, mut hi: f64, tol: f64) -> Option<f64> {
-    // 16 halvings of a 50 % step: 8 ppm of the radius
-    for _ in 0..16 {
+/// Where the estimate crosses zero between `lo` and `hi` but `geometry`
+/// does not take its crossing: `geometry`'s own, if its deviation changes
+/// sign there too, and it takes that.
+fn geometry_crossing(setup: &Setup, lo: f64, hi: f64, tol: f64) -> Option<f64> {
+    let d_lo = deviation(setup, lo)?;
+    deviation(setup, hi).filter(|d| (*d > 0.0) != (d_lo > 0.0))?;
+    zero_crossing(lo, d_lo, hi, tol, |r| deviation(setup, r)).filter(|&x| meets(setup, x, tol))
+}
+
+/// A radius in (`lo`, `hi`) where `dev` is within `tol`, bisected for on
+/// its sign from `lo` (where it is `d_lo`); None if `dev` has none there
+/// on the way.
+fn zero_crossing(mut lo: f64, d_lo: f64, mut hi: f64, tol: f64, dev: impl Fn(f64) -> Option<f64>) -> Option<f64> {
+    // 24 halvings of a 2 % step: 1e-9 of the radius
+    for _ in 0..24 {
         let mid = 0.5 * (lo + hi);
-        let d = deviation(setup, mid)?;
+        let d = dev(mid)?;
         if d.abs() <= tol {
             return Some(mid);
         }
@@ -299,12 +450,27 @@ fn crossing(setup: &Setup, mut lo: f64, d_lo: f64, mut hi: f64, tol: f64) -> Opt
     None
 }
 
+/// The 3-figure size under `r`, itself of 3 figures: 12.6 under 12.7,
+/// 99.9 under 100.
+fn round_down_3(r: f64) -> f64 {
+    let magnitude = (r * (1.0 - 1e-12)).log10().floor() as i32;
+    let decimals = (2 - magnitude).max(0) as usize;
+    format!("{:.decimals$}", r - 10f64.powi(magnitude - 2)).parse().unwrap_or(r)
+}
+
 /// `r` rounded up to 3 significant figures, as the nearest float to its
 /// decimal (so it prints as those figures).
 fn round_up_3(r: f64) -> f64 {
-    let unit = 10f64.powi(r.log10().floor() as i32 - 2);
+    round_up(r, 3)
+}
+
+/// `r` rounded up to `figures` significant figures, as the nearest float
+/// to its decimal.
+fn round_up(r: f64, figures: i32) -> f64 {
+    let magnitude = r.log10().floor() as i32;
+    let unit = 10f64.powi(magnitude - (figures - 1));
     let up = (r / unit).ceil() * unit;
-    let decimals = (2 - r.log10().floor() as i32).max(0) as usize;
+    let decimals = (figures - 1 - magnitude).max(0) as usize;
     format!("{up:.decimals$}").parse().unwrap_or(r).max(r)
 }
 

@@ -126,3 +126,41 @@ fn for_any_request_the_rows_and_the_smallest_cutters_agree_with_geometry() {
         prop_assert!(out.is_empty(), "{line}: {out:#?}");
     });
 }
+
+/// The flat deviation changes sign as the cutter grows: convex with a
+/// small cutter, concave with a larger one. The smallest cutter is in the
+/// band where it crosses zero, however far below half the stock radius,
+/// not where it creeps back within the tolerance at a cutter no lathe
+/// swings.
+#[test]
+fn the_smallest_cutter_is_in_the_band_where_the_flats_cross_from_convex_to_concave() {
+    let mut bad = Vec::new();
+    for (line, ratio, edges, direction, band) in [
+        ("setups --sides 8 --stock-diameter 50 --depth 2 --max-edges 12", "8/3", 3, "same", (12.6, 13.5)),
+        ("setups --sides 6 --stock-diameter 20 --depth 1.5 --max-edges 12", "3", 2, "same", (2.84, 2.99)),
+        ("setups --sides 4 --stock-diameter 20 --depth 1 --max-edges 12", "4", 1, "same", (1.22, 1.25)),
+        // a band 0.01 mm wide: given to the figures it needs
+        ("setups --sides 8 --stock-diameter 50 --depth 2 --max-edges 12", "4", 2, "same", (3.08, 3.09)),
+    ] {
+        let v = json(line);
+        let row = v["setups"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .find(|r| r["ratio"] == ratio && r["edges"] == edges && r["direction"] == direction)
+            .unwrap_or_else(|| panic!("{line}: no {ratio} x {edges} {direction} row"));
+        let r = row["min_cutter_radius"].as_f64();
+        if !r.is_some_and(|r| band.0 <= r && r <= band.1) {
+            bad.push(format!("{line}: {ratio} x {edges} {direction}: {r:?}, want {band:?}"));
+            continue;
+        }
+        if row["warnings"].to_string().contains("smallest cutter") {
+            bad.push(format!("{line}: {row}"));
+        }
+        let g = geometry(line, row, &r.unwrap().to_string()).unwrap();
+        if !g["flat_deviation"].as_f64().is_some_and(|d| d.abs() <= 0.01) {
+            bad.push(format!("{line}: at {r:?} geometry finds {}", g["flat_deviation"]));
+        }
+    }
+    assert!(bad.is_empty(), "{bad:#?}");
+}
