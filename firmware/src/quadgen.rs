@@ -38,7 +38,7 @@
 //!
 //! `LATENCY_MAX` = 7 500 cycles is the emulator's bound on the real image
 //! (`bash .ci/emu`, its `selftest … index latency` lines, which fail above
-//! it) with about 20 % to spare: 6 050 cycles at 300 rpm and 6 129 at the
+//! it) with about 20 % to spare: 6 028 cycles at 300 rpm and 6 085 at the
 //! top speed, the tick and its plan running. The interrupt sits below the tick (level 1; the E-stop, above
 //! it, is 0, and the tick's step plan below it, 2): at level 3 it waits
 //! for the E-stop's handler, the tick and its plan, the longest section
