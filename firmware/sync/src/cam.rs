@@ -35,6 +35,10 @@ pub struct Cam {
 
 const _: () = assert!(CAM_POINTS == 1024, "CamError::describe names 1024 points");
 
+/// Neighbouring points must be less than this apart: |b − a| < 2^23 keeps
+/// (b − a) · (Q24 fraction) inside i64.
+pub const STEP_SPAN: i64 = 1 << 23;
+
 impl CamError {
     pub fn describe(self) -> &'static str {
         match self {
@@ -61,12 +65,18 @@ impl Cam {
         if (period as usize) < points.len() {
             return Err(CamError::Period);
         }
-        // |b − a| < 2^23 keeps (b − a) · (Q24 fraction) inside i64.
-        let wraps = points.iter().zip(points.iter().cycle().skip(1));
-        if wraps.take(points.len()).any(|(a, b)| (*b as i64 - *a as i64).abs() >= 1 << 23) {
-            return Err(CamError::Step);
+        match Cam::wide_step(points) {
+            Some(_) => Err(CamError::Step),
+            None => Ok(()),
         }
-        Ok(())
+    }
+
+    /// The first point `i` whose step to the next (point 0 after the last:
+    /// the table repeats) is `STEP_SPAN` or more, which the interpolation
+    /// cannot take; None if every step is shorter.
+    pub fn wide_step(points: &[i32]) -> Option<usize> {
+        let n = points.len();
+        (0..n).find(|&i| (points[(i + 1) % n] as i64 - points[i] as i64).abs() >= STEP_SPAN)
     }
 
     /// Moves to an absolute lathe count (low priority: divides).

@@ -142,22 +142,17 @@ fn axis_and_period(table: &CamFile) -> Result<(), String> {
 }
 
 /// The first two neighbouring points (the last and the first too: the
-/// table repeats) the board's interpolation cannot span, named with their
-/// values: `Cam::check`'s rule, which tells no index.
+/// table repeats) the board's interpolation cannot span (`Cam::wide_step`,
+/// which `Cam::check` refuses with no index), named with their values.
 fn neighbours(points: &[i32]) -> Result<(), String> {
-    const SPAN: i64 = 1 << 23;
-    let n = points.len();
-    for i in 0..n {
-        let j = (i + 1) % n;
-        let (a, b) = (points[i], points[j]);
-        if (i64::from(b) - i64::from(a)).abs() >= SPAN {
-            let wrap = if j == 0 { " (the last and the first: the table repeats)" } else { "" };
-            return Err(format!(
-                "points[{i}] and points[{j}] must be less than {SPAN} (2^23) steps apart, the board's interpolation's range{wrap} (got {a} and {b})"
-            ));
-        }
-    }
-    Ok(())
+    use polyturn_sync::cam::{Cam, STEP_SPAN};
+    let Some(i) = Cam::wide_step(points) else { return Ok(()) };
+    let j = (i + 1) % points.len();
+    let wrap = if j == 0 { " (the last and the first: the table repeats)" } else { "" };
+    Err(format!(
+        "points[{i}] and points[{j}] must be less than {STEP_SPAN} (2^23) steps apart, the board's interpolation's range{wrap} (got {} and {})",
+        points[i], points[j]
+    ))
 }
 
 /// A compensating table's cutter as the console takes its settings: a
