@@ -113,11 +113,12 @@ impl Ratio {
 }
 
 /// A term as the console's other numbers are written (`console::number`):
-/// no sign, no leading zero.
+/// no sign, no leading zero. A whole number past 64 bits is one too large,
+/// not one mistyped.
 fn parse_uint(s: &str) -> Result<u64, RatioError> {
     let s = s.trim();
-    match digits(s).filter(|d| d.len() <= 12) {
-        Some(d) => d.parse::<u64>().map_err(|_| RatioError::Syntax),
+    match digits(s) {
+        Some(d) => d.parse::<u64>().map_err(|_| RatioError::TooLarge),
         None if s.starts_with('-') => Err(RatioError::NotPositive),
         None => Err(RatioError::Syntax),
     }
@@ -132,7 +133,8 @@ fn parse_decimal(whole: &str, frac: &str) -> Result<Ratio, RatioError> {
     let w = parse_uint(whole)?;
     let f = frac.bytes().fold(0, |f, b| f * 10 + u64::from(b - b'0'));
     let scale = 10u64.pow(frac.len() as u32);
-    Ratio::new(w * scale + f, scale)
+    let num = w.checked_mul(scale).and_then(|n| n.checked_add(f)).ok_or(RatioError::TooLarge)?;
+    Ratio::new(num, scale)
 }
 
 impl core::fmt::Display for Ratio {

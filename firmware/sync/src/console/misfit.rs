@@ -29,27 +29,47 @@ pub(super) fn write(m: &Misfit, out: &mut Reply) {
 }
 
 /// A whole-number setting's bound rounded inwards (the largest or least
-/// value that fits), the ratio's as a ratio the console takes where it is
-/// one (`5/2`), else as a decimal.
+/// value that fits), the ratio's as the largest ratio the console takes
+/// within it: what can be typed.
 fn write_bound(setting: &str, b: Bound, out: &mut Reply) {
     let _ = match setting {
-        "ratio" => write_ratio(b.num, b.den, out),
+        "ratio" if b.at_most => write_ratio(b.num, b.den, out),
         _ if b.at_most => write!(out, "{}", b.num / b.den),
         _ => write!(out, "{}", b.num.div_ceil(b.den)),
     };
 }
 
-/// `n/d` reduced, or, where its terms are past what `set ratio` takes, as
-/// a decimal: `2.501`, or 4 decimals rounded down and `...` if more follow.
+/// The largest ratio `set ratio` takes (terms at most 1000) at or below
+/// `n/d`: `5/2`, `998/333`; as a decimal if even 1/1000 is above it.
 fn write_ratio(n: u64, d: u64, out: &mut Reply) -> core::fmt::Result {
-    let g = gcd(n, d);
-    let (n, d) = (n / g, d / g);
-    if d == 1 {
-        return write!(out, "{n}");
+    match largest_at_most(n, d) {
+        Some((p, 1)) => write!(out, "{p}"),
+        Some((p, q)) => write!(out, "{p}/{q}"),
+        None => write_decimal(n, d, out),
     }
-    if n <= RATIO_MAX_TERM as u64 && d <= RATIO_MAX_TERM as u64 {
-        return write!(out, "{n}/{d}");
+}
+
+/// The largest p/q ≤ n/d with 1 ≤ p, q ≤ 1000, in lowest terms (the first
+/// denominator to reach a value is its least): for each denominator the
+/// largest numerator that fits. In the reply's writing, outside the tick's
+/// lock.
+fn largest_at_most(n: u64, d: u64) -> Option<(u64, u64)> {
+    let most = RATIO_MAX_TERM as u64;
+    let mut best: Option<(u64, u64)> = None;
+    for q in 1..=most {
+        let p = (n as u128 * q as u128 / d.max(1) as u128).min(most as u128) as u64;
+        if p > 0 && best.is_none_or(|(bp, bq)| p * bq > bp * q) {
+            best = Some((p, q));
+        }
     }
+    best
+}
+
+/// `n/d` as a decimal: `0.0005`, or 4 decimals rounded down and `...` if
+/// more follow.
+fn write_decimal(n: u64, d: u64, out: &mut Reply) -> core::fmt::Result {
+    let g = gcd(n, d).max(1);
+    let (n, d) = (n / g, (d / g).max(1));
     write!(out, "{}.", n / d)?;
     let mut rest = n % d;
     for _ in 0..4 {

@@ -48,30 +48,44 @@ fn a_ratio_too_fast_for_the_motor_is_refused_with_the_largest_ratio_and_the_othe
     refused_at(&[], "ratio", "3", &reply, "5/2", "501/200");
 }
 
+/// The largest ratio `set ratio` takes at or below `n/d`, by brute force
+/// over every pair of terms (written apart from the console's search).
+fn largest_typed(n: u64, d: u64) -> (u64, u64) {
+    let mut best = (0, 1);
+    for q in 1..=1000u64 {
+        for p in 1..=1000u64 {
+            if p * d <= n * q && p * best.1 > best.0 * q {
+                best = (p, q);
+            }
+        }
+    }
+    best
+}
+
 #[test]
-fn a_ratio_bound_no_ratio_the_board_takes_can_state_is_given_as_a_decimal() {
-    // 60 x 200 000 / (1 500 x 3 201) = 8000/3201 = 2.49921...
-    let mut c = board(&["set steps 3201"]);
-    let reply = say(&mut c, "set ratio 3");
-    assert!(reply.starts_with("error: ratio must be at most 2.4992... with max-rpm 1500, steps 3201 and"), "{reply}");
+fn a_ratio_bound_the_board_cannot_state_is_given_as_the_largest_ratio_it_takes() {
+    // (settings, the rule's bound on the ratio as n/d)
+    for (settings, n, d) in [
+        // 60 x 200 000 / (1 500 x 3 201) = 8000/3201 = 2.49921...
+        (&["set steps 3201"][..], 8000, 3201),
+        // 60 x 200 000 / (997 x 3 000) = 4.0120...
+        (&["set steps 3000", "set ratio 11/7", "set max-rpm 997"][..], 12_000_000, 2_991_000),
+        // 60 x 200 000 / (1 001 x 4 000) = 2.9970...
+        (&["set steps 4000", "set ratio 1", "set max-rpm 1001"][..], 12_000_000, 4_004_000),
+        // 60 x 2 501 / (1 x 60 000) = 2501/1000: stated as it is
+        (&["set ratio 1", "set max-rpm 1", "set steps 60000", "set max-rate 2501"][..], 150_060, 60_000),
+    ] {
+        let (p, q) = largest_typed(n, d);
+        let bound = if q == 1 { std::format!("{p}") } else { std::format!("{p}/{q}") };
+        let mut c = board(settings);
+        let reply = say(&mut c, "set ratio 1000");
+        assert!(reply.starts_with(&std::format!("error: ratio must be at most {bound} with ")), "{reply}");
+        assert_eq!(say(&mut c, &std::format!("set ratio {bound}")), std::format!("ok ratio={bound}"), "{settings:?}");
+    }
     // 60 x 200 000 / (1 500 x 1 600) = 5, a whole ratio
     let mut c = board(&["set steps 1600"]);
     assert!(say(&mut c, "set ratio 6").starts_with("error: ratio must be at most 5 with max-rpm 1500, steps 1600 and"));
     assert_eq!(say(&mut c, "set ratio 5"), "ok ratio=5");
-    // 60 x 2 501 / (1 x 60 000) = 2501/1000 = 2.501: no trailing zero
-    let mut c = board(&["set ratio 1", "set max-rpm 1", "set steps 60000", "set max-rate 2501"]);
-    let reply = say(&mut c, "set ratio 3");
-    assert!(
-        reply.starts_with("error: ratio must be at most 2.501 with max-rpm 1, steps 60000 and max-rate 2501 ("),
-        "{reply}"
-    );
-    // 60 x 1 251 / (1 x 75 000) = 1251/1250 = 1.0008 exactly: no ...
-    let mut c = board(&["set ratio 1", "set max-rpm 1", "set steps 75000", "set max-rate 1251"]);
-    let reply = say(&mut c, "set ratio 2");
-    assert!(
-        reply.starts_with("error: ratio must be at most 1.0008 with max-rpm 1, steps 75000 and max-rate 1251 ("),
-        "{reply}"
-    );
 }
 
 /// A ratio bound whose terms are at the most `set ratio` takes, 1000, is
@@ -219,7 +233,7 @@ fn the_longest_refusal_fits_a_reply_line() {
         ratio: crate::Ratio::new(999, 997).unwrap(),
         motor_steps_per_rev: 999_999,
         max_step_rate_hz: 249_999,
-        step_pulse_ns: 99_999,
+        step_pulse_ns: 9_999,
         start_rate_hz: 249_999,
         bldc_out: crate::config::BldcOut::OneShot125,
         drive: crate::DriveKind::Bldc,

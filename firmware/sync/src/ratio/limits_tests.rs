@@ -1,5 +1,6 @@
-//! The parser's limits: terms of at most 12 digits (so no product of two
-//! can overflow 64 bits), at most 6 decimals, and the value shown back.
+//! The parser's limits: terms within 64 bits (a longer one, or a decimal
+//! whose scaled value is not, is too large), at most 6 decimals, and the
+//! value shown back.
 
 use super::*;
 
@@ -11,14 +12,14 @@ fn terms_of_twelve_digits_are_read_and_reduced() {
 }
 
 #[test]
-fn a_term_of_more_than_twelve_digits_is_refused_as_syntax() {
-    // valid after reduction, but too long to read
-    assert_eq!(Ratio::parse("1000000000000/1000000000000"), Err(RatioError::Syntax));
-    assert_eq!(Ratio::parse("3/1000000000000"), Err(RatioError::Syntax));
+fn long_terms_are_reduced_and_past_64_bits_are_too_large() {
+    // valid after reduction, however long
+    assert_eq!(Ratio::parse("1000000000000/1000000000000"), Ok(Ratio::new(1, 1).unwrap()));
+    assert_eq!(Ratio::parse("3/1000000000000"), Err(RatioError::TooLarge));
+    assert_eq!(Ratio::parse("1000000000000000000"), Err(RatioError::TooLarge));
     // 19 digits fit a u64, but times 10^6 for the decimals they would not
-    assert_eq!(Ratio::parse("1000000000000000000"), Err(RatioError::Syntax));
-    assert_eq!(Ratio::parse("1000000000000000000.5"), Err(RatioError::Syntax));
-    assert_eq!(Ratio::parse("9999999999999999999.999999"), Err(RatioError::Syntax));
+    assert_eq!(Ratio::parse("1000000000000000000.5"), Err(RatioError::TooLarge));
+    assert_eq!(Ratio::parse("9999999999999999999.999999"), Err(RatioError::TooLarge));
     assert_eq!(Ratio::parse("1.5/1"), Err(RatioError::Syntax));
 }
 

@@ -50,3 +50,19 @@ fn one_separator_only_and_not_both() {
 fn the_syntax_refusal_names_both_separators() {
     assert_eq!(RatioError::Syntax.describe(), "must be an integer, p/q, p:q or a decimal like 2.5 (up to 6 decimals)");
 }
+
+/// A whole number too large for any setting is told the range, however
+/// many digits it has, not that it is no number; a decimal's too.
+#[test]
+fn a_huge_whole_number_is_told_the_range_not_the_syntax() {
+    for huge in [
+        "11111111111111111111111",
+        "99999999999",
+        "1000000000000:1",
+        "3/18446744073709551616",
+        "18446744073709551615.5",
+    ] {
+        assert_eq!(Ratio::parse(huge), Err(RatioError::TooLarge), "{huge}");
+    }
+    assert_eq!(Ratio::parse("2.5"), Ratio::new(5, 2));
+}
