@@ -191,6 +191,19 @@ fn until_the_lathe_stops(m: &mut Machine, busy: bool) -> Option<busy::Answers> {
     answers
 }
 
+/// Whether the job's ticks can be replayed on the host core: not where the
+/// job stops the tick's flow (the replay follows one edge clock from the
+/// start, and a lost tick has it measured again; a late plan that misses
+/// its window stops the cutter), nor where the console changes the phase,
+/// which the replay does not follow.
+fn replayable(kind: Kind) -> bool {
+    match kind {
+        Kind::EStop { .. } | Kind::LostTick { .. } | Kind::Busy => false,
+        Kind::LatePlan { how, .. } => !how.misses(),
+        _ => true,
+    }
+}
+
 pub fn run(image: &Rc<Image>, spec: &Spec) -> Result<Outcome, String> {
     let params = Params { ndtr: spec.ndtr, encoder_capture: spec.capture, ..Params::default() };
     let wall = Instant::now();
@@ -199,10 +212,7 @@ pub fn run(image: &Rc<Image>, spec: &Spec) -> Result<Outcome, String> {
     let mut m = Machine::new(image.clone(), params, &flash)?;
     m.cpr = sc.core.encoder_counts_per_rev;
     profile_from_env(&mut m);
-    // (no tape where the job stops the tick's flow: the replay follows one
-    // edge clock from the start, and a lost tick has it measured again; nor
-    // where the console changes the phase, which the replay does not follow)
-    if !matches!(spec.kind, Kind::EStop { .. } | Kind::LostTick { .. } | Kind::LatePlan { .. } | Kind::Busy) {
+    if replayable(spec.kind) {
         m.chip().tape = Some(crate::chip::tape::Tape::default());
     }
     m.drive(GPIOB, ESTOP, Some(false));

@@ -84,10 +84,12 @@ pub const SPECS: &[Spec] = &[
     Spec { name: "f after", capture: CountAfter, ..ROCKED },
     // the hexagon again with NDTR counting at the preload (§9.3.12's reading)
     Spec { name: "a preload", ndtr: AtPreload, ..HEXAGON },
-    // (i), (j): the hexagon with a step plan not made by the next tick: its
-    // handler held off for 100 µs mid-cut, or stalled inside for 50 µs
-    Spec { name: "i plan held", kind: Kind::LatePlan { at_s: 1.0, how: HeldOff { us: 100 } }, ..HEXAGON },
+    // (i), (j), (m): the hexagon with a step plan not written by the next
+    // tick: its handler held off for 150 µs mid-cut, or stalled inside for
+    // 50 µs (both in time, `job::planlate`), or for 65 µs (too late)
+    Spec { name: "i plan held", kind: Kind::LatePlan { at_s: 1.0, how: HeldOff { us: 150 } }, ..HEXAGON },
     Spec { name: "j plan stall", kind: Kind::LatePlan { at_s: 1.0, how: Stalled { us: 50 } }, ..HEXAGON },
+    Spec { name: "m plan missed", kind: Kind::LatePlan { at_s: 1.0, how: Stalled { us: 65 } }, ..HEXAGON },
     // (l): the hexagon's ratio at 228 000 steps/s (`max-rate` 250 000), engaged
     // spinning, with the console answering status, phase nudges and gets
     // all through
@@ -209,34 +211,41 @@ fn lost_ticks(r: &mut Report, o: &Outcome) {
     r.line(ok, &format!("ticks {}", o.name), &text);
 }
 
-/// A step plan not made by the next tick (`job::planlate`): TIM1 stopped
-/// by the tick that found it, one plan counted late, the cutter stopped by
-/// `fault=step-output` (LED code 7); a stalled plan's pre-empting tick
-/// counted lost, and the edge clock measured again.
+/// A step plan not written by the next tick (`job::planlate`). In time:
+/// no fault, no plan late, no tick lost, the plans written past the next
+/// tick counted (the steps against the host's plan are `replayed`'s). Too
+/// late: TIM1 stopped by the write's own check or by the tick after next,
+/// the late write counted, no tick lost, and the cutter stopped by
+/// `fault=step-output` (LED code 7).
 fn late_plan(r: &mut Report, o: &Outcome) {
     let Some(l) = &o.late else { return };
     let c = o.ticks_lost;
     let tick = crate::job::SYSCLK / polyturn_firmware::board::TICK_HZ as u64;
-    // the cause, then the tick that finds it: two ticks for a held plan (the
-    // first pends it), one and the stall for a stalled one
-    let bound = match l.how {
-        HeldOff { .. } => 2 * tick,
-        Stalled { .. } => tick + l.how.cycles(),
-    } + o.tick.1;
-    let skipped = l.how.ticks_skipped();
     let step_output = polyturn_firmware::led::fault_code(polyturn_sync::Fault::StepOutput);
-    let restarted = clock_moved(l.clock_before, l.clock_after);
-    let ok = l.stopped_after.is_some_and(|s| s <= bound)
-        && l.lates == Some(1)
-        && c.seen == 0
-        && c.image == Some(skipped as u32)
-        && restarted == (skipped > 0)
-        && l.led_code == step_output;
+    let no_lost_tick = c.seen == 0 && c.image == Some(0) && !clock_moved(l.clock_before, l.clock_after);
+    let ok = if l.how.misses() {
+        // the stall, the tick it held off, and the rest of the write
+        let bound = l.how.cycles() + tick + o.tick.1 + o.plan.1;
+        l.stopped_after.is_some_and(|s| s <= bound)
+            && l.steps_late.is_some_and(|n| n >= 1)
+            && l.lates.is_some_and(|n| n <= 1)
+            && no_lost_tick
+            && l.led_code == step_output
+    } else {
+        l.stopped_after.is_none()
+            && l.lates == Some(0)
+            && l.steps_late == Some(0)
+            && l.past_next.is_some_and(|n| n >= 1)
+            && no_lost_tick
+            && l.led_code == 0
+            && o.faults.is_empty()
+    };
     let text = format!(
-        "{:?}: TIM1 stopped {} cycles after (bound {bound}: the tick that finds it), plans late {:?}, ticks lost {:?} (the emulator saw {}; {skipped} expected: the tick that found it running does not run the core), edge clock {:?} then {:?}, LED code {}",
+        "{:?} ({}): TIM1 stopped {} cycles after, plans late {:?}, written past the next tick {:?}, step segments late {:?}, ticks lost {:?} (the emulator saw {}), edge clock {:?} then {:?}, LED code {}",
         l.how,
+        if l.how.misses() { "too late: stopped" } else { "in time: nothing lost" },
         l.stopped_after.map_or("never".into(), |s| s.to_string()),
-        l.lates, c.image, c.seen, l.clock_before, l.clock_after, l.led_code
+        l.lates, l.past_next, l.steps_late, c.image, c.seen, l.clock_before, l.clock_after, l.led_code
     );
     r.line(ok, &format!("late plan {}", o.name), &text);
 }
@@ -276,6 +285,12 @@ fn budget(r: &mut Report, o: &Outcome) {
         "worst tick {} + worst plan {} + longest hold-off {} = {sum} cycles on the bound, {percent} % of a tick ({TICK_CYCLES}); goal {GOAL_PERCENT} %: {goal}; ceiling {CEILING_PERCENT} %",
         o.tick_bound.1, o.plan_bound.1, o.tick_lock
     );
+    // (a job that stalls or holds off the plan on purpose: the stall is in
+    // its figures, not the code's; shown, not checked)
+    if o.late.is_some() {
+        println!("  budget {}: {text} (not checked: the job stalls or holds the plan on purpose)", o.name);
+        return;
+    }
     r.line(percent <= CEILING_PERCENT, &format!("budget {}", o.name), &text);
 }
 
@@ -295,7 +310,8 @@ fn judge(r: &mut Report, o: &Outcome) {
     // after an E-stop, `clear` and ENGAGE, the cutter lands on the first
     // pass's phase: the same exact-gear check
     // (a lost tick stops the cutter with a fault: its phase is not kept)
-    let phase_ok = o.held.is_some() || o.late.is_some() || o.phase_error_steps().abs() <= 0.5;
+    let stopped = o.late.as_ref().is_some_and(|l| l.how.misses());
+    let phase_ok = o.held.is_some() || stopped || o.phase_error_steps().abs() <= 0.5;
     let ok = o.faults.is_empty()
         && rx.unseen == 0
         && rx.dir_while_high == 0

@@ -256,11 +256,30 @@ impl Generator {
 
     /// The plan's part: this tick's plan into the ring, RAM writes only, and
     /// a halt if the DMA got there first. Only while armed (`begin`).
+    ///
+    /// The DMA asks for a tick's first segment as the tick before it starts
+    /// its last, half a tick before that tick ends at the earliest
+    /// (`entries::late_boundary`), and for its second as the first starts,
+    /// at the tick's start: so the first is written and checked before
+    /// anything else, and the rest by the tick's start. A write that ends
+    /// after the next tick has begun, in time for both, loses nothing.
     pub fn write_plan(&mut self, plan: &StepPlan, t: &StepTiming, bus: &mut impl Bus) -> Result<(), Fail> {
         // the stream runs, and has not reached what this tick writes
-        let (started, finished) = self.dma_entries(bus);
+        let (started, _) = self.dma_entries(bus);
         let pending = (self.write + RING_ENTRIES - started) % RING_ENTRIES;
         if pending > PENDING_MAX || bus.read(program::S5CR) & program::DMA_EN == 0 {
+            self.halt(t, bus);
+            return Err(Fail::Late);
+        }
+        let first = self.write;
+        let mut sink = RingSink { ring: self.ring, write: first, first, lead: self.lead, first_in_time: true, bus };
+        let written = self.layout.tick(plan, t, MIN_SEGMENT, &mut sink);
+        let (write, first_in_time) = (sink.write, sink.first_in_time);
+        self.write = write;
+        // did the DMA start the second or a later one before it was written?
+        let (now, finished) = self.dma_entries(bus);
+        let reached = (now + RING_ENTRIES - first) % RING_ENTRIES;
+        if !first_in_time || (2..=written).contains(&reached) {
             self.halt(t, bus);
             return Err(Fail::Late);
         }
@@ -271,24 +290,11 @@ impl Generator {
         // DMA that ran on past a writer that stopped plays the ticks in
         // flight, then silence, never an old segment's step before the
         // watchdog resets the MCU (`Entry::filler`; the test
-        // `fillers_outlast_the_watchdog` ties the figures)
+        // `fillers_outlast_the_watchdog` ties the figures). After the
+        // plan's: behind the DMA, so nothing it waits for.
         while self.silenced != finished {
             silence_taken(self.ring, self.silenced, bus);
             self.silenced = (self.silenced + 1) % RING_ENTRIES;
-        }
-        let first = self.write;
-        let (ring, mut write) = (self.ring, self.write);
-        let written = self.layout.tick(plan, t, MIN_SEGMENT, |e| {
-            put(ring, write, &e, bus);
-            write = (write + 1) % RING_ENTRIES;
-        });
-        self.write = write;
-        // did the DMA start one of them while they were being written?
-        let (now, _) = self.dma_entries(bus);
-        let reached = (now + RING_ENTRIES - first) % RING_ENTRIES;
-        if (1..=written).contains(&reached) {
-            self.halt(t, bus);
-            return Err(Fail::Late);
         }
         Ok(())
     }
@@ -331,10 +337,7 @@ impl Generator {
     /// Segments whose DMA burst has started, and those it has finished
     /// (they differ while a burst is under way).
     fn dma_entries(&self, bus: &mut impl Bus) -> (usize, usize) {
-        let left = (bus.read(program::S5NDTR) + self.lead) % program::RING_WORDS;
-        let done = (program::RING_WORDS - left) % program::RING_WORDS;
-        let started = done.div_ceil(program::BURST_WORDS) as usize % RING_ENTRIES;
-        (started, (done / program::BURST_WORDS) as usize)
+        dma_entries(self.lead, bus)
     }
 
     /// The address of word `i` of ring entry `slot`.
@@ -386,6 +389,47 @@ fn silence_taken(ring: u32, slot: usize, bus: &mut impl Bus) {
     bus.write(base + 4, f.arr);
     bus.write(base + 8, f.rcr);
     bus.write(base + 12, f.ccr1);
+}
+
+/// The ring from entry `write` on, as `Layout::tick` makes the segments.
+struct RingSink<'a, B: Bus> {
+    ring: u32,
+    write: usize,
+    /// the plan's first entry, and whether it was written before the DMA
+    /// asked for it (not yet asked for once written: the DMA still on
+    /// entries before it)
+    first: usize,
+    lead: u32,
+    first_in_time: bool,
+    bus: &'a mut B,
+}
+
+impl<B: Bus> entries::Sink for RingSink<'_, B> {
+    #[inline(always)]
+    fn put(&mut self, e: Entry) {
+        put(self.ring, self.write, &e, self.bus);
+        if self.write == self.first {
+            self.check_first();
+        }
+        self.write = (self.write + 1) % RING_ENTRIES;
+    }
+}
+
+impl<B: Bus> RingSink<'_, B> {
+    // (out of line: once a plan, and the layout puts from several places)
+    #[inline(never)]
+    fn check_first(&mut self) {
+        self.first_in_time = (dma_entries(self.lead, self.bus).0 + RING_ENTRIES - self.first) % RING_ENTRIES != 1;
+    }
+}
+
+/// The ring entries the DMA has started and finished, from NDTR and the
+/// boot's lead (`Generator::dma_entries`).
+fn dma_entries(lead: u32, bus: &mut impl Bus) -> (usize, usize) {
+    let left = (bus.read(program::S5NDTR) + lead) % program::RING_WORDS;
+    let done = (program::RING_WORDS - left) % program::RING_WORDS;
+    let started = done.div_ceil(program::BURST_WORDS) as usize % RING_ENTRIES;
+    (started, (done / program::BURST_WORDS) as usize)
 }
 
 /// Writes a segment's ARR, RCR, CCR1 and CCR2 into entry `slot` of the ring

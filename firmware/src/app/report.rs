@@ -63,7 +63,7 @@ pub async fn every_second() {
             // the bench's figure (bench.md): when the step plan ends, in
             // cycles after its tick's instant, by sixteenths of the period
             info!(
-                "{} | {} ticks; the tick ends by {} cycles at worst, its step plan by {} (of {}), histogram {} per {} cycles, {} after the next tick; step segments late {}, NDTR lead {}",
+                "{} | {} ticks; the tick ends by {} cycles at worst, its step plan by {} (of {}), histogram {} per {} cycles, {} after the next tick ({} not written when it began); step segments late {}, NDTR lead {}",
                 line.as_str(),
                 tick::ticks(),
                 tick_end.worst,
@@ -72,6 +72,7 @@ pub async fn every_second() {
                 plan_end.bins,
                 tick::PERIOD / polyturn_firmware::latency::BINS as u32,
                 plan_end.late,
+                tick::plans_past_next(),
                 late,
                 tick::ndtr_lead()
             );

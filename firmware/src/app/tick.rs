@@ -1,13 +1,13 @@
 //! The control tick: TIM11's update interrupt at 20 kHz, below only the
 //! E-stop (`board::PRIORITIES`). Reads the counters, runs the core's
-//! control, applies its output, and leaves the step plan to a handler one
-//! level below (`plan`). The core is shared with lower priorities under its
+//! control and its step plan, applies its output, and leaves the plan's
+//! writing into the ring to a handler one level below (`plan`). The core is shared with lower priorities under its
 //! own lock (`locked`: BASEPRI at the tick's level), not the global
 //! critical section (`cs.rs`, below the plan, which both outrank).
 //!
 //! Here the interrupt and its start; the shared state and its lock in
 //! `shared`, the edge clock's watch in `watch`, the counts for the log in
-//! `telemetry`, the step plan's handler in `plan`.
+//! `telemetry`, the step plan's writing in `plan`.
 
 mod plan;
 mod shared;
@@ -35,11 +35,12 @@ use polyturn_firmware::edgetime::{self, read::Gate};
 use polyturn_firmware::latency::Latency;
 use polyturn_firmware::stepgen::Generator;
 use polyturn_firmware::xsteps::XSteps;
+use polyturn_sync::steps::{StepPlan, StepTiming};
 use polyturn_sync::{Config, Controller, DriveKind, TickInput, Timing};
 
 /// When the tick ends, in cycles from its instant (`latency`).
 pub static TICK_END: Latency = Latency::new();
-pub use plan::PLAN_END;
+pub use plan::{past_next as plans_past_next, PLAN_END};
 /// TIM11's period in cycles: the tick's instant to the next.
 pub const PERIOD: u32 = TIMER_HZ / board::TICK_HZ;
 
@@ -55,6 +56,7 @@ pub fn start(config: Config, mut pins: OutputPins) {
     pins.set_enable(false);
     let core = Controller::new(config, TIMING);
     let mut steps = Generator::new(drivers::ring_address());
+    let timing = core.derived().steps;
     // STEP/DIR driven quietly from now on, the ring silent: before any tick
     steps.prepare(core.derived().steps.tick_len, &mut Mmio);
     // (learnt once, here: the log says what the probe saw, armed or not)
@@ -65,8 +67,7 @@ pub fn start(config: Config, mut pins: OutputPins) {
     // core's full speed, and its sense, before the first tick
     let drive = bldc::out_for(&core);
     bldc::set_sense(core.config());
-    let io =
-        Io { core, steps, pins, x: XSteps::default(), halts_seen: halts(), gate: Gate::Off, watch: None, bldc: drive };
+    let io = Io { core, pins, x: XSteps::default(), gate: Gate::Off, watch: None, bldc: drive };
     // Under the lock nothing but the E-stop runs: not the tick (its
     // interrupt is enabled in here, and waits for the lock's end), nor
     // anything that could come between TIM5's step and TIM11's start.
@@ -76,6 +77,7 @@ pub fn start(config: Config, mut pins: OutputPins) {
         // the lathe's count last: the first tick's count is counted from it
         io.core.start(pac::TIM3.cnt().read().cnt(), drivers::steps_counted(), pac::TIM4.cnt().read().cnt());
         IO.borrow(cs).replace(Some(io));
+        plan::install(steps, timing, cs);
         let s = edgetime::start::start_tick(&mut Mmio);
         // an E-stop longer than a tick inside the start may have let an
         // update pend the interrupt before TIM11 was rewound: not a tick
@@ -119,15 +121,13 @@ fn TIM1_TRG_COM_TIM11() {
     // ended under it (`program::arm`, its `Sync`)
     pac::TIM11.sr().write_value(pac::timer::regs::Sr1ch(0));
     // SAFETY: the token `IO` asks for, without raising BASEPRI: everything
-    // else that opens `IO` runs at a lower priority (thread mode, or the
-    // planning executor's interrupt) under `locked`, which masks this
-    // handler, and the only interrupt above it (the E-stop) never opens it;
-    // the plan, below it, opens it without a lock, and `run` does not if it
-    // pre-empted one (`plan::making`). (`.ci/callgraph` checks no BASEPRI write is
-    // reachable from here.)
-    if run(unsafe { &CriticalSection::new() }) {
-        TICKS.fetch_add(1, Ordering::Relaxed);
-    }
+    // else that opens `IO` runs at a lower priority (thread mode) under
+    // `locked`, which masks this handler, and the only interrupt above it
+    // (the E-stop) never opens it; the plan's handler, below it, opens only
+    // the generator, which `plan::writer` hands the tick when it is free.
+    // (`.ci/callgraph` checks no BASEPRI write is reachable from here.)
+    run(unsafe { &CriticalSection::new() });
+    TICKS.fetch_add(1, Ordering::Relaxed);
     ended(&TICK_END);
 }
 
@@ -135,27 +135,28 @@ fn TIM1_TRG_COM_TIM11() {
 /// and whether its update flag says the next instant has passed.
 #[inline(always)]
 fn ended(l: &Latency) {
-    let (count, sr) = (pac::TIM11.cnt().read().cnt() as u32, pac::TIM11.sr().read().uif());
-    l.record(count, PERIOD, sr);
+    ended_after(l, false);
 }
 
-/// The tick's work on the shared state: inputs in, the core's control, its
-/// output applied, the step plan handed on. False if the last tick's plan
-/// still held the state: this tick did not run (`plan::late`).
-fn run(cs: &CriticalSection) -> bool {
+/// `ended`, where `passed` says the next instant has passed anyway (a tick
+/// has run since, and cleared the flag).
+#[inline(always)]
+fn ended_after(l: &Latency, passed: bool) {
+    let (count, sr) = (pac::TIM11.cnt().read().cnt() as u32, pac::TIM11.sr().read().uif());
+    l.record(count, PERIOD, sr || passed);
+}
+
+/// The tick's work on the shared state: inputs in, the core's control and
+/// step plan, its output applied, the plan handed on to be written.
+fn run(cs: &CriticalSection) {
     let estops_at_entry = safety::halts();
     let bldc_stops = bldc::stops();
     // (both read before anything the E-stop's interrupt also writes)
     compiler_fence(Ordering::SeqCst);
-    if plan::making() {
-        plan::late();
-        return false;
-    }
     // (try_: nothing else can hold it while the tick runs, and the tick
     // keeps no panic path)
-    let Ok(mut io) = IO.borrow(cs).try_borrow_mut() else { return true };
-    let Some(io) = io.as_mut() else { return true };
-    plan::settle(io);
+    let Ok(mut io) = IO.borrow(cs).try_borrow_mut() else { return };
+    let Some(io) = io.as_mut() else { return };
     // the encoder counters (lathe TIM3, cutter TIM4) and the lathe's last
     // timed edge read straight into the core's seam; the E-stop and alarm
     // as they are, or as the E-stop interrupt saw them if it fired since
@@ -176,24 +177,14 @@ fn run(cs: &CriticalSection) -> bool {
         lathe_edge,
     };
     let out = io.core.control(&input);
-    heard_of_halts(io);
-    // the step output's own part of the tick here (a halt, or an arm, whose
-    // register program holds only inside its tick: `program::arm`'s Sync),
-    // and the plan for two ticks on, RAM writes only, one level below
-    // (`plan`). Any other drive keeps the step output halted.
+    // the plan for two ticks on, every tick (the core's books count it
+    // whether it is written or not)
+    let plan = io.core.plan_steps();
+    // Any drive but a stepper keeps the step output halted.
     let halt = out.halt || io.core.config().drive != DriveKind::Stepper;
     let timing = io.core.derived().steps;
-    match io.steps.begin(halt, &timing, &mut Mmio) {
-        Ok(true) => plan::hand_on(),
-        // halted, or an arm that must wait: the plan made for the core's
-        // books, unwritten (a failed arm is counted, as a late write)
-        done => {
-            let _ = io.core.plan_steps();
-            if done.is_err() {
-                STEPS_LATE.fetch_add(1, Ordering::Relaxed);
-            }
-        }
-    }
+    let mut writer = plan::writer(cs);
+    step_output(writer.as_mut().and_then(|w| w.as_mut()), plan, halt, &timing);
     // every tick, whatever the drive: a halt stops the BLDC at once,
     // anything else not running it gets the stop from the next frame
     let run = io.core.config().drive == DriveKind::Bldc && out.enable;
@@ -213,24 +204,53 @@ fn run(cs: &CriticalSection) -> bool {
     compiler_fence(Ordering::SeqCst);
     if safety::halts() != estops_at_entry {
         drivers::halt_steps();
-        heard_of_halts(io);
+        if let Some(w) = writer.as_mut().and_then(|w| w.as_mut()) {
+            heard_of_halts(w, &timing);
+        }
     }
-    true
+}
+
+/// The step output's own part of the tick, the generator in hand (`w`):
+/// a halt, or an arm, whose register program holds only inside its tick
+/// (`program::arm`'s Sync), and the plan handed on to be written one level
+/// below. None while the plan's handler writes: no arm this tick, a halt
+/// on the registers.
+fn step_output(w: Option<&mut plan::Writer>, plan: StepPlan, halt: bool, timing: &StepTiming) {
+    let Some(w) = w else {
+        if halt {
+            plan::halt_busy();
+        } else {
+            plan::hand_on(plan);
+        }
+        return;
+    };
+    plan::settle(w);
+    w.timing = *timing;
+    heard_of_halts(w, timing);
+    match w.steps.begin(halt, timing, &mut Mmio) {
+        Ok(true) => plan::hand_on(plan),
+        // halted, or an arm that must wait: the plan unwritten (the books
+        // catch any step in it; a failed arm is counted, as a late write)
+        Ok(false) => {}
+        Err(_) => {
+            STEPS_LATE.fetch_add(1, Ordering::Relaxed);
+        }
+    }
 }
 
 /// Halts of the step output made outside the generator: the E-stop
-/// interrupt's (`safety::halts`) and a late plan's (`plan::late`).
+/// interrupt's (`safety::halts`), and the tick's while the plan's handler
+/// held the generator or for a late plan (`plan::halts_here`).
 fn halts() -> u32 {
-    safety::halts().wrapping_add(plan::lates())
+    safety::halts().wrapping_add(plan::halts_here())
 }
 
 /// The step output was halted elsewhere since the generator last heard
-/// (`halts`): it re-arms at the next tick without a halt.
-fn heard_of_halts(io: &mut Io) {
+/// (`halts`): it re-arms at a later tick without a halt.
+fn heard_of_halts(w: &mut plan::Writer, timing: &StepTiming) {
     let now = halts();
-    if now != io.halts_seen {
-        io.halts_seen = now;
-        let timing = io.core.derived().steps;
-        io.steps.halted_elsewhere(&timing);
+    if now != w.halts_seen {
+        w.halts_seen = now;
+        w.steps.halted_elsewhere(timing);
     }
 }

@@ -30,14 +30,23 @@ proptest! {
     /// the plan says, join up with no gap, and each is long enough for the
     /// DMA and short enough for the 16-bit timer.
     #[test]
-    fn segments_put_every_step_where_the_plan_says(moves in proptest::collection::vec(-400_000i64..400_000, 1..120)) {
+    fn segments_put_every_step_where_the_plan_says(
+        moves in proptest::collection::vec(-400_000i64..400_000, 1..120),
+        board in prop::sample::select(vec![None, Some(96u32), Some(240), Some(LONGEST_PULSE)]),
+    ) {
+        // this file's timing, or the board's tick with a pulse from the
+        // shortest (1 µs) to the console's longest, at its shortest period
+        let t = match board {
+            Some(pulse) => StepTiming { tick_len: 4800, min_period: 2 * pulse, dir_setup: 480, pulse },
+            None => T,
+        };
         let (mut pos, mut emitted, mut prev, mut layout) = (0i64, 0i64, Prev::idle(Dir::Forward), Layout::armed(Dir::Forward));
         let mut timeline = 0i64; // where the segments end, absolute
         for (k, dv) in moves.iter().enumerate() {
-            let p = plan(pos, pos + dv, emitted, &prev, &T);
-            prev = prev.after(&p, &T);
-            let tick0 = k as i64 * T.tick_len as i64;
-            let segs = layout.segments(&p, &T, MIN_SEGMENT);
+            let p = plan(pos, pos + dv, emitted, &prev, &t);
+            prev = prev.after(&p, &t);
+            let tick0 = k as i64 * t.tick_len as i64;
+            let segs = layout.segments(&p, &t, MIN_SEGMENT);
             let (got, end) = rises(&segs, timeline);
             let want: Vec<i64> = (0..p.count as u32).map(|i| tick0 + p.at(i) as i64).collect();
             prop_assert_eq!(got, want);
@@ -49,14 +58,31 @@ proptest! {
                     prop_assert_eq!(s_dir(s), p.dir);
                 }
             }
-            // the last segment starts no earlier than MIN_SEGMENT before the tick
+            // the last segment starts late in the tick: the DMA asks for the
+            // next tick's first segment then, and not before
             let last_len = segs.last().unwrap().cycles() as i64;
-            prop_assert!(end - last_len >= tick0 - MIN_SEGMENT as i64);
+            // (or where a pulse that ends within a pulse of the tick's end
+            // rises, if that is earlier: long pulses)
+            let boundary = (entries::late_boundary(t.tick_len) - MIN_SEGMENT).min(t.tick_len - 2 * t.pulse);
+            let late = tick0 + boundary as i64;
+            prop_assert!(end - last_len >= late, "the last segment starts {} cycles into the tick", end - last_len - tick0);
+            prop_assert!(segs.len() <= entries::MAX_SEGMENTS);
             timeline = end;
             emitted += if p.dir == Dir::Forward { p.count as i64 } else { -(p.count as i64) };
             pos += dv;
         }
     }
+}
+
+/// The console's longest STEP pulse in the board's timer cycles (96 MHz).
+const LONGEST_PULSE: u32 = (polyturn_sync::config::table::PULSE.hi as u64 * 96 / 1000) as u32;
+
+/// Each tick's last segment starts late (`late_boundary`), or where a
+/// pulse ending within a pulse of the tick's end rises: past half the tick
+/// for the console's longest pulse.
+#[test]
+fn the_longest_pulse_the_console_takes_leaves_the_last_segment_late() {
+    assert!(4800 - 2 * LONGEST_PULSE >= 4800 / 2, "{LONGEST_PULSE} cycles");
 }
 
 fn s_dir(s: &Entry) -> Dir {
@@ -127,7 +153,7 @@ fn a_halted_generator_writes_nothing_until_it_re_arms() {
     assert!(bus.writes.is_empty(), "not armed: nothing to halt");
     // arm (quietened at boot): TIM11 at 0, no update; NDTR full and TIM1
     // without an update (the reading of NDTR); NDTR full, stream on, NDTR full
-    bus.reads = vec![0, 0, program::RING_WORDS, 0, program::RING_WORDS, 1, program::RING_WORDS];
+    bus.reads = vec![0, 0, program::RING_WORDS, 0, program::RING_WORDS, 1, program::RING_WORDS, program::RING_WORDS];
     g.tick(&StepPlan::default(), false, &T, &mut bus).unwrap();
     assert!(g.armed());
     let n = bus.writes.len();
@@ -169,15 +195,15 @@ fn a_segment_whose_burst_is_under_way_is_not_silenced() {
     g.prepare(T.tick_len, &mut bus);
     // arm: the stream reads as stopped, TIM11 at 100 and no update, NDTR
     // full with TIM1 not yet updated; then NDTR full, the stream on, NDTR full
-    bus.reads = vec![100, 0, program::RING_WORDS, 0, program::RING_WORDS, 1, program::RING_WORDS];
+    bus.reads = vec![100, 0, program::RING_WORDS, 0, program::RING_WORDS, 1, program::RING_WORDS, program::RING_WORDS];
     g.tick(&StepPlan::default(), false, &T, &mut bus).unwrap();
     for _ in 0..2 {
-        bus.reads = vec![program::RING_WORDS, 1, program::RING_WORDS];
+        bus.reads = vec![program::RING_WORDS, 1, program::RING_WORDS, program::RING_WORDS];
         g.tick(&StepPlan::default(), false, &T, &mut bus).unwrap();
     }
     // a tick later the DMA has read slot 0 and two words of slot 1
     let w = program::BURST_WORDS;
-    bus.reads = vec![program::RING_WORDS - w - 2, 1, program::RING_WORDS - w - 2];
+    bus.reads = vec![program::RING_WORDS - w - 2, 1, program::RING_WORDS - w - 2, program::RING_WORDS - w - 2];
     let before = bus.writes.len();
     g.tick(&StepPlan::default(), false, &T, &mut bus).unwrap();
     let slot = |a: u32| (a.wrapping_sub(ring) / (4 * program::BURST_WORDS)) as usize;
@@ -195,7 +221,8 @@ fn an_arm_in_the_tick_leaves_its_first_window_to_the_plan() {
     let in_ring = |a: u32| (ring..ring + program::RING_WORDS * 4).contains(&a);
     let p = plan(0, 3 << 16, 0, &Prev::idle(Dir::Forward), &T); // three steps (Q16)
     assert!(p.count > 0, "a window with steps in it");
-    let arm_reads = vec![100, 0, program::RING_WORDS, 0, program::RING_WORDS, 1, program::RING_WORDS];
+    let arm_reads =
+        vec![100, 0, program::RING_WORDS, 0, program::RING_WORDS, 1, program::RING_WORDS, program::RING_WORDS];
     let prepared = || {
         let mut g = Generator::new(ring);
         let mut bus = Script::default();
@@ -229,9 +256,9 @@ fn arm_reading(boot: u32, ndtr: u32, uif: u32, now: u32) -> (u32, Result<(), Fai
     // quiet's wait for the stream, the probe's NDTR, its wait for the stream
     let mut bus = Script { reads: vec![0, boot, 0], ..Default::default() };
     g.prepare(T.tick_len, &mut bus);
-    bus.reads = vec![100, 0, ndtr, uif, ndtr, 1, ndtr];
+    bus.reads = vec![100, 0, ndtr, uif, ndtr, 1, ndtr, ndtr];
     let armed = g.tick(&StepPlan::default(), false, &T, &mut bus);
-    bus.reads = vec![now, 1, now];
+    bus.reads = vec![now, 1, now, now];
     let before = bus.writes.len();
     let next = g.tick(&StepPlan::default(), false, &T, &mut bus);
     let slot = |a: u32| (a.wrapping_sub(ring) / (4 * program::BURST_WORDS)) as usize;
@@ -247,7 +274,7 @@ fn ndtr_that_counts_the_preloaded_word_is_read_one_word_behind() {
     // slot taken and silenced
     let (lead, armed, next, touched) = arm_reading(full, full, 0, full - w);
     assert_eq!((lead, armed, next), (0, Ok(()), Ok(())));
-    assert_eq!(touched[0], 0, "slot 0 taken whole and silenced");
+    assert_eq!(touched.last(), Some(&0), "slot 0 taken whole and silenced, after the plan's own");
     // the preload's: one less at boot, at arm, and a burst later; the
     // same slot is taken, and it is not late
     let (lead, armed, next, preload_touched) = arm_reading(full - 1, full - 1, 0, full - w - 1);
@@ -289,7 +316,7 @@ fn after_a_halt_each_tick_silences_a_share_and_the_ring_is_silent_before_it_re_a
     let mut g = Generator::new(0x2000_0000);
     let mut bus = Script::default();
     g.prepare(T.tick_len, &mut bus);
-    bus.reads = vec![0, 0, program::RING_WORDS, 0, program::RING_WORDS, 1, program::RING_WORDS];
+    bus.reads = vec![0, 0, program::RING_WORDS, 0, program::RING_WORDS, 1, program::RING_WORDS, program::RING_WORDS];
     g.tick(&StepPlan::default(), false, &T, &mut bus).unwrap();
     g.halted_elsewhere(&T); // the E-stop interrupt halted it
                             // ARR, RCR and CCR1 of each entry: PSC stays 0 from the first fill,
@@ -363,4 +390,56 @@ fn after_a_halt_the_arm_quietens_in_one_tick_and_arms_in_the_next() {
     assert_eq!(g.begin(false, &T, &mut bus), Ok(true), "armed the tick after");
     assert!(!bus.writes.iter().any(|w| w.0 == program::TIM1 + program::EGR), "no quieting (its UG) in the arming tick");
     assert!(!bus.writes.iter().any(|w| (ring..ring + program::RING_WORDS * 4).contains(&w.0)), "no ring entry");
+}
+
+/// An armed generator (its ring's slot 0 next to write) and the plan of a
+/// window with steps in it.
+fn armed_with_a_plan() -> (Generator, Script, StepPlan) {
+    let mut g = Generator::new(0x2000_0000);
+    let mut bus = Script::default();
+    g.prepare(T.tick_len, &mut bus);
+    bus.reads = vec![100, 0, program::RING_WORDS, 0, program::RING_WORDS, 1];
+    assert_eq!(g.begin(false, &T, &mut bus), Ok(true));
+    let p = plan(0, 3 << 16, 0, &Prev::idle(Dir::Forward), &T);
+    assert!(p.count > 0);
+    (g, bus, p)
+}
+
+/// The DMA asks for a window's first segment well before the others (the
+/// tick before ends its last segment late, `entries::late_boundary`): a
+/// write that the DMA catches up with once its first segment is in place
+/// is in time, and loses nothing.
+#[test]
+fn a_write_the_dma_reaches_after_its_first_segment_is_in_place_is_in_time() {
+    let (mut g, mut bus, p) = armed_with_a_plan();
+    let (full, w) = (program::RING_WORDS, program::BURST_WORDS);
+    // NDTR before, the stream on, NDTR after the first segment (not yet
+    // asked for), NDTR at the end (its burst taken meanwhile)
+    bus.reads = vec![full, 1, full, full - w];
+    assert_eq!(g.write_plan(&p, &T, &mut bus), Ok(()));
+    assert!(g.armed());
+}
+
+/// One the DMA asked for before it was written halts: the window went out
+/// without it.
+#[test]
+fn a_first_segment_the_dma_asked_for_before_it_was_written_halts() {
+    let (mut g, mut bus, p) = armed_with_a_plan();
+    let full = program::RING_WORDS;
+    // its burst under way by the time the first segment was written
+    bus.reads = vec![full, 1, full - 1, full - 1];
+    assert_eq!(g.write_plan(&p, &T, &mut bus), Err(Fail::Late));
+    assert!(!g.armed());
+}
+
+/// As does one whose second segment the DMA asked for before the write
+/// ended: the window itself had begun.
+#[test]
+fn a_write_still_going_when_its_window_begins_halts() {
+    let (mut g, mut bus, p) = armed_with_a_plan();
+    let (full, w) = (program::RING_WORDS, program::BURST_WORDS);
+    let segments = Layout::armed(Dir::Forward).segments(&p, &T, MIN_SEGMENT).len();
+    assert!(segments >= 2, "a window of {segments} segments");
+    bus.reads = vec![full, 1, full, full - w - 1];
+    assert_eq!(g.write_plan(&p, &T, &mut bus), Err(Fail::Late));
 }

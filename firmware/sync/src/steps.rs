@@ -109,7 +109,22 @@ impl Prev {
             return Prev { dir: plan.dir, rise: back(self.rise), end: 0, dir_since };
         }
         let rise = plan.at(plan.count as u32 - 1) as i32 - len;
-        Prev { dir: plan.dir, rise, end: rise + t.pulse as i32, dir_since }
+        let end = rise + t.pulse as i32;
+        // silence of at least a pulse after the last pulse fills the tick
+        // too: the step output ends the tick's segments at its end then,
+        // with this plan's DIR (`Prev::fills`), so DIR may change from the
+        // next tick's start, not from the pulse's end
+        let end = if Prev::fills(end, t) { 0 } else { end };
+        Prev { dir: plan.dir, rise, end, dir_since }
+    }
+
+    /// Whether a pulse ending at `end` (relative to the next tick's start)
+    /// leaves the rest of its tick to a silence of its own: at least a
+    /// pulse long, so at least as long as the shortest segment the step
+    /// output can reload (the pulse's floor).
+    #[inline]
+    pub fn fills(end: i32, t: &StepTiming) -> bool {
+        -end >= t.pulse as i32
     }
 }
 

@@ -11,17 +11,13 @@ use cortex_m::interrupt::{CriticalSection, Mutex};
 use polyturn_firmware::bldcout::Out;
 use polyturn_firmware::board;
 use polyturn_firmware::edgetime::{read::Gate, watch::Watch};
-use polyturn_firmware::stepgen::Generator;
 use polyturn_firmware::xsteps::XSteps;
 use polyturn_sync::Controller;
 
 pub(super) struct Io {
     pub core: Controller,
-    pub steps: Generator,
     pub pins: OutputPins,
     pub x: XSteps,
-    /// `halts()` when the generator last heard of a halt made elsewhere
-    pub halts_seen: u32,
     /// whether the lathe's edge registers hold an edge (`edgetime::read`)
     pub gate: Gate,
     /// the edge clock's instants against the ticks run (`check_ticks`);

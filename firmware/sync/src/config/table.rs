@@ -52,7 +52,7 @@ pub const MAX_RATE: Span = span!("max-rate", 1, 250000, " Hz");
 pub const MAX_ACCEL: Span = span!("max-accel", 10, 50000000, " steps/s^2");
 pub const FERROR: Span = span!("ferror", 1, 1000000, " steps");
 pub const DIR_SETUP: Span = span!("dir-setup", 0, 100000, " ns");
-pub const PULSE: Span = span!("pulse", 100, 100000, " ns");
+pub const PULSE: Span = span!("pulse", 100, 10000, " ns");
 pub const MAX_RPM: Span = span!("max-rpm", 1, 10000, " rpm");
 /// `off` (0) is also taken: no cutter encoder
 pub const CUTTER_CPR: Span = span!("cutter-cpr", 4, 1000000, " counts per cutter rev, or off");

@@ -122,13 +122,20 @@ fn the_first_step_lands_on_its_half_step_crossing() {
     assert_eq!((q.count, q.dir, q.at(0)), (1, Dir::Reverse, 500));
 }
 
-/// Seen from the next tick, the last step of a plan moves back a tick;
-/// an empty tick is filled to its end, so DIR may change at its boundary.
+/// Seen from the next tick, the last step of a plan moves back a tick; a
+/// tick whose last pulse ends at least a pulse before its end, and an empty
+/// tick, are filled to their end, so DIR may change at the boundary; a
+/// pulse ending closer to it is where DIR may change.
 #[test]
 fn prev_after_a_plan_and_after_an_empty_tick() {
     let p = StepPlan { count: 3, dir: Dir::Reverse, first: 100, period: 1000, ..StepPlan::default() };
     let a = Prev::idle(Dir::Forward).after(&p, &T);
-    assert_eq!(a, Prev { dir: Dir::Reverse, rise: 2100 - 4000, end: 2100 - 4000 + 250, dir_since: -4000 });
+    assert_eq!(a, Prev { dir: Dir::Reverse, rise: 2100 - 4000, end: 0, dir_since: -4000 });
+    // a pulse ending 1 cycle less than a pulse before the boundary: not filled
+    let late = StepPlan { count: 1, dir: Dir::Reverse, first: 4000 - 2 * 250 + 1, ..StepPlan::default() };
+    assert_eq!(Prev::idle(Dir::Reverse).after(&late, &T).end, -250 + 1);
+    let filled = StepPlan { first: 4000 - 2 * 250, ..late };
+    assert_eq!(Prev::idle(Dir::Reverse).after(&filled, &T).end, 0);
     let b = a.after(&StepPlan { dir: Dir::Reverse, ..StepPlan::default() }, &T);
     assert_eq!(b, Prev { dir: Dir::Reverse, rise: 2100 - 8000, end: 0, dir_since: -8000 });
     assert_eq!(Prev::idle(Dir::Forward).after(&StepPlan::default(), &T).rise, FAR);
@@ -136,25 +143,34 @@ fn prev_after_a_plan_and_after_an_empty_tick() {
 
 proptest! {
     /// Across tick boundaries too: every rising edge at least min_period
-    /// after the one before, and a reversal at least dir_setup after the
-    /// last pulse ended, whatever the command does.
+    /// after the one before, DIR never changing while STEP is high, and a
+    /// step in a new direction at least dir_setup after DIR changed, whatever
+    /// the command does. DIR changes where the step output puts it: at the
+    /// start of the first tick whose plan has the new direction, from where
+    /// the tick before left off (`Prev::end`: the last pulse's end, or the
+    /// boundary when silence fills the tick).
     #[test]
     fn spacing_and_dir_setup_hold_across_ticks(moves in proptest::collection::vec(-300_000i64..300_000, 1..200)) {
         let (mut pos, mut emitted, mut prev) = (0i64, 0i64, Prev::idle(Dir::Forward));
-        let (mut last_rise, mut last_end, mut last_dir) = (i64::MIN / 2, i64::MIN / 2, Dir::Forward);
+        let (mut last_rise, mut last_end) = (i64::MIN / 2, i64::MIN / 2);
+        let (mut dir, mut dir_at, mut stepped_since) = (Dir::Forward, i64::MIN / 2, true);
         for (k, dv) in moves.iter().enumerate() {
             let p = plan(pos, pos + dv, emitted, &prev, &T);
-            prev = prev.after(&p, &T);
             let t0 = k as i64 * T.tick_len as i64;
+            if p.dir != dir {
+                (dir, dir_at, stepped_since) = (p.dir, t0 + prev.end as i64, false);
+                prop_assert!(dir_at >= last_end, "DIR changed {} before the pulse ended", last_end - dir_at);
+            }
+            prev = prev.after(&p, &T);
             for i in 0..p.count as i64 {
                 let rise = t0 + p.at(i as u32) as i64;
                 prop_assert!(rise - last_rise >= T.min_period as i64, "spacing {} at tick {k}", rise - last_rise);
-                if p.dir != last_dir {
-                    prop_assert!(rise - last_end >= T.dir_setup as i64, "setup {} at tick {k}", rise - last_end);
+                if !stepped_since {
+                    prop_assert!(rise - dir_at >= T.dir_setup as i64, "setup {} at tick {k}", rise - dir_at);
+                    stepped_since = true;
                 }
                 last_rise = rise;
                 last_end = rise + T.pulse as i64;
-                last_dir = p.dir;
             }
             emitted += if p.dir == Dir::Forward { p.count as i64 } else { -(p.count as i64) };
             pos += dv;

@@ -550,10 +550,10 @@ fn a_start_rate_past_max_rate_is_refused_naming_it_and_a_bad_pulse_too() {
     let mut s = session(FakeDevice::new());
     let e = run(&mut s, &args(&format!("{base} --start-rate 250000")), &mut Scripted::new(&[])).unwrap_err();
     assert_eq!(e.0, "--start-rate must be at most 200000 steps/s, the board's max-rate (got 250000)");
-    let e = run(&mut s, &args(&format!("{base} --start-rate 250000 --pulse-ns 100000")), &mut Scripted::new(&[]))
+    let e = run(&mut s, &args(&format!("{base} --start-rate 250000 --pulse-ns 10000")), &mut Scripted::new(&[]))
         .unwrap_err();
     assert!(e.0.starts_with("--start-rate must be at most 200000 steps/s, the board's max-rate (got 250000); --pulse-ns must be at most 2500 ns"), "{}", e.0);
-    assert!(e.0.ends_with("(got 100000)"), "{}", e.0);
+    assert!(e.0.ends_with("(got 10000)"), "{}", e.0);
     assert!(sent(&s).iter().all(|l| !l.starts_with("set ")), "{:?}", sent(&s));
     assert_eq!(*s.io.ctl.config(), Config::default());
 }
