@@ -18,12 +18,7 @@ pub use polyturn_regs::bits::flash_keyr::{KEY1, KEY2};
 /// FLASH_SR (§3.8.4): EOP, the error flags (OPERR, WRPERR, PGAERR, PGPERR,
 /// PGSERR, RDERR), BSY.
 pub const SR_EOP: u32 = flash_sr::EOP.mask();
-pub const SR_ERRORS: u32 = flash_sr::OPERR.mask()
-    | flash_sr::WRPERR.mask()
-    | flash_sr::PGAERR.mask()
-    | flash_sr::PGPERR.mask()
-    | flash_sr::PGSERR.mask()
-    | flash_sr::RDERR.mask();
+pub const SR_ERRORS: u32 = flash_sr::ERRORS;
 pub const SR_BSY: u32 = flash_sr::BSY.mask();
 /// FLASH_CR (§3.8.5).
 pub const CR_SER: u32 = flash_cr::SER.mask();

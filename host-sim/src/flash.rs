@@ -28,8 +28,8 @@ mod image_tests;
 mod mutants_tests;
 
 /// Flash starts here, and the vector table with it (RM0383 §2.3 Table 1;
-/// the firmware's memory.x ORIGIN).
-pub const FLASH_BASE: u32 = 0x0800_0000;
+/// the firmware's memory.x ORIGIN): the register table's.
+pub use polyturn_regs::addr::FLASH_BASE;
 /// The F411's sectors, KiB: 4 × 16, 1 × 64, 3 × 128 = 512 KiB (RM0383
 /// §3.3 Table 4).
 pub const SECTOR_KIB: [u32; 8] = [16, 16, 16, 16, 64, 128, 128, 128];

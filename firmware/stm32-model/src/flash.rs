@@ -22,12 +22,7 @@ use polyturn_regs::bits::{flash_cr, flash_sr};
 /// FLASH_SR bits, §3.8.4.
 pub const SR_EOP: u32 = flash_sr::EOP.mask();
 /// OPERR, WRPERR, PGAERR, PGPERR, PGSERR, RDERR
-pub const SR_ERRORS: u32 = flash_sr::OPERR.mask()
-    | flash_sr::WRPERR.mask()
-    | flash_sr::PGAERR.mask()
-    | flash_sr::PGPERR.mask()
-    | flash_sr::PGSERR.mask()
-    | flash_sr::RDERR.mask();
+pub const SR_ERRORS: u32 = flash_sr::ERRORS;
 pub const SR_BSY: u32 = flash_sr::BSY.mask();
 pub const SR_PGSERR: u32 = flash_sr::PGSERR.mask();
 pub const SR_PGPERR: u32 = flash_sr::PGPERR.mask();
