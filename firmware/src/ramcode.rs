@@ -22,7 +22,7 @@ pub const MEMRMP_SRAM: u32 = 0b11;
 pub use polyturn_regs::addr::SRAM_BASE;
 
 /// Bytes of SRAM the code may take (`memory.x`'s RAMCODE; the rest is RAM).
-pub const RAMCODE_SIZE: u32 = 48 * 1024;
+pub const RAMCODE_SIZE: u32 = 56 * 1024;
 
 /// Where the copy of a word at section address `vma` goes.
 pub const fn sram_address(vma: u32) -> u32 {
@@ -56,18 +56,20 @@ const fn size_field(bytes: u32) -> u32 {
 
 /// The code's SRAM read-only once it is copied, so that nothing (a stray
 /// pointer, a stack run past its end) can write over the handlers the
-/// E-stop and the fault path rest on: its 48 KiB as 32 + 16 KiB at
+/// E-stop and the fault path rest on: its 56 KiB as 32 + 16 + 8 KiB at
 /// 0x2000_0000 (a region is a power of two aligned to its size, §4.5.4),
-/// and its alias at 0 as 64 KiB (what lies past 48 KiB there is `.data`'s
+/// and its alias at 0 as 64 KiB (what lies past 56 KiB there is `.data`'s
 /// alias, which nothing writes through). Everything else keeps the default
 /// map. A write there is a MemManage fault, which, not enabled, escalates
 /// to HardFault: the handler stops every output.
-pub const MPU_PROGRAM: [Op; 7] = [
+pub const MPU_PROGRAM: [Op; 9] = [
     Op::Write(MPU_RBAR, SRAM_BASE | VALID),
     Op::Write(MPU_RASR, READ_ONLY | SRAM_NORMAL | size_field(32 * 1024)),
     Op::Write(MPU_RBAR, (SRAM_BASE + 32 * 1024) | VALID | 1),
     Op::Write(MPU_RASR, READ_ONLY | SRAM_NORMAL | size_field(16 * 1024)),
-    Op::Write(MPU_RBAR, VALID | 2),
+    Op::Write(MPU_RBAR, (SRAM_BASE + 48 * 1024) | VALID | 2),
+    Op::Write(MPU_RASR, READ_ONLY | SRAM_NORMAL | size_field(8 * 1024)),
+    Op::Write(MPU_RBAR, VALID | 3),
     Op::Write(MPU_RASR, READ_ONLY | CODE_NORMAL | size_field(64 * 1024)),
     Op::Write(MPU_CTRL, CTRL_ON),
 ];
@@ -79,6 +81,6 @@ mod tests {
     #[test]
     fn the_alias_at_zero_is_srams_first_bytes() {
         assert_eq!(sram_address(0), 0x2000_0000);
-        assert_eq!(sram_address(RAMCODE_SIZE - 4), 0x2000_BFFC, "the last word the code may take");
+        assert_eq!(sram_address(RAMCODE_SIZE - 4), 0x2000_DFFC, "the last word the code may take");
     }
 }

@@ -26,6 +26,11 @@ pub trait Bus {
     fn write(&mut self, addr: u32, value: u32);
     fn read(&mut self, addr: u32) -> u32;
     fn delay(&mut self, cycles: u32);
+    /// The writes before it done before any access after it (a DMB on the
+    /// MCU: ARMv7-M does not order a store to RAM before a later load from
+    /// a peripheral, and a buffered store could reach the RAM after the
+    /// DMA's read that the load was to rule out). Nothing on a model.
+    fn barrier(&mut self) {}
 }
 
 /// Applies `ops` in order; `Err(i)` if op `i` could not complete (the rest

@@ -15,12 +15,18 @@
 //! clock), and the core checks that count against what it planned.
 //!
 //! The ISR's latency does not move a step: it only has to write tick k+2's
-//! segments before the DMA reaches them, at the start of tick k+1's last
-//! segment, which is no earlier than `MIN_SEGMENT` before tick k+2. (The
-//! DMA reads each burst's first word early, §9.3.12: that word is a
-//! constant, see `entries::Entry`.) So the deadline is `tick − MIN_SEGMENT`
-//! cycles after the tick, whatever the steps. A late write is detected
-//! from the DMA's position (NDTR, before and after writing) and halts.
+//! segments before the DMA reaches them: the first at the start of tick
+//! k+1's last segment, three quarters into tick k+1 at the earliest less
+//! `MIN_SEGMENT` (`entries::late_boundary`; with a pulse longer than
+//! 6.75 µs, where a pulse ending within a pulse of the tick's end rises,
+//! past half the tick), the second as the first starts, at the end of
+//! tick k+1's last pulse or at tick k+2. (The DMA reads each burst's first
+//! word early, §9.3.12: that word is a constant, see `entries::Entry`.)
+//! After an arm the first window's first segment is read at TIM1's first
+//! update, the next tick's instant. A late write is detected from the
+//! DMA's position (NDTR, before writing, after the first segment and at
+//! the end) and halts; an entry's CCR1 is written last, so a burst that
+//! reads one half written plays silence.
 //!
 //! NDTR has two readings in the manual: it decrements after each transfer
 //! (§9.3.2 "post-decrement"), or already when direct mode preloads the word
@@ -207,7 +213,9 @@ impl Generator {
     /// (`begin`, then `write_plan` if it says so), as the host runs it.
     pub fn tick(&mut self, plan: &StepPlan, halt: bool, t: &StepTiming, bus: &mut impl Bus) -> Result<(), Fail> {
         if self.begin(halt, t, bus)? {
-            self.write_plan(plan, t, bus)
+            let written = self.write_plan(plan, t, bus);
+            self.silence_behind(bus);
+            written
         } else {
             Ok(())
         }
@@ -258,11 +266,14 @@ impl Generator {
     /// a halt if the DMA got there first. Only while armed (`begin`).
     ///
     /// The DMA asks for a tick's first segment as the tick before it starts
-    /// its last, half a tick before that tick ends at the earliest
+    /// its last, three quarters into that tick at the earliest
     /// (`entries::late_boundary`), and for its second as the first starts,
-    /// at the tick's start: so the first is written and checked before
-    /// anything else, and the rest by the tick's start. A write that ends
-    /// after the next tick has begun, in time for both, loses nothing.
+    /// at the end of the tick before's last pulse or at the tick's start:
+    /// so the first is written and checked before anything else (and the
+    /// output halted at once if it was asked for already), and the rest
+    /// checked at the end. A write that ends after the next tick has
+    /// begun, in time for both, loses nothing. After an arm, the first
+    /// window's first segment is asked for at the next tick's instant.
     pub fn write_plan(&mut self, plan: &StepPlan, t: &StepTiming, bus: &mut impl Bus) -> Result<(), Fail> {
         // the stream runs, and has not reached what this tick writes
         let (started, _) = self.dma_entries(bus);
@@ -277,26 +288,33 @@ impl Generator {
         let (write, first_in_time) = (sink.write, sink.first_in_time);
         self.write = write;
         // did the DMA start the second or a later one before it was written?
-        let (now, finished) = self.dma_entries(bus);
+        let (now, _) = self.dma_entries(bus);
         let reached = (now + RING_ENTRIES - first) % RING_ENTRIES;
         if !first_in_time || (2..=written).contains(&reached) {
             self.halt(t, bus);
             return Err(Fail::Late);
         }
-        // segments the DMA has taken whole go silent (not the one whose
-        // burst is under way: its last words are still to be read, and a
-        // mix of two segments is no segment), and long: STEP held low
-        // (`Entry::SILENT`, PWM mode 2) for the filler's 0.17 s, so that a
-        // DMA that ran on past a writer that stopped plays the ticks in
-        // flight, then silence, never an old segment's step before the
-        // watchdog resets the MCU (`Entry::filler`; the test
-        // `fillers_outlast_the_watchdog` ties the figures). After the
-        // plan's: behind the DMA, so nothing it waits for.
+        Ok(())
+    }
+
+    /// After a plan is written: the segments the DMA has taken whole go
+    /// silent (not the one whose burst is under way: its last words are
+    /// still to be read, and a mix of two segments is no segment), and
+    /// long: STEP held low (`Entry::SILENT`, PWM mode 2) for the filler's
+    /// 0.17 s, so that a DMA that ran on past a writer that stopped plays
+    /// the ticks in flight, then silence, never an old segment's step
+    /// before the watchdog resets the MCU (`Entry::filler`; the test
+    /// `fillers_outlast_the_watchdog` ties the figures). Behind the DMA,
+    /// so nothing it waits for: the plan is let go of before it.
+    pub fn silence_behind(&mut self, bus: &mut impl Bus) {
+        if !self.armed {
+            return;
+        }
+        let (_, finished) = self.dma_entries(bus);
         while self.silenced != finished {
             silence_taken(self.ring, self.silenced, bus);
             self.silenced = (self.silenced + 1) % RING_ENTRIES;
         }
-        Ok(())
     }
 
     /// The arm's first half (`program::quiet`: everything stopped, STEP
@@ -407,6 +425,9 @@ struct RingSink<'a, B: Bus> {
 impl<B: Bus> entries::Sink for RingSink<'_, B> {
     #[inline(always)]
     fn put(&mut self, e: Entry) {
+        if !self.first_in_time {
+            return; // halted: nothing more to write
+        }
         put(self.ring, self.write, &e, self.bus);
         if self.write == self.first {
             self.check_first();
@@ -416,10 +437,17 @@ impl<B: Bus> entries::Sink for RingSink<'_, B> {
 }
 
 impl<B: Bus> RingSink<'_, B> {
+    /// The plan's first entry written: asked for already (the DMA on it,
+    /// or past), it halts at once, before the entry's segment can start.
     // (out of line: once a plan, and the layout puts from several places)
     #[inline(never)]
     fn check_first(&mut self) {
+        // the entry in the RAM before NDTR says the DMA has not read it
+        self.bus.barrier();
         self.first_in_time = (dma_entries(self.lead, self.bus).0 + RING_ENTRIES - self.first) % RING_ENTRIES != 1;
+        if !self.first_in_time {
+            let _ = apply(&program::HALT_IN_RAM, self.bus);
+        }
     }
 }
 
@@ -438,10 +466,14 @@ fn dma_entries(lead: u32, bus: &mut impl Bus) -> (usize, usize) {
 #[inline(always)]
 fn put(ring: u32, slot: usize, e: &Entry, bus: &mut impl Bus) {
     let base = ring + slot as u32 * program::BURST_WORDS * 4;
+    bus.write(base + 16, e.ccr2);
     bus.write(base + 4, e.arr);
     bus.write(base + 8, e.rcr);
+    // CCR1 last: a slot the DMA takes is silenced first (CCR1 = SILENT,
+    // `silence_taken`), so a burst that reads it half written, the writer
+    // pre-empted between its words, plays silence, never a pulse with the
+    // last lap's DIR or length
     bus.write(base + 12, e.ccr1);
-    bus.write(base + 16, e.ccr2);
 }
 
 #[cfg(test)]

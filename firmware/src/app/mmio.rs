@@ -28,4 +28,7 @@ impl Bus for Mmio {
         // the timers run at the CPU clock (board::SYSCLK_HZ)
         cortex_m::asm::delay(cycles);
     }
+    fn barrier(&mut self) {
+        cortex_m::asm::dmb();
+    }
 }

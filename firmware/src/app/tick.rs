@@ -153,6 +153,7 @@ fn run(cs: &CriticalSection) {
     let bldc_stops = bldc::stops();
     // (both read before anything the E-stop's interrupt also writes)
     compiler_fence(Ordering::SeqCst);
+    plan::at_entry();
     // (try_: nothing else can hold it while the tick runs, and the tick
     // keeps no panic path)
     let Ok(mut io) = IO.borrow(cs).try_borrow_mut() else { return };

@@ -153,7 +153,7 @@ fn a_halted_generator_writes_nothing_until_it_re_arms() {
     assert!(bus.writes.is_empty(), "not armed: nothing to halt");
     // arm (quietened at boot): TIM11 at 0, no update; NDTR full and TIM1
     // without an update (the reading of NDTR); NDTR full, stream on, NDTR full
-    bus.reads = vec![0, 0, program::RING_WORDS, 0, program::RING_WORDS, 1, program::RING_WORDS, program::RING_WORDS];
+    bus.reads = vec![0, 0, program::RING_WORDS, 0, program::RING_WORDS, 1, program::RING_WORDS, program::RING_WORDS, program::RING_WORDS];
     g.tick(&StepPlan::default(), false, &T, &mut bus).unwrap();
     assert!(g.armed());
     let n = bus.writes.len();
@@ -195,15 +195,15 @@ fn a_segment_whose_burst_is_under_way_is_not_silenced() {
     g.prepare(T.tick_len, &mut bus);
     // arm: the stream reads as stopped, TIM11 at 100 and no update, NDTR
     // full with TIM1 not yet updated; then NDTR full, the stream on, NDTR full
-    bus.reads = vec![100, 0, program::RING_WORDS, 0, program::RING_WORDS, 1, program::RING_WORDS, program::RING_WORDS];
+    bus.reads = vec![100, 0, program::RING_WORDS, 0, program::RING_WORDS, 1, program::RING_WORDS, program::RING_WORDS, program::RING_WORDS];
     g.tick(&StepPlan::default(), false, &T, &mut bus).unwrap();
     for _ in 0..2 {
-        bus.reads = vec![program::RING_WORDS, 1, program::RING_WORDS, program::RING_WORDS];
+        bus.reads = vec![program::RING_WORDS, 1, program::RING_WORDS, program::RING_WORDS, program::RING_WORDS];
         g.tick(&StepPlan::default(), false, &T, &mut bus).unwrap();
     }
     // a tick later the DMA has read slot 0 and two words of slot 1
     let w = program::BURST_WORDS;
-    bus.reads = vec![program::RING_WORDS - w - 2, 1, program::RING_WORDS - w - 2, program::RING_WORDS - w - 2];
+    bus.reads = vec![program::RING_WORDS - w - 2, 1, program::RING_WORDS - w - 2, program::RING_WORDS - w - 2, program::RING_WORDS - w - 2];
     let before = bus.writes.len();
     g.tick(&StepPlan::default(), false, &T, &mut bus).unwrap();
     let slot = |a: u32| (a.wrapping_sub(ring) / (4 * program::BURST_WORDS)) as usize;
@@ -222,7 +222,7 @@ fn an_arm_in_the_tick_leaves_its_first_window_to_the_plan() {
     let p = plan(0, 3 << 16, 0, &Prev::idle(Dir::Forward), &T); // three steps (Q16)
     assert!(p.count > 0, "a window with steps in it");
     let arm_reads =
-        vec![100, 0, program::RING_WORDS, 0, program::RING_WORDS, 1, program::RING_WORDS, program::RING_WORDS];
+        vec![100, 0, program::RING_WORDS, 0, program::RING_WORDS, 1, program::RING_WORDS, program::RING_WORDS, program::RING_WORDS];
     let prepared = || {
         let mut g = Generator::new(ring);
         let mut bus = Script::default();
@@ -256,9 +256,9 @@ fn arm_reading(boot: u32, ndtr: u32, uif: u32, now: u32) -> (u32, Result<(), Fai
     // quiet's wait for the stream, the probe's NDTR, its wait for the stream
     let mut bus = Script { reads: vec![0, boot, 0], ..Default::default() };
     g.prepare(T.tick_len, &mut bus);
-    bus.reads = vec![100, 0, ndtr, uif, ndtr, 1, ndtr, ndtr];
+    bus.reads = vec![100, 0, ndtr, uif, ndtr, 1, ndtr, ndtr, ndtr];
     let armed = g.tick(&StepPlan::default(), false, &T, &mut bus);
-    bus.reads = vec![now, 1, now, now];
+    bus.reads = vec![now, 1, now, now, now];
     let before = bus.writes.len();
     let next = g.tick(&StepPlan::default(), false, &T, &mut bus);
     let slot = |a: u32| (a.wrapping_sub(ring) / (4 * program::BURST_WORDS)) as usize;
@@ -316,7 +316,7 @@ fn after_a_halt_each_tick_silences_a_share_and_the_ring_is_silent_before_it_re_a
     let mut g = Generator::new(0x2000_0000);
     let mut bus = Script::default();
     g.prepare(T.tick_len, &mut bus);
-    bus.reads = vec![0, 0, program::RING_WORDS, 0, program::RING_WORDS, 1, program::RING_WORDS, program::RING_WORDS];
+    bus.reads = vec![0, 0, program::RING_WORDS, 0, program::RING_WORDS, 1, program::RING_WORDS, program::RING_WORDS, program::RING_WORDS];
     g.tick(&StepPlan::default(), false, &T, &mut bus).unwrap();
     g.halted_elsewhere(&T); // the E-stop interrupt halted it
                             // ARR, RCR and CCR1 of each entry: PSC stays 0 from the first fill,
@@ -428,8 +428,37 @@ fn a_first_segment_the_dma_asked_for_before_it_was_written_halts() {
     let full = program::RING_WORDS;
     // its burst under way by the time the first segment was written
     bus.reads = vec![full, 1, full - 1, full - 1];
+    let before = bus.writes.len();
     assert_eq!(g.write_plan(&p, &T, &mut bus), Err(Fail::Late));
     assert!(!g.armed());
+    // halted at once: no entry written after the first
+    let ring = 0x2000_0000..0x2000_0000 + program::RING_WORDS * 4;
+    let entry = program::BURST_WORDS * 4;
+    let later = bus.writes[before..].iter().filter(|w| ring.contains(&w.0) && w.0 >= ring.start + entry).count();
+    assert_eq!(later, 0, "{:?}", &bus.writes[before..]);
+}
+
+/// Each entry's CCR1 is written after its other words: a burst that reads
+/// an entry half written (the writer pre-empted between its words) takes
+/// the silenced slot's CCR1, no step, never a pulse with an old DIR.
+#[test]
+fn each_entrys_ccr1_is_written_last() {
+    let (mut g, mut bus, p) = armed_with_a_plan();
+    let full = program::RING_WORDS;
+    bus.reads = vec![full, 1, full, full];
+    let before = bus.writes.len();
+    g.write_plan(&p, &T, &mut bus).unwrap();
+    let entry = program::BURST_WORDS * 4;
+    let mut slots = std::collections::BTreeMap::<u32, Vec<u32>>::new();
+    for (a, _) in &bus.writes[before..] {
+        if let Some(off) = a.checked_sub(0x2000_0000).filter(|o| *o < full * 4) {
+            slots.entry(off / entry).or_default().push(off % entry);
+        }
+    }
+    assert!(!slots.is_empty());
+    for (slot, words) in slots {
+        assert_eq!(words.last(), Some(&12), "slot {slot}: {words:?}");
+    }
 }
 
 /// As does one whose second segment the DMA asked for before the write

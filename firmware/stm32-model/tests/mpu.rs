@@ -59,7 +59,7 @@ fn what_the_firmware_writes_keeps_the_default_map() {
 fn the_regions_keep_the_memory_normal() {
     let n = programmed();
     let on: Vec<usize> = (0..8).filter(|&r| n.mpu.enabled(r)).collect();
-    assert_eq!(on, vec![0, 1, 2]);
+    assert_eq!(on, vec![0, 1, 2, 3]);
     for r in on {
         assert!(n.mpu.normal(r), "region {r}: not Normal memory");
     }

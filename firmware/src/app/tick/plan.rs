@@ -7,8 +7,10 @@
 //! interrupt. The DMA asks for window k + 2's first segment as window
 //! k + 1's last one starts, three quarters into tick k + 1 at the earliest
 //! (`entries::late_boundary`): a write that ends after tick k + 1 but
-//! before that loses nothing, and is only counted (`past_next`). Nothing but
-//! the E-stop and the tick outranks this handler (`board::PRIORITIES`; the
+//! before that loses nothing, and is only counted (`past_next`). (After
+//! an arm the first window's first segment is asked for at the next
+//! tick's instant: a writing later than that halts.) Nothing but the
+//! E-stop and the tick outranks this handler (`board::PRIORITIES`; the
 //! global critical section masks only the levels below it, `cs.rs`), so it
 //! runs as the tick returns.
 //!
@@ -25,10 +27,11 @@
 //! - A plan still waiting when the next tick comes (this handler held off
 //!   for a tick) is written by that tick itself (`settle`), before its own.
 //! - A plan the handler is still writing when the tick after next comes
-//!   (another waits behind it) is late for real: its window has begun. The tick that finds it halts the
-//!   step output at once (`late`) and the core's books, whose window went
-//!   out without its steps, stop the cutter with `fault=step-output`. So
-//!   does a write the DMA overtakes (`write_plan`'s own check).
+//!   (another waits behind it) is late for real: its window has begun.
+//!   The tick that finds it halts the step output first thing (`at_entry`,
+//!   `late`), and the core's books, whose window went out without its
+//!   steps, stop the cutter with `fault=step-output`. So does a write the
+//!   DMA overtakes (`write_plan`'s own check).
 //! - The register programs that must run inside the tick they were made
 //!   for, an arm (`program::arm`'s `Sync` on TIM11's count and UIF), stay
 //!   in the tick (`Generator::begin`).
@@ -37,7 +40,7 @@ use super::{halts, STEPS_LATE};
 use crate::app::drivers;
 use crate::app::mmio::Mmio;
 use core::cell::{RefCell, UnsafeCell};
-use core::sync::atomic::{AtomicU32, AtomicU8, Ordering};
+use core::sync::atomic::{compiler_fence, AtomicU32, AtomicU8, Ordering};
 use cortex_m::interrupt::{CriticalSection, Mutex};
 use embassy_stm32::interrupt;
 use embassy_stm32::interrupt::{InterruptExt, Priority};
@@ -98,9 +101,9 @@ static LATES: AtomicU32 = AtomicU32::new(0);
 /// Halts the tick made on the registers while this handler held the
 /// generator (`halt_busy`), since boot.
 static BUSY_HALTS: AtomicU32 = AtomicU32::new(0);
-/// Plans still being written, or not yet taken, when the next tick began,
-/// since boot. Each cost nothing unless the DMA overtook it (then it is in
-/// `STEPS_LATE` too, and halted).
+/// Ticks that found the last tick's plan not yet written (still being
+/// written, or waiting), since boot. Each cost nothing unless the DMA
+/// overtook the writing (then it is in `STEPS_LATE` too, and halted).
 static PAST_NEXT: AtomicU32 = AtomicU32::new(0);
 
 /// Sets the generator up, before the tick's interrupt is enabled.
@@ -125,16 +128,9 @@ fn waiting() -> u32 {
 }
 
 /// The tick, when the generator is free: the generator. None while this
-/// handler writes: counted, and if another plan waits behind the one it
-/// writes (made two ticks ago: its window has begun), the step output
-/// halted (`late`).
+/// handler writes (`at_entry` has judged that).
 pub(super) fn writer<'a>(cs: &'a CriticalSection) -> Option<core::cell::RefMut<'a, Option<Writer>>> {
     if STATE.load(Ordering::Acquire) == WRITING {
-        if waiting() > 1 {
-            late();
-        } else {
-            PAST_NEXT.fetch_add(1, Ordering::Relaxed);
-        }
         return None;
     }
     // (try_: nothing else holds it while the tick runs and the handler
@@ -142,13 +138,23 @@ pub(super) fn writer<'a>(cs: &'a CriticalSection) -> Option<core::cell::RefMut<'
     WRITER.borrow(cs).try_borrow_mut().ok()
 }
 
+/// First thing in the tick: a writing still going with the last tick's plan
+/// waiting behind it is for a window that has begun: the step output halts
+/// at once, before anything of the tick (`late`). One still going with
+/// nothing behind it, or a plan waiting that the handler never started, is
+/// counted: it may end in time.
+pub(super) fn at_entry() {
+    let (writing, waiting) = (STATE.load(Ordering::Acquire) == WRITING, waiting());
+    if writing && waiting > 1 {
+        late();
+    } else if waiting > 0 {
+        PAST_NEXT.fetch_add(1, Ordering::Relaxed);
+    }
+}
+
 /// At the tick, the generator in hand: the plans the handler never started
 /// (held off for a tick) are written here, in order, as it would have.
 pub(super) fn settle(w: &mut Writer) {
-    if waiting() == 0 {
-        return;
-    }
-    PAST_NEXT.fetch_add(1, Ordering::Relaxed);
     while write_next(w).is_some() {}
 }
 
@@ -182,6 +188,8 @@ fn write_next(w: &mut Writer) -> Option<u32> {
     write(w, &h.plan);
     let made_at = h.made_at;
     TAKEN.store(taken.wrapping_add(1), Ordering::Release);
+    // (after the plan is let go of: a tick meanwhile finds it written)
+    w.steps.silence_behind(&mut Mmio);
     Some(made_at)
 }
 
@@ -218,6 +226,9 @@ pub static PLAN_END: polyturn_firmware::latency::Latency = polyturn_firmware::la
 #[interrupt]
 fn USART2() {
     STATE.store(WRITING, Ordering::Release);
+    // (nothing below moved above the store: a tick before it finds the
+    // generator free and `TAKEN` as it will be read here)
+    compiler_fence(Ordering::SeqCst);
     // SAFETY: `WRITER` is this handler's while it holds `WRITING`: the
     // tick, which pre-empts it, sees that and does not open it; thread mode
     // and the E-stop never open it. Through the pointer: the borrow's own
@@ -244,12 +255,15 @@ fn USART2() {
 /// halt made elsewhere meanwhile is why.
 #[inline(never)] // one copy for the handler and the tick's `settle`
 fn write(w: &mut Writer, plan: &StepPlan) {
+    // (read first: a halt made elsewhere from here on is not this write's)
+    let before = halts();
+    // the timing the tick last gave: it changes only while idle, when the
+    // plans are empty, so a plan made a tick before is laid out as made
     let timing = w.timing;
     super::heard_of_halts(w, &timing);
     if !w.steps.armed() {
         return;
     }
-    let before = halts();
     if w.steps.write_plan(plan, &timing, &mut Mmio).is_err() && halts() == before {
         STEPS_LATE.fetch_add(1, Ordering::Relaxed);
     }

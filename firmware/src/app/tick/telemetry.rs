@@ -5,8 +5,9 @@ use core::sync::atomic::{AtomicU32, Ordering};
 
 pub(super) static TICKS: AtomicU32 = AtomicU32::new(0);
 static LAST_SEEN: AtomicU32 = AtomicU32::new(0);
-/// Ticks whose segments the DMA reached before they were written, or
-/// whose step plan was not made by the next tick (`plan::late`).
+/// Plans whose segments the DMA reached before they were written, or
+/// found still being written with the next plan waiting behind it
+/// (`plan::late`), and arms that could not complete.
 pub(super) static STEPS_LATE: AtomicU32 = AtomicU32::new(0);
 /// `Generator::ndtr_lead`, learnt at boot, for the bench's log.
 pub(super) static NDTR_LEAD: AtomicU32 = AtomicU32::new(0);
