@@ -188,3 +188,7 @@ fn up_to(max_rpm: Option<f64>) -> String {
         None => "any lathe speed: the X axis does not move".into(),
     }
 }
+
+#[cfg(test)]
+#[path = "compensate_tests.rs"]
+mod tests;
