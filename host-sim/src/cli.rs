@@ -17,6 +17,7 @@ pub mod flash;
 pub mod geometry;
 pub mod guided;
 pub mod image;
+mod limits;
 pub mod measure;
 #[cfg(test)]
 mod names_tests;

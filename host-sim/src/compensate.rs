@@ -115,15 +115,21 @@ pub fn plan(setup: &Setup, rpm: f64, v_max: f64, a_max: f64) -> Plan {
     }
     let (lo, hi) = plan.x.iter().fold((f64::MAX, f64::MIN), |(l, u), &v| (l.min(v), u.max(v)));
     plan.x_travel = hi - lo;
-    let scale = (v_max / plan.peak_x_speed).min((a_max / plan.peak_x_accel).sqrt());
+    // X speed goes with the lathe speed and X acceleration with its
+    // square: each limit scales the speed asked for by its own factor
+    let (by_speed, by_accel) = (v_max / plan.peak_x_speed, (a_max / plan.peak_x_accel).sqrt());
     // An X motion of zero speed and acceleration sets no limit (None),
     // never an infinite one.
-    plan.max_rpm = Some(rpm * scale).filter(|r| r.is_finite());
+    plan.max_rpm = Some(rpm * by_speed.min(by_accel)).filter(|r| r.is_finite());
+    // past both limits, the one that sets the top speed is at fault:
+    // raising the other would change nothing
+    let speed_binds = plan.peak_x_speed > v_max && by_speed <= by_accel;
     if gouges(setup, &plan) {
         plan.limited_by = Some(Limit::Gouge);
-    } else if plan.peak_x_speed > v_max {
+    } else if speed_binds {
         plan.limited_by = Some(Limit::Speed);
     } else if plan.peak_x_accel > a_max {
+        // (speed past its limit and not binding: acceleration is past a tighter one)
         plan.limited_by = Some(Limit::Accel);
     }
     plan

@@ -65,7 +65,7 @@ fn cases() -> Vec<(String, Option<&'static str>)> {
         c(format!("simulate {HEX} --rpm 600 --revolutions 1 --drive bldc --bldc-out pwm --pwm-hz 7000"), Some("--pwm-hz")),
         c(format!("simulate {HEX} --rpm 600 --revolutions 1 --drive bldc --bldc-out esc"), Some("--bldc-out")),
         c(format!("simulate {HEX} --rpm 600 --revolutions 1 --drive bldc --bldc-tau 0"), Some("--bldc-tau")),
-        c(format!("simulate {HEX} --rpm 1400 --revolutions 1 --drive bldc"), Some("--bldc-out")),
+        c(format!("simulate {HEX} --rpm 1400 --revolutions 1 --drive bldc"), Some("--rpm must be at most 1153 rpm for ratio 2 with --bldc-out esc50")),
         c(format!("simulate {HEX} --rpm -inf --revolutions 1"), Some("--rpm")),
         c(format!("simulate {HEX} --rpm 600 --revolutions 1 --ripple -inf"), Some("--ripple")),
         // setups

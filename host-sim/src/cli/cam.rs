@@ -4,6 +4,7 @@
 mod request;
 
 use super::errors::{CliError, CliResult};
+use super::limits::{floor_tenth, past};
 use super::output::Outputs;
 use super::values::{out_file, rpm, whole32, within};
 use super::x_table::{board_takes, TableArgs};
@@ -136,7 +137,7 @@ fn report(
     let mut warnings: Vec<String> = Vec::new();
     if let Some(f) = fillet.filter(|f| *f > 0.1 * r.polygon.apothem_mm) {
         let cure = if sharp_rpm >= 1.0 {
-            format!("lower --rpm to {sharp_rpm:.1} or give the X axis more speed and acceleration")
+            format!("lower --rpm to {} or give the X axis more speed and acceleration", floor_tenth(sharp_rpm))
         } else {
             "give the X axis more speed and acceleration (even 1 rpm is too fast for them)".into()
         };
@@ -190,10 +191,10 @@ fn body(j: &serde_json::Value) -> String {
     let corners = match j["corners"].as_str() {
         Some("sharp") => format!("sharp, {:.1} µm from the polygon", f("path_deviation_um")),
         _ => format!(
-            "rounded to {:.3} mm fillets (corners {:.1} µm inside the sharp ones; sharp needs <= {:.1} rpm)",
+            "rounded to {:.3} mm fillets (corners {:.1} µm inside the sharp ones; sharp needs <= {} rpm)",
             f("corner_fillet_mm"),
             f("corner_rounding_um"),
-            f("sharp_max_rpm")
+            floor_tenth(f("sharp_max_rpm"))
         ),
     };
     format!(
@@ -210,7 +211,11 @@ fn sharp_refused(r: &Request, sharp_rpm: f64) -> CliError {
     if sharp_rpm >= 1.0 {
         CliError::flag(
             "rpm",
-            format!("must be <= {sharp_rpm:.1} rpm for sharp corners with --m {m}: the X axis cannot follow them faster (without --m the table cuts rounded corners in one turn)"),
+            format!(
+                "must be <= {} rpm for sharp corners with --m {m}: the X axis cannot follow them faster (without --m the table cuts rounded corners in one turn) (got {})",
+                floor_tenth(sharp_rpm),
+                r.axis.rpm
+            ),
         )
     } else {
         CliError::flag(
@@ -220,23 +225,34 @@ fn sharp_refused(r: &Request, sharp_rpm: f64) -> CliError {
     }
 }
 
+/// No corner rounding fits the axis at `--rpm`: the speed that one does
+/// (rounded down: a named bound is taken), or, below 1 rpm, the axis's
+/// limit that binds, with what it needs at 1 rpm.
 fn refusal(e: &Evaluation, r: &Request) -> CliError {
+    // X speed goes with the lathe speed, X acceleration with its square
+    let at = if e.max_rpm < 1.0 { 1.0 } else { r.axis.rpm };
+    let scale = at / r.axis.rpm;
     let (flag, which) = match e.limit {
-        Limit::Speed => ("x-max-speed", format!("X speed {:.1} mm/s > {} mm/s", e.peak_speed, r.axis.max_speed)),
+        Limit::Speed => {
+            let need = past(e.peak_speed * scale, r.axis.max_speed, 1);
+            ("x-max-speed", format!("X speed {need} mm/s > {} mm/s", r.axis.max_speed))
+        }
         Limit::Accel => {
-            ("x-max-accel", format!("X acceleration {:.0} mm/s^2 > {} mm/s^2", e.peak_accel, r.axis.max_accel))
+            let need = past(e.peak_accel * scale * scale, r.axis.max_accel, 0);
+            ("x-max-accel", format!("X acceleration {need} mm/s^2 > {} mm/s^2", r.axis.max_accel))
         }
     };
     // Too slow even for the slowest lathe speed taken: the axis is at fault.
     if e.max_rpm < 1.0 {
-        return CliError::flag(
-            flag,
-            format!("is too low: even a nearly round section at 1 rpm needs {which} (at {} rpm)", r.axis.rpm),
-        );
+        return CliError::flag(flag, format!("is too low: even a nearly round section at 1 rpm needs {which}"));
     }
     CliError::flag(
         "rpm",
-        format!("must be <= {:.1} rpm for this X axis: even a nearly round section needs {which}", e.max_rpm),
+        format!(
+            "must be <= {} rpm for this X axis: even a nearly round section needs {which} (got {})",
+            floor_tenth(e.max_rpm),
+            r.axis.rpm
+        ),
     )
 }
 
@@ -261,3 +277,7 @@ fn drawing(path: &dyn ToolPath, e: &Evaluation, table: &CamFile) -> String {
     d.text(1, "tool path (grey), section (blue), polygon (red)");
     d.finish(560.0)
 }
+
+#[cfg(test)]
+#[path = "cam_tests.rs"]
+mod tests;

@@ -2,6 +2,7 @@
 //! and with `--table` write it as a cam table for the board.
 
 use super::errors::{CliError, CliResult};
+use super::limits::floor_tenth;
 use super::output::Outputs;
 use super::setup_args::SetupArgs;
 use super::values::{rpm, within};
@@ -180,12 +181,6 @@ fn allows(max_rpm: Option<f64>) -> String {
     }
 }
 
-/// A lathe speed rounded down to a tenth of an rpm, as a limit must be
-/// (28.75 is "28.7": 28.8 would exceed it).
-fn floor_tenth(rpm: f64) -> String {
-    format!("{:.1}", (rpm * 10.0).floor() / 10.0)
-}
-
 /// The lathe speed the X axis allows, or that it sets no limit.
 fn up_to(max_rpm: Option<f64>) -> String {
     match max_rpm {
@@ -193,3 +188,7 @@ fn up_to(max_rpm: Option<f64>) -> String {
         None => "any lathe speed: the X axis does not move".into(),
     }
 }
+
+#[cfg(test)]
+#[path = "compensate_tests.rs"]
+mod tests;

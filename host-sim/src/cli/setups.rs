@@ -15,6 +15,7 @@ mod tests;
 use super::errors::{CliError, CliResult};
 use super::measure::{Cut, Stock};
 use super::values::{length_mm, ratio_bound, rpm, setting, whole32, within};
+use crate::geometry::LENGTH_MM;
 use crate::planner::{plan, Request};
 use advice::Limits;
 use assumed::Cutter;
@@ -83,6 +84,7 @@ pub fn run(a: SetupsArgs) -> CliResult<String> {
 fn request(a: &SetupsArgs) -> CliResult<Request> {
     let r2 = a.stock.radius_for_a_cut()?;
     let depth = a.cut.depth(r2)?;
+    assumed_cutter_fits(a.cutter_radius, r2)?;
     if let Some(r1) = a.cutter_radius.filter(|&r1| r1 <= depth) {
         return Err(CliError::flag(
             "cutter-radius",
@@ -100,4 +102,22 @@ fn request(a: &SetupsArgs) -> CliResult<Request> {
         rpm: a.rpm,
         tolerance: a.tolerance,
     })
+}
+
+/// Without --cutter-radius, the assumed cutter (5 x the stock radius) must
+/// be one `geometry` takes: past its lengths every setup would be left
+/// out, and a table of none would read as no setup cutting the polygon.
+fn assumed_cutter_fits(given: Option<f64>, stock_radius: f64) -> CliResult<()> {
+    let (lo, hi) = LENGTH_MM;
+    let assumed = crate::planner::default_cutter(stock_radius);
+    if given.is_some() || (lo..=hi).contains(&assumed) {
+        return Ok(());
+    }
+    Err(CliError::flag(
+        "cutter-radius",
+        format!(
+            "must be given for a stock radius over {} mm (got none): the cutter assumed without it, 5 x the stock radius {stock_radius} mm, is {assumed} mm, past geometry's {lo}..={hi} mm",
+            hi / 5.0
+        ),
+    ))
 }

@@ -131,7 +131,7 @@ pub fn scenario_from(a: &SimulateArgs) -> CliResult<Scenario> {
         quadrature_counts: a.encoder_quadrature_error,
         duty_counts: a.encoder_duty_error,
     };
-    sc.core.validate().map_err(|e| refused::setting(e, &sc, a))?;
+    sc.core.validate().map_err(|e| refused::setting(e, &sc.core, a))?;
     Ok(sc)
 }
 
@@ -142,8 +142,11 @@ fn fit_bldc(sc: &mut Scenario, a: &SimulateArgs) -> CliResult<()> {
     if a.bldc_tau.is_none() {
         refused::own_tau(sc, out, a.motor_steps)?;
     }
-    crate::sim::bldc_drive::fit_drive(sc, out, a.pwm_hz.unwrap_or(1_000), a.bldc_tau)
-        .map_err(|e| refused::setting(e, sc, a))
+    let pwm_hz = a.pwm_hz.unwrap_or(1_000);
+    // refused, it is named with the drive as fitted, not the board's default
+    let tau = a.bldc_tau.unwrap_or(crate::sim::bldc_drive::own_tau_ms(sc, out));
+    let fitted = polyturn_sync::Config { bldc_out: out, pwm_hz, bldc_tau_ms: tau, ..sc.core };
+    crate::sim::bldc_drive::fit_drive(sc, out, pwm_hz, a.bldc_tau).map_err(|e| refused::setting(e, &fitted, a))
 }
 
 /// A run that cut nothing, too little or not the polygon fails with no

@@ -48,6 +48,21 @@ fn the_limiting_axis_is_named_and_the_speed_it_allows_fits() {
 }
 
 #[test]
+fn with_both_limits_passed_the_tighter_one_is_named() {
+    let s = setup("3", 2, Direction::Same);
+    let free = plan(&s, 300.0, 1e9, 1e12);
+    // speed passed by 2 x (it allows 150 rpm), acceleration by 100 x (30 rpm)
+    let (v, a) = (free.peak_x_speed / 2.0, free.peak_x_accel / 100.0);
+    let p = plan(&s, 300.0, v, a);
+    assert_eq!(p.limited_by, Some(Limit::Accel));
+    assert!((p.max_rpm.unwrap() - 30.0).abs() < 1e-6, "{:?}", p.max_rpm);
+    // and the other way round: speed by 10 x (30 rpm), acceleration by 4 x (150 rpm)
+    let p = plan(&s, 300.0, free.peak_x_speed / 10.0, free.peak_x_accel / 4.0);
+    assert_eq!(p.limited_by, Some(Limit::Speed));
+    assert!((p.max_rpm.unwrap() - 30.0).abs() < 1e-6, "{:?}", p.max_rpm);
+}
+
+#[test]
 fn edges_that_cut_at_the_same_time_are_refused_as_overlap() {
     // Opposite sense, GR·R1 = R_c: the tip barely moves over the work at
     // contact (speed R_c − GR·R1, Ghionea eq. 5), so each pass dwells

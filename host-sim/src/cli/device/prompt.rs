@@ -19,18 +19,23 @@ pub trait Ask {
     fn choose(&mut self, question: &str, choices: &[&str]) -> CliResult<usize>;
     /// What a Ctrl-C outside a question ends the command with.
     fn interrupted(&self) -> CliError;
+    /// True once a question ended the command (Ctrl-C, or its input
+    /// closed): its error is no answer to ask again.
+    fn ended(&self) -> bool;
 }
 
 /// How often a refused answer is asked again before the setup stops.
 pub const TRIES: usize = 3;
 
 /// `question`, asked again after a refusal (said with its reason), at
-/// most `TRIES` times.
+/// most `TRIES` times. A question that ended the command (Ctrl-C) is no
+/// refusal: its error ends the command at once.
 pub fn retry<T>(ask: &mut dyn Ask, mut question: impl FnMut(&mut dyn Ask) -> CliResult<T>) -> CliResult<T> {
     let mut last = CliError(String::new());
     for _ in 0..TRIES {
         match question(ask) {
             Ok(v) => return Ok(v),
+            Err(e) if ask.ended() => return Err(e),
             Err(e) => {
                 ask.say(&format!("refused: {}", e.0));
                 last = e;
@@ -43,6 +48,8 @@ pub fn retry<T>(ask: &mut dyn Ask, mut question: impl FnMut(&mut dyn Ask) -> Cli
 /// A terminal, for `command` (named in what a cancel says).
 pub struct Terminal {
     command: &'static str,
+    /// a read failed: Ctrl-C, or stdin closed or broken
+    ended: std::cell::Cell<bool>,
 }
 
 /// Ctrl-C was pressed (`Terminal::with_ctrl_c`): the command cleans up on
@@ -76,11 +83,12 @@ impl Terminal {
             eprintln!("error: {command}: cancelled (Ctrl-C): nothing saved");
             std::process::exit(130);
         });
-        Terminal { command }
+        Terminal { command, ended: std::cell::Cell::new(false) }
     }
 
     fn cancelled(&self, e: dialoguer::Error) -> CliError {
         show_cursor();
+        self.ended.set(true);
         // the read is interrupted by the signal before the handler's
         // thread has set the flag: the same Ctrl-C
         let dialoguer::Error::IO(io) = &e;
@@ -132,6 +140,9 @@ impl Ask for Terminal {
     fn interrupted(&self) -> CliError {
         CliError(format!("{}: cancelled (Ctrl-C): nothing saved", self.command))
     }
+    fn ended(&self) -> bool {
+        self.ended.get() || cancelled_by_ctrl_c()
+    }
     fn choose(&mut self, question: &str, choices: &[&str]) -> CliResult<usize> {
         dialoguer::Select::new()
             .with_prompt(question)
@@ -157,21 +168,30 @@ pub fn whole_in(text: &str, min: u32, max: u32) -> Result<u32, String> {
     }
 }
 
-/// Answers given in advance, in order (tests).
+/// Answers given in advance, in order (tests); "^C" is a Ctrl-C at
+/// that question.
 #[cfg(test)]
 pub struct Scripted {
     pub answers: std::collections::VecDeque<String>,
     pub said: Vec<String>,
+    ended: bool,
 }
 
 #[cfg(test)]
 impl Scripted {
     pub fn new(answers: &[&str]) -> Scripted {
-        Scripted { answers: answers.iter().map(|s| s.to_string()).collect(), said: vec![] }
+        Scripted { answers: answers.iter().map(|s| s.to_string()).collect(), said: vec![], ended: false }
     }
     fn next(&mut self, q: &str) -> CliResult<String> {
         self.said.push(format!("? {q}"));
-        self.answers.pop_front().ok_or_else(|| CliError(format!("no answer scripted for '{q}'")))
+        match self.answers.pop_front() {
+            Some(a) if a == "^C" => {
+                self.ended = true;
+                Err(self.interrupted())
+            }
+            Some(a) => Ok(a),
+            None => Err(CliError(format!("no answer scripted for '{q}'"))),
+        }
     }
 }
 
@@ -199,6 +219,9 @@ impl Ask for Scripted {
     }
     fn interrupted(&self) -> CliError {
         CliError("scripted: cancelled (Ctrl-C): nothing saved".into())
+    }
+    fn ended(&self) -> bool {
+        self.ended
     }
     fn choose(&mut self, question: &str, choices: &[&str]) -> CliResult<usize> {
         let a = self.next(question)?;

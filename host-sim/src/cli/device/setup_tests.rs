@@ -603,3 +603,21 @@ fn a_bldc_summary_takes_a_given_time_constant_and_speaks_of_encoder_counts() {
     let out = run(&mut s, &args(&format!("{BLDC} --bldc-out pwm")), &mut Scripted::new(&[])).unwrap();
     assert!(out.contains("bldc-tau is still the default"), "{out}");
 }
+
+/// Ctrl-C at a question asked again while its answers make no setting
+/// (the motor's full steps, the PWM frequency): the setup ends there, as
+/// at any other question, with nothing sent to save.
+#[test]
+fn ctrl_c_at_a_question_asked_again_ends_the_setup_at_once() {
+    let stepper = ["y", "", "y", "a stepper", "^C", "200", "16"];
+    let pwm = ["y", "", "y", "a BLDC through a spindle", "^C", "8000"];
+    for (answers, question) in [(&stepper[..], "Motor full steps per turn"), (&pwm[..], "The PWM frequency")] {
+        let mut s = hand_turned();
+        let mut ask = Scripted::new(answers);
+        let e = run(&mut s, &args(""), &mut ask).unwrap_err();
+        assert_eq!(e.0, "scripted: cancelled (Ctrl-C): nothing saved", "{:?}", ask.said);
+        assert_eq!(ask.said.iter().filter(|l| l.contains(question)).count(), 1, "asked again: {:?}", ask.said);
+        assert!(!ask.said.iter().any(|l| l.starts_with("refused: ")), "{:?}", ask.said);
+        assert!(!sent(&s).contains(&"save".to_string()), "{:?}", sent(&s));
+    }
+}

@@ -136,7 +136,7 @@ fn rows_geometry_refuses(line: &str) -> Vec<String> {
 }
 
 #[test]
-fn a_degenerate_section_or_an_assumed_cutter_past_the_longest_length_is_left_out_and_counted() {
+fn a_degenerate_section_is_left_out_and_a_cutter_past_the_longest_length_is_not_assumed() {
     // a cut 0.998 of the stock radius deep: the section is 2 µm across,
     // judged on the same exact bins by both (a polyline through the pass
     // once called it round in `geometry` and a polygon in `setups`)
@@ -144,13 +144,8 @@ fn a_degenerate_section_or_an_assumed_cutter_past_the_longest_length_is_left_out
     assert_eq!(rows_geometry_refuses(deep), Vec::<String>::new());
     // 2 500 mm stock: the assumed cutter, 5 x, is past --cutter-radius's 10 000 mm
     let big = "setups --sides 6 --stock-radius 2500 --depth 100";
-    assert_eq!(rows_geometry_refuses(big), Vec::<String>::new());
-    let text = run(big).unwrap();
-    assert!(
-        text.contains("more left out: geometry refuses them: --cutter-radius must be a number in 0.001..=10000 mm"),
-        "{text}"
-    );
-    assert!(text.contains("give --cutter-radius"), "{text}");
+    let e = run(big).unwrap_err();
+    assert!(e.starts_with("--cutter-radius must be given for a stock radius over 2000 mm"), "{e}");
     // given, it is the machinist's own cutter, and the rows come back
     assert!(json(&format!("{big} --cutter-radius 9000"))["setups"].as_array().is_some_and(|r| !r.is_empty()));
 }
@@ -172,7 +167,26 @@ fn every_row_setups_prints_is_one_geometry_takes() {
         if let Some(k) = cutter {
             line += &format!(" --cutter-radius {}", ((depth * k * 1000.0).ceil() / 1000.0).min(10_000.0));
         }
+        if cutter.is_none() && crate::planner::default_cutter(r2) > 10_000.0 {
+            // no cutter to assume: refused, naming the flag that gives one
+            let e = run(&line).unwrap_err();
+            prop_assert!(e.starts_with("--cutter-radius must be given"), "{line}: {e}");
+            return Ok(());
+        }
         let refused = rows_geometry_refuses(&line);
         prop_assert!(refused.is_empty(), "{line}: {refused:#?}");
     });
+}
+
+#[test]
+fn stock_whose_assumed_cutter_geometry_refuses_is_refused_naming_cutter_radius() {
+    // 5 x 2000.5 mm is 10002.5 mm, past geometry's 10000 mm
+    let e = run("setups --sides 6 --stock-diameter 4001 --depth 1 --max-edges 3").unwrap_err();
+    assert!(e.starts_with("--cutter-radius must be given "), "{e}");
+    assert!(e.contains("10002.5 mm") && e.contains("0.001..=10000 mm"), "{e}");
+    assert!(!e.contains("no setup cuts"), "{e}");
+    // at 4000 mm the assumed 10000 mm is taken, and a cutter given is used
+    assert!(run("setups --sides 6 --stock-diameter 4000 --depth 1 --max-edges 3").is_ok());
+    let given = run("setups --sides 6 --stock-diameter 4001 --depth 1 --max-edges 3 --cutter-radius 10000").unwrap();
+    assert!(!given.contains("no setup cuts"), "{given}");
 }

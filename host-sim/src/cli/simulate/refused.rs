@@ -7,8 +7,8 @@ use crate::cli::errors::CliError;
 use crate::sim::bldc_drive::{full_speed, own_tau_ms, INERTIA_KG_M2};
 use crate::sim::{Scenario, SimResult};
 use polyturn_sync::config::table::BLDC_TAU;
-use polyturn_sync::config::BldcOut;
-use polyturn_sync::ConfigError;
+use polyturn_sync::config::{BldcOut, Rule};
+use polyturn_sync::{Config, ConfigError, DriveKind};
 
 /// A run that cut fewer lathe turns than its pattern takes to cut every
 /// side once: its section is not the polygon (whole sides uncut), so no
@@ -153,11 +153,12 @@ fn run_down(sc: &Scenario, f: polyturn_sync::Fault) -> String {
 }
 
 /// A setting the simulated board refuses, named by the flag it came from
-/// (the board's `max-rpm` is --rpm and 30 %: the ripple's headroom).
-pub fn setting(e: ConfigError, sc: &Scenario, a: &SimulateArgs) -> CliError {
-    let c = &sc.core;
+/// (the board's `max-rpm` is --rpm and 30 %: the ripple's headroom). `c`
+/// is the board's settings as refused (with the BLDC's drive fitted).
+pub fn setting(e: ConfigError, c: &Config, a: &SimulateArgs) -> CliError {
     match e.field {
-        "ratio" => too_fast(c, a.rpm),
+        // the rules on max-rpm: --rpm is the flag that sets it
+        "ratio" | "bldc-out" => too_fast(c, a.rpm),
         "cpr" => CliError::flag("encoder-cpr", format!("{} (got {})", e.allowed, c.encoder_counts_per_rev)),
         "steps" => CliError::flag("motor-steps", format!("{} (got {})", e.allowed, c.motor_steps_per_rev)),
         // (simulate has no max-rate flag: the figure is the simulated motor's)
@@ -169,37 +170,53 @@ pub fn setting(e: ConfigError, sc: &Scenario, a: &SimulateArgs) -> CliError {
             ),
         ),
         "start-rate" => CliError::flag("start-rate", format!("{} (got {})", e.allowed, c.start_rate_hz)),
-        "bldc-out" => CliError::flag(
-            "bldc-out",
-            format!(
-                "{} (got {}; the simulated board's max-rpm is --rpm {} + 30 %: {})",
-                e.allowed,
-                c.bldc_out.name(),
-                a.rpm,
-                c.max_lathe_rpm
-            ),
-        ),
         "pwm-hz" => CliError::flag("pwm-hz", format!("{} (got {})", e.allowed, c.pwm_hz)),
         "bldc-tau" => CliError::flag("bldc-tau", format!("{} (got {})", e.allowed, c.bldc_tau_ms)),
         f => CliError::flag(f, e.allowed),
     }
 }
 
-/// --rpm past what the motor steps at: the fastest --rpm that works, from
-/// the board's rule (max-rpm x ratio x steps / 60 <= max-rate) and the
-/// 30 % the simulated board's max-rpm adds to --rpm (`max_rpm_for`).
-fn too_fast(c: &polyturn_sync::Config, rpm: f64) -> CliError {
-    let (ratio, steps, rate) = (c.ratio, c.motor_steps_per_rev, c.max_step_rate_hz);
-    let max_rpm = 60 * u64::from(ratio.den()) * u64::from(rate) / (u64::from(ratio.num()) * u64::from(steps));
-    let why = format!("ratio {ratio} at {steps} steps a turn");
-    match crate::sim::fastest_rpm_within(u32::try_from(max_rpm).unwrap_or(u32::MAX)) {
-        Some(fastest) => CliError::flag(
-            "rpm",
-            format!("must be at most {fastest} rpm for {why} (the board's max-rate {rate} steps/s, with 30 % headroom) (got {rpm})"),
+/// The rule on the board's max-rpm that binds it most tightly with the
+/// others as in `c` (the step rate; with a BLDC, also its command rate),
+/// and the largest max-rpm it allows.
+fn tightest_max_rpm(c: &Config) -> (Rule, u64) {
+    let bldc = c.drive == DriveKind::Bldc;
+    [Rule::StepRate, Rule::CommandRate]
+        .into_iter()
+        .filter(|r| *r != Rule::CommandRate || bldc)
+        .filter_map(|r| r.bound("max-rpm", c).map(|b| (r, b.num / b.den.max(1))))
+        .min_by_key(|&(_, max)| max)
+        .unwrap_or((Rule::StepRate, 0))
+}
+
+/// --rpm past what the board's rules allow: the fastest --rpm that all of
+/// them take, from the rule that binds it most tightly and the 30 % the
+/// simulated board's max-rpm adds to --rpm (`max_rpm_for`).
+fn too_fast(c: &Config, rpm: f64) -> CliError {
+    let (rule, max_rpm) = tightest_max_rpm(c);
+    let ratio = c.ratio;
+    let (why, from, otherwise) = match rule {
+        Rule::CommandRate => (
+            format!("ratio {ratio} with --bldc-out {}", c.bldc_out.name()),
+            format!(
+                "{} commands/s: the drive must take a command at least once per cutter revolution",
+                c.bldc_out.frame_hz(c.pwm_hz)
+            ),
+            "give --bldc-out a drive that takes commands faster: oneshot125 or pwm",
         ),
+        _ => (
+            format!("ratio {ratio} at {} steps a turn", c.motor_steps_per_rev),
+            format!("the board's max-rate {} steps/s", c.max_step_rate_hz),
+            "lower --motor-steps",
+        ),
+    };
+    match crate::sim::fastest_rpm_within(u32::try_from(max_rpm).unwrap_or(u32::MAX)) {
+        Some(fastest) => {
+            CliError::flag("rpm", format!("must be at most {fastest} rpm for {why} ({from}, with 30 % headroom) (got {rpm})"))
+        }
         None => CliError::flag(
             "rpm",
-            format!("cannot be met at any speed: {why} needs more than the board's max-rate {rate} steps/s even at the simulated board's least max-rpm, 60 (lower --motor-steps) (got {rpm})"),
+            format!("cannot be met at any speed: {why} needs more than {from}, even at the simulated board's least max-rpm, 60 ({otherwise}) (got {rpm})"),
         ),
     }
 }

@@ -52,3 +52,33 @@ fn a_motor_no_rpm_can_drive_is_refused_naming_its_steps() {
     assert!(e.starts_with("--rpm cannot be met at any speed: ratio 1000 at 1000000 steps a turn"), "{e}");
     assert!(e.ends_with("(lower --motor-steps) (got 1)"), "{e}");
 }
+
+#[test]
+fn a_bldc_rpm_bound_named_by_the_first_refusal_is_taken_and_one_more_is_refused() {
+    // the step rate allows 1 442 rpm at 2 x 3 200 counts; an RC ESC's
+    // frame rate less (esc50: 50 x 60 / 2 = 1 500 board rpm, --rpm 1 153)
+    for out in ["esc50", "esc400", "oneshot125", "pwm"] {
+        let flags = |rpm: u32| format!("--ratio 2 --drive bldc --bldc-out {out} --rpm {rpm}");
+        let e = scenario(&flags(6000)).unwrap_err();
+        let bound: u32 = e
+            .strip_prefix("--rpm must be at most ")
+            .and_then(|t| t.split(' ').next())
+            .and_then(|n| n.parse().ok())
+            .unwrap_or_else(|| panic!("{out}: {e}"));
+        assert!(e.ends_with("(got 6000)"), "{e}");
+        assert_eq!(scenario(&flags(bound)), Ok(()), "{out}: {e}");
+        let over = scenario(&flags(bound + 1)).unwrap_err();
+        assert!(over.starts_with(&format!("--rpm must be at most {bound} rpm ")), "{out}: {over}");
+        assert!(over.ends_with(&format!("(got {})", bound + 1)), "{over}");
+    }
+    let e = scenario("--ratio 2 --drive bldc --rpm 6000").unwrap_err();
+    assert!(e.starts_with("--rpm must be at most 1153 rpm for ratio 2 with --bldc-out esc50 (50 commands/s"), "{e}");
+}
+
+#[test]
+fn a_bldc_ratio_no_rpm_can_command_is_refused_naming_a_faster_drive() {
+    // 60 board rpm x 60 / 60 = 60 commands/s, past esc50's 50
+    let e = scenario("--ratio 60 --motor-steps 200 --drive bldc --bldc-tau 20 --rpm 10").unwrap_err();
+    assert!(e.starts_with("--rpm cannot be met at any speed: ratio 60 with --bldc-out esc50"), "{e}");
+    assert!(e.contains("oneshot125 or pwm"), "{e}");
+}
