@@ -221,7 +221,7 @@ fn step_output(w: Option<&mut plan::Writer>, plan: StepPlan, halt: bool, timing:
         if halt {
             plan::halt_busy();
         } else {
-            plan::hand_on(plan);
+            plan::hand_on(&plan);
         }
         return;
     };
@@ -229,7 +229,7 @@ fn step_output(w: Option<&mut plan::Writer>, plan: StepPlan, halt: bool, timing:
     w.timing = *timing;
     heard_of_halts(w, timing);
     match w.steps.begin(halt, timing, &mut Mmio) {
-        Ok(true) => plan::hand_on(plan),
+        Ok(true) => plan::hand_on(&plan),
         // halted, or an arm that must wait: the plan unwritten (the books
         // catch any step in it; a failed arm is counted, as a late write)
         Ok(false) => {}

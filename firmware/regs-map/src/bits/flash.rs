@@ -20,8 +20,7 @@ pub mod flash_sr {
     pub const BSY: Field = bit(16);
     /// Every error flag: OPERR, WRPERR, PGAERR, PGPERR, PGSERR, RDERR
     /// (each cleared by writing 1, §3.8.4).
-    pub const ERRORS: u32 =
-        OPERR.mask() | WRPERR.mask() | PGAERR.mask() | PGPERR.mask() | PGSERR.mask() | RDERR.mask();
+    pub const ERRORS: u32 = OPERR.mask() | WRPERR.mask() | PGAERR.mask() | PGPERR.mask() | PGSERR.mask() | RDERR.mask();
 }
 
 /// FLASH_CR (RM0383 §3.8.5): program, sector and mass erase, the sector, the

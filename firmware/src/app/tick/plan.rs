@@ -32,6 +32,11 @@
 //!   `late`), and the core's books, whose window went out without its
 //!   steps, stop the cutter with `fault=step-output`. So does a write the
 //!   DMA overtakes (`write_plan`'s own check).
+//! - One core: the two handlers interleave only by pre-emption, and a core
+//!   sees its own memory accesses in program order (ARMv7-M's model, ARM
+//!   DDI 0403E §A3.7), so the flags and counts need no barrier, only the
+//!   compiler kept from moving accesses across them (`compiler_fence`). An
+//!   Acquire load or Release store would put a DMB into every tick.
 //! - The register programs that must run inside the tick they were made
 //!   for, an arm (`program::arm`'s `Sync` on TIM11's count and UIF), stay
 //!   in the tick (`Generator::begin`).
@@ -84,11 +89,9 @@ struct Slots([UnsafeCell<Handed>; 2]);
 // wait, so never the one being written (slot `TAKEN % 2`, until `TAKEN`
 // passes it); a writer reads a slot only after `MADE` says it is written.
 unsafe impl Sync for Slots {}
-const EMPTY: UnsafeCell<Handed> = UnsafeCell::new(Handed {
-    plan: StepPlan { count: 0, dir: Dir::Forward, first: 0, period: 0, first_frac: 0, frac: 0 },
-    made_at: 0,
-});
-static SLOTS: Slots = Slots([EMPTY; 2]);
+const EMPTY: Handed =
+    Handed { plan: StepPlan { count: 0, dir: Dir::Forward, first: 0, period: 0, first_frac: 0, frac: 0 }, made_at: 0 };
+static SLOTS: Slots = Slots([UnsafeCell::new(EMPTY), UnsafeCell::new(EMPTY)]);
 /// Plans the tick handed on, since boot (only the tick writes it).
 static MADE: AtomicU32 = AtomicU32::new(0);
 /// Plans written, or dropped (this handler, or the tick settling).
@@ -124,13 +127,13 @@ pub(super) unsafe fn enable() {
 
 /// Plans handed on and not yet written (the one being written too).
 fn waiting() -> u32 {
-    MADE.load(Ordering::Acquire).wrapping_sub(TAKEN.load(Ordering::Acquire))
+    MADE.load(Ordering::Relaxed).wrapping_sub(TAKEN.load(Ordering::Relaxed))
 }
 
 /// The tick, when the generator is free: the generator. None while this
 /// handler writes (`at_entry` has judged that).
 pub(super) fn writer<'a>(cs: &'a CriticalSection) -> Option<core::cell::RefMut<'a, Option<Writer>>> {
-    if STATE.load(Ordering::Acquire) == WRITING {
+    if STATE.load(Ordering::Relaxed) == WRITING {
         return None;
     }
     // (try_: nothing else holds it while the tick runs and the handler
@@ -144,7 +147,7 @@ pub(super) fn writer<'a>(cs: &'a CriticalSection) -> Option<core::cell::RefMut<'
 /// nothing behind it, or a plan waiting that the handler never started, is
 /// counted: it may end in time.
 pub(super) fn at_entry() {
-    let (writing, waiting) = (STATE.load(Ordering::Acquire) == WRITING, waiting());
+    let (writing, waiting) = (STATE.load(Ordering::Relaxed) == WRITING, waiting());
     if writing && waiting > 1 {
         late();
     } else if waiting > 0 {
@@ -154,20 +157,26 @@ pub(super) fn at_entry() {
 
 /// At the tick, the generator in hand: the plans the handler never started
 /// (held off for a tick) are written here, in order, as it would have.
+#[inline(always)]
 pub(super) fn settle(w: &mut Writer) {
+    if waiting() == 0 {
+        return; // the common case: the handler has written them all
+    }
     while write_next(w).is_some() {}
 }
 
 /// The tick leaves this tick's plan to the handler; with two still
 /// waiting (which `writer` has already halted for) it is dropped.
-pub(super) fn hand_on(plan: StepPlan) {
+#[inline(always)]
+pub(super) fn hand_on(plan: &StepPlan) {
     let made = MADE.load(Ordering::Relaxed);
-    if made.wrapping_sub(TAKEN.load(Ordering::Acquire)) >= 2 {
+    if made.wrapping_sub(TAKEN.load(Ordering::Relaxed)) >= 2 {
         return;
     }
     // SAFETY: the slot no writer is on (`Slots`); only the tick writes it
-    unsafe { *SLOTS.0[made as usize % 2].get() = Handed { plan, made_at: super::ticks() } };
-    MADE.store(made.wrapping_add(1), Ordering::Release);
+    unsafe { *SLOTS.0[made as usize % 2].get() = Handed { plan: *plan, made_at: super::ticks() } };
+    compiler_fence(Ordering::SeqCst);
+    MADE.store(made.wrapping_add(1), Ordering::Relaxed);
     interrupt::USART2.pend();
     // the pend complete before the tick returns, so the plan is taken
     // before anything below it (PM0214 §2.2.4: DSB, outstanding memory
@@ -179,15 +188,17 @@ pub(super) fn hand_on(plan: StepPlan) {
 /// tick that made it (`made_at`), or None if none waits.
 fn write_next(w: &mut Writer) -> Option<u32> {
     let taken = TAKEN.load(Ordering::Relaxed);
-    if MADE.load(Ordering::Acquire) == taken {
+    if MADE.load(Ordering::Relaxed) == taken {
         return None;
     }
+    compiler_fence(Ordering::SeqCst);
     // SAFETY: written before `MADE` passed it, and not written again until
     // `TAKEN` passes it (`Slots`)
     let h = unsafe { &*SLOTS.0[taken as usize % 2].get() };
     write(w, &h.plan);
     let made_at = h.made_at;
-    TAKEN.store(taken.wrapping_add(1), Ordering::Release);
+    compiler_fence(Ordering::SeqCst);
+    TAKEN.store(taken.wrapping_add(1), Ordering::Relaxed);
     // (after the plan is let go of: a tick meanwhile finds it written)
     w.steps.silence_behind(&mut Mmio);
     Some(made_at)
@@ -225,7 +236,7 @@ pub static PLAN_END: polyturn_firmware::latency::Latency = polyturn_firmware::la
 
 #[interrupt]
 fn USART2() {
-    STATE.store(WRITING, Ordering::Release);
+    STATE.store(WRITING, Ordering::Relaxed);
     // (nothing below moved above the store: a tick before it finds the
     // generator free and `TAKEN` as it will be read here)
     compiler_fence(Ordering::SeqCst);
@@ -240,7 +251,8 @@ fn USART2() {
             made_at = Some(m);
         }
     }
-    STATE.store(FREE, Ordering::Release);
+    compiler_fence(Ordering::SeqCst);
+    STATE.store(FREE, Ordering::Relaxed);
     // TIM11's count says when in a period it ended; whether that is the
     // period after its tick's or a later one, `TICKS` (the tick that made
     // it counts itself as it returns: one more is the next tick)
