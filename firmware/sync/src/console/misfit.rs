@@ -5,7 +5,7 @@
 use super::{named, Reply};
 use crate::config::together::Bound;
 use crate::config::Misfit;
-use crate::ratio::{gcd, RATIO_MAX_TERM};
+use crate::ratio::RATIO_MAX_TERM;
 use core::fmt::Write;
 
 /// `error: ratio must be at most 5/2 with max-rpm 1500, steps 3200 and
@@ -29,11 +29,11 @@ pub(super) fn write(m: &Misfit, out: &mut Reply) {
 }
 
 /// A whole-number setting's bound rounded inwards (the largest or least
-/// value that fits), the ratio's as the largest ratio the console takes
-/// within it: what can be typed.
+/// value that fits), the ratio's (always an upper one: `Rule::bound`) as
+/// the largest ratio the console takes within it: what can be typed.
 fn write_bound(setting: &str, b: Bound, out: &mut Reply) {
     let _ = match setting {
-        "ratio" if b.at_most => write_ratio(b.num, b.den, out),
+        "ratio" => write_ratio(b.num, b.den, out),
         _ if b.at_most => write!(out, "{}", b.num / b.den),
         _ => write!(out, "{}", b.num.div_ceil(b.den)),
     };
@@ -68,8 +68,7 @@ fn largest_at_most(n: u64, d: u64) -> Option<(u64, u64)> {
 /// `n/d` as a decimal: `0.0005`, or 4 decimals rounded down and `...` if
 /// more follow.
 fn write_decimal(n: u64, d: u64, out: &mut Reply) -> core::fmt::Result {
-    let g = gcd(n, d).max(1);
-    let (n, d) = (n / g, (d / g).max(1));
+    let d = d.max(1);
     write!(out, "{}.", n / d)?;
     let mut rest = n % d;
     for _ in 0..4 {

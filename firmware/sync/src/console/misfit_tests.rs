@@ -253,3 +253,19 @@ fn the_longest_refusal_fits_a_reply_line() {
     }
     assert!(longest < REPLY_LEN - 150, "{longest} of {REPLY_LEN}");
 }
+
+/// The search itself: the largest ratio in lowest terms, and none below
+/// 1/1000, where the bound is said as a decimal (the console's bounds are
+/// never that low: the others fit with a ratio of 1/1000 at least).
+#[test]
+fn the_largest_ratio_is_in_lowest_terms_and_a_bound_below_any_is_a_decimal() {
+    assert_eq!(super::largest_at_most(5, 2), Some((5, 2)));
+    assert_eq!(super::largest_at_most(12_000_000, 4_004_000), Some(largest_typed(12_000_000, 4_004_000)));
+    assert_eq!(super::largest_at_most(1, 1000), Some((1, 1000)));
+    assert_eq!(super::largest_at_most(1, 2000), None);
+    for (n, d, text) in [(1, 2000, "0.0005"), (1, 3000, "0.0003..."), (5, 2, "5/2"), (4000, 1000, "4")] {
+        let mut out = super::Reply::new();
+        super::write_ratio(n, d, &mut out).unwrap();
+        assert_eq!(out.as_str(), text, "{n}/{d}");
+    }
+}
