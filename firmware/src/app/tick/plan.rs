@@ -166,7 +166,7 @@ pub(super) fn settle(w: &mut Writer) {
 }
 
 /// The tick leaves this tick's plan to the handler; with two still
-/// waiting (which `writer` has already halted for) it is dropped.
+/// waiting (which `at_entry` has already halted for) it is dropped.
 #[inline(always)]
 pub(super) fn hand_on(plan: &StepPlan) {
     let made = MADE.load(Ordering::Relaxed);
@@ -225,7 +225,8 @@ pub(super) fn halts_here() -> u32 {
     LATES.load(Ordering::Relaxed).wrapping_add(BUSY_HALTS.load(Ordering::Relaxed))
 }
 
-/// Plans still being written when the next tick began, since boot.
+/// Ticks that found the last tick's plan not yet written, since boot
+/// (`PAST_NEXT`).
 pub fn past_next() -> u32 {
     PAST_NEXT.load(Ordering::Relaxed)
 }
