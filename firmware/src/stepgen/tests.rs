@@ -90,6 +90,21 @@ fn s_dir(s: &Entry) -> Dir {
     }
 }
 
+/// The reads of a tick that writes its plan, NDTR reading `ndtr`
+/// throughout: NDTR before writing, the stream on, NDTR after the first
+/// entry and at the end (`write_plan`), NDTR for the silencing
+/// (`silence_behind`).
+fn write_tick(ndtr: u32) -> Vec<u32> {
+    vec![ndtr, 1, ndtr, ndtr, ndtr]
+}
+
+/// The reads of a tick that arms (quietened already) and writes its first
+/// window: TIM11 at `tim11` and its UIF 0, NDTR `ndtr` with TIM1's update
+/// flag `uif` (the lead's reading), then `write_tick`'s.
+fn arm_tick(tim11: u32, ndtr: u32, uif: u32) -> Vec<u32> {
+    [vec![tim11, 0, ndtr, uif], write_tick(ndtr)].concat()
+}
+
 /// A bus that answers reads from a script and logs writes.
 #[derive(Default)]
 struct Script {
@@ -150,17 +165,7 @@ fn a_halted_generator_writes_nothing_until_it_re_arms() {
     assert!(bus.writes.is_empty(), "not armed: nothing to halt");
     // arm (quietened at boot): TIM11 at 0, no update; NDTR full and TIM1
     // without an update (the reading of NDTR); NDTR full, stream on, NDTR full
-    bus.reads = vec![
-        0,
-        0,
-        program::RING_WORDS,
-        0,
-        program::RING_WORDS,
-        1,
-        program::RING_WORDS,
-        program::RING_WORDS,
-        program::RING_WORDS,
-    ];
+    bus.reads = arm_tick(0, program::RING_WORDS, 0);
     g.tick(&StepPlan::default(), false, &T, &mut bus).unwrap();
     assert!(g.armed());
     let n = bus.writes.len();
@@ -202,31 +207,15 @@ fn a_segment_whose_burst_is_under_way_is_not_silenced() {
     g.prepare(T.tick_len, &mut bus);
     // arm: the stream reads as stopped, TIM11 at 100 and no update, NDTR
     // full with TIM1 not yet updated; then NDTR full, the stream on, NDTR full
-    bus.reads = vec![
-        100,
-        0,
-        program::RING_WORDS,
-        0,
-        program::RING_WORDS,
-        1,
-        program::RING_WORDS,
-        program::RING_WORDS,
-        program::RING_WORDS,
-    ];
+    bus.reads = arm_tick(100, program::RING_WORDS, 0);
     g.tick(&StepPlan::default(), false, &T, &mut bus).unwrap();
     for _ in 0..2 {
-        bus.reads = vec![program::RING_WORDS, 1, program::RING_WORDS, program::RING_WORDS, program::RING_WORDS];
+        bus.reads = write_tick(program::RING_WORDS);
         g.tick(&StepPlan::default(), false, &T, &mut bus).unwrap();
     }
     // a tick later the DMA has read slot 0 and two words of slot 1
     let w = program::BURST_WORDS;
-    bus.reads = vec![
-        program::RING_WORDS - w - 2,
-        1,
-        program::RING_WORDS - w - 2,
-        program::RING_WORDS - w - 2,
-        program::RING_WORDS - w - 2,
-    ];
+    bus.reads = write_tick(program::RING_WORDS - w - 2);
     let before = bus.writes.len();
     g.tick(&StepPlan::default(), false, &T, &mut bus).unwrap();
     let slot = |a: u32| (a.wrapping_sub(ring) / (4 * program::BURST_WORDS)) as usize;
@@ -244,17 +233,7 @@ fn an_arm_in_the_tick_leaves_its_first_window_to_the_plan() {
     let in_ring = |a: u32| (ring..ring + program::RING_WORDS * 4).contains(&a);
     let p = plan(0, 3 << 16, 0, &Prev::idle(Dir::Forward), &T); // three steps (Q16)
     assert!(p.count > 0, "a window with steps in it");
-    let arm_reads = vec![
-        100,
-        0,
-        program::RING_WORDS,
-        0,
-        program::RING_WORDS,
-        1,
-        program::RING_WORDS,
-        program::RING_WORDS,
-        program::RING_WORDS,
-    ];
+    let arm_reads = arm_tick(100, program::RING_WORDS, 0);
     let prepared = || {
         let mut g = Generator::new(ring);
         let mut bus = Script::default();
@@ -288,9 +267,9 @@ fn arm_reading(boot: u32, ndtr: u32, uif: u32, now: u32) -> (u32, Result<(), Fai
     // quiet's wait for the stream, the probe's NDTR, its wait for the stream
     let mut bus = Script { reads: vec![0, boot, 0], ..Default::default() };
     g.prepare(T.tick_len, &mut bus);
-    bus.reads = vec![100, 0, ndtr, uif, ndtr, 1, ndtr, ndtr, ndtr];
+    bus.reads = arm_tick(100, ndtr, uif);
     let armed = g.tick(&StepPlan::default(), false, &T, &mut bus);
-    bus.reads = vec![now, 1, now, now, now];
+    bus.reads = write_tick(now);
     let before = bus.writes.len();
     let next = g.tick(&StepPlan::default(), false, &T, &mut bus);
     let slot = |a: u32| (a.wrapping_sub(ring) / (4 * program::BURST_WORDS)) as usize;
@@ -348,17 +327,7 @@ fn after_a_halt_each_tick_silences_a_share_and_the_ring_is_silent_before_it_re_a
     let mut g = Generator::new(0x2000_0000);
     let mut bus = Script::default();
     g.prepare(T.tick_len, &mut bus);
-    bus.reads = vec![
-        0,
-        0,
-        program::RING_WORDS,
-        0,
-        program::RING_WORDS,
-        1,
-        program::RING_WORDS,
-        program::RING_WORDS,
-        program::RING_WORDS,
-    ];
+    bus.reads = arm_tick(0, program::RING_WORDS, 0);
     g.tick(&StepPlan::default(), false, &T, &mut bus).unwrap();
     g.halted_elsewhere(&T); // the E-stop interrupt halted it
                             // ARR, RCR and CCR1 of each entry: PSC stays 0 from the first fill,
